@@ -1,0 +1,50 @@
+// Triangle meshes, loaded through assimp.
+//
+// A Mesh is indexed triangles with per-vertex attribute arrays. Positions are
+// always present; the other arrays are either empty or as long as positions.
+// load_mesh() triangulates, joins identical vertices, and generates smooth
+// normals where the file has none. Meshes are immutable once loaded and
+// shared between objects.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace facet {
+
+struct Bounds {
+    glm::vec3 min{0.0f};
+    glm::vec3 max{0.0f};
+};
+
+struct Mesh {
+    std::string source;                // file it came from, for messages
+    std::vector<glm::vec3> positions;  // object space
+    std::vector<glm::vec3> normals;    // unit length
+    std::vector<glm::vec2> uvs;
+    std::vector<glm::vec4> colors;     // linear RGBA
+    std::vector<uint32_t> indices;     // three per triangle
+    Bounds bounds;
+
+    size_t vertex_count() const { return positions.size(); }
+    size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// Loads OBJ, glTF 2.0, PLY and the other formats assimp reads. All meshes in
+// the file are merged into one, with their node transforms applied.
+// Throws Error(file_not_found | mesh_load_failed | mesh_invalid).
+std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path);
+
+// Checks the invariants above: array sizes, index range, finite positions.
+// Throws Error(mesh_invalid) naming the first problem.
+void validate_mesh(const Mesh& mesh);
+
+// Recomputes bounds from positions.
+Bounds compute_bounds(const std::vector<glm::vec3>& positions);
+
+}  // namespace facet

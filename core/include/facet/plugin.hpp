@@ -1,0 +1,101 @@
+// Shader plugins: loading, ABI checks, and finding them by name.
+//
+// A ShaderPlugin is one loaded shader library (or, for tests and embedders,
+// a descriptor compiled into the host). load() refuses a library whose ABI
+// major version or descriptor size does not fit this host, or whose
+// descriptor is inconsistent, with an Error that says why. The library stays
+// loaded while any shared_ptr to its ShaderPlugin lives.
+//
+// A PluginRegistry finds a plugin by name as "<name>.so" on its search path:
+// the build's plugin folder first, then the folders a scene names, then
+// those in FACET_PLUGIN_PATH (colon-separated).
+#pragma once
+
+#include <facet/shader_abi.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace facet {
+
+class ShaderPlugin {
+public:
+    // Loads the shared library at `path`. If `expected_name` is given, the
+    // descriptor's name must match it. Throws Error(plugin_*).
+    static std::shared_ptr<ShaderPlugin> load(const std::filesystem::path& path,
+                                              std::string_view expected_name = {});
+    // Wraps a descriptor that lives in this process. Validated as load() does.
+    static std::shared_ptr<ShaderPlugin> from_descriptor(const facet_shader_desc* desc,
+                                                         std::string origin);
+
+    ~ShaderPlugin();
+    ShaderPlugin(const ShaderPlugin&) = delete;
+    ShaderPlugin& operator=(const ShaderPlugin&) = delete;
+
+    const facet_shader_desc& desc() const { return *desc_; }
+    const std::string& name() const { return name_; }
+    const std::string& origin() const { return origin_; }  // file it came from
+    uint32_t needs() const { return desc_->needs; }
+    bool needs(facet_need need) const { return (desc_->needs & need) != 0; }
+    uint32_t varying_floats() const { return varying_floats_; }
+
+    // Schema look-ups.
+    const facet_param_desc* find_param(std::string_view name) const;
+    // Index (0-based, in declaration order) of each TEXTURE parameter: its slot.
+    int texture_slot(const facet_param_desc& param) const;
+    int texture_count() const { return texture_count_; }
+    // "base_color (color4), base_texture (texture)", for error messages.
+    std::string describe_params() const;
+
+private:
+    ShaderPlugin() = default;
+    void adopt(const facet_shader_desc* desc);
+
+    void* handle_ = nullptr;
+    const facet_shader_desc* desc_ = nullptr;
+    std::string name_;
+    std::string origin_;
+    uint32_t varying_floats_ = 0;
+    int texture_count_ = 0;
+};
+
+// Checks a descriptor against this host's ABI and limits.
+// Throws Error(plugin_abi_mismatch | plugin_struct_size | plugin_invalid).
+void validate_descriptor(const facet_shader_desc* desc, const std::string& origin);
+
+// The name of a facet_param_type ("color4").
+std::string_view param_type_name(uint32_t type);
+
+class PluginRegistry {
+public:
+    // Starts with the build's plugin folder, then FACET_PLUGIN_PATH.
+    PluginRegistry();
+    explicit PluginRegistry(std::vector<std::filesystem::path> search_path);
+
+    // Adds a folder named by a scene; searched after the build's folder and
+    // before FACET_PLUGIN_PATH.
+    void add_scene_path(const std::filesystem::path& folder);
+    std::vector<std::filesystem::path> search_path() const;
+
+    // The plugin called `name`, loaded on first use and cached.
+    // Throws Error(unknown_shader) listing the folders searched, or the
+    // load error of the file found.
+    std::shared_ptr<ShaderPlugin> get(const std::string& name);
+    // Where `name` would be loaded from; empty if not found.
+    std::filesystem::path locate(const std::string& name) const;
+
+    // Registers an in-process plugin under its name (tests, embedders).
+    void add(std::shared_ptr<ShaderPlugin> plugin);
+
+private:
+    std::vector<std::filesystem::path> build_paths_;
+    std::vector<std::filesystem::path> scene_paths_;
+    std::vector<std::filesystem::path> env_paths_;
+    std::map<std::string, std::shared_ptr<ShaderPlugin>, std::less<>> loaded_;
+};
+
+}  // namespace facet

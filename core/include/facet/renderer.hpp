@@ -1,0 +1,103 @@
+// The renderer: draws meshes with shader plugins into a Framebuffer.
+//
+// A frame flows: object culling by bounds -> vertex stage (plugin, in
+// batches) -> primitive assembly -> homogeneous clipping -> perspective
+// divide and viewport -> fixed-point setup and back-face culling ->
+// rasterization in 4x4 blocks -> early depth test -> fragment stage (plugin,
+// one call per block) -> depth write -> blend -> framebuffer.
+// docs/ARCHITECTURE.md names the file for each stage.
+//
+// Renderer::render() draws a whole Scene: opaque objects first, then blended
+// ones back to front. Renderer::draw() draws one mesh and is what render()
+// uses; tests and embedders call it directly. A Renderer keeps scratch
+// buffers between draws, so a steady frame allocates nothing; use one
+// Renderer per thread.
+#pragma once
+
+#include "facet/framebuffer.hpp"
+#include "facet/material.hpp"
+#include "facet/mesh.hpp"
+#include "facet/plugin.hpp"
+#include "facet/scene.hpp"
+
+#include <facet/shader_abi.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace facet {
+
+// What a frame did and what it skipped. Triangle counts are per input
+// triangle: each ends in exactly one of culled_frustum, culled_backface,
+// culled_degenerate, invalid or rasterized.
+struct FrameStats {
+    uint64_t objects = 0;
+    uint64_t objects_culled = 0;        // outside the view frustum, by bounds
+    uint64_t draws = 0;
+    uint64_t vertices_shaded = 0;
+    uint64_t triangles_in = 0;
+    uint64_t triangles_culled_frustum = 0;
+    uint64_t triangles_culled_backface = 0;
+    uint64_t triangles_culled_degenerate = 0;  // zero area or no pixel centre
+    uint64_t triangles_invalid = 0;            // NaN or Inf in a vertex
+    uint64_t triangles_clipped = 0;            // needed clipping (and kept a part)
+    uint64_t triangles_rasterized = 0;
+    uint64_t blocks_shaded = 0;                // fragment batches
+    uint64_t fragments_shaded = 0;             // covered lanes sent to the shader
+    uint64_t fragments_depth_rejected = 0;     // covered lanes the early depth test removed
+    double milliseconds = 0.0;                 // render() wall time
+
+    FrameStats& operator+=(const FrameStats& o);
+};
+
+// Fixed-function state of one draw.
+struct PipelineState {
+    CullMode cull = CullMode::back;
+    bool front_ccw = true;
+    BlendMode blend = BlendMode::opaque;
+    DepthCompare depth_compare = DepthCompare::greater_equal;
+    bool depth_write = true;
+};
+
+// One mesh, one shader, one set of matrices.
+struct DrawCall {
+    const Mesh* mesh = nullptr;
+    const ShaderPlugin* shader = nullptr;
+    const void* params = nullptr;                // the shader's parameter block
+    const TextureBinding* textures = nullptr;    // by texture slot
+    int texture_count = 0;
+    glm::mat4 model{1.0f};
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+    glm::vec3 camera_position{0.0f};
+    const facet_light* lights = nullptr;
+    uint32_t light_count = 0;
+    float time = 0.0f;
+    PipelineState state;
+};
+
+class Renderer {
+public:
+    // Resizes `target` to the scene's size if needed, clears it and draws
+    // every visible object.
+    FrameStats render(const Scene& scene, Framebuffer& target);
+
+    // Draws one mesh into `target` (which must be cleared by the caller).
+    void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
+
+private:
+    struct Scratch {
+        std::vector<glm::vec4> clip;   // per vertex
+        std::vector<float> varyings;   // per vertex, varying_floats each
+        std::vector<facet_light> lights;
+        std::vector<const Object*> blended;
+    };
+    Scratch scratch_;
+};
+
+// The light as the plugin ABI carries it.
+facet_light to_abi(const Light& light);
+
+}  // namespace facet

@@ -1,0 +1,100 @@
+// Scenes: camera, lights, objects and render settings, from YAML.
+//
+//     camera: {position: [0, 1, 3], target: [0, 0.5, 0], fov_y: 45, near: 0.1, far: 100}
+//     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back}
+//     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
+//     lights:
+//       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
+//     objects:
+//       - name: spot
+//         mesh: ../assets/spot/spot.obj   # relative to this file
+//         material: materials/spot.yaml   # a file, or an inline map like a material file
+//         position: [0, 0, 0]
+//         rotation: [0, 30, 0]            # Euler degrees (X, then Y, then Z), or
+//                                         # {axis: [0, 1, 0], angle: 30}
+//         scale: 1                        # or [sx, sy, sz]
+//
+// Every error names the file, line and column. Unknown keys are errors, so a
+// typo never passes silently.
+#pragma once
+
+#include "facet/material.hpp"
+#include "facet/math.hpp"
+#include "facet/mesh.hpp"
+
+#include <glm/glm.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace facet {
+
+struct Camera {
+    glm::vec3 position{0.0f, 0.0f, 3.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    bool orthographic = false;
+    float fov_y = 45.0f;         // degrees, perspective
+    float ortho_height = 2.0f;   // world units, orthographic
+    float near = 0.1f;
+    float far = 100.0f;
+
+    glm::mat4 view() const;
+    glm::mat4 projection(float aspect, bool reversed_z) const;
+};
+
+enum class LightType { directional, point, spot };
+
+struct Light {
+    LightType type = LightType::directional;
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // normalised by the loader
+    glm::vec3 color{1.0f};                   // linear RGB
+    float intensity = 1.0f;
+    float range = 0.0f;                      // 0: unlimited
+    glm::vec3 attenuation{1.0f, 0.0f, 0.0f}; // constant, linear, quadratic
+    float spot_inner = 20.0f;                // degrees, half-angles
+    float spot_outer = 30.0f;
+    bool casts_shadow = false;
+};
+
+enum class DepthCompare { never, less, less_equal, greater, greater_equal, equal, always };
+
+struct RenderSettings {
+    int width = 960;
+    int height = 540;
+    glm::vec4 clear_color{0.0f, 0.0f, 0.0f, 1.0f};  // linear
+    bool reversed_z = true;
+    DepthCompare depth_compare = DepthCompare::greater_equal;  // matches reversed_z
+    CullMode cull = CullMode::back;
+    bool front_ccw = true;  // counter-clockwise triangles (as seen) face the viewer
+};
+
+struct Object {
+    std::string name;
+    std::shared_ptr<const Mesh> mesh;
+    Transform transform;
+    std::shared_ptr<Material> material;
+    bool visible = true;
+};
+
+struct Scene {
+    std::filesystem::path source;
+    Camera camera;
+    std::vector<Light> lights;
+    std::vector<Object> objects;
+    RenderSettings settings;
+    std::vector<std::filesystem::path> plugin_paths;  // absolute
+};
+
+// Parses a scene file, loads its meshes, materials and textures, and finds
+// its shaders through `registry` (after adding the scene's plugin_paths).
+// Throws Error naming file:line:column.
+Scene load_scene(const std::filesystem::path& path, PluginRegistry& registry);
+
+// The scene facet-render uses when given none.
+std::filesystem::path default_scene_path();
+
+}  // namespace facet

@@ -1,0 +1,58 @@
+// Homogeneous clipping.
+//
+// Takes: a triangle in clip space (position x, y, z, w plus its varyings).
+// Gives: the convex polygon of the part that lies inside the depth range
+// 0 <= z <= w and inside the guard band |x|, |y| <= g * w, as at most
+// kMaxClipVertices vertices, ready to be split into a fan.
+//
+// The depth planes are always clipped against; they also remove everything
+// at w <= 0, so a triangle that crosses w = 0 keeps its visible part. The
+// side planes are the guard band, not the viewport: a triangle is cut there
+// only when it would leave the range where the fixed-point rasterizer is
+// exact, which for normal scenes is never. classify() tells which planes a
+// triangle needs; most need none and skip clip_polygon() entirely.
+#pragma once
+
+#include <facet/shader_abi.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+
+namespace facet {
+
+// A vertex as clipping sees it.
+struct ClipVertex {
+    glm::vec4 position;
+    float varyings[FACET_MAX_VARYING_FLOATS];
+};
+
+// Each clip plane is one bit.
+enum ClipPlane : uint32_t {
+    kPlaneNear = 1u << 0,   // z <= w   (depth 1 side with reversed-Z)
+    kPlaneFar = 1u << 1,    // z >= 0
+    kPlaneLeft = 1u << 2,   // x >= -g w
+    kPlaneRight = 1u << 3,  // x <= g w
+    kPlaneBottom = 1u << 4, // y >= -g w
+    kPlaneTop = 1u << 5,    // y <= g w
+};
+
+constexpr int kMaxClipVertices = 3 + 6;
+
+// Which of a triangle's vertices lie outside which planes.
+struct ClipClass {
+    uint32_t reject;  // planes (depth, or viewport sides) all three are outside: invisible
+    uint32_t clip;    // planes (depth, or guard band) some vertex is outside: must clip
+};
+
+// `guard` is the guard-band half-width in NDC units (g above).
+ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, float guard);
+
+// Clips polygon `in` (n vertices, each with `floats` varyings) against the
+// planes in `planes`. Writes the result to `out` and returns its vertex
+// count (0 if nothing is left). Shared edges clip identically from both
+// sides, so clipped meshes stay watertight.
+int clip_polygon(const ClipVertex* in, int n, uint32_t planes, float guard, int floats,
+                 ClipVertex* out);
+
+}  // namespace facet

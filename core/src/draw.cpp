@@ -1,0 +1,175 @@
+// Geometry for one draw: vertex stage, primitive assembly, clipping, setup,
+// then rasterization and the fragment stage (fragment.cpp).
+#include "clip.hpp"
+#include "fragment.hpp"
+#include "rasterize.hpp"
+#include "setup.hpp"
+
+#include "facet/error.hpp"
+#include "facet/math.hpp"
+#include "facet/renderer.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+#include <cstring>
+
+namespace facet {
+
+namespace {
+
+constexpr uint32_t kVertexBatch = 256;
+
+void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_ptr(m), 64); }
+
+facet_draw make_abi_draw(const DrawCall& call, const Framebuffer& target,
+                         const DrawContext& dc) {
+    facet_draw d{};
+    d.host = host_services();
+    d.params = call.params;
+    d.host_data = &dc;
+    copy_matrix(d.model, call.model);
+    copy_matrix(d.view, call.view);
+    copy_matrix(d.projection, call.projection);
+    copy_matrix(d.view_projection, call.projection * call.view);
+    copy_matrix(d.model_view_projection, call.projection * call.view * call.model);
+    copy_matrix(d.normal_matrix, glm::mat4(normal_matrix(call.model)));
+    d.camera_position[0] = call.camera_position.x;
+    d.camera_position[1] = call.camera_position.y;
+    d.camera_position[2] = call.camera_position.z;
+    d.camera_position[3] = 1.0f;
+    if (call.shader->needs(FACET_NEED_LIGHTS)) {
+        d.light_count = call.light_count;
+        d.lights = call.lights;
+    }
+    d.viewport_width = uint32_t(target.width());
+    d.viewport_height = uint32_t(target.height());
+    d.time = call.time;
+    return d;
+}
+
+template <class T>
+const float* input(const ShaderPlugin& shader, facet_need need, const std::vector<T>& data,
+                   size_t first) {
+    if (!shader.needs(need) || data.empty()) return nullptr;
+    return glm::value_ptr(data[first]);
+}
+
+bool finite(const glm::vec4& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
+}
+
+CullState cull_state(const PipelineState& s) {
+    return {s.cull == CullMode::back, s.cull == CullMode::front, s.front_ccw};
+}
+
+// Clips the triangle and draws the fan of what is left. Returns the setup
+// result that counts for the input triangle.
+template <class Draw>
+SetupResult draw_clipped(const SetupVertex v[3], uint32_t planes, float guard,
+                         const DrawContext& dc, Draw&& draw_one) {
+    ClipVertex in[3], out[kMaxClipVertices];
+    const int floats = int(dc.varying_floats);
+    for (int i = 0; i < 3; ++i) {
+        in[i].position = v[i].clip;
+        std::memcpy(in[i].varyings, v[i].varyings, sizeof(float) * floats);
+    }
+    const int n = clip_polygon(in, 3, planes, guard, floats, out);
+    if (n < 3) return SetupResult::no_pixels;
+    // Flat varyings keep the first input vertex's value, not a blend.
+    for (int k = 0; k < floats; ++k)
+        if (dc.interpolation[k] == FACET_INTERP_FLAT)
+            for (int i = 0; i < n; ++i) out[i].varyings[k] = v[0].varyings[k];
+    SetupResult result = SetupResult::no_pixels;
+    for (int i = 1; i + 1 < n; ++i) {
+        const SetupVertex tri[3] = {{out[0].position, out[0].varyings},
+                                    {out[i].position, out[i].varyings},
+                                    {out[i + 1].position, out[i + 1].varyings}};
+        const SetupResult r = draw_one(tri);
+        if (r == SetupResult::ok || result == SetupResult::no_pixels) result = r;
+    }
+    return result;
+}
+
+void count(SetupResult r, FrameStats& stats) {
+    switch (r) {
+        case SetupResult::ok: ++stats.triangles_rasterized; break;
+        case SetupResult::culled_backface: ++stats.triangles_culled_backface; break;
+        case SetupResult::degenerate:
+        case SetupResult::no_pixels: ++stats.triangles_culled_degenerate; break;
+    }
+}
+
+}  // namespace
+
+void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
+    if (!call.mesh || !call.shader)
+        throw Error(ErrorCode::config_invalid, "draw call without a mesh or a shader");
+    const Mesh& mesh = *call.mesh;
+    const ShaderPlugin& shader = *call.shader;
+    ++stats.draws;
+
+    DrawContext dc;
+    prepare_context(dc, shader, call.textures, call.texture_count);
+    dc.state = call.state;
+    dc.target = &target;
+    const facet_draw abi = make_abi_draw(call, target, dc);
+    dc.abi = &abi;
+
+    // Vertex stage: every vertex once, in batches.
+    const size_t vcount = mesh.vertex_count();
+    const uint32_t floats = dc.varying_floats;
+    scratch_.clip.resize(vcount);
+    scratch_.varyings.resize(vcount * floats + 1);
+    for (size_t first = 0; first < vcount; first += kVertexBatch) {
+        const facet_vertex_batch batch{
+            uint32_t(std::min<size_t>(kVertexBatch, vcount - first)),
+            glm::value_ptr(mesh.positions[first]),
+            input(shader, FACET_NEED_NORMALS, mesh.normals, first),
+            input(shader, FACET_NEED_UVS, mesh.uvs, first),
+            input(shader, FACET_NEED_COLORS, mesh.colors, first),
+            nullptr,
+            glm::value_ptr(scratch_.clip[first]),
+            scratch_.varyings.data() + first * floats,
+            floats};
+        shader.desc().vertex(&abi, &batch);
+    }
+    stats.vertices_shaded += vcount;
+
+    // Primitive assembly and everything after it, one triangle at a time.
+    const Viewport viewport{target.width(), target.height()};
+    const float guard = viewport.guard_ndc();
+    const CullState cull = cull_state(call.state);
+    TriangleSetup setup;
+    auto draw_one = [&](const SetupVertex tri[3]) {
+        const SetupResult r = setup_triangle(tri, viewport, cull, setup);
+        if (r == SetupResult::ok)
+            rasterize(setup, [&](const Block& b) { shade_block(dc, setup, b, stats); });
+        return r;
+    };
+    const uint32_t* idx = mesh.indices.data();
+    for (size_t t = 0; t < mesh.triangle_count(); ++t, idx += 3) {
+        ++stats.triangles_in;
+        SetupVertex v[3];
+        for (int i = 0; i < 3; ++i)
+            v[i] = {scratch_.clip[idx[i]], scratch_.varyings.data() + size_t(idx[i]) * floats};
+        if (!finite(v[0].clip) || !finite(v[1].clip) || !finite(v[2].clip)) {
+            ++stats.triangles_invalid;
+            continue;
+        }
+        const ClipClass cc = classify(v[0].clip, v[1].clip, v[2].clip, guard);
+        if (cc.reject) {
+            ++stats.triangles_culled_frustum;
+            continue;
+        }
+        if (!cc.clip) {
+            count(draw_one(v), stats);
+            continue;
+        }
+        const SetupResult r = draw_clipped(v, cc.clip, guard, dc, draw_one);
+        if (r == SetupResult::ok) ++stats.triangles_clipped;
+        count(r, stats);
+    }
+}
+
+}  // namespace facet

@@ -1,0 +1,179 @@
+#include "fragment.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <bit>
+
+namespace facet {
+
+namespace {
+
+constexpr int N = FACET_BLOCK_LANES;
+
+bool depth_passes(DepthCompare compare, float z, float stored) {
+    switch (compare) {
+        case DepthCompare::never: return false;
+        case DepthCompare::less: return z < stored;
+        case DepthCompare::less_equal: return z <= stored;
+        case DepthCompare::greater: return z > stored;
+        case DepthCompare::greater_equal: return z >= stored;
+        case DepthCompare::equal: return z == stored;
+        case DepthCompare::always: return true;
+    }
+    return false;
+}
+
+void interpolate_depth(const TriangleSetup& t, const Block& b, float* z) {
+    for (int i = 0; i < N; ++i)
+        z[i] = std::clamp(b.bary[0][i] * t.z[0] + b.bary[1][i] * t.z[1] + b.bary[2][i] * t.z[2],
+                          0.0f, 1.0f);
+}
+
+uint32_t depth_test(const DrawContext& dc, const Block& b, const float* z, uint32_t mask) {
+    if (dc.state.depth_compare == DepthCompare::always) return mask;
+    const int width = dc.target->width();
+    const float* depth = dc.target->depth();
+    for (uint32_t m = mask; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        const size_t at = size_t(b.y + i / 4) * width + (b.x + i % 4);
+        if (!depth_passes(dc.state.depth_compare, z[i], depth[at])) mask &= ~(1u << i);
+    }
+    return mask;
+}
+
+// Perspective-correct weights: bary_k * (1/w_k), normalised per lane.
+void perspective_weights(const TriangleSetup& t, const Block& b, float (*pw)[N]) {
+    for (int i = 0; i < N; ++i) {
+        const float a = b.bary[0][i] * t.inv_w[0];
+        const float c = b.bary[1][i] * t.inv_w[1];
+        const float d = b.bary[2][i] * t.inv_w[2];
+        const float w = 1.0f / (a + c + d);
+        pw[0][i] = a * w;
+        pw[1][i] = c * w;
+        pw[2][i] = d * w;
+    }
+}
+
+void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const Block& b,
+                          float* out) {
+    float pw[3][N];
+    perspective_weights(t, b, pw);
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) {
+        float* dst = out + k * N;
+        const float v0 = t.varyings[0][k], v1 = t.varyings[1][k], v2 = t.varyings[2][k];
+        if (dc.interpolation[k] == FACET_INTERP_FLAT) {
+            std::fill(dst, dst + N, t.varyings[t.provoking][k]);
+            continue;
+        }
+        const float(*w)[N] = dc.interpolation[k] == FACET_INTERP_PERSPECTIVE ? pw : b.bary;
+        for (int i = 0; i < N; ++i) dst[i] = w[0][i] * v0 + w[1][i] * v1 + w[2][i] * v2;
+    }
+}
+
+void sample_textures(const DrawContext& dc, const float* varyings, float* texels) {
+    for (int s = 0; s < dc.texture_count; ++s) {
+        float* out = texels + s * 4 * N;
+        if (!dc.textures[s].texture) {
+            std::fill(out, out + 4 * N, 1.0f);
+            continue;
+        }
+        const float* u = varyings + dc.texture_uv[s] * N;
+        sample_many(dc.textures[s], u, u + N, N, out);
+    }
+}
+
+glm::vec4 blend(BlendMode mode, const glm::vec4& src, const glm::vec4& dst) {
+    switch (mode) {
+        case BlendMode::opaque: return src;
+        case BlendMode::alpha:  // src-alpha, one-minus-src-alpha
+            return {glm::vec3(src) * src.a + glm::vec3(dst) * (1.0f - src.a),
+                    src.a + dst.a * (1.0f - src.a)};
+        case BlendMode::additive:  // src-alpha, one
+            return {glm::vec3(dst) + glm::vec3(src) * src.a, dst.a};
+    }
+    return src;
+}
+
+void write_pixels(const DrawContext& dc, const Block& b, const float* z, const float* color,
+                  uint32_t mask) {
+    Framebuffer& fb = *dc.target;
+    for (uint32_t m = mask; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        const int x = b.x + i % 4, y = b.y + i / 4;
+        if (dc.state.depth_write) fb.depth()[size_t(y) * fb.width() + x] = z[i];
+        const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
+        glm::vec4& dst = fb.pixel(x, y);
+        dst = blend(dc.state.blend, src, dst);
+    }
+}
+
+void host_log(int level, const char* shader, const char* message) {
+    const spdlog::level::level_enum levels[] = {spdlog::level::debug, spdlog::level::info,
+                                                spdlog::level::warn, spdlog::level::err};
+    spdlog::log(levels[std::clamp(level, 0, 3)], "[{}] {}", shader ? shader : "?",
+                message ? message : "");
+}
+
+void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
+                 uint32_t count, float* rgba) {
+    const auto* dc = static_cast<const DrawContext*>(draw->host_data);
+    if (slot >= uint32_t(dc->texture_count) || !dc->textures[slot].texture) {
+        std::fill(rgba, rgba + 4 * count, 1.0f);
+        return;
+    }
+    sample_many(dc->textures[slot], u, v, int(count), rgba);
+}
+
+}  // namespace
+
+void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureBinding* textures,
+                     int texture_count) {
+    const facet_shader_desc& d = shader.desc();
+    dc.desc = &d;
+    dc.varying_floats = shader.varying_floats();
+    int first_float[FACET_MAX_VARYINGS] = {};
+    for (uint32_t v = 0, k = 0; v < d.varying_count; ++v) {
+        first_float[v] = int(k);
+        for (uint32_t c = 0; c < d.varyings[v].components; ++c)
+            dc.interpolation[k++] = uint8_t(d.varyings[v].interpolation);
+    }
+    dc.textures = textures;
+    dc.texture_count = std::min(texture_count, shader.texture_count());
+    for (uint32_t p = 0; p < d.param_count; ++p)
+        if (d.params[p].type == FACET_PARAM_TEXTURE)
+            dc.texture_uv[shader.texture_slot(d.params[p])] = first_float[d.params[p].uv_varying];
+    dc.sample_textures = shader.needs(FACET_NEED_TEXTURES) && dc.texture_count > 0;
+    dc.may_discard = shader.needs(FACET_NEED_DISCARD);
+}
+
+void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
+                 FrameStats& stats) {
+    alignas(64) float z[N];
+    interpolate_depth(t, b, z);
+    const uint32_t mask = depth_test(dc, b, z, b.mask);
+    stats.fragments_depth_rejected += std::popcount(b.mask) - std::popcount(mask);
+    if (!mask) return;
+
+    alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
+    interpolate_varyings(dc, t, b, varyings);
+    alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
+    if (dc.sample_textures) sample_textures(dc, varyings, texels);
+    alignas(64) float color[4 * N];
+
+    facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, z,
+                               dc.sample_textures ? texels : nullptr,
+                               nullptr,  nullptr, color};
+    dc.desc->fragment(dc.abi, &batch);
+    stats.blocks_shaded += 1;
+    stats.fragments_shaded += std::popcount(mask);
+    write_pixels(dc, b, z, color, dc.may_discard ? (batch.mask & mask) : mask);
+}
+
+const facet_host* host_services() {
+    static const facet_host host = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host),
+                                    &host_log, &host_sample};
+    return &host;
+}
+
+}  // namespace facet

@@ -1,0 +1,48 @@
+// Fragment stage.
+//
+// Takes: one covered Block of a TriangleSetup, and the draw's constant state
+// (DrawContext).
+// Gives: the block's pixels depth-tested, shaded by the plugin in a single
+// call, depth-written and blended into the framebuffer.
+//
+// Depth is tested before shading (the shader cannot change depth; a
+// discarding shader only removes lanes), so hidden fragments are never
+// shaded. Only the varyings the shader declares are interpolated, and
+// textures are sampled only for shaders that ask for them.
+#pragma once
+
+#include "rasterize.hpp"
+#include "setup.hpp"
+
+#include "facet/renderer.hpp"
+
+#include <facet/shader_abi.h>
+
+namespace facet {
+
+// Everything that stays constant over one draw.
+struct DrawContext {
+    const facet_draw* abi = nullptr;
+    const facet_shader_desc* desc = nullptr;
+    const TextureBinding* textures = nullptr;  // by slot
+    int texture_count = 0;
+    int texture_uv[FACET_MAX_TEXTURES] = {};   // first float of each slot's UV varying
+    bool sample_textures = false;
+    bool may_discard = false;
+    uint32_t varying_floats = 0;
+    uint8_t interpolation[FACET_MAX_VARYING_FLOATS] = {};  // per varying float
+    PipelineState state;
+    Framebuffer* target = nullptr;
+};
+
+// Fills the per-float interpolation table and texture bindings for `shader`.
+void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureBinding* textures,
+                     int texture_count);
+
+void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
+                 FrameStats& stats);
+
+// The service table passed to plugins in facet_draw.host.
+const facet_host* host_services();
+
+}  // namespace facet

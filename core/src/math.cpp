@@ -1,0 +1,70 @@
+#include "facet/math.hpp"
+
+#include <cmath>
+
+namespace facet {
+
+glm::mat4 Transform::matrix() const {
+    glm::mat4 m = glm::mat4_cast(rotation);
+    m[0] *= scale.x;
+    m[1] *= scale.y;
+    m[2] *= scale.z;
+    m[3] = glm::vec4(translation, 1.0f);
+    return m;
+}
+
+glm::quat euler_degrees(const glm::vec3& degrees) {
+    const glm::vec3 r = glm::radians(degrees);
+    const glm::quat qx = glm::angleAxis(r.x, glm::vec3(1, 0, 0));
+    const glm::quat qy = glm::angleAxis(r.y, glm::vec3(0, 1, 0));
+    const glm::quat qz = glm::angleAxis(r.z, glm::vec3(0, 0, 1));
+    return qz * qy * qx;
+}
+
+glm::mat4 look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up) {
+    const glm::vec3 f = glm::normalize(target - eye);
+    const glm::vec3 s = glm::normalize(glm::cross(f, up));
+    const glm::vec3 u = glm::cross(s, f);
+    glm::mat4 m(1.0f);
+    m[0][0] = s.x; m[1][0] = s.y; m[2][0] = s.z;
+    m[0][1] = u.x; m[1][1] = u.y; m[2][1] = u.z;
+    m[0][2] = -f.x; m[1][2] = -f.y; m[2][2] = -f.z;
+    m[3][0] = -glm::dot(s, eye);
+    m[3][1] = -glm::dot(u, eye);
+    m[3][2] = glm::dot(f, eye);
+    return m;
+}
+
+// Both projections write z_clip = a * z_view + b * w_view, chosen so that
+// depth = z_clip / w_clip is 0 at `near` and 1 at `far` (or the reverse).
+glm::mat4 perspective(float fov_y, float aspect, float near, float far, bool reversed_z) {
+    const float f = 1.0f / std::tan(fov_y * 0.5f);
+    const float n = reversed_z ? far : near;   // plane that maps to depth 0
+    const float d = reversed_z ? near : far;   // plane that maps to depth 1
+    glm::mat4 m(0.0f);
+    m[0][0] = f / aspect;
+    m[1][1] = f;
+    // depth(zv) = (A*zv + B) / -zv with depth(-n) = 0 and depth(-d) = 1.
+    m[2][2] = d / (n - d);
+    m[3][2] = n * d / (n - d);
+    m[2][3] = -1.0f;
+    return m;
+}
+
+glm::mat4 orthographic(float height, float aspect, float near, float far, bool reversed_z) {
+    const float n = reversed_z ? far : near;
+    const float d = reversed_z ? near : far;
+    glm::mat4 m(1.0f);
+    m[0][0] = 2.0f / (height * aspect);
+    m[1][1] = 2.0f / height;
+    // depth(zv) = (-zv - n) / (d - n).
+    m[2][2] = -1.0f / (d - n);
+    m[3][2] = -n / (d - n);
+    return m;
+}
+
+glm::mat3 normal_matrix(const glm::mat4& model) {
+    return glm::transpose(glm::inverse(glm::mat3(model)));
+}
+
+}  // namespace facet

@@ -1,0 +1,271 @@
+#include "facet/plugin.hpp"
+
+#include "facet/error.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+namespace facet {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void refuse(ErrorCode code, const std::string& origin, const std::string& why) {
+    throw Error(code, why, origin);
+}
+
+bool valid_param_type(uint32_t type) { return type <= FACET_PARAM_TEXTURE; }
+
+uint32_t param_bytes(uint32_t type) {
+    switch (type) {
+        case FACET_PARAM_VEC2: return 8;
+        case FACET_PARAM_VEC3:
+        case FACET_PARAM_COLOR3: return 12;
+        case FACET_PARAM_VEC4:
+        case FACET_PARAM_COLOR4: return 16;
+        default: return 4;
+    }
+}
+
+void validate_varyings(const facet_shader_desc& d, const std::string& origin) {
+    if (d.varying_count > FACET_MAX_VARYINGS)
+        refuse(ErrorCode::plugin_invalid, origin,
+               std::to_string(d.varying_count) + " varyings (at most " +
+                   std::to_string(FACET_MAX_VARYINGS) + ")");
+    if (d.varying_count > 0 && !d.varyings)
+        refuse(ErrorCode::plugin_invalid, origin, "varying_count > 0 but no varyings table");
+    uint32_t floats = 0;
+    for (uint32_t i = 0; i < d.varying_count; ++i) {
+        const facet_varying_desc& v = d.varyings[i];
+        if (v.components < 1 || v.components > 4 || v.interpolation > FACET_INTERP_FLAT)
+            refuse(ErrorCode::plugin_invalid, origin,
+                   "varying " + std::to_string(i) + " has " + std::to_string(v.components) +
+                       " components and interpolation " + std::to_string(v.interpolation));
+        floats += v.components;
+    }
+    if (floats > FACET_MAX_VARYING_FLOATS)
+        refuse(ErrorCode::plugin_invalid, origin,
+               std::to_string(floats) + " varying floats (at most " +
+                   std::to_string(FACET_MAX_VARYING_FLOATS) + ")");
+}
+
+void validate_params(const facet_shader_desc& d, const std::string& origin) {
+    if (d.param_count > FACET_MAX_PARAMS || d.params_size > FACET_MAX_PARAMS_SIZE)
+        refuse(ErrorCode::plugin_invalid, origin,
+               "parameter schema too large (" + std::to_string(d.param_count) + " parameters, " +
+                   std::to_string(d.params_size) + " bytes)");
+    if (d.param_count > 0 && !d.params)
+        refuse(ErrorCode::plugin_invalid, origin, "param_count > 0 but no params table");
+    int textures = 0;
+    for (uint32_t i = 0; i < d.param_count; ++i) {
+        const facet_param_desc& p = d.params[i];
+        const std::string what = "parameter " + std::to_string(i) + " ('" +
+                                 (p.name ? p.name : "(null)") + "')";
+        if (!p.name || !*p.name || !valid_param_type(p.type))
+            refuse(ErrorCode::plugin_invalid, origin, what + " has no name or an unknown type");
+        if (p.offset % 4 != 0 || p.offset + param_bytes(p.type) > d.params_size)
+            refuse(ErrorCode::plugin_invalid, origin, what + " lies outside the parameter block");
+        if (p.type == FACET_PARAM_TEXTURE) {
+            ++textures;
+            if (p.uv_varying < 0 || uint32_t(p.uv_varying) >= d.varying_count ||
+                d.varyings[p.uv_varying].components < 2)
+                refuse(ErrorCode::plugin_invalid, origin,
+                       what + " names no 2-component UV varying");
+        }
+        for (uint32_t j = 0; j < i; ++j)
+            if (std::strcmp(d.params[j].name, p.name) == 0)
+                refuse(ErrorCode::plugin_invalid, origin, what + " is declared twice");
+    }
+    if (textures > FACET_MAX_TEXTURES)
+        refuse(ErrorCode::plugin_invalid, origin, "too many texture parameters");
+}
+
+}  // namespace
+
+void validate_descriptor(const facet_shader_desc* d, const std::string& origin) {
+    if (!d) refuse(ErrorCode::plugin_invalid, origin, "the entry point returned no descriptor");
+    if (d->abi_major != FACET_ABI_MAJOR)
+        refuse(ErrorCode::plugin_abi_mismatch, origin,
+               "built for ABI " + std::to_string(d->abi_major) + "." +
+                   std::to_string(d->abi_minor) + ", this host speaks ABI " +
+                   std::to_string(FACET_ABI_MAJOR) + "." + std::to_string(FACET_ABI_MINOR) +
+                   "; rebuild the plugin against this facet SDK");
+    if (d->struct_size < FACET_SHADER_DESC_V1_0_SIZE)
+        refuse(ErrorCode::plugin_struct_size, origin,
+               "descriptor is " + std::to_string(d->struct_size) + " bytes, ABI " +
+                   std::to_string(FACET_ABI_MAJOR) + ".0 needs at least " +
+                   std::to_string(FACET_SHADER_DESC_V1_0_SIZE));
+    if (d->abi_minor <= FACET_ABI_MINOR && d->struct_size > sizeof(facet_shader_desc))
+        refuse(ErrorCode::plugin_struct_size, origin,
+               "descriptor is " + std::to_string(d->struct_size) + " bytes, but ABI " +
+                   std::to_string(d->abi_major) + "." + std::to_string(d->abi_minor) +
+                   " defines " + std::to_string(sizeof(facet_shader_desc)));
+    if (!d->name || !*d->name)
+        refuse(ErrorCode::plugin_invalid, origin, "the descriptor has no name");
+    if (!d->vertex || !d->fragment)
+        refuse(ErrorCode::plugin_invalid, origin, "missing vertex or fragment function");
+    validate_varyings(*d, origin);
+    validate_params(*d, origin);
+}
+
+std::string_view param_type_name(uint32_t type) {
+    static constexpr std::string_view names[] = {"float", "int",    "bool",   "vec2",   "vec3",
+                                                 "vec4",  "color3", "color4", "texture"};
+    return valid_param_type(type) ? names[type] : "unknown";
+}
+
+// ---- ShaderPlugin ------------------------------------------------------------
+
+std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
+                                                 std::string_view expected_name) {
+    const std::string origin = path.string();
+    if (!fs::exists(path)) throw Error(ErrorCode::file_not_found, "shader plugin", origin);
+    // RTLD_LOCAL keeps each plugin's symbols to itself; RTLD_NOW reports a
+    // missing symbol here rather than at the first draw.
+    void* handle = dlopen(origin.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) refuse(ErrorCode::plugin_load_failed, origin, dlerror());
+    std::shared_ptr<ShaderPlugin> plugin(new ShaderPlugin);
+    plugin->handle_ = handle;  // closed by the destructor, also if we throw below
+    plugin->origin_ = origin;
+    auto entry =
+        reinterpret_cast<facet_shader_entry_fn>(dlsym(handle, FACET_SHADER_ENTRY_SYMBOL));
+    if (!entry)
+        refuse(ErrorCode::plugin_no_entry, origin,
+               "no exported symbol '" FACET_SHADER_ENTRY_SYMBOL "' (use FACET_SHADER(...))");
+    const facet_shader_desc* desc = entry();
+    validate_descriptor(desc, origin);
+    if (!expected_name.empty() && expected_name != desc->name)
+        refuse(ErrorCode::plugin_invalid, origin,
+               "file is named '" + std::string(expected_name) + "' but the shader calls itself '" +
+                   desc->name + "'");
+    plugin->adopt(desc);
+    spdlog::info("loaded shader '{}' {} from {}", plugin->name_,
+                 desc->version ? desc->version : "", origin);
+    return plugin;
+}
+
+std::shared_ptr<ShaderPlugin> ShaderPlugin::from_descriptor(const facet_shader_desc* desc,
+                                                            std::string origin) {
+    validate_descriptor(desc, origin);
+    std::shared_ptr<ShaderPlugin> plugin(new ShaderPlugin);
+    plugin->origin_ = std::move(origin);
+    plugin->adopt(desc);
+    return plugin;
+}
+
+void ShaderPlugin::adopt(const facet_shader_desc* desc) {
+    desc_ = desc;
+    name_ = desc->name;
+    varying_floats_ = 0;
+    for (uint32_t i = 0; i < desc->varying_count; ++i)
+        varying_floats_ += desc->varyings[i].components;
+    texture_count_ = 0;
+    for (uint32_t i = 0; i < desc->param_count; ++i)
+        texture_count_ += desc->params[i].type == FACET_PARAM_TEXTURE;
+}
+
+ShaderPlugin::~ShaderPlugin() {
+    if (handle_) dlclose(handle_);
+}
+
+const facet_param_desc* ShaderPlugin::find_param(std::string_view name) const {
+    for (uint32_t i = 0; i < desc_->param_count; ++i)
+        if (name == desc_->params[i].name) return &desc_->params[i];
+    return nullptr;
+}
+
+int ShaderPlugin::texture_slot(const facet_param_desc& param) const {
+    int slot = 0;
+    for (uint32_t i = 0; i < desc_->param_count; ++i) {
+        if (&desc_->params[i] == &param) return param.type == FACET_PARAM_TEXTURE ? slot : -1;
+        slot += desc_->params[i].type == FACET_PARAM_TEXTURE;
+    }
+    return -1;
+}
+
+std::string ShaderPlugin::describe_params() const {
+    if (desc_->param_count == 0) return "(no parameters)";
+    std::string out;
+    for (uint32_t i = 0; i < desc_->param_count; ++i) {
+        if (i) out += ", ";
+        out += desc_->params[i].name;
+        out += " (";
+        out += param_type_name(desc_->params[i].type);
+        out += ")";
+    }
+    return out;
+}
+
+// ---- PluginRegistry ----------------------------------------------------------
+
+namespace {
+
+std::vector<fs::path> env_plugin_path() {
+    std::vector<fs::path> out;
+    const char* env = std::getenv("FACET_PLUGIN_PATH");
+    if (!env) return out;
+    std::stringstream ss(env);
+    for (std::string item; std::getline(ss, item, ':');)
+        if (!item.empty()) out.emplace_back(item);
+    return out;
+}
+
+std::string join_paths(const std::vector<fs::path>& paths) {
+    std::string out;
+    for (const fs::path& p : paths) out += (out.empty() ? "" : ", ") + p.string();
+    return out.empty() ? "(none)" : out;
+}
+
+}  // namespace
+
+PluginRegistry::PluginRegistry()
+    : build_paths_{fs::path(FACET_BUILD_PLUGIN_DIR)}, env_paths_(env_plugin_path()) {}
+
+PluginRegistry::PluginRegistry(std::vector<fs::path> search_path)
+    : build_paths_(std::move(search_path)) {}
+
+void PluginRegistry::add_scene_path(const fs::path& folder) {
+    for (const fs::path& p : scene_paths_)
+        if (p == folder) return;
+    scene_paths_.push_back(folder);
+}
+
+std::vector<fs::path> PluginRegistry::search_path() const {
+    std::vector<fs::path> all = build_paths_;
+    all.insert(all.end(), scene_paths_.begin(), scene_paths_.end());
+    all.insert(all.end(), env_paths_.begin(), env_paths_.end());
+    return all;
+}
+
+fs::path PluginRegistry::locate(const std::string& name) const {
+    for (const fs::path& dir : search_path()) {
+        fs::path candidate = dir / (name + ".so");
+        std::error_code ec;
+        if (fs::is_regular_file(candidate, ec)) return candidate;
+    }
+    return {};
+}
+
+std::shared_ptr<ShaderPlugin> PluginRegistry::get(const std::string& name) {
+    if (auto it = loaded_.find(name); it != loaded_.end()) return it->second;
+    const bool plain = !name.empty() && name.find_first_of("/\\") == std::string::npos;
+    const fs::path file = plain ? locate(name) : fs::path();
+    if (file.empty())
+        throw Error(ErrorCode::unknown_shader,
+                    "'" + name + "': no " + name + ".so in " + join_paths(search_path()));
+    std::shared_ptr<ShaderPlugin> plugin = ShaderPlugin::load(file, name);
+    loaded_.emplace(name, plugin);
+    return plugin;
+}
+
+void PluginRegistry::add(std::shared_ptr<ShaderPlugin> plugin) {
+    loaded_[plugin->name()] = std::move(plugin);
+}
+
+}  // namespace facet

@@ -1,0 +1,89 @@
+#include "setup.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+int64_t snap(double window) {
+    const double limit = kGuardBandPixels * 2.0;  // never reached after clipping
+    return std::llround(std::clamp(window, -limit, limit) * double(kSubpixelOne));
+}
+
+int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// Top-left rule in a y-down window with the interior on the positive side:
+// a left edge has the interior to its right (edge normal x > 0), a top edge
+// is horizontal with the interior below it.
+bool top_left(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
+
+EdgeFunction make_edge(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
+    const int64_t dx = x1 - x0, dy = y1 - y0;
+    return {x0, y0, dx, dy, top_left(dx, dy) ? 0 : -1};
+}
+
+// Pixels px whose centre px * 256 + 128 lies within [lo, hi] sub-pixels.
+void pixel_range(int64_t lo, int64_t hi, int& first, int& last) {
+    const int64_t half = kSubpixelOne / 2;
+    first = int(floor_div(lo - half + kSubpixelOne - 1, kSubpixelOne));
+    last = int(floor_div(hi - half, kSubpixelOne));
+}
+
+}  // namespace
+
+float Viewport::guard_ndc() const {
+    // Window x = (ndc + 1) * width / 2 must stay within +-kGuardBandPixels.
+    const double half = std::max(width, height) * 0.5;
+    return float((kGuardBandPixels - 2.0 * half) / half);
+}
+
+glm::dvec2 to_window(const glm::vec4& clip, const Viewport& viewport) {
+    const double inv_w = 1.0 / double(clip.w);
+    return {(double(clip.x) * inv_w + 1.0) * 0.5 * viewport.width,
+            (1.0 - double(clip.y) * inv_w) * 0.5 * viewport.height};
+}
+
+SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
+                           const CullState& cull, TriangleSetup& out) {
+    int64_t X[3], Y[3];
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec2 p = to_window(v[i].clip, viewport);
+        X[i] = snap(p.x);
+        Y[i] = snap(p.y);
+    }
+    const int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area2 == 0) return SetupResult::degenerate;
+
+    // y runs down the window, so a triangle counter-clockwise as seen has
+    // negative area here.
+    const bool front = cull.front_ccw ? area2 < 0 : area2 > 0;
+    if ((front && cull.cull_front) || (!front && cull.cull_back))
+        return SetupResult::culled_backface;
+
+    // Orient so the interior is on the positive side of every edge.
+    int order[3] = {0, 1, 2};
+    if (area2 < 0) std::swap(order[1], order[2]);
+    for (int k = 0; k < 3; ++k) {
+        const int a = order[k], b = order[(k + 1) % 3];
+        out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
+        out.z[k] = float(double(v[a].clip.z) / double(v[a].clip.w));
+        out.inv_w[k] = float(1.0 / double(v[a].clip.w));
+        out.varyings[k] = v[a].varyings;
+    }
+    out.area2 = area2 < 0 ? -area2 : area2;
+    out.provoking = 0;  // order[0] is always the first vertex
+    out.front_facing = front;
+
+    pixel_range(std::min({X[0], X[1], X[2]}), std::max({X[0], X[1], X[2]}), out.x0, out.x1);
+    pixel_range(std::min({Y[0], Y[1], Y[2]}), std::max({Y[0], Y[1], Y[2]}), out.y0, out.y1);
+    out.x0 = std::max(out.x0, 0);
+    out.y0 = std::max(out.y0, 0);
+    out.x1 = std::min(out.x1, viewport.width - 1);
+    out.y1 = std::min(out.y1, viewport.height - 1);
+    if (out.x0 > out.x1 || out.y0 > out.y1) return SetupResult::no_pixels;
+    return SetupResult::ok;
+}
+
+}  // namespace facet

@@ -1,0 +1,80 @@
+// Triangle setup.
+//
+// Takes: three clip-space vertices that lie inside the guard band with
+// w > 0 (clip.hpp guarantees it), their varyings, the viewport and the
+// culling state.
+// Gives: a TriangleSetup: vertices snapped to fixed point with 8 sub-pixel
+// bits, three integer edge functions with the top-left fill rule folded in,
+// the pixel bounding box clipped to the viewport, and what the fragment
+// stage needs to interpolate (window depth, 1/w, varyings) - or a reason the
+// triangle draws nothing.
+//
+// Exactness: snapped coordinates are below 2^28 in magnitude anywhere in the
+// guard band (|x|, |y| < 2^20 pixels), so an edge function, a difference of
+// two products of 29-bit numbers, stays below 2^59 and int64 never overflows.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+
+namespace facet {
+
+constexpr int kSubpixelBits = 8;
+constexpr int64_t kSubpixelOne = int64_t(1) << kSubpixelBits;
+// Half-width of the guard band in pixels: window coordinates stay within
+// +-kGuardBandPixels, which is what keeps the edge functions exact.
+constexpr double kGuardBandPixels = double(1 << 20);
+
+struct Viewport {
+    int width = 0;
+    int height = 0;
+    // Guard-band half-width in NDC units for this viewport (see clip.hpp).
+    float guard_ndc() const;
+};
+
+struct SetupVertex {
+    glm::vec4 clip;           // clip-space position
+    const float* varyings;    // its varying floats
+};
+
+// E(P) = (X1 - X0) * (Py - Y0) - (Y1 - Y0) * (Px - X0) for the edge from
+// vertex k to vertex k+1, in sub-pixel units. A pixel centre P is inside
+// when E(P) + bias >= 0 for all three edges: bias is 0 on a top or left
+// edge and -1 otherwise, so a point exactly on an edge belongs to the
+// triangle on its top or left side only.
+struct EdgeFunction {
+    int64_t x0, y0;   // start vertex
+    int64_t dx, dy;   // end minus start
+    int64_t bias;     // 0 or -1
+    int64_t at(int64_t px, int64_t py) const { return dx * (py - y0) - dy * (px - x0); }
+};
+
+enum class SetupResult { ok, culled_backface, degenerate, no_pixels };
+
+struct TriangleSetup {
+    // Edge k runs from vertex k to vertex k+1 and is opposite vertex k+2, so
+    // the barycentric weight of vertex k+2 is edge[k].at(P) / area2.
+    EdgeFunction edge[3];
+    int64_t area2;            // twice the signed area, > 0 after orientation
+    int x0, y0, x1, y1;       // inclusive pixel bounding box
+    float z[3];               // window depth per vertex, 0..1
+    float inv_w[3];           // 1 / w per vertex
+    const float* varyings[3]; // varying floats per vertex
+    int provoking;            // vertex whose values flat varyings take
+    bool front_facing;
+};
+
+struct CullState {
+    bool cull_back = true;
+    bool cull_front = false;
+    bool front_ccw = true;  // counter-clockwise on screen (y up) faces the viewer
+};
+
+SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
+                           const CullState& cull, TriangleSetup& out);
+
+// Window position of a clip-space point (pixel units, y down), as setup uses.
+glm::dvec2 to_window(const glm::vec4& clip, const Viewport& viewport);
+
+}  // namespace facet

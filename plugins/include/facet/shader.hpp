@@ -1,0 +1,272 @@
+// facet shader authoring layer (C++20, header-only).
+//
+// Write a shader as a struct with plain per-vertex and per-fragment functions;
+// FACET_SHADER(YourShader) generates the batch loops and the C descriptor of
+// <facet/shader_abi.h> inside your plugin, so your functions inline into the
+// loops and your compiler can vectorise them. A whole shader:
+//
+//     struct Tint {
+//         struct Params { glm::vec4 color; };
+//         struct Varyings { glm::vec3 normal; };
+//         static constexpr const char* name = "tint";
+//         static constexpr const char* version = "1.0";
+//         static constexpr uint32_t needs = FACET_NEED_NORMALS;
+//         static constexpr facet_varying_desc varyings[] = {
+//             facet::sdk::varying("normal", 3)};
+//         static constexpr facet_param_desc params[] = {
+//             facet::sdk::color4("color", offsetof(Params, color), {1, 1, 1, 1})};
+//
+//         static Varyings vertex(const facet::sdk::VertexIn& in, const facet::sdk::Draw& d,
+//                                const Params&, glm::vec4& clip) {
+//             clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+//             return {d.normal_matrix() * in.normal};
+//         }
+//         static glm::vec4 fragment(const Varyings& v, facet::sdk::Fragment&,
+//                                   const facet::sdk::Draw&, const Params& p) {
+//             return p.color * (0.5f + 0.5f * glm::normalize(v.normal).y);
+//         }
+//     };
+//     FACET_SHADER(Tint)
+//
+// Rules: Varyings holds only floats (glm vectors of float), declared in the
+// same order and sizes as `varyings`; Params is a standard-layout struct whose
+// fields the `params` schema points at with offsetof. Shaders are called from
+// several threads at once and must keep no mutable state.
+#pragma once
+
+#include <facet/shader_abi.h>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+
+namespace facet::sdk {
+
+// ---- schema helpers --------------------------------------------------------
+
+constexpr facet_varying_desc varying(const char* name, uint32_t components,
+                                     facet_interpolation interp = FACET_INTERP_PERSPECTIVE) {
+    return {name, components, static_cast<uint32_t>(interp)};
+}
+
+namespace detail {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+constexpr facet_param_desc param(const char* name, facet_param_type type, size_t offset,
+                                 float d0, float d1, float d2, float d3, float lo, float hi,
+                                 const char* doc) {
+    return {name, static_cast<uint32_t>(type), static_cast<uint32_t>(offset),
+            {d0, d1, d2, d3}, lo, hi, 0u, -1, doc};
+}
+}  // namespace detail
+
+constexpr facet_param_desc float1(const char* name, size_t offset, float def,
+                                  float lo = -detail::kInf, float hi = detail::kInf,
+                                  const char* doc = nullptr) {
+    return detail::param(name, FACET_PARAM_FLOAT, offset, def, 0, 0, 0, lo, hi, doc);
+}
+constexpr facet_param_desc int1(const char* name, size_t offset, int def, int lo, int hi,
+                                const char* doc = nullptr) {
+    return detail::param(name, FACET_PARAM_INT, offset, float(def), 0, 0, 0, float(lo),
+                         float(hi), doc);
+}
+constexpr facet_param_desc boolean(const char* name, size_t offset, bool def,
+                                   const char* doc = nullptr) {
+    return detail::param(name, FACET_PARAM_BOOL, offset, def ? 1.f : 0.f, 0, 0, 0, 0, 1, doc);
+}
+constexpr facet_param_desc vec3(const char* name, size_t offset, glm::vec3 def,
+                                float lo = -detail::kInf, float hi = detail::kInf,
+                                const char* doc = nullptr) {
+    return detail::param(name, FACET_PARAM_VEC3, offset, def.x, def.y, def.z, 0, lo, hi, doc);
+}
+constexpr facet_param_desc color3(const char* name, size_t offset, glm::vec3 def,
+                                  const char* doc = nullptr) {
+    return detail::param(name, FACET_PARAM_COLOR3, offset, def.x, def.y, def.z, 0, 0,
+                         detail::kInf, doc);
+}
+constexpr facet_param_desc color4(const char* name, size_t offset, glm::vec4 def,
+                                  const char* doc = nullptr) {
+    return detail::param(name, FACET_PARAM_COLOR4, offset, def.x, def.y, def.z, def.w, 0,
+                         detail::kInf, doc);
+}
+// A texture parameter sampled by the host at the UV held in varying
+// `uv_varying`. `srgb` marks colour data, decoded to linear on sampling.
+constexpr facet_param_desc texture(const char* name, size_t offset, int uv_varying, bool srgb,
+                                   const char* doc = nullptr) {
+    facet_param_desc p = detail::param(name, FACET_PARAM_TEXTURE, offset, 0, 0, 0, 0, 0, 1, doc);
+    p.flags = srgb ? uint32_t(FACET_PARAM_SRGB) : 0u;
+    p.uv_varying = uv_varying;
+    return p;
+}
+
+// ---- what a shader function sees -------------------------------------------
+
+struct VertexIn {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};  // when not asked for: +Z
+    glm::vec2 uv{0.0f};                  // when not asked for: 0
+    glm::vec4 color{1.0f};               // when not asked for: white
+    glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};
+};
+
+// A thin view of facet_draw: accessors build GLM values on demand.
+struct Draw {
+    const facet_draw* raw;
+    glm::mat4 model() const { return glm::make_mat4(raw->model); }
+    glm::mat4 view() const { return glm::make_mat4(raw->view); }
+    glm::mat4 projection() const { return glm::make_mat4(raw->projection); }
+    glm::mat4 view_projection() const { return glm::make_mat4(raw->view_projection); }
+    glm::mat4 model_view_projection() const { return glm::make_mat4(raw->model_view_projection); }
+    glm::mat3 normal_matrix() const { return glm::mat3(glm::make_mat4(raw->normal_matrix)); }
+    glm::vec3 camera_position() const { return glm::make_vec3(raw->camera_position); }
+    uint32_t light_count() const { return raw->light_count; }
+    const facet_light& light(uint32_t i) const { return raw->lights[i]; }
+};
+
+// Built-ins of one fragment.
+struct Fragment {
+    glm::vec2 coord;     // pixel centre, window coordinates
+    float depth;         // window depth, 0..1
+    bool front_facing;
+    float shadow;        // light visibility (1 when no shadow map was asked for)
+    float ao;            // ambient visibility (1 when no AO was asked for)
+    bool discarded = false;
+
+    // Texel of texture parameter `slot` (k-th TEXTURE parameter), sampled by
+    // the host at this fragment; white when the material binds none.
+    glm::vec4 texture(int slot) const {
+        if (!texels_) return glm::vec4(1.0f);
+        const float* t = texels_ + slot * 4 * FACET_BLOCK_LANES + lane_;
+        return {t[0], t[FACET_BLOCK_LANES], t[2 * FACET_BLOCK_LANES], t[3 * FACET_BLOCK_LANES]};
+    }
+    void discard() { discarded = true; }
+
+    const float* texels_ = nullptr;
+    int lane_ = 0;
+};
+
+// ---- generated glue ----------------------------------------------------------
+
+namespace detail {
+
+template <class S>
+constexpr uint32_t varying_floats() {
+    uint32_t n = 0;
+    for (const facet_varying_desc& v : S::varyings) n += v.components;
+    return n;
+}
+
+template <class S>
+constexpr bool has_varyings() {
+    return !std::is_empty_v<typename S::Varyings>;
+}
+
+template <class S>
+constexpr uint32_t varying_count() {
+    if constexpr (has_varyings<S>()) return sizeof(S::varyings) / sizeof(S::varyings[0]);
+    return 0;
+}
+
+template <class S>
+constexpr uint32_t param_count() {
+    if constexpr (std::is_empty_v<typename S::Params>) return 0;
+    else return sizeof(S::params) / sizeof(S::params[0]);
+}
+
+template <class S>
+void vertex_batch(const facet_draw* draw, const facet_vertex_batch* b) {
+    using V = typename S::Varyings;
+    const Draw d{draw};
+    const auto& params = *static_cast<const typename S::Params*>(draw->params);
+    for (uint32_t i = 0; i < b->count; ++i) {
+        VertexIn in;
+        in.position = glm::make_vec3(b->position + 3 * i);
+        if (b->normal) in.normal = glm::make_vec3(b->normal + 3 * i);
+        if (b->uv) in.uv = glm::make_vec2(b->uv + 2 * i);
+        if (b->color) in.color = glm::make_vec4(b->color + 4 * i);
+        if (b->tangent) in.tangent = glm::make_vec4(b->tangent + 4 * i);
+        glm::vec4 clip(0.0f);
+        const V out = S::vertex(in, d, params, clip);
+        std::memcpy(b->clip_position + 4 * i, &clip, sizeof clip);
+        if constexpr (has_varyings<S>())
+            std::memcpy(b->varyings + b->varying_floats * i, &out, sizeof out);
+    }
+}
+
+template <class S>
+void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
+    using V = typename S::Varyings;
+    constexpr int N = FACET_BLOCK_LANES;
+    constexpr uint32_t floats = varying_floats<S>();
+    const Draw d{draw};
+    const auto& params = *static_cast<const typename S::Params*>(draw->params);
+    uint32_t keep = b->mask;
+    for (int i = 0; i < N; ++i) {
+        V v{};
+        if constexpr (has_varyings<S>()) {
+            float f[floats];
+            for (uint32_t k = 0; k < floats; ++k) f[k] = b->varyings[k * N + i];
+            std::memcpy(&v, f, sizeof v);
+        }
+        Fragment frag{glm::vec2(float(b->x + i % 4) + 0.5f, float(b->y + i / 4) + 0.5f),
+                      b->depth[i], b->front_facing != 0,
+                      b->shadow ? b->shadow[i] : 1.0f, b->ao ? b->ao[i] : 1.0f};
+        frag.texels_ = b->texels;
+        frag.lane_ = i;
+        const glm::vec4 c = S::fragment(v, frag, d, params);
+        b->color[i] = c.r;
+        b->color[N + i] = c.g;
+        b->color[2 * N + i] = c.b;
+        b->color[3 * N + i] = c.a;
+        if (frag.discarded) keep &= ~(1u << i);
+    }
+    b->mask = keep;
+}
+
+template <class S>
+constexpr const facet_varying_desc* varying_table() {
+    if constexpr (has_varyings<S>()) return S::varyings;
+    return nullptr;
+}
+
+template <class S>
+constexpr const facet_param_desc* param_table() {
+    if constexpr (std::is_empty_v<typename S::Params>) return nullptr;
+    else return S::params;
+}
+
+}  // namespace detail
+
+template <class S>
+const facet_shader_desc* describe() {
+    using V = typename S::Varyings;
+    if constexpr (detail::has_varyings<S>()) {
+        static_assert(sizeof(V) == detail::varying_floats<S>() * sizeof(float),
+                      "Varyings must hold exactly the floats the varyings table declares");
+        static_assert(detail::varying_floats<S>() <= FACET_MAX_VARYING_FLOATS,
+                      "too many varying floats");
+    }
+    static_assert(std::is_trivially_copyable_v<V> && std::is_standard_layout_v<typename S::Params>);
+    static const facet_shader_desc desc = {
+        FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_shader_desc)),
+        S::name, S::version,
+        S::needs,
+        detail::varying_count<S>(), detail::varying_table<S>(),
+        detail::param_count<S>(), detail::param_table<S>(),
+        std::is_empty_v<typename S::Params> ? 0u : static_cast<uint32_t>(sizeof(typename S::Params)),
+        &detail::vertex_batch<S>, &detail::fragment_batch<S>,
+    };
+    return &desc;
+}
+
+}  // namespace facet::sdk
+
+// Export shader struct S as this plugin's entry point. One per plugin.
+#define FACET_SHADER(S)                                                        \
+    extern "C" FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) { \
+        return ::facet::sdk::describe<S>();                                    \
+    }

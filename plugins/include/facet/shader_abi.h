@@ -1,0 +1,267 @@
+/*
+ * facet shader-plugin ABI (plain C).
+ *
+ * WHAT THIS IS
+ *   The contract between the facet core (the host) and a shader plugin (a
+ *   shared library). A plugin exports exactly one function,
+ *
+ *       const facet_shader_desc* facet_shader_entry(void);
+ *
+ *   which returns a pointer to a constant descriptor that lives as long as the
+ *   library is loaded. The descriptor names the shader, declares its varyings,
+ *   what it needs from the core, its parameter schema, and its two batch
+ *   functions: one shades a batch of vertices, one shades a 4x4 block of
+ *   fragments. The host pays one indirect call per batch, never per pixel.
+ *
+ * WHAT THIS IS NOT
+ *   Not a C++ API: only C types cross the boundary, so a plugin built by a
+ *   different compiler (or compiler version) still loads. Shader authors
+ *   normally do not use this header directly; <facet/shader.hpp> generates the
+ *   descriptor and the batch loops from plain per-vertex and per-fragment
+ *   functions.
+ *
+ * VERSIONING RULES
+ *   - facet_shader_desc starts with abi_major, abi_minor and struct_size. The
+ *     host refuses a plugin whose abi_major differs from its own, and never
+ *     reads past struct_size. Fields are only ever appended, with a minor bump.
+ *   - facet_host (the host's service table) follows the same rule in the
+ *     other direction: a plugin checks host->struct_size before using a field
+ *     appended after v1.0.
+ *   - Every other struct here is frozen for a major version.
+ *
+ * THREADING
+ *   Shaders are stateless and reentrant: the host calls the batch functions
+ *   from several threads at once. Material parameters live in the host and
+ *   reach the shader as a read-only block (facet_draw.params).
+ *
+ * CONVENTIONS
+ *   Matrices are 4x4, column-major (GLM layout). Colours are linear RGBA.
+ *   Clip space is right-handed with depth 0..w (D3D/Vulkan style, as the
+ *   projection matrices of the host produce, reversed-Z by default).
+ */
+#ifndef FACET_SHADER_ABI_H
+#define FACET_SHADER_ABI_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define FACET_ABI_MAJOR 1
+#define FACET_ABI_MINOR 0
+
+/* The one symbol a plugin exports. */
+#define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
+
+#if defined(_WIN32)
+#define FACET_EXPORT __declspec(dllexport)
+#else
+#define FACET_EXPORT __attribute__((visibility("default")))
+#endif
+
+/* A fragment batch is one 4x4 block of pixels; lane i is pixel
+ * (x + i % 4, y + i / 4). The 2x2 quads are lanes {0,1,4,5}, {2,3,6,7},
+ * {8,9,12,13}, {10,11,14,15}, so derivatives are differences within a quad. */
+#define FACET_BLOCK_SIZE 4
+#define FACET_BLOCK_LANES 16
+
+/* Limits a host guarantees to support. */
+#define FACET_MAX_VARYINGS 8        /* declared varyings                    */
+#define FACET_MAX_VARYING_FLOATS 32 /* sum of their components              */
+#define FACET_MAX_PARAMS 32         /* parameters in a schema               */
+#define FACET_MAX_TEXTURES 8        /* texture parameters in a schema       */
+#define FACET_MAX_PARAMS_SIZE 1024  /* bytes in the parameter block         */
+
+/* ------------------------------------------------------------------------ */
+/* What a shader needs from the core. The core provides only what is asked. */
+
+enum facet_need {
+    FACET_NEED_NORMALS = 1u << 0,     /* vertex normals (else NULL)              */
+    FACET_NEED_UVS = 1u << 1,         /* vertex texture coordinates              */
+    FACET_NEED_COLORS = 1u << 2,      /* vertex colours                          */
+    FACET_NEED_TANGENTS = 1u << 3,    /* vertex tangents                         */
+    FACET_NEED_LIGHTS = 1u << 4,      /* facet_draw.lights                       */
+    FACET_NEED_TEXTURES = 1u << 5,    /* texels of texture parameters            */
+    FACET_NEED_SHADOW_MAP = 1u << 6,  /* facet_fragment_batch.shadow             */
+    FACET_NEED_AO = 1u << 7,          /* facet_fragment_batch.ao                 */
+    FACET_NEED_DERIVATIVES = 1u << 8, /* all 16 lanes hold interpolated values   */
+    FACET_NEED_BLENDING = 1u << 9,    /* output alpha is meant for blending      */
+    FACET_NEED_DISCARD = 1u << 10     /* the fragment function may clear mask bits */
+};
+
+/* How a varying is interpolated across a triangle. */
+enum facet_interpolation {
+    FACET_INTERP_PERSPECTIVE = 0, /* perspective-correct, through 1/w          */
+    FACET_INTERP_LINEAR = 1,      /* affine in screen space (noperspective)    */
+    FACET_INTERP_FLAT = 2         /* value of the triangle's first vertex      */
+};
+
+typedef struct facet_varying_desc {
+    const char* name;
+    uint32_t components;    /* 1..4 floats                                  */
+    uint32_t interpolation; /* enum facet_interpolation                     */
+} facet_varying_desc;
+
+/* ------------------------------------------------------------------------ */
+/* Parameter schema. The host validates YAML materials against it and lays
+ * out the parameter block: each value is stored at `offset` in the block. */
+
+enum facet_param_type {
+    FACET_PARAM_FLOAT = 0,  /* float                                          */
+    FACET_PARAM_INT = 1,    /* int32_t                                        */
+    FACET_PARAM_BOOL = 2,   /* int32_t, 0 or 1                                */
+    FACET_PARAM_VEC2 = 3,   /* float[2]                                       */
+    FACET_PARAM_VEC3 = 4,   /* float[3]                                       */
+    FACET_PARAM_VEC4 = 5,   /* float[4]                                       */
+    FACET_PARAM_COLOR3 = 6, /* float[3], linear RGB                           */
+    FACET_PARAM_COLOR4 = 7, /* float[4], linear RGBA                          */
+    FACET_PARAM_TEXTURE = 8 /* int32_t: 1 if a texture is bound, else 0       */
+};
+
+enum facet_param_flag {
+    FACET_PARAM_SRGB = 1u << 0 /* texture holds colour: decode sRGB to linear */
+};
+
+typedef struct facet_param_desc {
+    const char* name;
+    uint32_t type;            /* enum facet_param_type                          */
+    uint32_t offset;          /* byte offset in the parameter block             */
+    float default_value[4];   /* used where the material gives no value         */
+    float min_value;          /* inclusive range, per component; ignored for    */
+    float max_value;          /*   BOOL and TEXTURE                             */
+    uint32_t flags;           /* enum facet_param_flag                          */
+    int32_t uv_varying;       /* TEXTURE: index of the varying whose first two  */
+                              /*   components are its UV; the host samples the  */
+                              /*   texture per block before calling fragment    */
+    const char* doc;          /* one line for error messages and tools; may be NULL */
+} facet_param_desc;
+
+/* ------------------------------------------------------------------------ */
+/* Lights, as the host passes them (world space). */
+
+enum facet_light_type {
+    FACET_LIGHT_DIRECTIONAL = 0,
+    FACET_LIGHT_POINT = 1,
+    FACET_LIGHT_SPOT = 2
+};
+
+typedef struct facet_light {
+    uint32_t type;           /* enum facet_light_type                        */
+    uint32_t casts_shadow;   /* 0 or 1                                       */
+    float position[3];       /* point and spot                               */
+    float range;             /* 0: unlimited                                 */
+    float direction[3];      /* unit vector the light travels along          */
+    float intensity;
+    float color[3];          /* linear RGB                                   */
+    float attenuation[3];    /* constant, linear, quadratic                  */
+    float spot_cos_inner;    /* spot: cosine of the full-intensity half-angle */
+    float spot_cos_outer;    /* spot: cosine of the cut-off half-angle       */
+} facet_light;
+
+/* ------------------------------------------------------------------------ */
+/* Host services, passed with every draw. */
+
+typedef struct facet_draw facet_draw;
+
+enum facet_log_level { FACET_LOG_DEBUG = 0, FACET_LOG_INFO = 1, FACET_LOG_WARN = 2, FACET_LOG_ERROR = 3 };
+
+typedef struct facet_host {
+    uint16_t abi_major;
+    uint16_t abi_minor;
+    uint32_t struct_size;
+    /* Log a message under the shader's name. Thread-safe. */
+    void (*log)(int level, const char* shader, const char* message);
+    /* Dependent texture read: sample texture parameter `slot` (the k-th
+     * TEXTURE parameter of the schema) at `count` UVs, mip level 0, with the
+     * material's filter and wrap modes. Writes rgba[c * count + i]. */
+    void (*sample)(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
+                   uint32_t count, float* rgba);
+} facet_host;
+
+/* ------------------------------------------------------------------------ */
+/* Per-draw state: one object drawn with one material. Read-only. */
+
+struct facet_draw {
+    const facet_host* host;
+    const void* params;            /* the material's parameter block         */
+    const void* host_data;         /* opaque to the plugin                   */
+    float model[16];
+    float view[16];
+    float projection[16];
+    float view_projection[16];
+    float model_view_projection[16];
+    float normal_matrix[16];       /* inverse-transpose of model (3x3 in a 4x4) */
+    float camera_position[4];      /* world space, w = 1                     */
+    uint32_t light_count;          /* 0 unless FACET_NEED_LIGHTS             */
+    const facet_light* lights;
+    uint32_t viewport_width;
+    uint32_t viewport_height;
+    float time;                    /* seconds, for animated shaders          */
+};
+
+/* A batch of vertices. Inputs are arrays indexed by vertex; an input the
+ * shader did not ask for is NULL. */
+typedef struct facet_vertex_batch {
+    uint32_t count;
+    const float* position;   /* [count][3] object space                     */
+    const float* normal;     /* [count][3] object space, or NULL            */
+    const float* uv;         /* [count][2], or NULL                         */
+    const float* color;      /* [count][4] linear RGBA, or NULL             */
+    const float* tangent;    /* [count][4] xyz + handedness, or NULL        */
+    float* clip_position;    /* out: [count][4]                              */
+    float* varyings;         /* out: [count][varying_floats]                 */
+    uint32_t varying_floats; /* sum of the declared varyings' components    */
+} facet_vertex_batch;
+
+/* A 4x4 block of fragments, in structure-of-arrays layout: the value of float
+ * k of the varyings for lane i is varyings[k * FACET_BLOCK_LANES + i]. Every
+ * lane holds interpolated values, covered or not, so a shader may take
+ * derivatives across quads. */
+typedef struct facet_fragment_batch {
+    int32_t x, y;           /* pixel of lane 0                               */
+    uint32_t mask;          /* in: lanes covered and passing depth; out: a   */
+                            /*   shader with FACET_NEED_DISCARD clears bits   */
+    uint32_t front_facing;  /* 1 if the triangle faces the viewer            */
+    const float* varyings;  /* [varying_floats][16]                         */
+    const float* depth;     /* [16] window depth, 0..1                       */
+    const float* texels;    /* [texture slot][4][16] linear RGBA, or NULL    */
+    const float* shadow;    /* [16] light visibility 0..1, or NULL           */
+    const float* ao;        /* [16] ambient visibility 0..1, or NULL         */
+    float* color;           /* out: [4][16] linear RGBA                      */
+} facet_fragment_batch;
+
+typedef void (*facet_vertex_fn)(const facet_draw* draw, const facet_vertex_batch* batch);
+typedef void (*facet_fragment_fn)(const facet_draw* draw, facet_fragment_batch* batch);
+
+/* ------------------------------------------------------------------------ */
+/* The descriptor a plugin returns. Only ever appended to. */
+
+typedef struct facet_shader_desc {
+    /* v1.0 */
+    uint16_t abi_major;              /* FACET_ABI_MAJOR the plugin was built with */
+    uint16_t abi_minor;              /* FACET_ABI_MINOR the plugin was built with */
+    uint32_t struct_size;            /* sizeof(facet_shader_desc) in the plugin   */
+    const char* name;                /* must match the library's file name        */
+    const char* version;             /* free-form, for logs                       */
+    uint32_t needs;                  /* enum facet_need bits                      */
+    uint32_t varying_count;
+    const facet_varying_desc* varyings;
+    uint32_t param_count;
+    const facet_param_desc* params;
+    uint32_t params_size;            /* bytes of the parameter block              */
+    facet_vertex_fn vertex;
+    facet_fragment_fn fragment;
+} facet_shader_desc;
+
+/* Size of the v1.0 descriptor: the least a host accepts. */
+#define FACET_SHADER_DESC_V1_0_SIZE (offsetof(facet_shader_desc, fragment) + sizeof(facet_fragment_fn))
+
+typedef const facet_shader_desc* (*facet_shader_entry_fn)(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FACET_SHADER_ABI_H */

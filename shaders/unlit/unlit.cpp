@@ -1,0 +1,43 @@
+// unlit: vertex colour x base colour x optional texture. No lighting.
+#include <facet/shader.hpp>
+
+#include <cstddef>
+
+namespace {
+
+using namespace facet::sdk;
+
+struct Unlit {
+    struct Params {
+        glm::vec4 base_color;
+        int32_t base_texture;  // 1 if bound
+    };
+    struct Varyings {
+        glm::vec4 color;
+        glm::vec2 uv;
+    };
+
+    static constexpr const char* name = "unlit";
+    static constexpr const char* version = "1.0";
+    static constexpr uint32_t needs = FACET_NEED_COLORS | FACET_NEED_UVS | FACET_NEED_TEXTURES;
+    static constexpr facet_varying_desc varyings[] = {varying("color", 4), varying("uv", 2)};
+    static constexpr facet_param_desc params[] = {
+        color4("base_color", offsetof(Params, base_color), {1, 1, 1, 1},
+               "linear RGBA multiplied into every fragment"),
+        texture("base_texture", offsetof(Params, base_texture), 1, true,
+                "colour texture (sRGB), sampled at the mesh UVs"),
+    };
+
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
+        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+        return {in.color, in.uv};
+    }
+
+    static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw&, const Params& p) {
+        return v.color * p.base_color * f.texture(0);
+    }
+};
+
+}  // namespace
+
+FACET_SHADER(Unlit)
