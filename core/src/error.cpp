@@ -19,13 +19,13 @@ std::string format(ErrorCode code, const std::string& detail, const std::string&
                    int column) {
     std::string out;
     if (!file.empty()) {
-        out = file;
-        if (line > 0) out += ":" + std::to_string(line);
-        if (line > 0 && column > 0) out += ":" + std::to_string(column);
-        out += ": ";
+        out.append(file);
+        if (line > 0) out.append(":").append(std::to_string(line));
+        if (line > 0 && column > 0) out.append(":").append(std::to_string(column));
+        out.append(": ");
     }
-    out += error_text(code);
-    if (!detail.empty()) out += ": " + detail;
+    out.append(error_text(code));
+    if (!detail.empty()) out.append(": ").append(detail);
     return out;
 }
 

@@ -154,15 +154,16 @@ struct Fragment {
 namespace detail {
 
 template <class S>
-constexpr uint32_t varying_floats() {
-    uint32_t n = 0;
-    for (const facet_varying_desc& v : S::varyings) n += v.components;
-    return n;
+constexpr bool has_varyings() {
+    return !std::is_empty_v<typename S::Varyings>;
 }
 
 template <class S>
-constexpr bool has_varyings() {
-    return !std::is_empty_v<typename S::Varyings>;
+constexpr uint32_t varying_floats() {
+    uint32_t n = 0;
+    if constexpr (has_varyings<S>())
+        for (const facet_varying_desc& v : S::varyings) n += v.components;
+    return n;
 }
 
 template <class S>

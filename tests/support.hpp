@@ -1,0 +1,73 @@
+// Shared helpers for the tests: in-process test shaders, meshes made in
+// code, and a one-call way to draw them.
+#pragma once
+
+#include <facet/renderer.hpp>
+#include <facet/shader.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace facet::test {
+
+// Outputs (1,1,1,1); drawn with additive blending, a pixel's red channel
+// counts how many times it was covered.
+struct CountShader {
+    struct Params {};
+    struct Varyings {};
+    static constexpr const char* name = "test_count";
+    static constexpr const char* version = "test";
+    static constexpr uint32_t needs = 0;
+    static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
+                           glm::vec4& clip) {
+        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+        return {};
+    }
+    static glm::vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
+        return glm::vec4(1.0f);
+    }
+};
+
+// Outputs the vertex colour, interpolated with interpolation mode I.
+template <facet_interpolation I>
+struct ColorShader {
+    struct Params {};
+    struct Varyings {
+        glm::vec4 color;
+    };
+    static constexpr const char* name = "test_color";
+    static constexpr const char* version = "test";
+    static constexpr uint32_t needs = FACET_NEED_COLORS;
+    static constexpr facet_varying_desc varyings[] = {sdk::varying("color", 4, I)};
+    static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
+                           glm::vec4& clip) {
+        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+        return {in.color};
+    }
+    static glm::vec4 fragment(const Varyings& v, sdk::Fragment&, const sdk::Draw&,
+                              const Params&) {
+        return v.color;
+    }
+};
+
+template <class S>
+std::shared_ptr<ShaderPlugin> plugin() {
+    return ShaderPlugin::from_descriptor(sdk::describe<S>(), "test");
+}
+
+// A mesh from positions, triangles and optional colours (bounds computed).
+Mesh make_mesh(std::vector<glm::vec3> positions, std::vector<uint32_t> indices,
+               std::vector<glm::vec4> colors = {});
+
+// A DrawCall with identity matrices: positions are clip coordinates.
+DrawCall clip_space_call(const Mesh& mesh, const ShaderPlugin& shader);
+
+// Clip coordinates (w = 1) of a window position in a width x height target.
+glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height);
+
+// A fresh, empty temporary folder.
+std::filesystem::path temp_dir(const std::string& tag);
+
+}  // namespace facet::test

@@ -1,0 +1,335 @@
+// The whole pipeline (vertex stage, clipping, setup, raster, fragment, depth,
+// blend) through Renderer::draw, against double-precision references.
+#include "support.hpp"
+
+#include <facet/math.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+#include <vector>
+
+using namespace facet;
+using namespace facet::test;
+
+namespace {
+
+constexpr int W = 96, H = 80;
+
+// Coverage count per pixel of `mesh` drawn with additive blending.
+std::vector<int> coverage(const Mesh& mesh, const glm::mat4& view, const glm::mat4& proj,
+                          FrameStats* stats_out = nullptr) {
+    static auto shader = plugin<CountShader>();
+    Framebuffer fb(W, H);
+    fb.clear(glm::vec4(0.0f), 0.0f);
+    DrawCall call = clip_space_call(mesh, *shader);
+    call.view = view;
+    call.projection = proj;
+    call.state.blend = BlendMode::additive;
+    FrameStats stats;
+    Renderer().draw(call, fb, stats);
+    if (stats_out) *stats_out = stats;
+    std::vector<int> counts(W * H);
+    for (int i = 0; i < W * H; ++i) counts[i] = int(fb.color()[i].r);
+    return counts;
+}
+
+// A fan of n triangles around `centre` in NDC, rotated by `angle`.
+Mesh fan(int n, float radius, float angle, glm::vec2 centre) {
+    std::vector<glm::vec3> pos{{centre, 0.5f}};
+    std::vector<uint32_t> idx;
+    for (int i = 0; i < n; ++i) {
+        const float a = angle + glm::two_pi<float>() * float(i) / float(n);
+        pos.push_back({centre + radius * glm::vec2(std::cos(a), std::sin(a)), 0.5f});
+        idx.insert(idx.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % n)});
+    }
+    return make_mesh(pos, idx);
+}
+
+// An n x n grid of quads in the z = 0 plane, two triangles each, spanning
+// [-1, 1]^2, with alternating diagonals.
+Mesh grid(int n) {
+    std::vector<glm::vec3> pos;
+    std::vector<uint32_t> idx;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            pos.push_back({2.0f * i / n - 1.0f, 2.0f * j / n - 1.0f, 0.0f});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            if ((i + j) % 2) idx.insert(idx.end(), {a, b, d, a, d, c});
+            else idx.insert(idx.end(), {a, b, c, b, d, c});
+        }
+    return make_mesh(pos, idx);
+}
+
+glm::dvec2 pixel_centre(int i) { return {i % W + 0.5, i / W + 0.5}; }
+
+}  // namespace
+
+TEST_CASE("fans are watertight at many rotations", "[pipeline][watertight]") {
+    for (int step = 0; step < 90; ++step) {
+        const float angle = float(step) * 0.0713f;
+        const glm::vec2 centre(0.013f * float(step % 7), -0.021f * float(step % 5));
+        const int n = 5 + step % 23;
+        const float r = 0.8f;
+        const std::vector<int> counts = coverage(fan(n, r, angle, centre), glm::mat4(1), glm::mat4(1));
+        const double inner = r * std::cos(glm::pi<double>() / n);  // inscribed circle, NDC
+        for (int i = 0; i < W * H; ++i) {
+            REQUIRE(counts[i] <= 1);
+            const glm::dvec2 ndc(pixel_centre(i).x / W * 2 - 1, 1 - pixel_centre(i).y / H * 2);
+            // Inside the inscribed circle (less a pixel): covered exactly once.
+            const double px = 2.0 / std::min(W, H);
+            if (glm::length(ndc - glm::dvec2(centre)) < inner - px) REQUIRE(counts[i] == 1);
+        }
+    }
+}
+
+TEST_CASE("perspective grids are watertight at many angles, also when clipped",
+          "[pipeline][watertight]") {
+    const Mesh mesh = grid(9);
+    const glm::mat4 proj = perspective(glm::radians(60.0f), float(W) / H, 0.1f, 50.0f, true);
+    int clipped_views = 0;
+    for (int step = 0; step < 60; ++step) {
+        const float yaw = float(step) * 0.37f, pitch = 0.2f + 0.02f * float(step % 13);
+        // The camera skims the plane, close enough that the near plane cuts it.
+        const float dist = step % 2 ? 0.6f : 2.5f;
+        const glm::vec3 eye(dist * std::sin(yaw), dist * std::cos(yaw), dist * pitch);
+        const glm::mat4 view = look_at(eye, glm::vec3(0.1f, -0.05f, 0.0f), {0, 0, 1});
+        FrameStats stats;
+        const std::vector<int> counts = coverage(mesh, view, proj, &stats);
+        clipped_views += stats.triangles_clipped > 0;
+        for (int i = 0; i < W * H; ++i) REQUIRE(counts[i] <= 1);
+        // Every pixel whose ray meets the plane inside the grid is hit once.
+        const glm::mat4 inv = glm::inverse(proj * view);
+        for (int i = 0; i < W * H; ++i) {
+            const glm::dvec2 c = pixel_centre(i);
+            const glm::dvec2 ndc(c.x / W * 2 - 1, 1 - c.y / H * 2);
+            const glm::dvec4 a = glm::dmat4(inv) * glm::dvec4(ndc, 1.0, 1.0);  // near
+            const glm::dvec4 b = glm::dmat4(inv) * glm::dvec4(ndc, 0.0, 1.0);  // far
+            const glm::dvec3 p0 = glm::dvec3(a) / a.w, p1 = glm::dvec3(b) / b.w;
+            if ((p0.z > 0) == (p1.z > 0)) continue;
+            const glm::dvec3 hit = p0 + (p1 - p0) * (p0.z / (p0.z - p1.z));
+            if (std::abs(hit.x) < 0.97 && std::abs(hit.y) < 0.97) REQUIRE(counts[i] == 1);
+        }
+    }
+    CHECK(clipped_views > 10);
+}
+
+TEST_CASE("near-plane and w = 0 clipping keep the visible part", "[pipeline][clip]") {
+    // A triangle in view space, one vertex behind the camera (w < 0), one
+    // exactly in the camera plane (w = 0), one in front. Reference: clip
+    // the triangle against the near plane in double precision, project it,
+    // and test pixel centres against the resulting polygon.
+    const float near = 0.5f;
+    const glm::mat4 proj = perspective(glm::radians(70.0f), float(W) / H, near, 20.0f, true);
+    const std::vector<std::vector<glm::vec3>> cases = {
+        {{-1.0f, -0.8f, -3.0f}, {1.5f, -0.6f, 2.0f}, {0.2f, 1.0f, -4.0f}},   // w < 0
+        {{-1.0f, -0.8f, -3.0f}, {1.2f, -0.3f, 0.0f}, {0.2f, 1.0f, -4.0f}},   // w = 0
+        {{-1.0f, -0.8f, -3.0f}, {1.2f, -0.3f, 1e-7f}, {0.2f, 1.0f, -4.0f}},  // w ~ 0
+        {{-2.0f, 0.5f, 1.0f}, {2.0f, 0.4f, 1.0f}, {0.0f, -0.5f, -6.0f}},     // two behind
+    };
+    for (const auto& tri : cases) {
+        const Mesh mesh = make_mesh(tri, {0, 1, 2});
+        FrameStats stats;
+        const std::vector<int> counts = coverage(mesh, glm::mat4(1), proj, &stats);
+        CHECK(stats.triangles_clipped == 1);
+        CHECK(stats.triangles_rasterized == 1);
+        // Reference polygon in view space, then in window coordinates.
+        std::vector<glm::dvec3> poly;
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 a(tri[k]), b(tri[(k + 1) % 3]);
+            const double da = -a.z - near, db = -b.z - near;  // >= 0: in front of near
+            if (da >= 0) poly.push_back(a);
+            if ((da >= 0) != (db >= 0)) poly.push_back(a + (b - a) * (da / (da - db)));
+        }
+        std::vector<glm::dvec2> win;
+        for (const glm::dvec3& p : poly) {
+            const glm::dvec4 c = glm::dmat4(proj) * glm::dvec4(p, 1.0);
+            win.push_back({(c.x / c.w + 1) * 0.5 * W, (1 - c.y / c.w) * 0.5 * H});
+        }
+        int covered = 0;
+        for (int i = 0; i < W * H; ++i) {
+            // Signed distance of the centre to the polygon's edges (in pixels).
+            double dmin = 1e30, dmax = -1e30;
+            for (size_t k = 0; k < win.size(); ++k) {
+                const glm::dvec2 a = win[k], b = win[(k + 1) % win.size()];
+                const glm::dvec2 e = b - a, q = pixel_centre(i) - a;
+                const double d = (e.x * q.y - e.y * q.x) / glm::length(e);
+                dmin = std::min(dmin, d);
+                dmax = std::max(dmax, d);
+            }
+            const bool inside = dmin > 0.01 || dmax < -0.01;  // either winding
+            const bool outside = dmin < -0.01 && dmax > 0.01;
+            if (inside) REQUIRE(counts[i] == 1);
+            if (outside) REQUIRE(counts[i] == 0);
+            covered += counts[i];
+        }
+        CHECK(covered > 100);
+    }
+}
+
+TEST_CASE("perspective-correct interpolation matches a double-precision reference",
+          "[pipeline][interpolation]") {
+    // A quad receding from the camera; its colour's red channel holds the
+    // vertex's u coordinate, so each pixel should show the u where its ray
+    // hits the quad.
+    const Mesh mesh = make_mesh({{-1, -1, -1.2f}, {1, -1, -1.2f}, {1, 1, -9.0f}, {-1, 1, -9.0f}},
+                                {0, 1, 2, 0, 2, 3},
+                                {{0, 0, 0, 1}, {1, 0, 0, 1}, {1, 1, 0, 1}, {0, 1, 0, 1}});
+    const glm::mat4 proj = perspective(glm::radians(60.0f), float(W) / H, 0.5f, 20.0f, true);
+    auto render = [&](auto shader) {
+        Framebuffer fb(W, H);
+        fb.clear(glm::vec4(-1.0f), 0.0f);
+        DrawCall call = clip_space_call(mesh, *shader);
+        call.projection = proj;
+        FrameStats stats;
+        Renderer().draw(call, fb, stats);
+        return fb;
+    };
+    const Framebuffer persp = render(plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>());
+    const Framebuffer affine = render(plugin<ColorShader<FACET_INTERP_LINEAR>>());
+    const glm::dmat4 inv = glm::inverse(glm::dmat4(proj));
+    double max_err = 0, max_affine_err = 0;
+    int checked = 0;
+    for (int i = 0; i < W * H; ++i) {
+        const glm::vec4 c = persp.color()[i];
+        if (c.a < 0) continue;  // not covered
+        const glm::dvec2 ndc(pixel_centre(i).x / W * 2 - 1, 1 - pixel_centre(i).y / H * 2);
+        const glm::dvec4 far = inv * glm::dvec4(ndc, 0.0, 1.0);
+        const glm::dvec3 dir = glm::dvec3(far) / far.w;  // ray from the eye at the origin
+        // Plane of the quad: points (x, y, z) with z = -1.2 - 3.9 (y + 1).
+        const double t = -5.1 / (dir.z + 3.9 * dir.y);
+        const glm::dvec3 hit = dir * t;
+        const double u = (hit.x + 1) / 2, v = (hit.y + 1) / 2;
+        if (u < 0.01 || u > 0.99 || v < 0.01 || v > 0.99) continue;  // edge pixels
+        max_err = std::max({max_err, std::abs(c.r - u), std::abs(c.g - v)});
+        max_affine_err = std::max(max_affine_err, std::abs(double(affine.color()[i].g) - v));
+        ++checked;
+    }
+    CHECK(checked > 500);
+    CHECK(max_err < 2e-3);
+    CHECK(max_affine_err > 0.05);  // affine interpolation is visibly wrong here
+}
+
+TEST_CASE("depth test keeps the nearest surface in either draw order", "[pipeline][depth]") {
+    auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const Mesh near_red = make_mesh({{-1, -1, -2}, {1, -1, -2}, {0, 1, -2}}, {0, 1, 2},
+                                    std::vector<glm::vec4>(3, {1, 0, 0, 1}));
+    const Mesh far_blue = make_mesh({{-1, -1, -2.001f}, {1, -1, -2.001f}, {0, 1, -2.001f}},
+                                    {0, 1, 2}, std::vector<glm::vec4>(3, {0, 0, 1, 1}));
+    for (bool reversed : {true, false}) {
+        const glm::mat4 proj = perspective(glm::radians(60.0f), float(W) / H, 0.1f, 1000.0f,
+                                           reversed);
+        for (bool red_first : {true, false}) {
+            Framebuffer fb(W, H);
+            fb.clear(glm::vec4(0.0f), reversed ? 0.0f : 1.0f);
+            DrawCall call = clip_space_call(near_red, *shader);
+            call.projection = proj;
+            call.state.depth_compare = reversed ? DepthCompare::greater : DepthCompare::less;
+            FrameStats stats;
+            const Mesh* order[2] = {&near_red, &far_blue};
+            if (!red_first) std::swap(order[0], order[1]);
+            for (const Mesh* m : order) {
+                call.mesh = m;
+                Renderer().draw(call, fb, stats);
+            }
+            const glm::vec4 centre = fb.pixel(W / 2, H / 2);
+            CHECK(centre.r == 1.0f);
+            CHECK(centre.b == 0.0f);
+            if (!red_first) CHECK(stats.fragments_depth_rejected == 0);  // red overwrote blue
+            if (red_first) CHECK(stats.fragments_depth_rejected > 100);  // blue was hidden
+        }
+    }
+}
+
+TEST_CASE("interpenetrating triangles resolve per pixel", "[pipeline][depth]") {
+    // Two triangles crossing at x = 0: blue is nearer for x < 0, red for x > 0.
+    auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const Mesh red = make_mesh({{-1, -1, -2.5f}, {1, -1, -1.5f}, {0, 1, -2}}, {0, 1, 2},
+                               std::vector<glm::vec4>(3, {1, 0, 0, 1}));
+    const Mesh blue = make_mesh({{-1, -1, -1.5f}, {1, -1, -2.5f}, {0, 1, -2}}, {0, 1, 2},
+                                std::vector<glm::vec4>(3, {0, 0, 1, 1}));
+    Framebuffer fb(W, H);
+    fb.clear(glm::vec4(0.0f), 0.0f);
+    DrawCall call = clip_space_call(red, *shader);
+    call.projection = perspective(glm::radians(60.0f), float(W) / H, 0.1f, 100.0f, true);
+    call.state.depth_compare = DepthCompare::greater;
+    FrameStats stats;
+    Renderer().draw(call, fb, stats);
+    call.mesh = &blue;
+    Renderer().draw(call, fb, stats);
+    const int y = H / 2 + 4;
+    CHECK(fb.pixel(W / 2 - 8, y).b == 1.0f);
+    CHECK(fb.pixel(W / 2 + 8, y).r == 1.0f);
+}
+
+TEST_CASE("blending: source-alpha over and additive", "[pipeline][blend]") {
+    auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const auto quad = [](glm::vec4 c) {
+        return make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {1, 1, 0.5f}, {-1, 1, 0.5f}},
+                         {0, 1, 2, 0, 2, 3}, std::vector<glm::vec4>(4, c));
+    };
+    const Mesh blue = quad({0, 0, 1, 1}), red = quad({1, 0, 0, 0.25f});
+    auto draw_pair = [&](BlendMode mode) {
+        Framebuffer fb(8, 8);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        DrawCall call = clip_space_call(blue, *shader);
+        FrameStats stats;
+        Renderer().draw(call, fb, stats);
+        call.mesh = &red;
+        call.state.blend = mode;
+        Renderer().draw(call, fb, stats);
+        return fb.pixel(3, 3);
+    };
+    const glm::vec4 over = draw_pair(BlendMode::alpha);
+    CHECK(over.r == Approx(0.25));
+    CHECK(over.b == Approx(0.75));
+    CHECK(over.a == Approx(1.0));
+    const glm::vec4 add = draw_pair(BlendMode::additive);
+    CHECK(add.r == Approx(0.25));
+    CHECK(add.b == Approx(1.0));
+    const glm::vec4 opaque = draw_pair(BlendMode::opaque);
+    CHECK(opaque.r == 1.0f);
+    CHECK(opaque.b == 0.0f);
+}
+
+TEST_CASE("back-face culling follows the winding", "[pipeline][cull]") {
+    auto shader = plugin<CountShader>();
+    // Counter-clockwise as seen (NDC y up).
+    const Mesh ccw = make_mesh({{-0.5f, -0.5f, 0.5f}, {0.5f, -0.5f, 0.5f}, {0, 0.5f, 0.5f}},
+                               {0, 1, 2});
+    for (CullMode mode : {CullMode::none, CullMode::back, CullMode::front})
+        for (bool front_ccw : {true, false}) {
+            Framebuffer fb(16, 16);
+            fb.clear(glm::vec4(0.0f), 0.0f);
+            DrawCall call = clip_space_call(ccw, *shader);
+            call.state.cull = mode;
+            call.state.front_ccw = front_ccw;
+            FrameStats stats;
+            Renderer().draw(call, fb, stats);
+            const bool front = front_ccw;
+            const bool culled = (mode == CullMode::back && !front) ||
+                                (mode == CullMode::front && front);
+            CHECK(stats.triangles_culled_backface == (culled ? 1u : 0u));
+            CHECK((fb.pixel(8, 8).r > 0) == !culled);
+        }
+}
+
+TEST_CASE("NaN and Inf vertices are dropped and counted", "[pipeline][robust]") {
+    auto shader = plugin<CountShader>();
+    const float nan = std::nanf(""), inf = INFINITY;
+    const Mesh mesh = make_mesh({{-0.5f, -0.5f, 0.5f}, {0.5f, -0.5f, 0.5f}, {0, 0.5f, 0.5f},
+                                 {nan, 0, 0.5f}, {0, inf, 0.5f}},
+                                {0, 1, 2, 0, 3, 2, 4, 1, 2});
+    Framebuffer fb(16, 16);
+    fb.clear(glm::vec4(0.0f), 0.0f);
+    DrawCall call = clip_space_call(mesh, *shader);
+    FrameStats stats;
+    Renderer().draw(call, fb, stats);
+    CHECK(stats.triangles_in == 3);
+    CHECK(stats.triangles_invalid == 2);
+    CHECK(stats.triangles_rasterized == 1);
+}

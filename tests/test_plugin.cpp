@@ -1,0 +1,141 @@
+// Plugin loading and the ABI: real .so files, good and deliberately bad.
+#include "support.hpp"
+
+#include <facet/error.hpp>
+#include <facet/plugin.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cstddef>
+#include <fstream>
+
+using namespace facet;
+namespace fs = std::filesystem;
+
+extern "C" {
+size_t facet_c_sizeof_shader_desc(void);
+size_t facet_c_sizeof_fragment_batch(void);
+size_t facet_c_sizeof_draw(void);
+size_t facet_c_sizeof_param_desc(void);
+size_t facet_c_sizeof_light(void);
+size_t facet_c_desc_v1_0_size(void);
+}
+
+namespace {
+
+const fs::path kTestPlugins = FACET_TEST_PLUGIN_DIR;
+
+ErrorCode load_error(const fs::path& path, std::string* message = nullptr) {
+    try {
+        ShaderPlugin::load(path);
+    } catch (const Error& e) {
+        if (message) *message = e.what();
+        return e.code();
+    }
+    FAIL("plugin " << path << " was accepted");
+    return ErrorCode::config_invalid;
+}
+
+}  // namespace
+
+TEST_CASE("the ABI header compiles as C with the same layout", "[abi]") {
+    CHECK(facet_c_sizeof_shader_desc() == sizeof(facet_shader_desc));
+    CHECK(facet_c_sizeof_fragment_batch() == sizeof(facet_fragment_batch));
+    CHECK(facet_c_sizeof_draw() == sizeof(facet_draw));
+    CHECK(facet_c_sizeof_param_desc() == sizeof(facet_param_desc));
+    CHECK(facet_c_sizeof_light() == sizeof(facet_light));
+    CHECK(facet_c_desc_v1_0_size() == sizeof(facet_shader_desc));  // v1.0 is all there is
+}
+
+TEST_CASE("a plugin written in C loads and draws", "[abi][plugin]") {
+    auto plugin = ShaderPlugin::load(kTestPlugins / "c_plugin.so", "c_plugin");
+    CHECK(plugin->name() == "c_plugin");
+    const Mesh mesh = test::make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {0, 1, 0.5f}}, {0, 1, 2});
+    Framebuffer fb(8, 8);
+    fb.clear(glm::vec4(0.0f), 0.0f);
+    FrameStats stats;
+    Renderer().draw(test::clip_space_call(mesh, *plugin), fb, stats);
+    CHECK(fb.pixel(4, 4) == glm::vec4(1.0f, 0.5f, 0.25f, 1.0f));
+}
+
+TEST_CASE("plugins with a mismatched ABI are refused, saying why", "[abi][plugin]") {
+    std::string why;
+    CHECK(load_error(kTestPlugins / "wrong_major.so", &why) == ErrorCode::plugin_abi_mismatch);
+    CHECK_THAT(why, Catch::Contains("built for ABI 2.0") && Catch::Contains("ABI 1.0") &&
+                        Catch::Contains("wrong_major.so"));
+    CHECK(load_error(kTestPlugins / "short_desc.so", &why) == ErrorCode::plugin_struct_size);
+    CHECK_THAT(why, Catch::Contains("16 bytes"));
+    CHECK(load_error(kTestPlugins / "no_entry.so", &why) == ErrorCode::plugin_no_entry);
+    CHECK_THAT(why, Catch::Contains("facet_shader_entry"));
+    CHECK(load_error(kTestPlugins / "missing_symbol.so", &why) == ErrorCode::plugin_load_failed);
+    CHECK_THAT(why, Catch::Contains("facet_test_symbol_nobody_defines"));
+}
+
+TEST_CASE("files that are not plugins are refused", "[plugin]") {
+    const fs::path dir = test::temp_dir("plugin");
+    std::ofstream(dir / "garbage.so") << "this is not an ELF file";
+    CHECK(load_error(dir / "garbage.so") == ErrorCode::plugin_load_failed);
+    // A real plugin cut short, as a half-finished compile leaves it.
+    const fs::path good = kTestPlugins / "c_plugin.so";
+    fs::copy_file(good, dir / "truncated.so");
+    fs::resize_file(dir / "truncated.so", fs::file_size(good) / 3);
+    CHECK(load_error(dir / "truncated.so") == ErrorCode::plugin_load_failed);
+    CHECK(load_error(dir / "absent.so") == ErrorCode::file_not_found);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
+    facet_shader_desc d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    facet_varying_desc bad_varying = {"v", 5, FACET_INTERP_PERSPECTIVE};
+    d.varyings = &bad_varying;
+    auto code = [&] {
+        try {
+            ShaderPlugin::from_descriptor(&d, "test");
+        } catch (const Error& e) {
+            return e.code();
+        }
+        return ErrorCode::config_invalid;
+    };
+    CHECK(code() == ErrorCode::plugin_invalid);
+    d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    d.fragment = nullptr;
+    CHECK(code() == ErrorCode::plugin_invalid);
+}
+
+TEST_CASE("the registry finds plugins on its search path, by name", "[plugin]") {
+    PluginRegistry registry({kTestPlugins});
+    CHECK(registry.get("c_plugin")->name() == "c_plugin");
+    CHECK(registry.get("c_plugin") == registry.get("c_plugin"));  // loaded once
+    try {
+        registry.get("no_such_shader");
+        FAIL("unknown shader accepted");
+    } catch (const Error& e) {
+        CHECK(e.code() == ErrorCode::unknown_shader);
+        CHECK_THAT(e.what(), Catch::Contains(kTestPlugins.string()));
+    }
+    // The file name and the shader's own name must agree.
+    const fs::path dir = test::temp_dir("rename");
+    fs::copy_file(kTestPlugins / "c_plugin.so", dir / "renamed.so");
+    registry.add_scene_path(dir);
+    CHECK_THROWS_AS(registry.get("renamed"), Error);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("the default scene renders through the unlit plugin .so", "[plugin][scene]") {
+    PluginRegistry registry;
+    const Scene scene = load_scene(default_scene_path(), registry);
+    REQUIRE_FALSE(scene.objects.empty());
+    const ShaderPlugin& unlit = *scene.objects[0].material->plugin;
+    CHECK(unlit.name() == "unlit");
+    CHECK(fs::path(unlit.origin()).filename() == "unlit.so");
+    Framebuffer fb;
+    const FrameStats stats = Renderer().render(scene, fb);
+    CHECK(stats.triangles_rasterized > 1000);
+    // The cow is there: many pixels differ from the clear colour.
+    int drawn = 0;
+    for (int i = 0; i < fb.width() * fb.height(); ++i)
+        drawn += fb.color()[i] != scene.settings.clear_color;
+    CHECK(drawn > fb.width() * fb.height() / 20);
+}

@@ -1,0 +1,184 @@
+// Coverage: the block rasterizer against a small, obviously right oracle.
+//
+// The oracle tests one sample point against one triangle with exact integer
+// arithmetic, and derives the top-left rule from its D3D wording ("a top
+// edge is exactly horizontal and above the other edges; a left edge is not
+// horizontal and on the left side of the triangle"), independently of
+// setup.cpp's edge-normal form.
+#include "rasterize.hpp"
+#include "setup.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+#include <set>
+#include <utility>
+
+using namespace facet;
+
+namespace {
+
+struct P {
+    int64_t x, y;  // sub-pixel units, y down
+};
+
+int64_t cross(P a, P b, P c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
+
+int sign(int64_t v) { return (v > 0) - (v < 0); }
+
+// Is edge a-b (third vertex c) a top or a left edge?
+bool top_or_left(P a, P b, P c) {
+    if (a.y == b.y) return c.y > a.y;  // horizontal with the interior below: top
+    // Left: at the height of c, the edge lies to the left of c.
+    const int64_t den = b.y - a.y;
+    const int64_t num = a.x * den + (b.x - a.x) * (c.y - a.y);  // x_edge(c.y) * den
+    return den > 0 ? num < c.x * den : num > c.x * den;
+}
+
+bool oracle_covers(const P v[3], P p) {
+    if (cross(v[0], v[1], v[2]) == 0) return false;
+    for (int k = 0; k < 3; ++k) {
+        const P a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+        const int side = sign(cross(a, b, p));
+        if (side == 0 ? !top_or_left(a, b, c) : side != sign(cross(a, b, c))) return false;
+    }
+    return true;
+}
+
+constexpr int kSize = 64;  // a power of two keeps window <-> NDC conversions exact
+
+glm::vec4 clip_of(P p) {
+    const double ndc_x = double(p.x) / (256.0 * kSize) * 2.0 - 1.0;
+    const double ndc_y = 1.0 - double(p.y) / (256.0 * kSize) * 2.0;
+    return {float(ndc_x), float(ndc_y), 0.5f, 1.0f};
+}
+
+using PixelSet = std::set<std::pair<int, int>>;
+
+PixelSet raster(const P v[3], bool* drawn = nullptr) {
+    const float none = 0.0f;
+    const SetupVertex sv[3] = {{clip_of(v[0]), &none}, {clip_of(v[1]), &none},
+                               {clip_of(v[2]), &none}};
+    CullState cull;
+    cull.cull_back = false;
+    TriangleSetup t;
+    PixelSet out;
+    const bool ok = setup_triangle(sv, Viewport{kSize, kSize}, cull, t) == SetupResult::ok;
+    if (drawn) *drawn = ok;
+    if (!ok) return out;
+    rasterize(t, [&](const Block& b) {
+        for (int i = 0; i < FACET_BLOCK_LANES; ++i)
+            if (b.mask & (1u << i)) out.insert({b.x + i % 4, b.y + i / 4});
+    });
+    return out;
+}
+
+PixelSet oracle(const P v[3]) {
+    PixelSet out;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            if (oracle_covers(v, {x * 256 + 128, y * 256 + 128})) out.insert({x, y});
+    return out;
+}
+
+P px(double x, double y) { return {int64_t(x * 256), int64_t(y * 256)}; }
+
+}  // namespace
+
+TEST_CASE("oracle agrees with hand-worked fill-rule cases", "[raster][oracle]") {
+    // Right triangle (0,0) (4,0) (0,4): centres with x + y < 4 are inside; the
+    // hypotenuse through centres (x + y == 4) is a bottom-right edge.
+    const P tri[3] = {px(0, 0), px(4, 0), px(0, 4)};
+    CHECK(oracle(tri).size() == 6);
+    // A 4x4 square with corners on pixel centres: the top and left sides
+    // are in, the bottom and right sides are out.
+    const P a[3] = {px(1.5, 1.5), px(5.5, 1.5), px(5.5, 5.5)};
+    const P b[3] = {px(1.5, 1.5), px(5.5, 5.5), px(1.5, 5.5)};
+    PixelSet both = oracle(a);
+    for (auto p : oracle(b)) CHECK(both.insert(p).second);  // never twice
+    CHECK(both.size() == 16);
+    CHECK(both.count({1, 1}) == 1);
+    CHECK(both.count({5, 5}) == 0);
+}
+
+TEST_CASE("fill rule on ties: vertices on pixel centres and pixel edges", "[raster][fill]") {
+    // Every vertex on a half-pixel grid: most edges pass exactly through
+    // pixel centres, which is where a wrong tie rule shows.
+    std::mt19937 rng(1234);
+    std::uniform_int_distribution<int> coord(0, 2 * 20);  // 0 .. 20 px in half pixels
+    int compared = 0, with_ties = 0;
+    for (int n = 0; n < 3000; ++n) {
+        P v[3];
+        for (P& p : v) p = {coord(rng) * 128, coord(rng) * 128};
+        const PixelSet expected = oracle(v);
+        const PixelSet got = raster(v);
+        REQUIRE(got == expected);
+        ++compared;
+        for (auto [x, y] : expected)
+            for (int k = 0; k < 3; ++k)
+                if (cross(v[k], v[(k + 1) % 3], {x * 256 + 128, y * 256 + 128}) == 0) ++with_ties;
+    }
+    CHECK(compared == 3000);
+    CHECK(with_ties > 1000);  // the sample really exercised ties
+}
+
+TEST_CASE("fill rule: shared edges cover each pixel exactly once", "[raster][fill]") {
+    // Two triangles sharing an edge, in both windings, with vertices on
+    // centres and edges: their coverage is disjoint and is the square's.
+    for (double o : {1.0, 1.5}) {
+        const P a = px(o, o), b = px(o + 8, o), c = px(o + 8, o + 8), d = px(o, o + 8);
+        for (bool flip : {false, true}) {
+            const P t1[3] = {a, flip ? c : b, flip ? b : c};
+            const P t2[3] = {a, flip ? d : c, flip ? c : d};
+            const PixelSet s1 = raster(t1), s2 = raster(t2);
+            PixelSet all = s1;
+            for (auto p : s2) REQUIRE(all.insert(p).second);
+            CHECK(all.size() == 64);
+        }
+    }
+}
+
+TEST_CASE("random sub-pixel triangles match the oracle", "[raster]") {
+    std::mt19937 rng(99);
+    std::uniform_int_distribution<int64_t> coord(-4 * 256, (kSize + 4) * 256);
+    for (int n = 0; n < 2000; ++n) {
+        P v[3];
+        for (P& p : v) p = {coord(rng), coord(rng)};
+        REQUIRE(raster(v) == oracle(v));
+    }
+}
+
+TEST_CASE("degenerate triangles draw nothing", "[raster]") {
+    bool drawn = true;
+    const P line[3] = {px(1, 1), px(5, 5), px(9, 9)};
+    CHECK(raster(line, &drawn).empty());
+    CHECK_FALSE(drawn);
+    // Thinner than a sample spacing and between centres: no pixel, no crash.
+    const P sliver[3] = {px(1.6, 1), px(1.7, 30), px(1.6, 60)};
+    CHECK(raster(sliver) == oracle(sliver));
+}
+
+TEST_CASE("barycentric weights reproduce pixel centres", "[raster]") {
+    const P v[3] = {px(2.25, 1.5), px(40.75, 9), px(11, 50.125)};
+    const float none = 0.0f;
+    const SetupVertex sv[3] = {{clip_of(v[0]), &none}, {clip_of(v[1]), &none},
+                               {clip_of(v[2]), &none}};
+    TriangleSetup t;
+    REQUIRE(setup_triangle(sv, Viewport{kSize, kSize}, CullState{false, false, true}, t) ==
+            SetupResult::ok);
+    // Weights are for setup's (possibly reordered) vertices, whose positions
+    // the edge functions hold.
+    rasterize(t, [&](const Block& b) {
+        for (int i = 0; i < FACET_BLOCK_LANES; ++i) {
+            double x = 0, y = 0, sum = 0;
+            for (int k = 0; k < 3; ++k) {
+                x += b.bary[k][i] * double(t.edge[k].x0) / 256.0;
+                y += b.bary[k][i] * double(t.edge[k].y0) / 256.0;
+                sum += b.bary[k][i];
+            }
+            CHECK(sum == Approx(1.0).margin(1e-5));
+            CHECK(x == Approx(b.x + i % 4 + 0.5).margin(1e-3));
+            CHECK(y == Approx(b.y + i / 4 + 0.5).margin(1e-3));
+        }
+    });
+}
