@@ -26,7 +26,8 @@ bool depth_passes(DepthCompare compare, float z, float stored) {
 
 void interpolate_depth(const TriangleSetup& t, const Block& b, float* z) {
     for (int i = 0; i < N; ++i)
-        z[i] = std::clamp(b.bary[0][i] * t.z[0] + b.bary[1][i] * t.z[1] + b.bary[2][i] * t.z[2],
+        z[i] = std::clamp(t.z[0] + b.bary[1][i] * (t.z[1] - t.z[0]) +
+                              b.bary[2][i] * (t.z[2] - t.z[0]),
                           0.0f, 1.0f);
 }
 
@@ -67,7 +68,9 @@ void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const B
             continue;
         }
         const float(*w)[N] = dc.interpolation[k] == FACET_INTERP_PERSPECTIVE ? pw : b.bary;
-        for (int i = 0; i < N; ++i) dst[i] = w[0][i] * v0 + w[1][i] * v1 + w[2][i] * v2;
+        // Relative to v0: exact for constant attributes, better conditioned.
+        const float d1 = v1 - v0, d2 = v2 - v0;
+        for (int i = 0; i < N; ++i) dst[i] = v0 + w[1][i] * d1 + w[2][i] * d2;
     }
 }
 

@@ -5,9 +5,12 @@
 #include <spdlog/spdlog.h>
 
 #include <dlfcn.h>
+#include <elf.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 
 namespace facet {
@@ -86,6 +89,30 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
         refuse(ErrorCode::plugin_invalid, origin, "too many texture parameters");
 }
 
+// dlopen() maps a library's segments straight from the file; a segment
+// that runs past the end of a truncated file (a compiler still writing it)
+// faults with SIGBUS on first touch. Refuse such a file before dlopen.
+void check_elf_complete(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    Elf64_Ehdr eh{};
+    const uint64_t size = fs::file_size(path);
+    if (!in.read(reinterpret_cast<char*>(&eh), sizeof eh) ||
+        std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 || eh.e_ident[EI_CLASS] != ELFCLASS64)
+        refuse(ErrorCode::plugin_load_failed, path.string(), "not a 64-bit ELF shared library");
+    uint64_t needed = uint64_t(eh.e_shoff) + uint64_t(eh.e_shnum) * eh.e_shentsize;
+    needed = std::max<uint64_t>(needed, eh.e_phoff + uint64_t(eh.e_phnum) * eh.e_phentsize);
+    for (int i = 0; i < eh.e_phnum && needed <= size; ++i) {
+        Elf64_Phdr ph{};
+        in.seekg(std::streamoff(eh.e_phoff + uint64_t(i) * eh.e_phentsize));
+        if (!in.read(reinterpret_cast<char*>(&ph), sizeof ph)) break;
+        if (ph.p_type == PT_LOAD) needed = std::max<uint64_t>(needed, ph.p_offset + ph.p_filesz);
+    }
+    if (needed > size)
+        refuse(ErrorCode::plugin_load_failed, path.string(),
+               "file is truncated (" + std::to_string(size) + " bytes, its headers need " +
+                   std::to_string(needed) + "); is it still being written?");
+}
+
 }  // namespace
 
 void validate_descriptor(const facet_shader_desc* d, const std::string& origin) {
@@ -126,6 +153,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
                                                  std::string_view expected_name) {
     const std::string origin = path.string();
     if (!fs::exists(path)) throw Error(ErrorCode::file_not_found, "shader plugin", origin);
+    check_elf_complete(path);
     // RTLD_LOCAL keeps each plugin's symbols to itself; RTLD_NOW reports a
     // missing symbol here rather than at the first draw.
     void* handle = dlopen(origin.c_str(), RTLD_NOW | RTLD_LOCAL);
