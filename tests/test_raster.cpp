@@ -47,10 +47,10 @@ bool oracle_covers(const P v[3], P p) {
 
 constexpr int kSize = 64;  // a power of two keeps window <-> NDC conversions exact
 
-glm::vec4 clip_of(P p) {
+glm::dvec4 clip_of(P p) {
     const double ndc_x = double(p.x) / (256.0 * kSize) * 2.0 - 1.0;
     const double ndc_y = 1.0 - double(p.y) / (256.0 * kSize) * 2.0;
-    return {float(ndc_x), float(ndc_y), 0.5f, 1.0f};
+    return {ndc_x, ndc_y, 0.5, 1.0};
 }
 
 using PixelSet = std::set<std::pair<int, int>>;

@@ -9,7 +9,8 @@ namespace {
 constexpr int kPlaneCount = 6;
 
 // Signed distance of p to plane `i`: >= 0 inside.
-float distance(const glm::vec4& p, int i, float guard) {
+template <class Vec, class T>
+T distance(const Vec& p, int i, T guard) {
     switch (i) {
         case 0: return p.w - p.z;
         case 1: return p.z;
@@ -20,36 +21,37 @@ float distance(const glm::vec4& p, int i, float guard) {
     }
 }
 
-uint32_t outcode(const glm::vec4& p, float guard) {
+uint32_t outcode(const glm::vec4& p, double guard) {
+    const glm::dvec4 d(p);
     uint32_t code = 0;
     for (int i = 0; i < kPlaneCount; ++i)
-        if (distance(p, i, guard) < 0.0f) code |= 1u << i;
+        if (distance(d, i, guard) < 0.0) code |= 1u << i;
     return code;
 }
 
 // The point where edge (a, b) crosses the plane, interpolated from the inside
 // vertex a (da >= 0 > db). Always starting from the inside vertex makes the
 // result independent of the direction the edge is walked in.
-void intersect(const ClipVertex& a, float da, const ClipVertex& b, float db, int floats,
+void intersect(const ClipVertex& a, double da, const ClipVertex& b, double db, int floats,
                ClipVertex& out) {
-    const float t = da / (da - db);
+    const double t = da / (da - db);
     out.position = a.position + t * (b.position - a.position);
     for (int k = 0; k < floats; ++k)
-        out.varyings[k] = a.varyings[k] + t * (b.varyings[k] - a.varyings[k]);
+        out.varyings[k] = float(a.varyings[k] + t * (b.varyings[k] - a.varyings[k]));
 }
 
 // One Sutherland-Hodgman step against plane `plane`.
-int clip_against(const ClipVertex* in, int n, int plane, float guard, int floats,
+int clip_against(const ClipVertex* in, int n, int plane, double guard, int floats,
                  ClipVertex* out) {
     int m = 0;
     for (int i = 0; i < n; ++i) {
         const ClipVertex& a = in[i];
         const ClipVertex& b = in[(i + 1) % n];
-        const float da = distance(a.position, plane, guard);
-        const float db = distance(b.position, plane, guard);
-        if (da >= 0.0f) out[m++] = a;
-        if ((da >= 0.0f) != (db >= 0.0f)) {
-            if (da >= 0.0f) intersect(a, da, b, db, floats, out[m++]);
+        const double da = distance(a.position, plane, guard);
+        const double db = distance(b.position, plane, guard);
+        if (da >= 0.0) out[m++] = a;
+        if ((da >= 0.0) != (db >= 0.0)) {
+            if (da >= 0.0) intersect(a, da, b, db, floats, out[m++]);
             else intersect(b, db, a, da, floats, out[m++]);
         }
     }
@@ -58,13 +60,13 @@ int clip_against(const ClipVertex* in, int n, int plane, float guard, int floats
 
 }  // namespace
 
-ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, float guard) {
-    const uint32_t view = outcode(a, 1.0f) & outcode(b, 1.0f) & outcode(c, 1.0f);
+ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, double guard) {
+    const uint32_t view = outcode(a, 1.0) & outcode(b, 1.0) & outcode(c, 1.0);
     const uint32_t band = outcode(a, guard) | outcode(b, guard) | outcode(c, guard);
     return {view, band};
 }
 
-int clip_polygon(const ClipVertex* in, int n, uint32_t planes, float guard, int floats,
+int clip_polygon(const ClipVertex* in, int n, uint32_t planes, double guard, int floats,
                  ClipVertex* out) {
     ClipVertex buffer[2][kMaxClipVertices];
     const ClipVertex* src = in;

@@ -21,9 +21,12 @@
 
 namespace facet {
 
-// A vertex as clipping sees it.
+// A vertex as clipping sees it. The position is double: an intersection
+// a + t (b - a) between two far-apart vertices cancels catastrophically, and
+// double keeps the clipped vertex exact to a sub-pixel for vertices out to
+// about 1e15 times the viewport (float would manage about 1e7).
 struct ClipVertex {
-    glm::vec4 position;
+    glm::dvec4 position;
     float varyings[FACET_MAX_VARYING_FLOATS];
 };
 
@@ -46,13 +49,13 @@ struct ClipClass {
 };
 
 // `guard` is the guard-band half-width in NDC units (g above).
-ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, float guard);
+ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, double guard);
 
 // Clips polygon `in` (n vertices, each with `floats` varyings) against the
 // planes in `planes`. Writes the result to `out` and returns its vertex
 // count (0 if nothing is left). Shared edges clip identically from both
 // sides, so clipped meshes stay watertight.
-int clip_polygon(const ClipVertex* in, int n, uint32_t planes, float guard, int floats,
+int clip_polygon(const ClipVertex* in, int n, uint32_t planes, double guard, int floats,
                  ClipVertex* out);
 
 }  // namespace facet

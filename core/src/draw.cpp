@@ -66,7 +66,7 @@ CullState cull_state(const PipelineState& s) {
 // Clips the triangle and draws the fan of what is left. Returns the setup
 // result that counts for the input triangle.
 template <class Draw>
-SetupResult draw_clipped(const SetupVertex v[3], uint32_t planes, float guard,
+SetupResult draw_clipped(const SetupVertex v[3], uint32_t planes, double guard,
                          const DrawContext& dc, Draw&& draw_one) {
     ClipVertex in[3], out[kMaxClipVertices];
     const int floats = int(dc.varying_floats);
@@ -138,7 +138,7 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
 
     // Primitive assembly and everything after it, one triangle at a time.
     const Viewport viewport{target.width(), target.height()};
-    const float guard = viewport.guard_ndc();
+    const double guard = viewport.guard_ndc();
     const CullState cull = cull_state(call.state);
     TriangleSetup setup;
     auto draw_one = [&](const SetupVertex tri[3]) {
@@ -151,13 +151,17 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     for (size_t t = 0; t < mesh.triangle_count(); ++t, idx += 3) {
         ++stats.triangles_in;
         SetupVertex v[3];
-        for (int i = 0; i < 3; ++i)
-            v[i] = {scratch_.clip[idx[i]], scratch_.varyings.data() + size_t(idx[i]) * floats};
-        if (!finite(v[0].clip) || !finite(v[1].clip) || !finite(v[2].clip)) {
+        const glm::vec4& c0 = scratch_.clip[idx[0]];
+        const glm::vec4& c1 = scratch_.clip[idx[1]];
+        const glm::vec4& c2 = scratch_.clip[idx[2]];
+        if (!finite(c0) || !finite(c1) || !finite(c2)) {
             ++stats.triangles_invalid;
             continue;
         }
-        const ClipClass cc = classify(v[0].clip, v[1].clip, v[2].clip, guard);
+        for (int i = 0; i < 3; ++i)
+            v[i] = {glm::dvec4(scratch_.clip[idx[i]]),
+                    scratch_.varyings.data() + size_t(idx[i]) * floats};
+        const ClipClass cc = classify(c0, c1, c2, guard);
         if (cc.reject) {
             ++stats.triangles_culled_frustum;
             continue;

@@ -33,16 +33,16 @@ void pixel_range(int64_t lo, int64_t hi, int& first, int& last) {
 
 }  // namespace
 
-float Viewport::guard_ndc() const {
+double Viewport::guard_ndc() const {
     // Window x = (ndc + 1) * width / 2 must stay within +-kGuardBandPixels.
     const double half = std::max(width, height) * 0.5;
-    return float((kGuardBandPixels - 2.0 * half) / half);
+    return (kGuardBandPixels - 2.0 * half) / half;
 }
 
-glm::dvec2 to_window(const glm::vec4& clip, const Viewport& viewport) {
-    const double inv_w = 1.0 / double(clip.w);
-    return {(double(clip.x) * inv_w + 1.0) * 0.5 * viewport.width,
-            (1.0 - double(clip.y) * inv_w) * 0.5 * viewport.height};
+glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
+    const double inv_w = 1.0 / clip.w;
+    return {(clip.x * inv_w + 1.0) * 0.5 * viewport.width,
+            (1.0 - clip.y * inv_w) * 0.5 * viewport.height};
 }
 
 SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
@@ -68,8 +68,8 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
     for (int k = 0; k < 3; ++k) {
         const int a = order[k], b = order[(k + 1) % 3];
         out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
-        out.z[k] = float(double(v[a].clip.z) / double(v[a].clip.w));
-        out.inv_w[k] = float(1.0 / double(v[a].clip.w));
+        out.z[k] = float(v[a].clip.z / v[a].clip.w);
+        out.inv_w[k] = float(1.0 / v[a].clip.w);
         out.varyings[k] = v[a].varyings;
     }
     out.area2 = area2 < 0 ? -area2 : area2;

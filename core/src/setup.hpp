@@ -30,11 +30,11 @@ struct Viewport {
     int width = 0;
     int height = 0;
     // Guard-band half-width in NDC units for this viewport (see clip.hpp).
-    float guard_ndc() const;
+    double guard_ndc() const;
 };
 
 struct SetupVertex {
-    glm::vec4 clip;           // clip-space position
+    glm::dvec4 clip;          // clip-space position
     const float* varyings;    // its varying floats
 };
 
@@ -75,6 +75,6 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
                            const CullState& cull, TriangleSetup& out);
 
 // Window position of a clip-space point (pixel units, y down), as setup uses.
-glm::dvec2 to_window(const glm::vec4& clip, const Viewport& viewport);
+glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport);
 
 }  // namespace facet
