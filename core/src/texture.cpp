@@ -1,0 +1,137 @@
+// Texture loading (stb_image, decoded to linear float RGBA) and sampling.
+//
+// Texel (i, j) covers [i, i+1) x [j, j+1) in texel units, so its centre is at
+// uv ((i + 0.5) / width, (j + 0.5) / height); uv (0, 0) is the top-left corner.
+#include "facet/texture.hpp"
+
+#include "facet/error.hpp"
+#include "facet/framebuffer.hpp"
+
+#include <spdlog/spdlog.h>
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+// 8-bit code -> linear value, for colour channels.
+std::array<float, 256> decode_table(bool srgb) {
+    std::array<float, 256> table;
+    for (int i = 0; i < 256; ++i)
+        table[i] = srgb ? srgb_to_linear(float(i) / 255.0f) : float(i) / 255.0f;
+    return table;
+}
+
+int wrap_index(int i, int n, Wrap wrap) {
+    switch (wrap) {
+        case Wrap::clamp: return std::clamp(i, 0, n - 1);
+        case Wrap::mirror: {
+            const int period = 2 * n;
+            int k = i % period;
+            if (k < 0) k += period;
+            return k < n ? k : period - 1 - k;
+        }
+        case Wrap::repeat: break;
+    }
+    const int k = i % n;
+    return k < 0 ? k + n : k;
+}
+
+// A coordinate in texel units split into its integer part and fraction.
+// NaN and huge values are pinned so the integer part never overflows.
+struct Split {
+    int index;
+    float fraction;
+};
+
+Split split(float x) {
+    constexpr float kLimit = 16777216.0f;  // 2^24: beyond it floats have no fraction
+    if (!(std::abs(x) < kLimit)) x = std::isnan(x) ? 0.0f : std::copysign(kLimit, x);
+    const float whole = std::floor(x);
+    return {static_cast<int>(whole), x - whole};
+}
+
+class Sampler {
+public:
+    Sampler(const Texture& texture, Wrap wrap) : t_(texture), wrap_(wrap) {}
+
+    glm::vec4 nearest(glm::vec2 uv) const {
+        return texel(split(uv.x * t_.width).index, split(uv.y * t_.height).index);
+    }
+
+    glm::vec4 bilinear(glm::vec2 uv) const {
+        const Split x = split(uv.x * t_.width - 0.5f);
+        const Split y = split(uv.y * t_.height - 0.5f);
+        const glm::vec4 top =
+            glm::mix(texel(x.index, y.index), texel(x.index + 1, y.index), x.fraction);
+        const glm::vec4 bottom =
+            glm::mix(texel(x.index, y.index + 1), texel(x.index + 1, y.index + 1), x.fraction);
+        return glm::mix(top, bottom, y.fraction);
+    }
+
+private:
+    const glm::vec4& texel(int x, int y) const {
+        const size_t row = static_cast<size_t>(wrap_index(y, t_.height, wrap_));
+        return t_.texels[row * t_.width + wrap_index(x, t_.width, wrap_)];
+    }
+
+    const Texture& t_;
+    Wrap wrap_;
+};
+
+}  // namespace
+
+std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
+    if (!std::filesystem::is_regular_file(path))
+        throw Error(ErrorCode::file_not_found, "", path.string());
+    int width = 0, height = 0, channels = 0;
+    stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);
+    if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), path.string());
+
+    auto texture = std::make_shared<Texture>();
+    texture->source = path.string();
+    texture->width = width;
+    texture->height = height;
+    texture->srgb = srgb;
+    texture->texels.resize(size_t(width) * height);
+    const std::array<float, 256> colour = decode_table(srgb);
+    for (size_t i = 0; i < texture->texels.size(); ++i) {
+        const stbi_uc* p = pixels + 4 * i;
+        texture->texels[i] = {colour[p[0]], colour[p[1]], colour[p[2]], float(p[3]) / 255.0f};
+    }
+    stbi_image_free(pixels);
+    spdlog::info("texture {}: {}x{}, {} channels{}", texture->source, width, height, channels,
+                 srgb ? ", sRGB" : "");
+    return texture;
+}
+
+std::shared_ptr<const Texture> TextureCache::get(const std::filesystem::path& path, bool srgb) {
+    std::error_code ec;
+    std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+    if (ec) canonical = path;
+    const auto key = std::make_pair(canonical.string(), srgb);
+    if (const auto found = textures_.find(key); found != textures_.end()) return found->second;
+    std::shared_ptr<const Texture> texture = load_texture(path, srgb);
+    textures_.emplace(key, texture);
+    return texture;
+}
+
+glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv) {
+    if (!binding.texture) return glm::vec4(1.0f);  // nothing bound reads as white
+    const Sampler sampler(*binding.texture, binding.wrap);
+    return binding.filter == Filter::nearest ? sampler.nearest(uv) : sampler.bilinear(uv);
+}
+
+void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,
+                 float* rgba) {
+    for (int i = 0; i < count; ++i) {
+        const glm::vec4 c = sample(binding, {u[i], v[i]});
+        for (int k = 0; k < 4; ++k) rgba[k * count + i] = c[k];
+    }
+}
+
+}  // namespace facet

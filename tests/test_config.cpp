@@ -1,0 +1,382 @@
+// Materials and scenes from YAML: every error names its id, file, line and
+// column; good files load into the values they say.
+#include <facet/error.hpp>
+#include <facet/material.hpp>
+#include <facet/plugin.hpp>
+#include <facet/scene.hpp>
+#include <facet/shader.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using facet::ErrorCode;
+
+namespace {
+
+// A shader compiled into the test, to validate materials against.
+struct TestShader {
+    struct Params {
+        glm::vec4 tint;
+        float gloss;
+        int32_t steps;
+        int32_t mirror;
+        int32_t albedo;
+    };
+    struct Varyings {
+        glm::vec2 uv;
+    };
+    static constexpr const char* name = "test";
+    static constexpr const char* version = "1";
+    static constexpr uint32_t needs = FACET_NEED_UVS | FACET_NEED_TEXTURES;
+    static constexpr facet_varying_desc varyings[] = {facet::sdk::varying("uv", 2)};
+    static constexpr facet_param_desc params[] = {
+        facet::sdk::color4("tint", offsetof(Params, tint), {1, 0.5f, 0.25f, 1}),
+        facet::sdk::float1("gloss", offsetof(Params, gloss), 0.5f, 0.0f, 1.0f),
+        facet::sdk::int1("steps", offsetof(Params, steps), 4, 1, 16),
+        facet::sdk::boolean("mirror", offsetof(Params, mirror), true),
+        facet::sdk::texture("albedo", offsetof(Params, albedo), 0, true),
+    };
+
+    static Varyings vertex(const facet::sdk::VertexIn& in, const facet::sdk::Draw& d, const Params&,
+                           glm::vec4& clip) {
+        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+        return {in.uv};
+    }
+    static glm::vec4 fragment(const Varyings&, facet::sdk::Fragment& f, const facet::sdk::Draw&,
+                              const Params& p) {
+        return p.tint * f.texture(0);
+    }
+};
+
+// A temp folder with a registry that knows the test shader, and files in it.
+struct Env {
+    fs::path dir;
+    facet::PluginRegistry registry{std::vector<fs::path>{}};
+    facet::TextureCache cache;
+
+    Env() {
+        std::random_device random;
+        dir = fs::temp_directory_path() / ("facet-config-test-" + std::to_string(random()));
+        fs::create_directories(dir);
+        registry.add(
+            facet::ShaderPlugin::from_descriptor(facet::sdk::describe<TestShader>(), "test"));
+        write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");
+        // A 1x1 TGA: header, then one BGRA texel.
+        write("px.tga",
+              std::string("\0\0\2\0\0\0\0\0\0\0\0\0\1\0\1\0\x20\x28", 18) + "\x10\x20\x30\xff");
+    }
+    ~Env() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+    fs::path write(const std::string& name, const std::string& text) const {
+        fs::create_directories((dir / name).parent_path());
+        std::ofstream(dir / name, std::ios::binary) << text;
+        return dir / name;
+    }
+    std::shared_ptr<facet::Material> material(const std::string& yaml) {
+        return facet::load_material(write("m.yaml", yaml), registry, cache);
+    }
+    facet::Scene scene(const std::string& yaml) {
+        return facet::load_scene(write("scene.yaml", yaml), registry);
+    }
+};
+
+// The Error `run` throws; fails the test if it throws none.
+facet::Error error_of(const std::function<void()>& run) {
+    try {
+        run();
+    } catch (const facet::Error& e) {
+        return e;
+    }
+    throw std::runtime_error("expected a facet::Error, got none");
+}
+
+void require_at(const facet::Error& e, ErrorCode code, const fs::path& file, int line, int column) {
+    INFO(e.what());
+    REQUIRE(facet::error_name(e.code()) == facet::error_name(code));
+    REQUIRE(e.file() == file.string());
+    REQUIRE(e.line() == line);
+    REQUIRE(e.column() == column);
+}
+
+TestShader::Params params_of(const facet::Material& m) {
+    TestShader::Params p;
+    std::memcpy(&p, m.block->bytes, sizeof p);
+    return p;
+}
+
+const char* kObject = "objects:\n  - {mesh: tri.obj, material: {shader: test}}\n";
+
+}  // namespace
+
+// ---- YAML errors -------------------------------------------------------------------
+
+TEST_CASE("malformed YAML names file, line and column", "[config]") {
+    Env env;
+    const auto e =
+        error_of([&] { env.material("shader: test\nparams:\n  gloss: [0.5\nblend: alpha\n"); });
+    REQUIRE(e.code() == ErrorCode::yaml_syntax);
+    REQUIRE(e.file() == (env.dir / "m.yaml").string());
+    REQUIRE(e.line() == 4);  // where yaml-cpp sees the unclosed sequence end
+    REQUIRE(e.column() > 0);
+}
+
+TEST_CASE("unknown keys are errors at the key, listing the keys expected", "[config]") {
+    Env env;
+    const auto e = error_of([&] { env.material("shader: test\nblennd: alpha\n"); });
+    require_at(e, ErrorCode::unknown_key, env.dir / "m.yaml", 2, 1);
+    REQUIRE_THAT(e.what(), Contains("'blennd'") && Contains("shader, blend, cull"));
+
+    const auto s = error_of([&] { env.scene("camera:\n  position: [0, 0, 3]\n  fovy: 40\n"); });
+    require_at(s, ErrorCode::unknown_key, env.dir / "scene.yaml", 3, 3);
+}
+
+TEST_CASE("missing keys and wrong shapes are errors at the right place", "[config]") {
+    Env env;
+    require_at(error_of([&] { env.material("blend: alpha\n"); }), ErrorCode::missing_key,
+               env.dir / "m.yaml", 1, 1);
+    require_at(error_of([&] { env.material("shader: test\ndepth_write: maybe\n"); }),
+               ErrorCode::wrong_type, env.dir / "m.yaml", 2, 14);
+    require_at(error_of([&] { env.material("shader: test\nblend: glass\n"); }),
+               ErrorCode::config_invalid, env.dir / "m.yaml", 2, 8);
+    require_at(error_of([&] { env.material("shader: test\nparams:\n  gloss:\n"); }),
+               ErrorCode::wrong_type, env.dir / "m.yaml", 3, 3);
+    require_at(error_of([&] { env.scene("camera: {position: [0, 1]}\n"); }), ErrorCode::wrong_type,
+               env.dir / "scene.yaml", 1, 20);
+}
+
+TEST_CASE("a missing scene file is reported as such", "[config]") {
+    Env env;
+    facet::PluginRegistry registry;
+    const auto e = error_of([&] { facet::load_scene(env.dir / "nope.yaml", registry); });
+    REQUIRE(e.code() == ErrorCode::file_not_found);
+    REQUIRE(e.file() == (env.dir / "nope.yaml").string());
+}
+
+// ---- materials -----------------------------------------------------------------------
+
+TEST_CASE("a material binds defaults, values and textures", "[material]") {
+    Env env;
+    const auto m = env.material(
+        "shader: test\nblend: alpha\ncull: none\nparams:\n"
+        "  tint: [0.1, 0.2, 0.3]\n  steps: 8\n  mirror: false\n"
+        "  albedo: {file: px.tga, filter: nearest, wrap: clamp}\n");
+    REQUIRE(m->blend == facet::BlendMode::alpha);
+    REQUIRE(m->cull == facet::CullMode::none);
+    REQUIRE_FALSE(m->writes_depth());
+    const TestShader::Params p = params_of(*m);
+    REQUIRE(p.tint == glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));  // a color4 given 3 numbers is opaque
+    REQUIRE(p.gloss == 0.5f);                              // the schema's default
+    REQUIRE(p.steps == 8);
+    REQUIRE(p.mirror == 0);
+    REQUIRE(p.albedo == 1);
+    REQUIRE(m->textures.size() == 1);
+    REQUIRE(m->textures[0].texture->srgb);  // the schema marks albedo as sRGB
+    REQUIRE(m->textures[0].filter == facet::Filter::nearest);
+    REQUIRE(m->textures[0].wrap == facet::Wrap::clamp);
+    REQUIRE(m->textures[0].texture->source == (env.dir / "px.tga").string());
+}
+
+TEST_CASE("a material without params gets the schema defaults", "[material]") {
+    Env env;
+    const auto m = env.material("shader: test\n");
+    const TestShader::Params p = params_of(*m);
+    REQUIRE(p.tint == glm::vec4(1, 0.5f, 0.25f, 1));
+    REQUIRE(p.steps == 4);
+    REQUIRE(p.mirror == 1);
+    REQUIRE(p.albedo == 0);
+    REQUIRE(m->textures.size() == 1);
+    REQUIRE_FALSE(m->textures[0].texture);
+}
+
+TEST_CASE("unknown parameters list what the shader expects", "[material]") {
+    Env env;
+    const auto e = error_of([&] { env.material("shader: test\nparams:\n  shinyness: 3\n"); });
+    require_at(e, ErrorCode::param_unknown, env.dir / "m.yaml", 3, 14);
+    REQUIRE_THAT(e.what(), Contains("'shinyness'") && Contains("shader 'test'") &&
+                               Contains("tint (color4), gloss (float), steps (int)"));
+}
+
+TEST_CASE("parameters of the wrong type are errors at the value", "[material]") {
+    Env env;
+    const fs::path file = env.dir / "m.yaml";
+    auto code_at = [&](const std::string& param, int column) {
+        require_at(error_of([&] { env.material("shader: test\nparams:\n  " + param + "\n"); }),
+                   ErrorCode::param_type, file, 3, column);
+    };
+    code_at("gloss: [0.5, 0.5]", 10);
+    code_at("steps: 2.5", 10);
+    code_at("mirror: 1", 11);
+    code_at("tint: [1, 1]", 9);
+    code_at("tint: true", 9);
+    code_at("albedo: 3", 11);
+    code_at("gloss: px.tga", 10);
+}
+
+TEST_CASE("parameters out of range are errors at the value", "[material]") {
+    Env env;
+    const fs::path file = env.dir / "m.yaml";
+    auto range_at = [&](const std::string& param, int column) {
+        const auto e = error_of([&] { env.material("shader: test\nparams:\n  " + param + "\n"); });
+        require_at(e, ErrorCode::param_range, file, 3, column);
+        return std::string(e.what());
+    };
+    REQUIRE_THAT(range_at("gloss: 1.5", 10), Contains("1.5"));
+    range_at("steps: 0", 10);
+    REQUIRE_THAT(range_at("tint: [1, -0.5, 0]", 9), Contains("component 1"));
+}
+
+TEST_CASE("an unknown shader is reported at the shader value", "[material]") {
+    Env env;
+    const auto e = error_of([&] { env.material("blend: opaque\nshader: phong\n"); });
+    require_at(e, ErrorCode::unknown_shader, env.dir / "m.yaml", 2, 9);
+    REQUIRE_THAT(e.what(), Contains("phong.so"));
+}
+
+TEST_CASE("a missing texture is reported at the parameter", "[material]") {
+    Env env;
+    const auto e = error_of([&] { env.material("shader: test\nparams:\n  albedo: nope.png\n"); });
+    require_at(e, ErrorCode::file_not_found, env.dir / "m.yaml", 3, 11);
+    REQUIRE_THAT(e.what(), Contains("nope.png"));
+}
+
+TEST_CASE("bind leaves the material unchanged when it throws", "[material]") {
+    Env env;
+    const auto m = env.material("shader: test\nparams:\n  gloss: 0.25\n");
+    const auto block = m->block;
+    facet::Material copy = *m;
+    copy.params.push_back(copy.params[0]);
+    copy.params.back().numbers = {7.0};
+    REQUIRE_THROWS_AS(facet::bind(copy, m->plugin, env.cache), facet::Error);
+    REQUIRE(copy.block == block);
+    REQUIRE(params_of(copy).gloss == 0.25f);
+}
+
+// ---- scenes ----------------------------------------------------------------------------
+
+TEST_CASE("a scene loads camera, settings, lights and objects", "[scene]") {
+    Env env;
+    env.write("materials/shared.yaml", "shader: test\nparams:\n  albedo: ../px.tga\n");
+    const facet::Scene s = env.scene(R"(
+camera: {position: [0, 1, 4], target: [0, 1, 0], projection: orthographic, height: 3, near: 0.5, far: 50}
+render: {size: [320, 200], clear_color: [0.1, 0.2, 0.3], depth: standard, cull: front, front_face: cw}
+lights:
+  - {type: spot, position: [0, 3, 0], direction: [0, -2, 0], spot_inner: 10, spot_outer: 15, casts_shadow: true}
+objects:
+  - {name: a, mesh: tri.obj, material: materials/shared.yaml, position: [1, 2, 3], scale: 2}
+  - {name: b, mesh: ./tri.obj, material: materials/shared.yaml, rotation: {axis: [0, 1, 0], angle: 90}, visible: false}
+  - {mesh: tri.obj, material: {shader: test, params: {gloss: 0.75}}, rotation: [0, 90, 0], scale: [1, 2, 3]}
+)");
+    REQUIRE(s.camera.orthographic);
+    REQUIRE(s.camera.ortho_height == 3.0f);
+    REQUIRE(s.settings.width == 320);
+    REQUIRE(s.settings.clear_color == glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
+    REQUIRE_FALSE(s.settings.reversed_z);
+    REQUIRE(s.settings.depth_compare == facet::DepthCompare::less_equal);
+    REQUIRE(s.settings.cull == facet::CullMode::front);
+    REQUIRE_FALSE(s.settings.front_ccw);
+    REQUIRE(s.lights.size() == 1);
+    REQUIRE(s.lights[0].type == facet::LightType::spot);
+    REQUIRE(s.lights[0].direction == glm::vec3(0, -1, 0));
+    REQUIRE(s.lights[0].casts_shadow);
+    REQUIRE(s.objects.size() == 3);
+    REQUIRE(s.objects[0].mesh == s.objects[1].mesh);  // one load per file
+    REQUIRE(s.objects[0].material == s.objects[1].material);
+    REQUIRE(s.objects[0].transform.scale == glm::vec3(2.0f));
+    REQUIRE(s.objects[0].transform.translation == glm::vec3(1, 2, 3));
+    REQUIRE_FALSE(s.objects[1].visible);
+    const glm::quat q1 = s.objects[1].transform.rotation, q2 = s.objects[2].transform.rotation;
+    REQUIRE(std::abs(glm::dot(q1, q2)) == Approx(1.0f));  // the two spellings agree
+    REQUIRE(s.objects[2].name == "object 2");
+}
+
+TEST_CASE("an inline material is labelled by scene and line", "[scene]") {
+    Env env;
+    const facet::Scene s = env.scene(std::string("# comment\n") + kObject);
+    const facet::Material& m = *s.objects[0].material;
+    REQUIRE(m.source == (env.dir / "scene.yaml").string() + ":3");
+    REQUIRE(params_of(m).gloss == 0.5f);
+
+    const auto e = error_of([&] {
+        env.scene(
+            "objects:\n  - mesh: tri.obj\n    material:\n      shader: test\n"
+            "      params: {gloss: -1}\n");
+    });
+    require_at(e, ErrorCode::param_range, env.dir / "scene.yaml", 5, 23);
+}
+
+TEST_CASE("mesh and material errors are reported where the scene names them", "[scene]") {
+    Env env;
+    env.write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+    const auto mesh =
+        error_of([&] { env.scene("objects:\n  - {mesh: bad.obj, material: {shader: test}}\n"); });
+    require_at(mesh, ErrorCode::mesh_load_failed, env.dir / "scene.yaml", 2, 12);
+    REQUIRE_THAT(mesh.what(), Contains((env.dir / "bad.obj").string() + ": OBJ: vertex index"));
+
+    const auto missing =
+        error_of([&] { env.scene("objects:\n  - {mesh: gone.obj, material: {shader: test}}\n"); });
+    require_at(missing, ErrorCode::file_not_found, env.dir / "scene.yaml", 2, 12);
+
+    env.write("bad.yaml", "shader: test\nparams:\n  gloss: yes please\n");
+    const auto material =
+        error_of([&] { env.scene("objects:\n  - {mesh: tri.obj, material: bad.yaml}\n"); });
+    require_at(material, ErrorCode::param_type, env.dir / "scene.yaml", 2, 31);
+    REQUIRE_THAT(material.what(), Contains((env.dir / "bad.yaml").string() + ":3:10"));
+}
+
+TEST_CASE("scene values are checked for sense", "[scene]") {
+    Env env;
+    const fs::path file = env.dir / "scene.yaml";
+    auto check = [&](const std::string& yaml, ErrorCode code, int line, int column) {
+        require_at(error_of([&] { env.scene(yaml); }), code, file, line, column);
+    };
+    check("camera: {near: 0}\n", ErrorCode::out_of_range, 1, 16);
+    check("camera: {near: 2, far: 1}\n", ErrorCode::out_of_range, 1, 24);
+    check("camera: {fov_y: 180}\n", ErrorCode::out_of_range, 1, 17);
+    check("camera: {position: [0, 0, 0], target: [0, 0, 0]}\n", ErrorCode::config_invalid, 1, 39);
+    check("render: {size: [0, 100]}\n", ErrorCode::out_of_range, 1, 17);
+    check("render: {size: [100, 20000]}\n", ErrorCode::out_of_range, 1, 22);
+    check("render: {depth_compare: lesser}\n", ErrorCode::config_invalid, 1, 25);
+    check("lights:\n  - {direction: [0, 0, 0]}\n", ErrorCode::config_invalid, 2, 17);
+    check("lights:\n  - {type: spot, spot_inner: 40, spot_outer: 30}\n", ErrorCode::out_of_range, 2,
+          30);
+    check("objects:\n  - {mesh: tri.obj}\n", ErrorCode::missing_key, 2, 5);
+    check("objects:\n  - {mesh: tri.obj, material: {shader: test}, scale: 0}\n",
+          ErrorCode::out_of_range, 2, 54);
+    check("plugin_paths: [no-such-folder]\n", ErrorCode::file_not_found, 1, 16);
+    check("objects: {mesh: tri.obj}\n", ErrorCode::wrong_type, 1, 10);
+}
+
+TEST_CASE("plugin_paths reach the registry before materials load", "[scene]") {
+    Env env;
+    fs::create_directories(env.dir / "shaders");
+    const facet::Scene s = env.scene(std::string("plugin_paths: [shaders]\n") + kObject);
+    REQUIRE(s.plugin_paths == std::vector<fs::path>{env.dir / "shaders"});
+    const std::vector<fs::path> search = env.registry.search_path();
+    REQUIRE(std::find(search.begin(), search.end(), env.dir / "shaders") != search.end());
+}
+
+TEST_CASE("the default scene loads with the built unlit plugin", "[scene]") {
+    facet::PluginRegistry registry;
+    const facet::Scene s = facet::load_scene(facet::default_scene_path(), registry);
+    REQUIRE(s.settings.width == 960);
+    REQUIRE(s.settings.height == 540);
+    REQUIRE(s.objects.size() == 1);
+    const facet::Object& spot = s.objects[0];
+    REQUIRE(spot.mesh->triangle_count() > 0);
+    REQUIRE(spot.material->plugin->name() == "unlit");
+    REQUIRE(spot.material->textures.size() == 1);
+    REQUIRE(spot.material->textures[0].texture->srgb);
+}

@@ -1,0 +1,323 @@
+// Mesh loading (OBJ, PLY, glTF through assimp), mesh validation, texture
+// decoding and sampling, checked against hand-computed values.
+#include <facet/error.hpp>
+#include <facet/mesh.hpp>
+#include <facet/texture.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A fresh folder under the system temp folder, removed afterwards.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        std::random_device random;
+        path = fs::temp_directory_path() / ("facet-mesh-test-" + std::to_string(random()));
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    fs::path write(const std::string& name, const std::string& bytes) const {
+        std::ofstream(path / name, std::ios::binary) << bytes;
+        return path / name;
+    }
+};
+
+// An uncompressed 32-bit TGA, top row first; `rgba` holds 4 bytes per texel.
+std::string tga(int width, int height, const std::vector<uint8_t>& rgba) {
+    std::string out(18, '\0');
+    out[2] = 2;  // uncompressed true-colour
+    out[12] = char(width & 0xff);
+    out[13] = char(width >> 8);
+    out[14] = char(height & 0xff);
+    out[15] = char(height >> 8);
+    out[16] = 32;
+    out[17] = 0x28;  // 8 alpha bits, origin top-left
+    for (size_t i = 0; i < rgba.size(); i += 4)
+        out += {char(rgba[i + 2]), char(rgba[i + 1]), char(rgba[i]), char(rgba[i + 3])};
+    return out;
+}
+
+// A grey texture whose red channel holds `codes` (one row, linear data).
+facet::TextureBinding row_texture(const TempDir& dir, const std::vector<uint8_t>& codes,
+                                  facet::Filter filter, facet::Wrap wrap) {
+    std::vector<uint8_t> rgba;
+    for (uint8_t c : codes) rgba.insert(rgba.end(), {c, 0, 0, 255});
+    const fs::path file = dir.write("row.tga", tga(int(codes.size()), 1, rgba));
+    return {facet::load_texture(file, false), filter, wrap};
+}
+
+float red_at(const facet::TextureBinding& binding, float u) {
+    return facet::sample(binding, {u, 0.5f}).r;
+}
+
+const char* kQuadObj =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    "f 1/1 2/2 3/3 4/4\n";
+
+const char* kQuadPly =
+    "ply\nformat ascii 1.0\nelement vertex 4\n"
+    "property float x\nproperty float y\nproperty float z\n"
+    "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n0 1 0 255 255 255\n"
+    "4 0 1 2 3\n";
+
+// One triangle in the XY plane (normal +Z) under a node turned 90 degrees
+// about +Y and moved 2 along +Z. Buffer: 3 float3 positions, 3 uint16 indices.
+const char* kTriangleGltf = R"({
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0]}],
+  "nodes": [{"mesh": 0, "rotation": [0, 0.70710678, 0, 0.70710678], "translation": [0, 0, 2]}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "buffers": [{"byteLength": 42,
+    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIA"}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36, "target": 34962},
+                  {"buffer": 0, "byteOffset": 36, "byteLength": 6, "target": 34963}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]
+})";
+
+void require_vec(const glm::vec3& got, const glm::vec3& want) {
+    for (int i = 0; i < 3; ++i) REQUIRE(got[i] == Approx(want[i]).margin(1e-5));
+}
+
+facet::Mesh triangle_mesh() {
+    facet::Mesh mesh;
+    mesh.source = "inline";
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.indices = {0, 1, 2};
+    return mesh;
+}
+
+facet::ErrorCode error_code_of(const facet::Mesh& mesh) {
+    try {
+        facet::validate_mesh(mesh);
+    } catch (const facet::Error& e) {
+        return e.code();
+    }
+    throw std::runtime_error("validate_mesh accepted an invalid mesh");
+}
+
+}  // namespace
+
+// ---- meshes -----------------------------------------------------------------------
+
+TEST_CASE("OBJ quad is triangulated, joined, given normals and flipped UVs", "[mesh]") {
+    TempDir dir;
+    const auto mesh = facet::load_mesh(dir.write("quad.obj", kQuadObj));
+    REQUIRE(mesh->triangle_count() == 2);
+    REQUIRE(mesh->vertex_count() == 4);
+    REQUIRE(mesh->normals.size() == 4);
+    REQUIRE(mesh->uvs.size() == 4);
+    REQUIRE(mesh->colors.empty());
+    for (const glm::vec3& n : mesh->normals) require_vec(n, {0, 0, 1});
+    for (size_t i = 0; i < 4; ++i)  // FlipUVs: v = 1 - v, so row 0 is at the top
+        REQUIRE(mesh->uvs[i].y == Approx(1.0f - mesh->positions[i].y));
+    require_vec(mesh->bounds.min, {0, 0, 0});
+    require_vec(mesh->bounds.max, {1, 1, 0});
+}
+
+TEST_CASE("PLY quad keeps its vertex colours", "[mesh]") {
+    TempDir dir;
+    const auto mesh = facet::load_mesh(dir.write("quad.ply", kQuadPly));
+    REQUIRE(mesh->triangle_count() == 2);
+    REQUIRE(mesh->colors.size() == mesh->vertex_count());
+    for (const glm::vec3& n : mesh->normals) require_vec(n, {0, 0, 1});
+    for (size_t i = 0; i < mesh->vertex_count(); ++i) {
+        const glm::vec3 p = mesh->positions[i];
+        const glm::vec4 want = p.x == 0 && p.y == 0   ? glm::vec4(1, 0, 0, 1)
+                               : p.x == 1 && p.y == 0 ? glm::vec4(0, 1, 0, 1)
+                               : p.x == 1             ? glm::vec4(0, 0, 1, 1)
+                                                      : glm::vec4(1, 1, 1, 1);
+        for (int c = 0; c < 4; ++c) REQUIRE(mesh->colors[i][c] == Approx(want[c]));
+    }
+}
+
+TEST_CASE("glTF node transforms apply to positions and normals", "[mesh]") {
+    TempDir dir;
+    const auto mesh = facet::load_mesh(dir.write("triangle.gltf", kTriangleGltf));
+    REQUIRE(mesh->triangle_count() == 1);
+    // (x, y, z) turns to (z, y, -x), then moves +2 in z.
+    require_vec(mesh->positions[0], {0, 0, 2});
+    require_vec(mesh->positions[1], {0, 0, 1});
+    require_vec(mesh->positions[2], {0, 1, 2});
+    for (const glm::vec3& n : mesh->normals) require_vec(n, {1, 0, 0});
+}
+
+TEST_CASE("Spot loads with UVs and unit normals", "[mesh]") {
+    const auto mesh = facet::load_mesh(fs::path(FACET_SOURCE_DIR) / "assets/spot/spot.obj");
+    REQUIRE(mesh->triangle_count() == 5856);
+    REQUIRE(mesh->uvs.size() == mesh->vertex_count());
+    for (const glm::vec3& n : mesh->normals) REQUIRE(glm::length(n) == Approx(1.0f));
+}
+
+TEST_CASE("mesh files that cannot be read are refused", "[mesh]") {
+    TempDir dir;
+    try {
+        facet::load_mesh(dir.path / "missing.obj");
+        FAIL("no error");
+    } catch (const facet::Error& e) {
+        REQUIRE(e.code() == facet::ErrorCode::file_not_found);
+        REQUIRE(e.file() == (dir.path / "missing.obj").string());
+    }
+    try {
+        facet::load_mesh(dir.write("broken.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"));
+        FAIL("no error");
+    } catch (const facet::Error& e) {
+        REQUIRE(e.code() == facet::ErrorCode::mesh_load_failed);
+        REQUIRE_FALSE(e.detail().empty());
+    }
+}
+
+TEST_CASE("validate_mesh names the first problem", "[mesh]") {
+    REQUIRE_NOTHROW(facet::validate_mesh(triangle_mesh()));
+
+    facet::Mesh out_of_range = triangle_mesh();
+    out_of_range.indices[2] = 3;
+    REQUIRE(error_code_of(out_of_range) == facet::ErrorCode::mesh_invalid);
+    REQUIRE_THROWS_WITH(facet::validate_mesh(out_of_range), Contains("uses vertex 3 of 3"));
+
+    facet::Mesh not_finite = triangle_mesh();
+    not_finite.positions[1].y = std::nanf("");
+    REQUIRE_THROWS_WITH(facet::validate_mesh(not_finite),
+                        Contains("vertex 1 has a non-finite position"));
+
+    facet::Mesh short_normals = triangle_mesh();
+    short_normals.normals = {{0, 0, 1}};
+    REQUIRE(error_code_of(short_normals) == facet::ErrorCode::mesh_invalid);
+
+    facet::Mesh empty;
+    REQUIRE(error_code_of(empty) == facet::ErrorCode::mesh_invalid);
+}
+
+TEST_CASE("compute_bounds spans the positions", "[mesh]") {
+    const facet::Bounds b = facet::compute_bounds({{1, -2, 3}, {-1, 4, 0}, {0, 0, 5}});
+    require_vec(b.min, {-1, -2, 0});
+    require_vec(b.max, {1, 4, 5});
+}
+
+// ---- textures -----------------------------------------------------------------------
+
+TEST_CASE("sRGB textures decode colour to linear, alpha stays linear", "[texture]") {
+    TempDir dir;
+    const fs::path file = dir.write("px.tga", tga(2, 1, {0, 128, 255, 128, 188, 10, 0, 255}));
+    const auto srgb = facet::load_texture(file, true);
+    REQUIRE(srgb->width == 2);
+    REQUIRE(srgb->height == 1);
+    REQUIRE(srgb->texels[0].r == Approx(0.0f));
+    REQUIRE(srgb->texels[0].g == Approx(0.2158605f).epsilon(1e-4));  // sRGB 128
+    REQUIRE(srgb->texels[0].b == Approx(1.0f));
+    REQUIRE(srgb->texels[0].a == Approx(128.0f / 255.0f));
+    REQUIRE(srgb->texels[1].r == Approx(0.5028865f).epsilon(1e-4));  // sRGB 188
+    REQUIRE(srgb->texels[1].g == Approx(10.0f / 255.0f / 12.92f));   // the linear segment
+
+    const auto data = facet::load_texture(file, false);
+    REQUIRE(data->texels[0].g == Approx(128.0f / 255.0f));
+}
+
+TEST_CASE("bilinear filtering against hand-computed values", "[texture]") {
+    TempDir dir;
+    // 2x2, red = 0, 100 / 200, 255 (codes), linear data.
+    const fs::path file = dir.write(
+        "2x2.tga", tga(2, 2, {0, 0, 0, 255, 100, 0, 0, 255, 200, 0, 0, 255, 255, 0, 0, 255}));
+    const facet::TextureBinding b{facet::load_texture(file, false), facet::Filter::bilinear,
+                                  facet::Wrap::clamp};
+    auto red = [&](float u, float v) { return facet::sample(b, {u, v}).r * 255.0f; };
+    REQUIRE(red(0.25f, 0.25f) == Approx(0.0f).margin(1e-4));  // texel centres are exact
+    REQUIRE(red(0.75f, 0.25f) == Approx(100.0f));
+    REQUIRE(red(0.25f, 0.75f) == Approx(200.0f));
+    REQUIRE(red(0.5f, 0.25f) == Approx(50.0f));   // halfway along row 0
+    REQUIRE(red(0.5f, 0.5f) == Approx(138.75f));  // the mean of all four
+    // x = 0.6 * 2 - 0.5 = 0.7, y = 0.4 * 2 - 0.5 = 0.3
+    const float top = 0.3f * 0 + 0.7f * 100, bottom = 0.3f * 200 + 0.7f * 255;
+    REQUIRE(red(0.6f, 0.4f) == Approx(0.7f * top + 0.3f * bottom));
+}
+
+TEST_CASE("nearest filtering and wrap modes", "[texture]") {
+    TempDir dir;
+    using facet::Filter;
+    using facet::Wrap;
+    const std::vector<uint8_t> codes = {0, 51, 102, 255};  // 0, 0.2, 0.4, 1
+    const auto repeat = row_texture(dir, codes, Filter::nearest, Wrap::repeat);
+    const auto clamp = row_texture(dir, codes, Filter::nearest, Wrap::clamp);
+    const auto mirror = row_texture(dir, codes, Filter::nearest, Wrap::mirror);
+    // u = -0.1 is texel -1; u = 1.1 is texel 4; u = 1.6 is texel 6.
+    REQUIRE(red_at(repeat, -0.1f) == Approx(1.0f));
+    REQUIRE(red_at(clamp, -0.1f) == Approx(0.0f));
+    REQUIRE(red_at(mirror, -0.1f) == Approx(0.0f));
+    REQUIRE(red_at(repeat, 1.1f) == Approx(0.0f));
+    REQUIRE(red_at(clamp, 1.1f) == Approx(1.0f));
+    REQUIRE(red_at(mirror, 1.1f) == Approx(1.0f));
+    REQUIRE(red_at(repeat, 1.6f) == Approx(0.4f));
+    REQUIRE(red_at(clamp, 1.6f) == Approx(1.0f));
+    REQUIRE(red_at(mirror, 1.6f) == Approx(0.2f));
+    REQUIRE(red_at(repeat, 0.3f) == Approx(0.2f));
+
+    // Bilinear at u = 0 falls between texel -1 and texel 0.
+    const auto b_repeat = row_texture(dir, codes, Filter::bilinear, Wrap::repeat);
+    const auto b_clamp = row_texture(dir, codes, Filter::bilinear, Wrap::clamp);
+    const auto b_mirror = row_texture(dir, codes, Filter::bilinear, Wrap::mirror);
+    REQUIRE(red_at(b_repeat, 0.0f) == Approx(0.5f));
+    REQUIRE(red_at(b_clamp, 0.0f) == Approx(0.0f));
+    REQUIRE(red_at(b_mirror, 0.0f) == Approx(0.0f));
+    REQUIRE(std::isfinite(red_at(b_repeat, std::nanf(""))));
+    REQUIRE(std::isfinite(red_at(b_repeat, 1e30f)));
+}
+
+TEST_CASE("sample_many writes channel-major and matches sample", "[texture]") {
+    TempDir dir;
+    const auto b =
+        row_texture(dir, {0, 51, 102, 255}, facet::Filter::bilinear, facet::Wrap::mirror);
+    const float u[3] = {0.1f, 0.55f, 0.9f}, v[3] = {0.5f, 0.5f, 0.5f};
+    float rgba[12];
+    facet::sample_many(b, u, v, 3, rgba);
+    for (int i = 0; i < 3; ++i) {
+        const glm::vec4 one = facet::sample(b, {u[i], v[i]});
+        for (int c = 0; c < 4; ++c) REQUIRE(rgba[c * 3 + i] == one[c]);
+    }
+}
+
+TEST_CASE("the texture cache shares by file and colour space", "[texture]") {
+    TempDir dir;
+    dir.write("a.tga", tga(1, 1, {1, 2, 3, 4}));
+    facet::TextureCache cache;
+    const auto a = cache.get(dir.path / "a.tga", true);
+    REQUIRE(cache.get(dir.path / "." / "a.tga", true) == a);
+    REQUIRE(cache.get(dir.path / "a.tga", false) != a);
+}
+
+TEST_CASE("texture files that cannot be read are refused", "[texture]") {
+    TempDir dir;
+    try {
+        facet::load_texture(dir.path / "missing.png", true);
+        FAIL("no error");
+    } catch (const facet::Error& e) {
+        REQUIRE(e.code() == facet::ErrorCode::file_not_found);
+    }
+    try {
+        facet::load_texture(dir.write("junk.png", "not an image"), true);
+        FAIL("no error");
+    } catch (const facet::Error& e) {
+        REQUIRE(e.code() == facet::ErrorCode::texture_load_failed);
+        REQUIRE_FALSE(e.detail().empty());
+    }
+}
