@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -186,6 +188,68 @@ TEST_CASE("mesh files that cannot be read are refused", "[mesh]") {
         REQUIRE(e.code() == facet::ErrorCode::mesh_load_failed);
         REQUIRE_FALSE(e.detail().empty());
     }
+}
+
+namespace {
+
+// A one-triangle binary PLY, little- or big-endian, optionally cut short.
+std::string binary_ply(bool big_endian, size_t drop_bytes = 0) {
+    std::string out = std::string("ply\nformat ") +
+                      (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                      " 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                      "property float z\nelement face 1\n"
+                      "property list uchar int vertex_indices\nend_header\n";
+    auto put = [&](const void* p, size_t n) {
+        std::string bytes(static_cast<const char*>(p), n);
+        if (big_endian) std::reverse(bytes.begin(), bytes.end());
+        out += bytes;
+    };
+    for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put(&f, 4);
+    out += char(3);
+    for (int32_t i : {0, 1, 2}) put(&i, 4);
+    out.resize(out.size() - drop_bytes);
+    return out;
+}
+
+facet::ErrorCode mesh_error(const fs::path& file) {
+    try {
+        facet::load_mesh(file);
+    } catch (const facet::Error& e) {
+        return e.code();
+    }
+    return facet::ErrorCode::config_invalid;  // loaded: not what these tests expect
+}
+
+}  // namespace
+
+TEST_CASE("broken PLY files are refused, never hang or crash", "[mesh][ply]") {
+    // assimp 5.2 alone loops forever on the first and crashes on the second.
+    TempDir dir;
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                               "property float y\nproperty float z\nelement face 1\n"
+                               "property list uchar int vertex_indices\nend_header\n";
+    CHECK(mesh_error(dir.write("count.ply", "ply\nformat ascii 1.0\nelement vertex x\n")) ==
+          facet::ErrorCode::mesh_load_failed);
+    CHECK(mesh_error(dir.write("cut.ply", binary_ply(false, 7))) ==
+          facet::ErrorCode::mesh_load_failed);
+    CHECK(mesh_error(dir.write("cut_ascii.ply", header + "0 0 0\n1 0 0\n")) ==
+          facet::ErrorCode::mesh_load_failed);
+    CHECK(mesh_error(dir.write("no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n")) ==
+          facet::ErrorCode::mesh_load_failed);
+    CHECK(mesh_error(dir.write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"
+                                           "property quaternion x\nend_header\n1\n")) ==
+          facet::ErrorCode::mesh_load_failed);
+    try {
+        facet::load_mesh(dir.write("count2.ply", "ply\nformat ascii 1.0\nelement vertex x\n"));
+    } catch (const facet::Error& e) {
+        CHECK(e.line() == 3);
+        CHECK_THAT(e.what(), Contains("element 'vertex' has no valid count"));
+    }
+    // The same files, whole, load.
+    CHECK(facet::load_mesh(dir.write("le.ply", binary_ply(false)))->triangle_count() == 1);
+    CHECK(facet::load_mesh(dir.write("be.ply", binary_ply(true)))->triangle_count() == 1);
+    CHECK(facet::load_mesh(dir.write("ok.ply", header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"))
+              ->triangle_count() == 1);
 }
 
 TEST_CASE("validate_mesh names the first problem", "[mesh]") {

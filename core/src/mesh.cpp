@@ -4,6 +4,7 @@
 
 #include "facet/error.hpp"
 #include "facet/math.hpp"
+#include "ply_check.hpp"
 
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -117,6 +118,7 @@ void check_attribute(const Mesh& mesh, size_t size, const char* name) {
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path) {
     if (!std::filesystem::is_regular_file(path))
         throw Error(ErrorCode::file_not_found, "", path.string());
+    if (looks_like_ply(path)) check_ply(path);  // assimp 5.2 hangs or crashes on some bad PLY
     Assimp::Importer importer;
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);

@@ -1,0 +1,22 @@
+// PLY preflight.
+//
+// Takes: a file that assimp would read as PLY.
+// Gives: nothing if the header is well formed and the body holds every
+// element it declares; otherwise Error(mesh_load_failed) naming the file,
+// the header line or the element where it falls short.
+//
+// Why: assimp 5.2's PLY reader loops forever on some malformed headers and
+// reads past the end of a truncated binary body (a crash). Checking first
+// turns both into a clear error.
+#pragma once
+
+#include <filesystem>
+
+namespace facet {
+
+// True if the file starts with the PLY magic line.
+bool looks_like_ply(const std::filesystem::path& path);
+
+void check_ply(const std::filesystem::path& path);
+
+}  // namespace facet
