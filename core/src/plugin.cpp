@@ -5,9 +5,11 @@
 #include <spdlog/spdlog.h>
 
 #include <dlfcn.h>
+#include <unistd.h>
 #include <elf.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -150,17 +152,25 @@ std::string_view param_type_name(uint32_t type) {
 // ---- ShaderPlugin ------------------------------------------------------------
 
 std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
-                                                 std::string_view expected_name) {
+                                                 std::string_view expected_name,
+                                                 const fs::path& private_copy) {
     const std::string origin = path.string();
     if (!fs::exists(path)) throw Error(ErrorCode::file_not_found, "shader plugin", origin);
-    check_elf_complete(path);
+    std::shared_ptr<ShaderPlugin> plugin(new ShaderPlugin);
+    plugin->origin_ = origin;
+    fs::path file = path;
+    if (!private_copy.empty()) {
+        std::error_code ec;
+        fs::copy_file(path, private_copy, fs::copy_options::overwrite_existing, ec);
+        if (ec) refuse(ErrorCode::plugin_load_failed, origin, "cannot copy: " + ec.message());
+        plugin->private_copy_ = file = private_copy;  // deleted by the destructor
+    }
+    check_elf_complete(file);
     // RTLD_LOCAL keeps each plugin's symbols to itself; RTLD_NOW reports a
     // missing symbol here rather than at the first draw.
-    void* handle = dlopen(origin.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) refuse(ErrorCode::plugin_load_failed, origin, dlerror());
-    std::shared_ptr<ShaderPlugin> plugin(new ShaderPlugin);
-    plugin->handle_ = handle;  // closed by the destructor, also if we throw below
-    plugin->origin_ = origin;
+    plugin->handle_ = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!plugin->handle_) refuse(ErrorCode::plugin_load_failed, origin, dlerror());
+    void* handle = plugin->handle_;
     auto entry =
         reinterpret_cast<facet_shader_entry_fn>(dlsym(handle, FACET_SHADER_ENTRY_SYMBOL));
     if (!entry)
@@ -200,6 +210,8 @@ void ShaderPlugin::adopt(const facet_shader_desc* desc) {
 
 ShaderPlugin::~ShaderPlugin() {
     if (handle_) dlclose(handle_);
+    std::error_code ec;
+    if (!private_copy_.empty()) fs::remove(private_copy_, ec);
 }
 
 const facet_param_desc* ShaderPlugin::find_param(std::string_view name) const {
@@ -280,14 +292,35 @@ fs::path PluginRegistry::locate(const std::string& name) const {
     return {};
 }
 
-std::shared_ptr<ShaderPlugin> PluginRegistry::get(const std::string& name) {
-    if (auto it = loaded_.find(name); it != loaded_.end()) return it->second;
+PluginRegistry::~PluginRegistry() {
+    // Loaded copies may outlive the registry; removing their files is safe.
+    std::error_code ec;
+    if (!private_dir_.empty()) fs::remove_all(private_dir_, ec);
+}
+
+fs::path PluginRegistry::next_private_copy(const std::string& name) {
+    if (private_dir_.empty()) {
+        static std::atomic<unsigned> registries{0};
+        private_dir_ = fs::temp_directory_path() /
+                       ("facet-plugins-" + std::to_string(getpid()) + "-" +
+                        std::to_string(registries++));
+        fs::create_directories(private_dir_);
+    }
+    return private_dir_ / (name + "." + std::to_string(++generation_) + ".so");
+}
+
+std::shared_ptr<ShaderPlugin> PluginRegistry::load_fresh(const std::string& name) {
     const bool plain = !name.empty() && name.find_first_of("/\\") == std::string::npos;
     const fs::path file = plain ? locate(name) : fs::path();
     if (file.empty())
         throw Error(ErrorCode::unknown_shader,
                     "'" + name + "': no " + name + ".so in " + join_paths(search_path()));
-    std::shared_ptr<ShaderPlugin> plugin = ShaderPlugin::load(file, name);
+    return ShaderPlugin::load(file, name, next_private_copy(name));
+}
+
+std::shared_ptr<ShaderPlugin> PluginRegistry::get(const std::string& name) {
+    if (auto it = loaded_.find(name); it != loaded_.end()) return it->second;
+    std::shared_ptr<ShaderPlugin> plugin = load_fresh(name);
     loaded_.emplace(name, plugin);
     return plugin;
 }

@@ -96,6 +96,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     FrameStats stats;
     auto draw_object = [&](const Object& o) {
         const Material& m = *o.material;
+        const std::shared_ptr<ShaderPlugin> keep = m.plugin;  // loaded for the whole draw
         call.mesh = o.mesh.get();
         call.shader = m.plugin.get();
         call.params = m.block ? m.block->bytes : nullptr;

@@ -245,6 +245,9 @@ public:
         scene.plugin_paths.push_back(folder);
     }
 
+    // Material files loaded so far, by canonical path.
+    const std::map<std::string, std::shared_ptr<Material>>& materials() const { return materials_; }
+
 private:
     fs::path folder_;
     PluginRegistry& registry_;
@@ -300,6 +303,7 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     for_each_item(ctx, root, "objects", [&](const YAML::Node& item, size_t i) {
         scene.objects.push_back(read_object(loader, item, i));
     });
+    for (const auto& [file, material] : loader.materials()) scene.material_files[file] = material;
     spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),
                  scene.lights.size(), scene.settings.width, scene.settings.height);
     return scene;

@@ -1,16 +1,19 @@
 /* A shader plugin in plain C, built in several deliberately broken variants
- * (see tests/CMakeLists.txt) to test that the host refuses each one:
+ * (see tests/CMakeLists.txt, and the hot-reload tests, which compile it
+ * while they run) to test that the host refuses each one:
  *   WRONG_MAJOR     built for another ABI major version
  *   SHORT_DESC      descriptor smaller than ABI 1.0's
  *   NO_ENTRY        exports no facet_shader_entry
  *   MISSING_SYMBOL  depends on a symbol nothing defines
- * With none of them it is a valid plugin that fills with its colour. */
+ * With none of them it is a valid plugin that fills with (FILL_RED, 0.5,
+ * 0.25, 1). WITH_GAIN adds a float parameter "gain" that scales red. */
 #include <facet/shader_abi.h>
 
 #ifdef MISSING_SYMBOL
 extern float facet_test_symbol_nobody_defines(void);
 #define FILL_RED facet_test_symbol_nobody_defines()
-#else
+#endif
+#ifndef FILL_RED
 #define FILL_RED 1.0f
 #endif
 
@@ -23,10 +26,24 @@ static void vertex(const facet_draw* draw, const facet_vertex_batch* b) {
     }
 }
 
+#ifdef WITH_GAIN
+static const facet_param_desc params[] = {
+    {"gain", FACET_PARAM_FLOAT, 0, {1, 0, 0, 0}, 0, 10, 0, -1, "scales red"}};
+#define PARAM_COUNT 1
+#define PARAMS params
+#define PARAMS_SIZE 4
+#define GAIN (*(const float*)draw->params)
+#else
+#define PARAM_COUNT 0
+#define PARAMS NULL
+#define PARAMS_SIZE 0
+#define GAIN 1.0f
+#endif
+
 static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
     (void)draw;
     for (int i = 0; i < FACET_BLOCK_LANES; ++i) {
-        b->color[i] = FILL_RED;
+        b->color[i] = FILL_RED * GAIN;
         b->color[FACET_BLOCK_LANES + i] = 0.5f;
         b->color[2 * FACET_BLOCK_LANES + i] = 0.25f;
         b->color[3 * FACET_BLOCK_LANES + i] = 1.0f;
@@ -49,7 +66,7 @@ static const facet_shader_desc desc = {
 #else
     sizeof(facet_shader_desc),
 #endif
-    PLUGIN_NAME, "1.0", 0, 0, NULL, 0, NULL, 0, vertex, fragment};
+    PLUGIN_NAME, "1.0", 0, 0, NULL, PARAM_COUNT, PARAMS, PARAMS_SIZE, vertex, fragment};
 
 #ifdef NO_ENTRY
 FACET_EXPORT const facet_shader_desc* some_other_symbol(void) { return &desc; }

@@ -8,7 +8,10 @@
 //
 // A PluginRegistry finds a plugin by name as "<name>.so" on its search path:
 // the build's plugin folder first, then the folders a scene names, then
-// those in FACET_PLUGIN_PATH (colon-separated).
+// those in FACET_PLUGIN_PATH (colon-separated). It never dlopen()s the file
+// it finds: it loads a private copy (NAME.<generation>.so in a folder of its
+// own), so a compiler can overwrite the original while it is in use, and a
+// reload gets a new handle rather than the one dlopen() cached.
 #pragma once
 
 #include <facet/shader_abi.h>
@@ -25,9 +28,12 @@ namespace facet {
 class ShaderPlugin {
 public:
     // Loads the shared library at `path`. If `expected_name` is given, the
-    // descriptor's name must match it. Throws Error(plugin_*).
+    // descriptor's name must match it. If `private_copy` is given, `path` is
+    // first copied there and the copy is loaded (and deleted with the plugin).
+    // Throws Error(plugin_*).
     static std::shared_ptr<ShaderPlugin> load(const std::filesystem::path& path,
-                                              std::string_view expected_name = {});
+                                              std::string_view expected_name = {},
+                                              const std::filesystem::path& private_copy = {});
     // Wraps a descriptor that lives in this process. Validated as load() does.
     static std::shared_ptr<ShaderPlugin> from_descriptor(const facet_shader_desc* desc,
                                                          std::string origin);
@@ -56,6 +62,7 @@ private:
     void adopt(const facet_shader_desc* desc);
 
     void* handle_ = nullptr;
+    std::filesystem::path private_copy_;
     const facet_shader_desc* desc_ = nullptr;
     std::string name_;
     std::string origin_;
@@ -75,6 +82,9 @@ public:
     // Starts with the build's plugin folder, then FACET_PLUGIN_PATH.
     PluginRegistry();
     explicit PluginRegistry(std::vector<std::filesystem::path> search_path);
+    ~PluginRegistry();
+    PluginRegistry(const PluginRegistry&) = delete;
+    PluginRegistry& operator=(const PluginRegistry&) = delete;
 
     // Adds a folder named by a scene; searched after the build's folder and
     // before FACET_PLUGIN_PATH.
@@ -88,14 +98,24 @@ public:
     // Where `name` would be loaded from; empty if not found.
     std::filesystem::path locate(const std::string& name) const;
 
-    // Registers an in-process plugin under its name (tests, embedders).
+    // Loads `name` again from disk, as a new private copy, without touching
+    // the cache: the caller checks it, then commits it with add().
+    std::shared_ptr<ShaderPlugin> load_fresh(const std::string& name);
+
+    // Registers a plugin under its name, replacing any loaded before (tests,
+    // embedders, and hot reload committing a load_fresh()).
     void add(std::shared_ptr<ShaderPlugin> plugin);
+    bool is_loaded(const std::string& name) const { return loaded_.count(name) != 0; }
 
 private:
+    std::filesystem::path next_private_copy(const std::string& name);
+
     std::vector<std::filesystem::path> build_paths_;
     std::vector<std::filesystem::path> scene_paths_;
     std::vector<std::filesystem::path> env_paths_;
     std::map<std::string, std::shared_ptr<ShaderPlugin>, std::less<>> loaded_;
+    std::filesystem::path private_dir_;  // created on first load
+    unsigned generation_ = 0;
 };
 
 }  // namespace facet

@@ -25,6 +25,7 @@
 #include <glm/glm.hpp>
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -87,6 +88,9 @@ struct Scene {
     std::vector<Object> objects;
     RenderSettings settings;
     std::vector<std::filesystem::path> plugin_paths;  // absolute
+    // The material files the objects use, by canonical path; objects naming
+    // the same file share one Material.
+    std::map<std::filesystem::path, std::shared_ptr<Material>> material_files;
 };
 
 // Parses a scene file, loads its meshes, materials and textures, and finds

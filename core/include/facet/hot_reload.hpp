@@ -1,0 +1,95 @@
+// Hot reload of shader plugins and config files.
+//
+// A HotReload watches a scene's files (the scene, its material files) and
+// the plugin folders, and applies what changed when update() is called:
+// call it between frames, on the thread that renders. For a changed plugin
+// it
+//   1. waits until the file has stopped changing (`settle`),
+//   2. loads a private, versioned copy of it (PluginRegistry::load_fresh),
+//   3. checks the ABI, and the parameter schema against every material
+//      that uses the plugin,
+//   4. swaps the new version in for all those materials.
+// The old library is unloaded when the last reference to it goes: materials
+// and frames hold shared_ptrs, so never while a frame still uses it.
+// Anything that fails (a plugin that will not load, a schema that no longer
+// fits a material, a YAML error) is refused with an event that says why,
+// and the last good version keeps rendering.
+//
+// A plugin that appears in a plugin folder is available by name at once;
+// if the scene had failed to load, it is tried again.
+#pragma once
+
+#include "facet/file_watcher.hpp"
+#include "facet/plugin.hpp"
+#include "facet/scene.hpp"
+#include "facet/texture.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace facet {
+
+struct ReloadEvent {
+    enum class Kind {
+        plugin_reloaded,  // a loaded plugin was replaced by its new version
+        plugin_added,     // a new plugin file appeared
+        plugin_refused,   // a new version was refused; the old one stays
+        config_reloaded,  // a scene or material file was applied
+        config_refused,   // a scene or material file was refused; the old one stays
+    };
+    Kind kind;
+    std::string subject;  // plugin name or file
+    std::string message;  // for people: what happened, or why not
+    bool refused() const { return kind == Kind::plugin_refused || kind == Kind::config_refused; }
+};
+
+class HotReload {
+public:
+    struct Options {
+        FileWatcher::Options watcher;
+        std::chrono::milliseconds settle{100};  // quiet time before a file counts as written
+    };
+
+    // Watches `scene` (loaded from scene.source with `registry`). Both must
+    // outlive this object.
+    HotReload(PluginRegistry& registry, Scene& scene);
+    HotReload(PluginRegistry& registry, Scene& scene, Options options);
+
+    // Applies settled changes. Returns true if the scene changed and should
+    // be rendered again.
+    bool update();
+
+    // Events since the last call, oldest first. Each is also logged.
+    std::vector<ReloadEvent> take_events();
+
+    FileWatcher::Backend backend() const { return watcher_.backend(); }
+
+private:
+    struct Pending {
+        uintmax_t size = 0;
+        std::filesystem::file_time_type time;
+        std::chrono::steady_clock::time_point since;
+    };
+
+    void watch_scene();
+    void note(const std::filesystem::path& path);
+    bool apply(const std::filesystem::path& path);
+    bool reload_plugin(const std::string& name);
+    bool reload_material(const std::filesystem::path& file);
+    bool reload_scene();
+    void report(ReloadEvent::Kind kind, std::string subject, std::string message);
+
+    PluginRegistry& registry_;
+    Scene& scene_;
+    Options options_;
+    FileWatcher watcher_;
+    TextureCache textures_;
+    std::map<std::filesystem::path, Pending> pending_;
+    std::vector<ReloadEvent> events_;
+    bool scene_failed_ = false;
+};
+
+}  // namespace facet

@@ -1,0 +1,161 @@
+#include "facet/hot_reload.hpp"
+
+#include "facet/error.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <set>
+
+namespace facet {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path canonical_or_same(const fs::path& p) {
+    std::error_code ec;
+    const fs::path c = fs::weakly_canonical(p, ec);
+    return ec ? p : c;
+}
+
+// Materials that objects of `scene` use, each once.
+std::vector<Material*> materials_of(const Scene& scene) {
+    std::set<Material*> seen;
+    std::vector<Material*> out;
+    for (const Object& o : scene.objects)
+        if (o.material && seen.insert(o.material.get()).second) out.push_back(o.material.get());
+    return out;
+}
+
+}  // namespace
+
+HotReload::HotReload(PluginRegistry& registry, Scene& scene)
+    : HotReload(registry, scene, Options{}) {}
+
+HotReload::HotReload(PluginRegistry& registry, Scene& scene, Options options)
+    : registry_(registry), scene_(scene), options_(options), watcher_(options.watcher) {
+    watch_scene();
+}
+
+void HotReload::watch_scene() {
+    watcher_.watch(canonical_or_same(scene_.source).parent_path());
+    for (const auto& [file, material] : scene_.material_files) watcher_.watch(file.parent_path());
+    for (const fs::path& folder : registry_.search_path()) watcher_.watch(folder);
+}
+
+void HotReload::report(ReloadEvent::Kind kind, std::string subject, std::string message) {
+    const ReloadEvent e{kind, std::move(subject), std::move(message)};
+    if (e.refused()) spdlog::error("hot reload: {}", e.message);
+    else spdlog::info("hot reload: {}", e.message);
+    events_.push_back(e);
+}
+
+std::vector<ReloadEvent> HotReload::take_events() {
+    std::vector<ReloadEvent> out;
+    out.swap(events_);
+    return out;
+}
+
+// Records a changed file; it is applied once it has kept its size and time
+// for `settle`.
+void HotReload::note(const fs::path& path) {
+    std::error_code ec;
+    Pending p;
+    p.size = fs::file_size(path, ec);
+    p.time = fs::last_write_time(path, ec);
+    p.since = std::chrono::steady_clock::now();
+    if (ec) pending_.erase(path);  // removed: keep what is loaded
+    else pending_[path] = p;
+}
+
+bool HotReload::update() {
+    for (const fs::path& path : watcher_.take_changes()) note(path);
+    const auto now = std::chrono::steady_clock::now();
+    std::vector<fs::path> settled;
+    for (auto& [path, p] : pending_) {
+        std::error_code ec;
+        const uintmax_t size = fs::file_size(path, ec);
+        const fs::file_time_type time = fs::last_write_time(path, ec);
+        if (ec) continue;
+        if (size != p.size || time != p.time) {
+            p = {size, time, now};  // still being written
+        } else if (now - p.since >= options_.settle) {
+            settled.push_back(path);
+        }
+    }
+    bool changed = false;
+    for (const fs::path& path : settled) {
+        pending_.erase(path);
+        changed |= apply(path);
+    }
+    return changed;
+}
+
+bool HotReload::apply(const fs::path& path) {
+    if (path == canonical_or_same(scene_.source)) return reload_scene();
+    if (scene_.material_files.count(path)) return reload_material(path);
+    const std::string name = path.stem().string();
+    if (path.extension() == ".so" && canonical_or_same(registry_.locate(name)) == path)
+        return reload_plugin(name);
+    return false;
+}
+
+bool HotReload::reload_plugin(const std::string& name) {
+    if (!registry_.is_loaded(name)) {
+        report(ReloadEvent::Kind::plugin_added, name, "shader '" + name + "' is now available");
+        return scene_failed_ && reload_scene();
+    }
+    std::shared_ptr<ShaderPlugin> fresh;
+    std::vector<std::pair<Material*, Material>> rebound;
+    try {
+        fresh = registry_.load_fresh(name);
+        for (Material* m : materials_of(scene_)) {
+            if (m->shader != name) continue;
+            Material copy = *m;
+            bind(copy, fresh, textures_);
+            rebound.emplace_back(m, std::move(copy));
+        }
+    } catch (const Error& e) {
+        report(ReloadEvent::Kind::plugin_refused, name,
+               "refused new version of shader '" + name + "', keeping the old one: " + e.what());
+        return false;
+    }
+    registry_.add(fresh);
+    for (auto& [material, copy] : rebound) *material = std::move(copy);
+    report(ReloadEvent::Kind::plugin_reloaded, name,
+           "reloaded shader '" + name + "' (" + std::to_string(rebound.size()) +
+               " material(s)) from " + fresh->origin());
+    return true;
+}
+
+bool HotReload::reload_material(const fs::path& file) {
+    try {
+        std::shared_ptr<Material> fresh = load_material(file, registry_, textures_);
+        *scene_.material_files.at(file) = std::move(*fresh);
+    } catch (const Error& e) {
+        report(ReloadEvent::Kind::config_refused, file.string(),
+               std::string(e.what()) + " (keeping the previous version)");
+        return false;
+    }
+    report(ReloadEvent::Kind::config_reloaded, file.string(), "reloaded " + file.string());
+    return true;
+}
+
+bool HotReload::reload_scene() {
+    try {
+        Scene fresh = load_scene(scene_.source, registry_);
+        scene_ = std::move(fresh);
+    } catch (const Error& e) {
+        scene_failed_ = true;
+        report(ReloadEvent::Kind::config_refused, scene_.source.string(),
+               std::string(e.what()) + " (keeping the previous version)");
+        return false;
+    }
+    scene_failed_ = false;
+    watch_scene();
+    report(ReloadEvent::Kind::config_reloaded, scene_.source.string(),
+           "reloaded " + scene_.source.string());
+    return true;
+}
+
+}  // namespace facet

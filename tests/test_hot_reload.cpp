@@ -1,0 +1,252 @@
+// Hot reload through the library API, with no window: plugins recompiled
+// while frames render, broken plugins and configs refused, edits applied.
+// These tests compile real plugins (tests/plugins/c_plugin.c) with the C
+// compiler while they run, straight over the file in use, as a build would.
+#include "support.hpp"
+
+#include <facet/error.hpp>
+#include <facet/file_watcher.hpp>
+#include <facet/hot_reload.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <thread>
+
+using namespace facet;
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+namespace {
+
+// Compiles the test plugin as `dir/name.so` with extra `flags`.
+bool compile_plugin(const fs::path& out, const std::string& name, const std::string& flags) {
+    const std::string cmd = std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -O1 -I" +
+                            FACET_SOURCE_DIR + "/plugins/include -DPLUGIN_NAME='\"" + name +
+                            "\"' " + flags + " " + FACET_SOURCE_DIR +
+                            "/tests/plugins/c_plugin.c -o " + out.string();
+    return std::system(cmd.c_str()) == 0;
+}
+
+void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
+
+// A folder with a plugin folder, a full-screen quad, a material using the
+// shader "hot" (with gain 1), and a scene.
+struct Fixture {
+    fs::path dir = test::temp_dir("reload");
+    fs::path plugins = dir / "plugins";
+    fs::path scene_file = dir / "scene.yaml";
+    fs::path material_file = dir / "material.yaml";
+
+    Fixture() {
+        fs::create_directories(plugins);
+        REQUIRE(compile_plugin(plugins / "hot.so", "hot", "-DFILL_RED=0.25f -DWITH_GAIN"));
+        write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+        write(material_file, "shader: hot\nparams: {gain: 1}\n");
+        write(scene_file, scene_text("material.yaml"));
+    }
+    ~Fixture() { fs::remove_all(dir); }
+
+    static std::string scene_text(const std::string& material) {
+        return "render: {size: [16, 16]}\nplugin_paths: [plugins]\n"
+               "objects:\n  - {mesh: quad.obj, material: " + material + "}\n";
+    }
+};
+
+HotReload::Options fast(bool polling) {
+    HotReload::Options o;
+    o.settle = 30ms;
+    o.watcher.force_polling = polling;
+    o.watcher.poll_interval = 20ms;
+    return o;
+}
+
+float red(Renderer& renderer, const Scene& scene) {
+    Framebuffer fb;
+    renderer.render(scene, fb);
+    return fb.pixel(8, 8).r;
+}
+
+// Calls update() every few milliseconds until an event arrives (or 20 s);
+// returns the events.
+std::vector<ReloadEvent> next_events(HotReload& reload) {
+    for (int i = 0; i < 4000; ++i) {
+        reload.update();
+        std::vector<ReloadEvent> events = reload.take_events();
+        if (!events.empty()) return events;
+        std::this_thread::sleep_for(5ms);
+    }
+    return {};
+}
+
+ReloadEvent::Kind next_kind(HotReload& reload) {
+    const std::vector<ReloadEvent> events = next_events(reload);
+    REQUIRE(events.size() == 1);
+    return events[0].kind;
+}
+
+}  // namespace
+
+TEST_CASE("the file watcher sees writes, new files and renames", "[reload][watcher]") {
+    for (bool polling : {false, true}) {
+        const fs::path dir = test::temp_dir("watch");
+        FileWatcher::Options options;
+        options.force_polling = polling;
+        options.poll_interval = 20ms;
+        FileWatcher watcher(options);
+        CHECK((watcher.backend() == FileWatcher::Backend::polling) == polling);
+        watcher.watch(dir);
+        write(dir / "a.yaml", "x: 1\n");
+        write(dir / "b.tmp", "y: 2\n");
+        fs::rename(dir / "b.tmp", dir / "b.yaml");
+        std::set<fs::path> seen;
+        for (int i = 0; i < 1000 && !(seen.count(dir / "a.yaml") && seen.count(dir / "b.yaml")); ++i) {
+            for (const fs::path& p : watcher.take_changes()) seen.insert(p);
+            std::this_thread::sleep_for(5ms);
+        }
+        CHECK(seen.count(fs::canonical(dir) / "a.yaml"));
+        CHECK(seen.count(fs::canonical(dir) / "b.yaml"));
+        fs::remove_all(dir);
+    }
+}
+
+TEST_CASE("a plugin recompiled during a render loop switches within a bounded number of frames",
+          "[reload]") {
+    Fixture f;
+    PluginRegistry registry(std::vector<fs::path>{});
+    Scene scene = load_scene(f.scene_file, registry);
+    HotReload reload(registry, scene, fast(false));
+    Renderer renderer;
+    REQUIRE(red(renderer, scene) == 0.25f);
+
+    std::atomic<bool> compiled{false};
+    std::thread build([&] {
+        // The compiler overwrites hot.so in place while frames use it.
+        CHECK(compile_plugin(f.plugins / "hot.so", "hot", "-DFILL_RED=0.75f -DWITH_GAIN"));
+        compiled = true;
+    });
+    int frames_after_build = 0;
+    float value = 0.25f;
+    for (int frame = 0; frame < 20000 && value != 0.75f; ++frame) {
+        reload.update();
+        value = red(renderer, scene);
+        REQUIRE((value == 0.25f || value == 0.75f));  // one version or the other, never garbage
+        if (compiled) ++frames_after_build;
+        std::this_thread::sleep_for(1ms);
+    }
+    build.join();
+    CHECK(value == 0.75f);
+    // settle (30 ms) at >= 1 ms a frame, plus slack for a slow machine.
+    CHECK(frames_after_build <= 200);
+    const std::vector<ReloadEvent> events = reload.take_events();
+    REQUIRE_FALSE(events.empty());
+    CHECK(events.back().kind == ReloadEvent::Kind::plugin_reloaded);
+}
+
+TEST_CASE("bad plugins are refused and the old version keeps rendering", "[reload]") {
+    // Each row overwrites hot.so with something that must be refused.
+    const std::vector<std::pair<std::string, std::function<void(const Fixture&)>>> bad = {
+        {"truncated",
+         [](const Fixture& f) {
+             const fs::path whole = f.dir / "whole.so";
+             REQUIRE(compile_plugin(whole, "hot", "-DFILL_RED=0.5f -DWITH_GAIN"));
+             fs::copy_file(whole, f.plugins / "hot.so", fs::copy_options::overwrite_existing);
+             fs::resize_file(f.plugins / "hot.so", fs::file_size(whole) / 2);
+         }},
+        {"wrong ABI",
+         [](const Fixture& f) {
+             REQUIRE(compile_plugin(f.plugins / "hot.so", "hot", "-DWRONG_MAJOR -DWITH_GAIN"));
+         }},
+        {"missing symbol",
+         [](const Fixture& f) {
+             REQUIRE(compile_plugin(f.plugins / "hot.so", "hot", "-DMISSING_SYMBOL -DWITH_GAIN"));
+         }},
+        {"parameters no longer fit the material",
+         [](const Fixture& f) {
+             REQUIRE(compile_plugin(f.plugins / "hot.so", "hot", "-DFILL_RED=0.5f"));  // no gain
+         }},
+    };
+    for (bool polling : {false, true})
+        for (const auto& [what, make_bad] : bad) {
+            INFO(what << (polling ? ", polling" : ", inotify"));
+            Fixture f;
+            PluginRegistry registry(std::vector<fs::path>{});
+            Scene scene = load_scene(f.scene_file, registry);
+            HotReload reload(registry, scene, fast(polling));
+            Renderer renderer;
+            REQUIRE(red(renderer, scene) == 0.25f);
+            make_bad(f);
+            const std::vector<ReloadEvent> events = next_events(reload);
+            REQUIRE(events.size() == 1);
+            CHECK(events[0].kind == ReloadEvent::Kind::plugin_refused);
+            CHECK_THAT(events[0].message, Catch::Contains("keeping the old one"));
+            CHECK(red(renderer, scene) == 0.25f);
+            // A good version afterwards is taken.
+            REQUIRE(compile_plugin(f.plugins / "hot.so", "hot", "-DFILL_RED=0.5f -DWITH_GAIN"));
+            CHECK(next_kind(reload) == ReloadEvent::Kind::plugin_reloaded);
+            CHECK(red(renderer, scene) == 0.5f);
+        }
+}
+
+TEST_CASE("material and scene edits apply at the next frame; broken edits keep the old",
+          "[reload]") {
+    for (bool polling : {false, true}) {
+        Fixture f;
+        PluginRegistry registry(std::vector<fs::path>{});
+        Scene scene = load_scene(f.scene_file, registry);
+        HotReload reload(registry, scene, fast(polling));
+        Renderer renderer;
+
+        write(f.material_file, "shader: hot\nparams: {gain: 2}\n");
+        CHECK(next_kind(reload) == ReloadEvent::Kind::config_reloaded);
+        CHECK(red(renderer, scene) == 0.5f);
+
+        write(f.material_file, "shader: hot\nparams: {gain: [2\n");  // broken YAML
+        const std::vector<ReloadEvent> broken = next_events(reload);
+        REQUIRE(broken.size() == 1);
+        CHECK(broken[0].kind == ReloadEvent::Kind::config_refused);
+        CHECK_THAT(broken[0].message, Catch::Contains("material.yaml:"));
+        CHECK(red(renderer, scene) == 0.5f);
+
+        // Changing `shader:` swaps the material's plugin live.
+        REQUIRE(compile_plugin(f.plugins / "other.so", "other", "-DFILL_RED=1.0f"));
+        CHECK(next_kind(reload) == ReloadEvent::Kind::plugin_added);
+        write(f.material_file, "shader: other\n");
+        CHECK(next_kind(reload) == ReloadEvent::Kind::config_reloaded);
+        CHECK(red(renderer, scene) == 1.0f);
+
+        // The scene file: a broken edit is refused, a good one applies.
+        write(f.scene_file, "render: {size: [16, 16]\n");
+        CHECK(next_kind(reload) == ReloadEvent::Kind::config_refused);
+        CHECK(red(renderer, scene) == 1.0f);
+        write(f.scene_file, Fixture::scene_text("{shader: hot, params: {gain: 4}}"));
+        CHECK(next_kind(reload) == ReloadEvent::Kind::config_reloaded);
+        CHECK(red(renderer, scene) == 1.0f);  // 0.25 * 4
+        CHECK(scene.objects[0].material->shader == "hot");
+    }
+}
+
+TEST_CASE("a plugin dropped into a plugin folder is available at once", "[reload]") {
+    Fixture f;
+    PluginRegistry registry(std::vector<fs::path>{});
+    Scene scene = load_scene(f.scene_file, registry);
+    HotReload reload(registry, scene, fast(false));
+    Renderer renderer;
+    // The scene is edited to use a shader that does not exist yet: refused.
+    write(f.scene_file, Fixture::scene_text("{shader: late}"));
+    CHECK(next_kind(reload) == ReloadEvent::Kind::config_refused);
+    CHECK(red(renderer, scene) == 0.25f);
+    // Built elsewhere, then copied in: the scene loads with it.
+    REQUIRE(compile_plugin(f.dir / "late.so", "late", "-DFILL_RED=0.125f"));
+    fs::copy_file(f.dir / "late.so", f.plugins / "late.so");
+    const std::vector<ReloadEvent> events = next_events(reload);
+    REQUIRE(events.size() == 2);
+    CHECK(events[0].kind == ReloadEvent::Kind::plugin_added);
+    CHECK(events[1].kind == ReloadEvent::Kind::config_reloaded);
+    CHECK(red(renderer, scene) == 0.125f);
+}
