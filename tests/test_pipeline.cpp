@@ -333,3 +333,66 @@ TEST_CASE("NaN and Inf vertices are dropped and counted", "[pipeline][robust]") 
     CHECK(stats.triangles_invalid == 2);
     CHECK(stats.triangles_rasterized == 1);
 }
+
+TEST_CASE("screen-linear varyings stay screen-linear through near-plane clipping",
+          "[pipeline][clip][interpolation]") {
+    // All three vertices are in front of the eye (w > 0), one nearer than the
+    // near plane, so the triangle is clipped. A `linear` varying must still be
+    // the screen-space affine function of the original three vertices.
+    const std::vector<glm::vec3> tri = {{-0.1f, -0.1f, -0.2f}, {1.5f, -1.0f, -3.0f},
+                                        {-1.0f, 1.2f, -4.0f}};
+    const std::vector<glm::vec4> colors = {{0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}};
+    const Mesh mesh = make_mesh(tri, {0, 1, 2}, colors);
+    const glm::mat4 proj = perspective(glm::radians(70.0f), float(W) / H, 0.5f, 20.0f, true);
+    auto shader = plugin<ColorShader<FACET_INTERP_LINEAR>>();
+    Framebuffer fb(W, H);
+    fb.clear(glm::vec4(-1.0f), 0.0f);
+    DrawCall call = clip_space_call(mesh, *shader);
+    call.projection = proj;
+    FrameStats stats;
+    Renderer().draw(call, fb, stats);
+    REQUIRE(stats.triangles_clipped == 1);
+    glm::dvec2 win[3];
+    for (int k = 0; k < 3; ++k) {
+        const glm::dvec4 c = glm::dmat4(proj) * glm::dvec4(glm::dvec3(tri[k]), 1.0);
+        win[k] = {(c.x / c.w + 1) * 0.5 * W, (1 - c.y / c.w) * 0.5 * H};
+    }
+    const auto cross = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
+        return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+    };
+    const double area = cross(win[0], win[1], win[2]);
+    double max_err = 0;
+    int checked = 0;
+    for (int i = 0; i < W * H; ++i) {
+        if (fb.color()[i].a < 0) continue;
+        const glm::dvec2 p = pixel_centre(i);
+        const double l1 = cross(win[2], win[0], p) / area, l2 = cross(win[0], win[1], p) / area;
+        max_err = std::max({max_err, std::abs(fb.color()[i].r - l1),
+                            std::abs(fb.color()[i].g - l2)});
+        ++checked;
+    }
+    CHECK(checked > 200);
+    CHECK(max_err < 2e-3);
+}
+
+TEST_CASE("a vertex at the clip-space origin drops its triangle cleanly", "[pipeline][robust]") {
+    // Shaders "kill" vertices by writing (0, 0, 0, 0). With this projection
+    // (w = -z, depth 0.5, no translation) the origin maps there exactly.
+    glm::mat4 proj(1.0f);
+    proj[2][2] = -0.5f;
+    proj[2][3] = -1.0f;
+    proj[3][3] = 0.0f;
+    const Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, -1}, {0, 1, -1}, {-1, -1, -1}},
+                                {0, 1, 2, 3, 1, 2});
+    auto shader = plugin<CountShader>();
+    Framebuffer fb(W, H);
+    fb.clear(glm::vec4(0.0f), 0.0f);
+    DrawCall call = clip_space_call(mesh, *shader);
+    call.projection = proj;
+    FrameStats stats;
+    Renderer().draw(call, fb, stats);
+    CHECK(stats.triangles_in == 2);
+    CHECK(stats.triangles_rasterized == 1);  // the other triangle is unaffected
+    CHECK(stats.triangles_culled_degenerate == 1);
+    for (int i = 0; i < W * H; ++i) REQUIRE(fb.color()[i].r <= 1.0f);
+}

@@ -21,6 +21,7 @@ size_t facet_c_sizeof_draw(void);
 size_t facet_c_sizeof_param_desc(void);
 size_t facet_c_sizeof_light(void);
 size_t facet_c_desc_v1_0_size(void);
+size_t facet_c_offsets(size_t* out);
 }
 
 namespace {
@@ -47,6 +48,22 @@ TEST_CASE("the ABI header compiles as C with the same layout", "[abi]") {
     CHECK(facet_c_sizeof_param_desc() == sizeof(facet_param_desc));
     CHECK(facet_c_sizeof_light() == sizeof(facet_light));
     CHECK(facet_c_desc_v1_0_size() == sizeof(facet_shader_desc));  // v1.0 is all there is
+    const size_t cpp[] = {
+        offsetof(facet_shader_desc, struct_size), offsetof(facet_shader_desc, name),
+        offsetof(facet_shader_desc, needs),       offsetof(facet_shader_desc, varyings),
+        offsetof(facet_shader_desc, params),      offsetof(facet_shader_desc, params_size),
+        offsetof(facet_shader_desc, vertex),      offsetof(facet_shader_desc, fragment),
+        offsetof(facet_draw, params),             offsetof(facet_draw, model_view_projection),
+        offsetof(facet_draw, lights),             offsetof(facet_draw, time),
+        offsetof(facet_vertex_batch, clip_position), offsetof(facet_vertex_batch, varying_floats),
+        offsetof(facet_fragment_batch, mask),     offsetof(facet_fragment_batch, texels),
+        offsetof(facet_fragment_batch, color),    offsetof(facet_param_desc, uv_varying),
+        offsetof(facet_light, spot_cos_outer),    offsetof(facet_host, sample),
+        sizeof(facet_host),                       sizeof(facet_vertex_batch),
+        sizeof(facet_varying_desc)};
+    size_t c[64];
+    REQUIRE(facet_c_offsets(c) == std::size(cpp));
+    for (size_t i = 0; i < std::size(cpp); ++i) CHECK(c[i] == cpp[i]);
 }
 
 TEST_CASE("a plugin written in C loads and draws", "[abi][plugin]") {
@@ -101,6 +118,20 @@ TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
     CHECK(code() == ErrorCode::plugin_invalid);
     d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
     d.fragment = nullptr;
+    CHECK(code() == ErrorCode::plugin_invalid);
+    // Needs this host cannot serve (yet) are refused, not silently unmet.
+    for (uint32_t need : {uint32_t(FACET_NEED_TANGENTS), uint32_t(FACET_NEED_AO), 1u << 30}) {
+        d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+        d.needs |= need;
+        CHECK(code() == ErrorCode::plugin_invalid);
+    }
+    // A parameter whose offset wraps around the block is refused.
+    facet_param_desc wrap = sdk::float1("x", 0, 0.0f);
+    wrap.offset = 0xFFFFFFFCu;
+    d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    d.param_count = 1;
+    d.params = &wrap;
+    d.params_size = 16;
     CHECK(code() == ErrorCode::plugin_invalid);
 }
 

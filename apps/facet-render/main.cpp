@@ -10,6 +10,7 @@
 #include <facet/scene.hpp>
 
 #include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
     app.add_option("--plugin-path", opt.plugin_paths, "extra folder to search for shaders");
     app.add_flag("-v,--verbose", opt.verbose, "log debug messages");
     CLI11_PARSE(app, argc, argv);
+    spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
     spdlog::set_level(opt.verbose ? spdlog::level::debug : spdlog::level::info);
     try {
         return run(opt);

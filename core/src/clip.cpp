@@ -8,51 +8,46 @@ namespace {
 
 constexpr int kPlaneCount = 6;
 
-// Signed distance of p to plane `i`: >= 0 inside.
-template <class Vec, class T>
-T distance(const Vec& p, int i, T guard) {
-    switch (i) {
-        case 0: return p.w - p.z;
-        case 1: return p.z;
-        case 2: return p.x + guard * p.w;
-        case 3: return guard * p.w - p.x;
-        case 4: return p.y + guard * p.w;
+// Signed distance of p to plane `i` (bit i of ClipPlane): >= 0 inside.
+double distance(const glm::dvec4& p, int i, double guard) {
+    switch (1u << i) {
+        case kPlaneNear: return p.w - p.z;
+        case kPlaneFar: return p.z;
+        case kPlaneLeft: return p.x + guard * p.w;
+        case kPlaneRight: return guard * p.w - p.x;
+        case kPlaneBottom: return p.y + guard * p.w;
         default: return guard * p.w - p.y;
     }
-}
-
-uint32_t outcode(const glm::vec4& p, double guard) {
-    const glm::dvec4 d(p);
-    uint32_t code = 0;
-    for (int i = 0; i < kPlaneCount; ++i)
-        if (distance(d, i, guard) < 0.0) code |= 1u << i;
-    return code;
 }
 
 // The point where edge (a, b) crosses the plane, interpolated from the inside
 // vertex a (da >= 0 > db). Always starting from the inside vertex makes the
 // result independent of the direction the edge is walked in.
 void intersect(const ClipVertex& a, double da, const ClipVertex& b, double db, int floats,
-               ClipVertex& out) {
+               const uint8_t* interpolation, ClipVertex& out) {
     const double t = da / (da - db);
     out.position = a.position + t * (b.position - a.position);
-    for (int k = 0; k < floats; ++k)
-        out.varyings[k] = float(a.varyings[k] + t * (b.varyings[k] - a.varyings[k]));
+    // The same point's fraction of the way along the edge on screen.
+    const double s = out.position.w > 0.0 ? t * b.position.w / out.position.w : t;
+    for (int k = 0; k < floats; ++k) {
+        const double f = interpolation[k] == FACET_INTERP_LINEAR ? s : t;
+        out.varyings[k] = float(a.varyings[k] + f * (b.varyings[k] - a.varyings[k]));
+    }
 }
 
 // One Sutherland-Hodgman step against plane `plane`.
 int clip_against(const ClipVertex* in, int n, int plane, double guard, int floats,
-                 ClipVertex* out) {
+                 const uint8_t* interpolation, ClipVertex* out) {
     int m = 0;
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < n && m + 2 <= kMaxClipVertices; ++i) {
         const ClipVertex& a = in[i];
         const ClipVertex& b = in[(i + 1) % n];
         const double da = distance(a.position, plane, guard);
         const double db = distance(b.position, plane, guard);
         if (da >= 0.0) out[m++] = a;
         if ((da >= 0.0) != (db >= 0.0)) {
-            if (da >= 0.0) intersect(a, da, b, db, floats, out[m++]);
-            else intersect(b, db, a, da, floats, out[m++]);
+            if (da >= 0.0) intersect(a, da, b, db, floats, interpolation, out[m++]);
+            else intersect(b, db, a, da, floats, interpolation, out[m++]);
         }
     }
     return m;
@@ -60,21 +55,29 @@ int clip_against(const ClipVertex* in, int n, int plane, double guard, int float
 
 }  // namespace
 
+uint32_t outcode(const glm::dvec4& p, double guard) {
+    uint32_t code = 0;
+    for (int i = 0; i < kPlaneCount; ++i)
+        if (distance(p, i, guard) < 0.0) code |= 1u << i;
+    return code;
+}
+
 ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, double guard) {
-    const uint32_t view = outcode(a, 1.0) & outcode(b, 1.0) & outcode(c, 1.0);
-    const uint32_t band = outcode(a, guard) | outcode(b, guard) | outcode(c, guard);
+    const glm::dvec4 da(a), db(b), dc(c);
+    const uint32_t view = outcode(da, 1.0) & outcode(db, 1.0) & outcode(dc, 1.0);
+    const uint32_t band = outcode(da, guard) | outcode(db, guard) | outcode(dc, guard);
     return {view, band};
 }
 
 int clip_polygon(const ClipVertex* in, int n, uint32_t planes, double guard, int floats,
-                 ClipVertex* out) {
+                 const uint8_t* interpolation, ClipVertex* out) {
     ClipVertex buffer[2][kMaxClipVertices];
     const ClipVertex* src = in;
     int count = n;
     int flip = 0;
     for (int plane = 0; plane < kPlaneCount && count > 0; ++plane) {
         if (!(planes & (1u << plane))) continue;
-        count = clip_against(src, count, plane, guard, floats, buffer[flip]);
+        count = clip_against(src, count, plane, guard, floats, interpolation, buffer[flip]);
         src = buffer[flip];
         flip ^= 1;
     }

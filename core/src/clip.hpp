@@ -6,7 +6,9 @@
 // kMaxClipVertices vertices, ready to be split into a fan.
 //
 // The depth planes are always clipped against; they also remove everything
-// at w <= 0, so a triangle that crosses w = 0 keeps its visible part. The
+// at w < 0 (only a vertex at the origin, x = y = z = w = 0, survives with
+// w = 0, and setup drops it), so a triangle that crosses w = 0 keeps its
+// visible part. The
 // side planes are the guard band, not the viewport: a triangle is cut there
 // only when it would leave the range where the fixed-point rasterizer is
 // exact, which for normal scenes is never. classify() tells which planes a
@@ -22,25 +24,29 @@
 namespace facet {
 
 // A vertex as clipping sees it. The position is double: an intersection
-// a + t (b - a) between two far-apart vertices cancels catastrophically, and
-// double keeps the clipped vertex exact to a sub-pixel for vertices out to
-// about 1e15 times the viewport (float would manage about 1e7).
+// a + t (b - a) between two far-apart vertices cancels catastrophically.
+// In double the clipped vertex stays within a sub-pixel for vertices out to
+// about 1e11 viewport widths (float manages about 100).
 struct ClipVertex {
     glm::dvec4 position;
     float varyings[FACET_MAX_VARYING_FLOATS];
 };
 
-// Each clip plane is one bit.
+// Plane i of a position's outcode is bit i.
 enum ClipPlane : uint32_t {
-    kPlaneNear = 1u << 0,   // z <= w   (depth 1 side with reversed-Z)
-    kPlaneFar = 1u << 1,    // z >= 0
-    kPlaneLeft = 1u << 2,   // x >= -g w
-    kPlaneRight = 1u << 3,  // x <= g w
-    kPlaneBottom = 1u << 4, // y >= -g w
-    kPlaneTop = 1u << 5,    // y <= g w
+    kPlaneNear = 1u << 0,    // z <= w   (depth 1 side with reversed-Z)
+    kPlaneFar = 1u << 1,     // z >= 0
+    kPlaneLeft = 1u << 2,    // x >= -g w
+    kPlaneRight = 1u << 3,   // x <= g w
+    kPlaneBottom = 1u << 4,  // y >= -g w
+    kPlaneTop = 1u << 5,     // y <= g w
 };
 
 constexpr int kMaxClipVertices = 3 + 6;
+
+// The planes p lies outside of, for side planes at +-g w (g = 1: the view
+// frustum itself).
+uint32_t outcode(const glm::dvec4& p, double guard);
 
 // Which of a triangle's vertices lie outside which planes.
 struct ClipClass {
@@ -52,10 +58,12 @@ struct ClipClass {
 ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, double guard);
 
 // Clips polygon `in` (n vertices, each with `floats` varyings) against the
-// planes in `planes`. Writes the result to `out` and returns its vertex
-// count (0 if nothing is left). Shared edges clip identically from both
-// sides, so clipped meshes stay watertight.
+// planes in `planes`. `interpolation` gives each varying float's
+// facet_interpolation: screen-linear floats are interpolated by screen
+// distance, the others by clip-space distance. Writes the result to `out`
+// and returns its vertex count (0 if nothing is left). Shared edges clip
+// identically from both sides, so clipped meshes stay watertight.
 int clip_polygon(const ClipVertex* in, int n, uint32_t planes, double guard, int floats,
-                 ClipVertex* out);
+                 const uint8_t* interpolation, ClipVertex* out);
 
 }  // namespace facet

@@ -25,8 +25,9 @@ void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_p
 facet_draw make_abi_draw(const DrawCall& call, const Framebuffer& target,
                          const DrawContext& dc) {
     facet_draw d{};
+    static const ParamBlock kNoParams{};
     d.host = host_services();
-    d.params = call.params;
+    d.params = call.params ? call.params : kNoParams.bytes;  // never NULL
     d.host_data = &dc;
     copy_matrix(d.model, call.model);
     copy_matrix(d.view, call.view);
@@ -63,10 +64,22 @@ CullState cull_state(const PipelineState& s) {
     return {s.cull == CullMode::back, s.cull == CullMode::front, s.front_ccw};
 }
 
-// Clips the triangle and draws the fan of what is left. Returns the setup
-// result that counts for the input triangle.
+// Sign of the area of a convex clip-space polygon on screen (y down).
+int screen_orientation(const ClipVertex* poly, int n, const Viewport& viewport) {
+    double area = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const glm::dvec2 a = to_window(poly[i].position, viewport);
+        const glm::dvec2 b = to_window(poly[(i + 1) % n].position, viewport);
+        area += a.x * b.y - b.x * a.y;
+    }
+    return (area > 0.0) - (area < 0.0);
+}
+
+// Clips the triangle and draws the fan of what is left, each piece held to
+// the orientation of the whole polygon. Returns the result that counts for
+// the input triangle.
 template <class Draw>
-SetupResult draw_clipped(const SetupVertex v[3], uint32_t planes, double guard,
+SetupResult draw_clipped(const SetupVertex v[3], uint32_t planes, const Viewport& viewport,
                          const DrawContext& dc, Draw&& draw_one) {
     ClipVertex in[3], out[kMaxClipVertices];
     const int floats = int(dc.varying_floats);
@@ -74,19 +87,21 @@ SetupResult draw_clipped(const SetupVertex v[3], uint32_t planes, double guard,
         in[i].position = v[i].clip;
         std::memcpy(in[i].varyings, v[i].varyings, sizeof(float) * floats);
     }
-    const int n = clip_polygon(in, 3, planes, guard, floats, out);
-    if (n < 3) return SetupResult::no_pixels;
+    const int n =
+        clip_polygon(in, 3, planes, viewport.guard_ndc(), floats, dc.interpolation, out);
+    if (n < 3) return SetupResult::clipped_away;
     // Flat varyings keep the first input vertex's value, not a blend.
     for (int k = 0; k < floats; ++k)
         if (dc.interpolation[k] == FACET_INTERP_FLAT)
             for (int i = 0; i < n; ++i) out[i].varyings[k] = v[0].varyings[k];
-    SetupResult result = SetupResult::no_pixels;
+    const int orientation = screen_orientation(out, n, viewport);
+    SetupResult result = SetupResult::clipped_away;
     for (int i = 1; i + 1 < n; ++i) {
         const SetupVertex tri[3] = {{out[0].position, out[0].varyings},
                                     {out[i].position, out[i].varyings},
                                     {out[i + 1].position, out[i + 1].varyings}};
-        const SetupResult r = draw_one(tri);
-        if (r == SetupResult::ok || result == SetupResult::no_pixels) result = r;
+        const SetupResult r = draw_one(tri, orientation);
+        if (r == SetupResult::ok || result == SetupResult::clipped_away) result = r;
     }
     return result;
 }
@@ -95,8 +110,32 @@ void count(SetupResult r, FrameStats& stats) {
     switch (r) {
         case SetupResult::ok: ++stats.triangles_rasterized; break;
         case SetupResult::culled_backface: ++stats.triangles_culled_backface; break;
+        case SetupResult::clipped_away: ++stats.triangles_culled_frustum; break;
         case SetupResult::degenerate:
         case SetupResult::no_pixels: ++stats.triangles_culled_degenerate; break;
+    }
+}
+
+// Vertex stage: every vertex once, kVertexBatch per plugin call, with only
+// the inputs the shader asks for.
+void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const facet_draw& abi,
+                    std::vector<glm::vec4>& clip, std::vector<float>& varyings) {
+    const size_t vcount = mesh.vertex_count();
+    const uint32_t floats = shader.varying_floats();
+    clip.resize(vcount);
+    varyings.resize(vcount * floats + 1);
+    for (size_t first = 0; first < vcount; first += kVertexBatch) {
+        const facet_vertex_batch batch{
+            uint32_t(std::min<size_t>(kVertexBatch, vcount - first)),
+            glm::value_ptr(mesh.positions[first]),
+            input(shader, FACET_NEED_NORMALS, mesh.normals, first),
+            input(shader, FACET_NEED_UVS, mesh.uvs, first),
+            input(shader, FACET_NEED_COLORS, mesh.colors, first),
+            nullptr,  // tangents: no shader may ask for them yet (plugin.cpp refuses it)
+            glm::value_ptr(clip[first]),
+            varyings.data() + first * floats,
+            floats};
+        shader.desc().vertex(&abi, &batch);
     }
 }
 
@@ -115,62 +154,42 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     dc.target = &target;
     const facet_draw abi = make_abi_draw(call, target, dc);
     dc.abi = &abi;
-
-    // Vertex stage: every vertex once, in batches.
-    const size_t vcount = mesh.vertex_count();
-    const uint32_t floats = dc.varying_floats;
-    scratch_.clip.resize(vcount);
-    scratch_.varyings.resize(vcount * floats + 1);
-    for (size_t first = 0; first < vcount; first += kVertexBatch) {
-        const facet_vertex_batch batch{
-            uint32_t(std::min<size_t>(kVertexBatch, vcount - first)),
-            glm::value_ptr(mesh.positions[first]),
-            input(shader, FACET_NEED_NORMALS, mesh.normals, first),
-            input(shader, FACET_NEED_UVS, mesh.uvs, first),
-            input(shader, FACET_NEED_COLORS, mesh.colors, first),
-            nullptr,
-            glm::value_ptr(scratch_.clip[first]),
-            scratch_.varyings.data() + first * floats,
-            floats};
-        shader.desc().vertex(&abi, &batch);
-    }
-    stats.vertices_shaded += vcount;
+    shade_vertices(mesh, shader, abi, scratch_.clip, scratch_.varyings);
+    stats.vertices_shaded += mesh.vertex_count();
 
     // Primitive assembly and everything after it, one triangle at a time.
     const Viewport viewport{target.width(), target.height()};
-    const double guard = viewport.guard_ndc();
     const CullState cull = cull_state(call.state);
     TriangleSetup setup;
-    auto draw_one = [&](const SetupVertex tri[3]) {
-        const SetupResult r = setup_triangle(tri, viewport, cull, setup);
+    auto draw_one = [&](const SetupVertex tri[3], int orientation) {
+        const SetupResult r = setup_triangle(tri, viewport, cull, setup, orientation);
         if (r == SetupResult::ok)
             rasterize(setup, [&](const Block& b) { shade_block(dc, setup, b, stats); });
         return r;
     };
+    const uint32_t floats = dc.varying_floats;
     const uint32_t* idx = mesh.indices.data();
     for (size_t t = 0; t < mesh.triangle_count(); ++t, idx += 3) {
         ++stats.triangles_in;
-        SetupVertex v[3];
-        const glm::vec4& c0 = scratch_.clip[idx[0]];
-        const glm::vec4& c1 = scratch_.clip[idx[1]];
-        const glm::vec4& c2 = scratch_.clip[idx[2]];
-        if (!finite(c0) || !finite(c1) || !finite(c2)) {
+        const glm::vec4* c[3] = {&scratch_.clip[idx[0]], &scratch_.clip[idx[1]],
+                                 &scratch_.clip[idx[2]]};
+        if (!finite(*c[0]) || !finite(*c[1]) || !finite(*c[2])) {
             ++stats.triangles_invalid;
             continue;
         }
-        for (int i = 0; i < 3; ++i)
-            v[i] = {glm::dvec4(scratch_.clip[idx[i]]),
-                    scratch_.varyings.data() + size_t(idx[i]) * floats};
-        const ClipClass cc = classify(c0, c1, c2, guard);
+        const ClipClass cc = classify(*c[0], *c[1], *c[2], viewport.guard_ndc());
         if (cc.reject) {
             ++stats.triangles_culled_frustum;
             continue;
         }
+        SetupVertex v[3];
+        for (int i = 0; i < 3; ++i)
+            v[i] = {glm::dvec4(*c[i]), scratch_.varyings.data() + size_t(idx[i]) * floats};
         if (!cc.clip) {
-            count(draw_one(v), stats);
+            count(draw_one(v, 0), stats);
             continue;
         }
-        const SetupResult r = draw_clipped(v, cc.clip, guard, dc, draw_one);
+        const SetupResult r = draw_clipped(v, cc.clip, viewport, dc, draw_one);
         if (r == SetupResult::ok) ++stats.triangles_clipped;
         count(r, stats);
     }

@@ -64,7 +64,7 @@ void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const B
         float* dst = out + k * N;
         const float v0 = t.varyings[0][k], v1 = t.varyings[1][k], v2 = t.varyings[2][k];
         if (dc.interpolation[k] == FACET_INTERP_FLAT) {
-            std::fill(dst, dst + N, t.varyings[t.provoking][k]);
+            std::fill(dst, dst + N, v0);  // vertex 0 is the first vertex
             continue;
         }
         const float(*w)[N] = dc.interpolation[k] == FACET_INTERP_PERSPECTIVE ? pw : b.bary;
@@ -74,26 +74,31 @@ void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const B
     }
 }
 
+// Texels of every texture slot the shader declares; unbound slots are white.
 void sample_textures(const DrawContext& dc, const float* varyings, float* texels) {
-    for (int s = 0; s < dc.texture_count; ++s) {
+    for (int s = 0; s < dc.shader->texture_count(); ++s) {
         float* out = texels + s * 4 * N;
-        if (!dc.textures[s].texture) {
+        if (s >= dc.texture_count || !dc.textures[s].texture) {
             std::fill(out, out + 4 * N, 1.0f);
             continue;
         }
-        const float* u = varyings + dc.texture_uv[s] * N;
+        const float* u = varyings + dc.shader->texture_uv_float(s) * N;
         sample_many(dc.textures[s], u, u + N, N, out);
     }
 }
 
+// Colour:  alpha    = src * a + dst * (1 - a)   (src-alpha, one-minus-src-alpha)
+//          additive = src * a + dst             (src-alpha, one)
+// Alpha:   alpha    = a + dst.a * (1 - a)       (coverage accumulates)
+//          additive keeps dst.a.
+// The factor a is the source alpha clamped to 0..1.
 glm::vec4 blend(BlendMode mode, const glm::vec4& src, const glm::vec4& dst) {
+    const float a = std::clamp(src.a, 0.0f, 1.0f);
     switch (mode) {
         case BlendMode::opaque: return src;
-        case BlendMode::alpha:  // src-alpha, one-minus-src-alpha
-            return {glm::vec3(src) * src.a + glm::vec3(dst) * (1.0f - src.a),
-                    src.a + dst.a * (1.0f - src.a)};
-        case BlendMode::additive:  // src-alpha, one
-            return {glm::vec3(dst) + glm::vec3(src) * src.a, dst.a};
+        case BlendMode::alpha:
+            return {glm::vec3(src) * a + glm::vec3(dst) * (1.0f - a), a + dst.a * (1.0f - a)};
+        case BlendMode::additive: return {glm::vec3(dst) + glm::vec3(src) * a, dst.a};
     }
     return src;
 }
@@ -121,7 +126,7 @@ void host_log(int level, const char* shader, const char* message) {
 void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
                  uint32_t count, float* rgba) {
     const auto* dc = static_cast<const DrawContext*>(draw->host_data);
-    if (slot >= uint32_t(dc->texture_count) || !dc->textures[slot].texture) {
+    if (slot >= uint32_t(dc->texture_count) || !dc->textures[slot].texture) {  // unbound: white
         std::fill(rgba, rgba + 4 * count, 1.0f);
         return;
     }
@@ -132,22 +137,12 @@ void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const fl
 
 void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureBinding* textures,
                      int texture_count) {
-    const facet_shader_desc& d = shader.desc();
-    dc.desc = &d;
+    dc.shader = &shader;
     dc.varying_floats = shader.varying_floats();
-    int first_float[FACET_MAX_VARYINGS] = {};
-    for (uint32_t v = 0, k = 0; v < d.varying_count; ++v) {
-        first_float[v] = int(k);
-        for (uint32_t c = 0; c < d.varyings[v].components; ++c)
-            dc.interpolation[k++] = uint8_t(d.varyings[v].interpolation);
-    }
+    dc.interpolation = shader.float_interpolation();
     dc.textures = textures;
-    dc.texture_count = std::min(texture_count, shader.texture_count());
-    for (uint32_t p = 0; p < d.param_count; ++p)
-        if (d.params[p].type == FACET_PARAM_TEXTURE)
-            dc.texture_uv[shader.texture_slot(d.params[p])] = first_float[d.params[p].uv_varying];
-    dc.sample_textures = shader.needs(FACET_NEED_TEXTURES) && dc.texture_count > 0;
-    dc.may_discard = shader.needs(FACET_NEED_DISCARD);
+    dc.texture_count = textures ? std::min(texture_count, shader.texture_count()) : 0;
+    dc.sample_textures = shader.needs(FACET_NEED_TEXTURES) && shader.texture_count() > 0;
 }
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
@@ -167,10 +162,10 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
     facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, z,
                                dc.sample_textures ? texels : nullptr,
                                nullptr,  nullptr, color};
-    dc.desc->fragment(dc.abi, &batch);
+    dc.shader->desc().fragment(dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += std::popcount(mask);
-    write_pixels(dc, b, z, color, dc.may_discard ? (batch.mask & mask) : mask);
+    write_pixels(dc, b, z, color, batch.mask & mask);  // a shader may only clear bits
 }
 
 const facet_host* host_services() {

@@ -6,9 +6,10 @@
 // call, depth-written and blended into the framebuffer.
 //
 // Depth is tested before shading (the shader cannot change depth; a
-// discarding shader only removes lanes), so hidden fragments are never
-// shaded. Only the varyings the shader declares are interpolated, and
-// textures are sampled only for shaders that ask for them.
+// discarding shader only removes lanes), so a block whose lanes are all
+// hidden is never shaded; the shader sees the surviving lanes in the mask.
+// Only the varyings the shader declares are interpolated, and textures are
+// sampled only for shaders that ask for them.
 #pragma once
 
 #include "rasterize.hpp"
@@ -23,19 +24,16 @@ namespace facet {
 // Everything that stays constant over one draw.
 struct DrawContext {
     const facet_draw* abi = nullptr;
-    const facet_shader_desc* desc = nullptr;
-    const TextureBinding* textures = nullptr;  // by slot
+    const ShaderPlugin* shader = nullptr;
+    const TextureBinding* textures = nullptr;  // by slot; slots past texture_count are unbound
     int texture_count = 0;
-    int texture_uv[FACET_MAX_TEXTURES] = {};   // first float of each slot's UV varying
     bool sample_textures = false;
-    bool may_discard = false;
     uint32_t varying_floats = 0;
-    uint8_t interpolation[FACET_MAX_VARYING_FLOATS] = {};  // per varying float
+    const uint8_t* interpolation = nullptr;    // per varying float
     PipelineState state;
     Framebuffer* target = nullptr;
 };
 
-// Fills the per-float interpolation table and texture bindings for `shader`.
 void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureBinding* textures,
                      int texture_count);
 

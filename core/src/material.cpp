@@ -104,19 +104,6 @@ std::shared_ptr<ShaderPlugin> find_shader(const yaml::Context& ctx, const YAML::
 
 // ---- binding -----------------------------------------------------------------
 
-// Floats a parameter type stores; 0 for the int32 types.
-int float_count(uint32_t type) {
-    switch (type) {
-        case FACET_PARAM_FLOAT: return 1;
-        case FACET_PARAM_VEC2: return 2;
-        case FACET_PARAM_VEC3:
-        case FACET_PARAM_COLOR3: return 3;
-        case FACET_PARAM_VEC4:
-        case FACET_PARAM_COLOR4: return 4;
-        default: return 0;
-    }
-}
-
 bool fits(const MaterialParam& p, uint32_t type) {
     using Kind = MaterialParam::Kind;
     const size_t n = p.numbers.size();
@@ -126,7 +113,7 @@ bool fits(const MaterialParam& p, uint32_t type) {
         case FACET_PARAM_BOOL: return p.kind == Kind::boolean;
         case FACET_PARAM_COLOR4: return p.kind == Kind::vector && (n == 3 || n == 4);
         case FACET_PARAM_TEXTURE: return p.kind == Kind::texture;
-        default: return p.kind == Kind::vector && n == size_t(float_count(type));
+        default: return p.kind == Kind::vector && n == size_t(param_float_count(type));
     }
 }
 
@@ -137,7 +124,7 @@ std::string expected_text(uint32_t type) {
         case FACET_PARAM_BOOL: return "true or false";
         case FACET_PARAM_COLOR4: return "3 or 4 numbers";
         case FACET_PARAM_TEXTURE: return "a texture file";
-        default: return std::to_string(float_count(type)) + " numbers";
+        default: return std::to_string(param_float_count(type)) + " numbers";
     }
 }
 
@@ -193,7 +180,7 @@ void write_int(ParamBlock& block, uint32_t offset, int32_t value) {
 }
 
 void write_default(ParamBlock& block, const facet_param_desc& d) {
-    if (const int n = float_count(d.type))
+    if (const int n = param_float_count(d.type))
         write_floats(block, d.offset, d.default_value, n);
     else if (d.type == FACET_PARAM_TEXTURE)
         write_int(block, d.offset, 0);
@@ -203,7 +190,7 @@ void write_default(ParamBlock& block, const facet_param_desc& d) {
 
 // A value that passed check_type() and check_range().
 void write_value(ParamBlock& block, const facet_param_desc& d, const MaterialParam& p) {
-    if (const int n = float_count(d.type)) {
+    if (const int n = param_float_count(d.type)) {
         float values[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // a 3-number color4 is opaque
         for (size_t i = 0; i < p.numbers.size(); ++i) values[i] = static_cast<float>(p.numbers[i]);
         write_floats(block, d.offset, values, n);

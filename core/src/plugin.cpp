@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -21,22 +22,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
+std::string to_hex(uint32_t v) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%x", v);
+    return buf;
+}
+
 [[noreturn]] void refuse(ErrorCode code, const std::string& origin, const std::string& why) {
     throw Error(code, why, origin);
 }
 
 bool valid_param_type(uint32_t type) { return type <= FACET_PARAM_TEXTURE; }
 
-uint32_t param_bytes(uint32_t type) {
-    switch (type) {
-        case FACET_PARAM_VEC2: return 8;
-        case FACET_PARAM_VEC3:
-        case FACET_PARAM_COLOR3: return 12;
-        case FACET_PARAM_VEC4:
-        case FACET_PARAM_COLOR4: return 16;
-        default: return 4;
-    }
-}
+uint32_t param_bytes(uint32_t type) { return 4u * uint32_t(std::max(1, param_float_count(type))); }
 
 void validate_varyings(const facet_shader_desc& d, const std::string& origin) {
     if (d.varying_count > FACET_MAX_VARYINGS)
@@ -74,7 +72,8 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
                                  (p.name ? p.name : "(null)") + "')";
         if (!p.name || !*p.name || !valid_param_type(p.type))
             refuse(ErrorCode::plugin_invalid, origin, what + " has no name or an unknown type");
-        if (p.offset % 4 != 0 || p.offset + param_bytes(p.type) > d.params_size)
+        if (p.offset % 4 != 0 || p.offset > d.params_size ||
+            param_bytes(p.type) > d.params_size - p.offset)
             refuse(ErrorCode::plugin_invalid, origin, what + " lies outside the parameter block");
         if (p.type == FACET_PARAM_TEXTURE) {
             ++textures;
@@ -139,8 +138,24 @@ void validate_descriptor(const facet_shader_desc* d, const std::string& origin) 
         refuse(ErrorCode::plugin_invalid, origin, "the descriptor has no name");
     if (!d->vertex || !d->fragment)
         refuse(ErrorCode::plugin_invalid, origin, "missing vertex or fragment function");
+    if (d->needs & ~kSupportedNeeds)
+        refuse(ErrorCode::plugin_invalid, origin,
+               "needs inputs this host cannot provide (needs bits 0x" +
+                   to_hex(d->needs & ~kSupportedNeeds) + ")");
     validate_varyings(*d, origin);
     validate_params(*d, origin);
+}
+
+int param_float_count(uint32_t type) {
+    switch (type) {
+        case FACET_PARAM_FLOAT: return 1;
+        case FACET_PARAM_VEC2: return 2;
+        case FACET_PARAM_VEC3:
+        case FACET_PARAM_COLOR3: return 3;
+        case FACET_PARAM_VEC4:
+        case FACET_PARAM_COLOR4: return 4;
+        default: return 0;
+    }
 }
 
 std::string_view param_type_name(uint32_t type) {
@@ -197,15 +212,22 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::from_descriptor(const facet_shader_d
     return plugin;
 }
 
+// Keeps a host-owned copy of the descriptor (zero past the plugin's
+// struct_size) and the per-float tables every draw uses.
 void ShaderPlugin::adopt(const facet_shader_desc* desc) {
-    desc_ = desc;
-    name_ = desc->name;
+    std::memcpy(&desc_, desc, std::min<size_t>(desc->struct_size, sizeof desc_));
+    name_ = desc_.name;
+    int first_float[FACET_MAX_VARYINGS] = {};
     varying_floats_ = 0;
-    for (uint32_t i = 0; i < desc->varying_count; ++i)
-        varying_floats_ += desc->varyings[i].components;
+    for (uint32_t v = 0; v < desc_.varying_count; ++v) {
+        first_float[v] = int(varying_floats_);
+        for (uint32_t c = 0; c < desc_.varyings[v].components; ++c)
+            float_interpolation_[varying_floats_++] = uint8_t(desc_.varyings[v].interpolation);
+    }
     texture_count_ = 0;
-    for (uint32_t i = 0; i < desc->param_count; ++i)
-        texture_count_ += desc->params[i].type == FACET_PARAM_TEXTURE;
+    for (uint32_t i = 0; i < desc_.param_count; ++i)
+        if (desc_.params[i].type == FACET_PARAM_TEXTURE)
+            texture_uv_float_[texture_count_++] = first_float[desc_.params[i].uv_varying];
 }
 
 ShaderPlugin::~ShaderPlugin() {
@@ -215,28 +237,28 @@ ShaderPlugin::~ShaderPlugin() {
 }
 
 const facet_param_desc* ShaderPlugin::find_param(std::string_view name) const {
-    for (uint32_t i = 0; i < desc_->param_count; ++i)
-        if (name == desc_->params[i].name) return &desc_->params[i];
+    for (uint32_t i = 0; i < desc_.param_count; ++i)
+        if (name == desc_.params[i].name) return &desc_.params[i];
     return nullptr;
 }
 
 int ShaderPlugin::texture_slot(const facet_param_desc& param) const {
     int slot = 0;
-    for (uint32_t i = 0; i < desc_->param_count; ++i) {
-        if (&desc_->params[i] == &param) return param.type == FACET_PARAM_TEXTURE ? slot : -1;
-        slot += desc_->params[i].type == FACET_PARAM_TEXTURE;
+    for (uint32_t i = 0; i < desc_.param_count; ++i) {
+        if (&desc_.params[i] == &param) return param.type == FACET_PARAM_TEXTURE ? slot : -1;
+        slot += desc_.params[i].type == FACET_PARAM_TEXTURE;
     }
     return -1;
 }
 
 std::string ShaderPlugin::describe_params() const {
-    if (desc_->param_count == 0) return "(no parameters)";
+    if (desc_.param_count == 0) return "(no parameters)";
     std::string out;
-    for (uint32_t i = 0; i < desc_->param_count; ++i) {
+    for (uint32_t i = 0; i < desc_.param_count; ++i) {
         if (i) out += ", ";
-        out += desc_->params[i].name;
+        out += desc_.params[i].name;
         out += " (";
-        out += param_type_name(desc_->params[i].type);
+        out += param_type_name(desc_.params[i].type);
         out += ")";
     }
     return out;

@@ -2,25 +2,25 @@
 // which state), then one Renderer::draw() per object (draw.cpp).
 #include "facet/renderer.hpp"
 
+#include "clip.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace facet {
 
 namespace {
 
-// True when all eight corners of `b` lie outside one clip plane.
+// True when all eight corners of `b` lie outside one plane of the frustum.
 bool outside_frustum(const Bounds& b, const glm::mat4& mvp) {
-    uint32_t all = 0x3f;
+    uint32_t all = ~0u;
     for (int i = 0; i < 8; ++i) {
         const glm::vec3 corner(i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
                                i & 4 ? b.max.z : b.min.z);
-        const glm::vec4 p = mvp * glm::vec4(corner, 1.0f);
-        const uint32_t out = (p.x < -p.w) | (p.x > p.w) << 1 | (p.y < -p.w) << 2 |
-                             (p.y > p.w) << 3 | (p.z < 0.0f) << 4 | (p.z > p.w) << 5;
-        all &= out;
+        all &= outcode(glm::dvec4(mvp * glm::vec4(corner, 1.0f)), 1.0);
     }
     return all != 0;
 }
@@ -116,15 +116,17 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
             continue;
         }
         if (o.material->blend == BlendMode::opaque) draw_object(o);
-        else scratch_.blended.push_back(&o);
+        else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
     }
     // Blended objects after the opaque ones, farthest first (view z is negative
-    // in front of the camera, so the most negative is farthest).
-    std::stable_sort(scratch_.blended.begin(), scratch_.blended.end(),
-                     [&](const Object* a, const Object* b) {
-                         return view_depth(*a, call.view) < view_depth(*b, call.view);
-                     });
-    for (const Object* o : scratch_.blended) draw_object(*o);
+    // in front of the camera, so the most negative is farthest); ties keep
+    // scene order.
+    for (BlendedObject& b : scratch_.blended) b.depth = view_depth(*b.object, call.view);
+    std::sort(scratch_.blended.begin(), scratch_.blended.end(),
+              [](const BlendedObject& a, const BlendedObject& b) {
+                  return a.depth < b.depth || (a.depth == b.depth && a.order < b.order);
+              });
+    for (const BlendedObject& b : scratch_.blended) draw_object(*b.object);
 
     stats.milliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -46,15 +46,17 @@ glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
 }
 
 SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
-                           const CullState& cull, TriangleSetup& out) {
+                           const CullState& cull, TriangleSetup& out, int orientation) {
     int64_t X[3], Y[3];
     for (int i = 0; i < 3; ++i) {
+        if (!(v[i].clip.w > 0.0)) return SetupResult::degenerate;
         const glm::dvec2 p = to_window(v[i].clip, viewport);
         X[i] = snap(p.x);
         Y[i] = snap(p.y);
     }
     const int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
-    if (area2 == 0) return SetupResult::degenerate;
+    if (area2 == 0 || (orientation != 0 && (area2 > 0) != (orientation > 0)))
+        return SetupResult::degenerate;
 
     // y runs down the window, so a triangle counter-clockwise as seen has
     // negative area here.
@@ -73,7 +75,6 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
         out.varyings[k] = v[a].varyings;
     }
     out.area2 = area2 < 0 ? -area2 : area2;
-    out.provoking = 0;  // order[0] is always the first vertex
     out.front_facing = front;
 
     pixel_range(std::min({X[0], X[1], X[2]}), std::max({X[0], X[1], X[2]}), out.x0, out.x1);

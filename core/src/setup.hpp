@@ -1,8 +1,9 @@
 // Triangle setup.
 //
-// Takes: three clip-space vertices that lie inside the guard band with
-// w > 0 (clip.hpp guarantees it), their varyings, the viewport and the
-// culling state.
+// Takes: three clip-space vertices that lie inside the guard band (clip.hpp
+// guarantees it), their varyings, the viewport and the culling state. A
+// vertex with w <= 0 (only the origin survives clipping with w = 0) makes
+// the triangle degenerate.
 // Gives: a TriangleSetup: vertices snapped to fixed point with 8 sub-pixel
 // bits, three integer edge functions with the top-left fill rule folded in,
 // the pixel bounding box clipped to the viewport, and what the fragment
@@ -50,7 +51,7 @@ struct EdgeFunction {
     int64_t at(int64_t px, int64_t py) const { return dx * (py - y0) - dy * (px - x0); }
 };
 
-enum class SetupResult { ok, culled_backface, degenerate, no_pixels };
+enum class SetupResult { ok, culled_backface, degenerate, no_pixels, clipped_away };
 
 struct TriangleSetup {
     // Edge k runs from vertex k to vertex k+1 and is opposite vertex k+2, so
@@ -60,8 +61,7 @@ struct TriangleSetup {
     int x0, y0, x1, y1;       // inclusive pixel bounding box
     float z[3];               // window depth per vertex, 0..1
     float inv_w[3];           // 1 / w per vertex
-    const float* varyings[3]; // varying floats per vertex
-    int provoking;            // vertex whose values flat varyings take
+    const float* varyings[3]; // varying floats per vertex; flat ones take vertex 0's
     bool front_facing;
 };
 
@@ -71,8 +71,11 @@ struct CullState {
     bool front_ccw = true;  // counter-clockwise on screen (y up) faces the viewer
 };
 
+// `orientation`, if not 0, is the sign the triangle's area must have (the
+// sign of the clipped polygon it was cut from): a fan piece that snapping
+// flipped is dropped as degenerate rather than drawn facing the other way.
 SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
-                           const CullState& cull, TriangleSetup& out);
+                           const CullState& cull, TriangleSetup& out, int orientation = 0);
 
 // Window position of a clip-space point (pixel units, y down), as setup uses.
 glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport);

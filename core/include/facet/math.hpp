@@ -4,7 +4,8 @@
 // column-major GLM matrices. Projections map view-space depth to clip-space
 // z in [0, w] (D3D/Vulkan range). With reversed-Z (the default) the near
 // plane maps to depth 1 and the far plane to 0, which spreads float32 depth
-// precision evenly over distance; the depth test is then "greater".
+// precision evenly over distance; the depth test is then "greater" (the
+// scene default is greater_equal).
 #pragma once
 
 #include <glm/glm.hpp>

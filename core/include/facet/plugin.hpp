@@ -42,12 +42,18 @@ public:
     ShaderPlugin(const ShaderPlugin&) = delete;
     ShaderPlugin& operator=(const ShaderPlugin&) = delete;
 
-    const facet_shader_desc& desc() const { return *desc_; }
+    // The host's own copy of the plugin's descriptor: fields the plugin's
+    // ABI version does not have read as zero.
+    const facet_shader_desc& desc() const { return desc_; }
     const std::string& name() const { return name_; }
     const std::string& origin() const { return origin_; }  // file it came from
-    uint32_t needs() const { return desc_->needs; }
-    bool needs(facet_need need) const { return (desc_->needs & need) != 0; }
+    uint32_t needs() const { return desc_.needs; }
+    bool needs(facet_need need) const { return (desc_.needs & need) != 0; }
     uint32_t varying_floats() const { return varying_floats_; }
+    // facet_interpolation of each varying float.
+    const uint8_t* float_interpolation() const { return float_interpolation_; }
+    // Index of the first varying float of texture slot `slot`'s UV.
+    int texture_uv_float(int slot) const { return texture_uv_float_[slot]; }
 
     // Schema look-ups.
     const facet_param_desc* find_param(std::string_view name) const;
@@ -63,11 +69,13 @@ private:
 
     void* handle_ = nullptr;
     std::filesystem::path private_copy_;
-    const facet_shader_desc* desc_ = nullptr;
+    facet_shader_desc desc_{};
     std::string name_;
     std::string origin_;
     uint32_t varying_floats_ = 0;
     int texture_count_ = 0;
+    uint8_t float_interpolation_[FACET_MAX_VARYING_FLOATS] = {};
+    int texture_uv_float_[FACET_MAX_TEXTURES] = {};
 };
 
 // Checks a descriptor against this host's ABI and limits.
@@ -76,6 +84,14 @@ void validate_descriptor(const facet_shader_desc* desc, const std::string& origi
 
 // The name of a facet_param_type ("color4").
 std::string_view param_type_name(uint32_t type);
+// Floats a parameter type stores; 0 for the int32 types (INT, BOOL, TEXTURE).
+int param_float_count(uint32_t type);
+
+// The needs this host can serve; a plugin asking for others is refused.
+constexpr uint32_t kSupportedNeeds = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_COLORS |
+                                     FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
+                                     FACET_NEED_DERIVATIVES | FACET_NEED_BLENDING |
+                                     FACET_NEED_DISCARD;
 
 class PluginRegistry {
 public:

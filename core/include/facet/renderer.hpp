@@ -88,11 +88,16 @@ public:
     void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
 
 private:
+    struct BlendedObject {
+        const Object* object;
+        float depth;   // view-space z of its bounds' centre
+        size_t order;  // position in the scene
+    };
     struct Scratch {
         std::vector<glm::vec4> clip;   // per vertex
         std::vector<float> varyings;   // per vertex, varying_floats each
         std::vector<facet_light> lights;
-        std::vector<const Object*> blended;
+        std::vector<BlendedObject> blended;
     };
     Scratch scratch_;
 };

@@ -137,15 +137,17 @@ struct Fragment {
     bool discarded = false;
 
     // Texel of texture parameter `slot` (k-th TEXTURE parameter), sampled by
-    // the host at this fragment; white when the material binds none.
+    // the host at this fragment; white when the material binds none or the
+    // shader declares no such slot.
     glm::vec4 texture(int slot) const {
-        if (!texels_) return glm::vec4(1.0f);
+        if (!texels_ || slot < 0 || slot >= texture_count_) return glm::vec4(1.0f);
         const float* t = texels_ + slot * 4 * FACET_BLOCK_LANES + lane_;
         return {t[0], t[FACET_BLOCK_LANES], t[2 * FACET_BLOCK_LANES], t[3 * FACET_BLOCK_LANES]};
     }
     void discard() { discarded = true; }
 
     const float* texels_ = nullptr;
+    int texture_count_ = 0;
     int lane_ = 0;
 };
 
@@ -176,6 +178,14 @@ template <class S>
 constexpr uint32_t param_count() {
     if constexpr (std::is_empty_v<typename S::Params>) return 0;
     else return sizeof(S::params) / sizeof(S::params[0]);
+}
+
+template <class S>
+constexpr int texture_count() {
+    int n = 0;
+    if constexpr (!std::is_empty_v<typename S::Params>)
+        for (const facet_param_desc& p : S::params) n += p.type == FACET_PARAM_TEXTURE;
+    return n;
 }
 
 template <class S>
@@ -217,6 +227,7 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
                       b->depth[i], b->front_facing != 0,
                       b->shadow ? b->shadow[i] : 1.0f, b->ao ? b->ao[i] : 1.0f};
         frag.texels_ = b->texels;
+        frag.texture_count_ = texture_count<S>();
         frag.lane_ = i;
         const glm::vec4 c = S::fragment(v, frag, d, params);
         b->color[i] = c.r;

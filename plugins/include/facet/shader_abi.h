@@ -27,7 +27,11 @@
  *   - facet_host (the host's service table) follows the same rule in the
  *     other direction: a plugin checks host->struct_size before using a field
  *     appended after v1.0.
- *   - Every other struct here is frozen for a major version.
+ *   - Structs the host builds and passes in (facet_draw, the batches,
+ *     facet_light) may also grow at their end in a minor version; a plugin
+ *     reads a field added after v1.0 only if host->abi_minor says it exists.
+ *   - Tables the plugin provides (facet_varying_desc, facet_param_desc) are
+ *     frozen for a major version.
  *
  * THREADING
  *   Shaders are stateless and reentrant: the host calls the batch functions
@@ -77,6 +81,8 @@ extern "C" {
 /* ------------------------------------------------------------------------ */
 /* What a shader needs from the core. The core provides only what is asked. */
 
+/* A host refuses a plugin that needs something it cannot provide. The
+ * facet 0.1 host provides all but TANGENTS, SHADOW_MAP and AO. */
 enum facet_need {
     FACET_NEED_NORMALS = 1u << 0,     /* vertex normals (else NULL)              */
     FACET_NEED_UVS = 1u << 1,         /* vertex texture coordinates              */
@@ -86,9 +92,10 @@ enum facet_need {
     FACET_NEED_TEXTURES = 1u << 5,    /* texels of texture parameters            */
     FACET_NEED_SHADOW_MAP = 1u << 6,  /* facet_fragment_batch.shadow             */
     FACET_NEED_AO = 1u << 7,          /* facet_fragment_batch.ao                 */
-    FACET_NEED_DERIVATIVES = 1u << 8, /* all 16 lanes hold interpolated values   */
+    FACET_NEED_DERIVATIVES = 1u << 8, /* differences across quads: the host must */
+                                      /*   keep every lane interpolated (it does) */
     FACET_NEED_BLENDING = 1u << 9,    /* output alpha is meant for blending      */
-    FACET_NEED_DISCARD = 1u << 10     /* the fragment function may clear mask bits */
+    FACET_NEED_DISCARD = 1u << 10     /* the fragment function clears mask bits   */
 };
 
 /* How a varying is interpolated across a triangle. */
@@ -185,7 +192,8 @@ typedef struct facet_host {
 
 struct facet_draw {
     const facet_host* host;
-    const void* params;            /* the material's parameter block         */
+    const void* params;            /* the material's parameter block; never  */
+                                   /*   NULL (zeros if there are no params)  */
     const void* host_data;         /* opaque to the plugin                   */
     float model[16];
     float view[16];
