@@ -1,11 +1,17 @@
 // facet-render: render a scene headless to a PNG.
 //
 //     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--plugin-path DIR]...
+//                  [--watch [--rebuild]]
 //
-// With no scene, renders the default scene (configs/default.yaml).
+// With no scene, renders the default scene (configs/default.yaml). With
+// --watch it keeps running and renders again whenever the scene, a material
+// or a shader plugin changes (hot reload); with --rebuild it also rebuilds a
+// built-in shader when its source under shaders/ changes.
 #include <facet/error.hpp>
 #include <facet/framebuffer.hpp>
+#include <facet/hot_reload.hpp>
 #include <facet/plugin.hpp>
+#include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 
@@ -13,8 +19,12 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -23,15 +33,20 @@ struct Options {
     std::string output = "facet.png";
     std::string size;
     std::vector<std::string> plugin_paths;
+    bool watch = false;
+    bool rebuild = false;
     bool verbose = false;
 };
+
+std::atomic<bool> g_stop{false};
 
 // "1280x720" -> width, height; false if malformed.
 bool parse_size(const std::string& text, int& width, int& height) {
     char x = 0;
     char rest = 0;
     return std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) == 3 &&
-           (x == 'x' || x == 'X');
+           (x == 'x' || x == 'X') && width >= 1 && height >= 1 &&
+           width <= facet::Framebuffer::kMaxSize && height <= facet::Framebuffer::kMaxSize;
 }
 
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
@@ -44,22 +59,11 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                  s.triangles_culled_degenerate, s.triangles_invalid, s.fragments_shaded);
 }
 
-int run(const Options& opt) {
-    facet::PluginRegistry registry;
-    for (const std::string& dir : opt.plugin_paths) registry.add_scene_path(dir);
-    const std::string path =
-        opt.scene.empty() ? facet::default_scene_path().string() : opt.scene;
-    facet::Scene scene = facet::load_scene(path, registry);
-    if (!opt.size.empty()) {
-        int w = 0, h = 0;
-        if (!parse_size(opt.size, w, h) || w < 1 || h < 1 || w > facet::Framebuffer::kMaxSize ||
-            h > facet::Framebuffer::kMaxSize) {
-            spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
-                          facet::Framebuffer::kMaxSize, opt.size);
-            return 2;
-        }
-        scene.settings.width = w;
-        scene.settings.height = h;
+// Renders `scene` to the output PNG, at the --size if one was given.
+void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> size) {
+    if (size) {
+        scene.settings.width = size->x;
+        scene.settings.height = size->y;
     }
     facet::Framebuffer framebuffer;
     facet::Renderer renderer;
@@ -67,6 +71,47 @@ int run(const Options& opt) {
     framebuffer.write_png(opt.output);
     report(stats, scene);
     spdlog::info("wrote {}", opt.output);
+}
+
+// Renders again whenever hot reload applies a change, until Ctrl-C.
+void watch(const Options& opt, facet::PluginRegistry& registry, facet::Scene& scene,
+           std::optional<glm::ivec2> size) {
+    facet::HotReload reload(registry, scene);
+    std::optional<facet::ShaderRebuilder> rebuilder;
+    if (opt.rebuild)
+        rebuilder.emplace(facet::built_in_shader_sources(),
+                          facet::ShaderRebuilder::cmake_target(facet::build_folder()));
+    spdlog::info("watching for changes (Ctrl-C to stop)");
+    while (!g_stop) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        if (rebuilder) rebuilder->update();  // events are logged as they happen
+        if (!reload.update()) continue;
+        try {
+            render(opt, scene, size);
+        } catch (const facet::Error& e) {
+            spdlog::error("{}", e.what());  // e.g. the PNG could not be written; keep watching
+        }
+    }
+}
+
+int run(const Options& opt) {
+    std::optional<glm::ivec2> size;
+    if (!opt.size.empty()) {
+        glm::ivec2 s;
+        if (!parse_size(opt.size, s.x, s.y)) {
+            spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
+                          facet::Framebuffer::kMaxSize, opt.size);
+            return 2;
+        }
+        size = s;
+    }
+    facet::PluginRegistry registry;
+    for (const std::string& dir : opt.plugin_paths) registry.add_scene_path(dir);
+    const std::string path =
+        opt.scene.empty() ? facet::default_scene_path().string() : opt.scene;
+    facet::Scene scene = facet::load_scene(path, registry);
+    render(opt, scene, size);
+    if (opt.watch) watch(opt, registry, scene, size);
     return 0;
 }
 
@@ -79,10 +124,15 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", opt.output, "output PNG")->capture_default_str();
     app.add_option("--size", opt.size, "image size WxH, overriding the scene's");
     app.add_option("--plugin-path", opt.plugin_paths, "extra folder to search for shaders");
+    app.add_flag("--watch", opt.watch, "keep running; render again when files change");
+    app.add_flag("--rebuild", opt.rebuild, "with --watch: rebuild built-in shaders on edit")
+        ->needs("--watch");
     app.add_flag("-v,--verbose", opt.verbose, "log debug messages");
     CLI11_PARSE(app, argc, argv);
     spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
     spdlog::set_level(opt.verbose ? spdlog::level::debug : spdlog::level::info);
+    std::signal(SIGINT, [](int) { g_stop = true; });
+    std::signal(SIGTERM, [](int) { g_stop = true; });
     try {
         return run(opt);
     } catch (const facet::Error& e) {

@@ -39,11 +39,17 @@ struct ReloadEvent {
         plugin_refused,   // a new version was refused; the old one stays
         config_reloaded,  // a scene or material file was applied
         config_refused,   // a scene or material file was refused; the old one stays
+        build_started,    // --rebuild: a shader's sources changed, its build runs
+        build_succeeded,  // --rebuild: the build finished; the reload follows
+        build_failed,     // --rebuild: the build failed; message has the compiler's output
     };
     Kind kind;
     std::string subject;  // plugin name or file
     std::string message;  // for people: what happened, or why not
-    bool refused() const { return kind == Kind::plugin_refused || kind == Kind::config_refused; }
+    bool refused() const {
+        return kind == Kind::plugin_refused || kind == Kind::config_refused ||
+               kind == Kind::build_failed;
+    }
 };
 
 class HotReload {
