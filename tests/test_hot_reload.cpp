@@ -7,6 +7,7 @@
 #include <facet/error.hpp>
 #include <facet/file_watcher.hpp>
 #include <facet/hot_reload.hpp>
+#include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 
@@ -249,4 +250,48 @@ TEST_CASE("a plugin dropped into a plugin folder is available at once", "[reload
     CHECK(events[0].kind == ReloadEvent::Kind::plugin_added);
     CHECK(events[1].kind == ReloadEvent::Kind::config_reloaded);
     CHECK(red(renderer, scene) == 0.125f);
+}
+
+TEST_CASE("--rebuild: an edited shader source is rebuilt and reloaded; a broken one is reported",
+          "[reload][rebuild]") {
+    Fixture f;
+    // A shader "source folder" holding a header the build includes.
+    const fs::path sources = f.dir / "shaders";
+    fs::create_directories(sources / "hot");
+    write(sources / "hot" / "colour.h", "#define FILL_RED 0.25f\n");
+    ShaderRebuilder::Command command = [&](const std::string& name) {
+        return std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -I" + FACET_SOURCE_DIR +
+               "/plugins/include -include " + (sources / name / "colour.h").string() +
+               " -DWITH_GAIN -DPLUGIN_NAME='\"" + name + "\"' " + FACET_SOURCE_DIR +
+               "/tests/plugins/c_plugin.c -o " + (f.plugins / (name + ".so")).string();
+    };
+    FileWatcher::Options watch;
+    watch.poll_interval = 20ms;
+    ShaderRebuilder rebuilder(sources, command, watch);
+    PluginRegistry registry(std::vector<fs::path>{});
+    Scene scene = load_scene(f.scene_file, registry);
+    HotReload reload(registry, scene, fast(false));
+    Renderer renderer;
+    // Steps the host loop until `kind` is reported by either side.
+    auto until = [&](ReloadEvent::Kind kind) {
+        for (int i = 0; i < 4000; ++i) {
+            reload.update();
+            std::vector<ReloadEvent> events = rebuilder.update();
+            for (const ReloadEvent& e : reload.take_events()) events.push_back(e);
+            for (const ReloadEvent& e : events)
+                if (e.kind == kind) return e;
+            std::this_thread::sleep_for(5ms);
+        }
+        FAIL("no event of the expected kind");
+        return ReloadEvent{};
+    };
+    write(sources / "hot" / "colour.h", "#define FILL_RED 0.75f\n");
+    until(ReloadEvent::Kind::build_succeeded);
+    until(ReloadEvent::Kind::plugin_reloaded);
+    CHECK(red(renderer, scene) == 0.75f);
+
+    write(sources / "hot" / "colour.h", "#define FILL_RED (0.5f +)\n");
+    const ReloadEvent failed = until(ReloadEvent::Kind::build_failed);
+    CHECK_THAT(failed.message, Catch::Contains("error"));
+    CHECK(red(renderer, scene) == 0.75f);  // the old plugin keeps rendering
 }
