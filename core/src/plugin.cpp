@@ -93,13 +93,13 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
 // dlopen() maps a library's segments straight from the file; a segment
 // that runs past the end of a truncated file (a compiler still writing it)
 // faults with SIGBUS on first touch. Refuse such a file before dlopen.
-void check_elf_complete(const fs::path& path) {
+void check_elf_complete(const fs::path& path, const std::string& origin) {
     std::ifstream in(path, std::ios::binary);
     Elf64_Ehdr eh{};
     const uint64_t size = fs::file_size(path);
     if (!in.read(reinterpret_cast<char*>(&eh), sizeof eh) ||
         std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 || eh.e_ident[EI_CLASS] != ELFCLASS64)
-        refuse(ErrorCode::plugin_load_failed, path.string(), "not a 64-bit ELF shared library");
+        refuse(ErrorCode::plugin_load_failed, origin, "not a 64-bit ELF shared library");
     uint64_t needed = uint64_t(eh.e_shoff) + uint64_t(eh.e_shnum) * eh.e_shentsize;
     needed = std::max<uint64_t>(needed, eh.e_phoff + uint64_t(eh.e_phnum) * eh.e_phentsize);
     for (int i = 0; i < eh.e_phnum && needed <= size; ++i) {
@@ -109,7 +109,7 @@ void check_elf_complete(const fs::path& path) {
         if (ph.p_type == PT_LOAD) needed = std::max<uint64_t>(needed, ph.p_offset + ph.p_filesz);
     }
     if (needed > size)
-        refuse(ErrorCode::plugin_load_failed, path.string(),
+        refuse(ErrorCode::plugin_load_failed, origin,
                "file is truncated (" + std::to_string(size) + " bytes, its headers need " +
                    std::to_string(needed) + "); is it still being written?");
 }
@@ -180,7 +180,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
         if (ec) refuse(ErrorCode::plugin_load_failed, origin, "cannot copy: " + ec.message());
         plugin->private_copy_ = file = private_copy;  // deleted by the destructor
     }
-    check_elf_complete(file);
+    check_elf_complete(file, origin);
     // RTLD_LOCAL keeps each plugin's symbols to itself; RTLD_NOW reports a
     // missing symbol here rather than at the first draw.
     plugin->handle_ = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
