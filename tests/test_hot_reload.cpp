@@ -254,7 +254,7 @@ TEST_CASE("a plugin dropped into a plugin folder is available at once", "[reload
     CHECK(red(renderer, scene) == 0.125f);
 }
 
-TEST_CASE("--rebuild: an edited shader source is rebuilt and reloaded; a broken one is reported",
+TEST_CASE("rebuild mode: an edited shader source is rebuilt and reloaded; a broken one is reported",
           "[reload][rebuild]") {
     Fixture f;
     // A shader "source folder" holding a header the build includes.
