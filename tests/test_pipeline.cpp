@@ -18,19 +18,28 @@ namespace {
 
 constexpr int W = 96, H = 80;
 
-// Coverage count per pixel of `mesh` drawn with additive blending.
-std::vector<int> coverage(const Mesh& mesh, const glm::mat4& view, const glm::mat4& proj,
-                          FrameStats* stats_out = nullptr) {
-    static auto shader = plugin<CountShader>();
+// `mesh` drawn once into a fresh W x H framebuffer cleared to `clear`.
+Framebuffer draw_fresh(const Mesh& mesh, const ShaderPlugin& shader, const glm::mat4& proj,
+                       glm::vec4 clear, FrameStats* stats = nullptr,
+                       const glm::mat4& view = glm::mat4(1.0f),
+                       BlendMode blend = BlendMode::opaque) {
     Framebuffer fb(W, H);
-    fb.clear(glm::vec4(0.0f), 0.0f);
-    DrawCall call = clip_space_call(mesh, *shader);
+    fb.clear(clear, 0.0f);
+    DrawCall call = clip_space_call(mesh, shader);
     call.view = view;
     call.projection = proj;
-    call.state.blend = BlendMode::additive;
-    FrameStats stats;
-    Renderer().draw(call, fb, stats);
-    if (stats_out) *stats_out = stats;
+    call.state.blend = blend;
+    FrameStats local;
+    Renderer().draw(call, fb, stats ? *stats : local);
+    return fb;
+}
+
+// Coverage count per pixel of `mesh` drawn with additive blending.
+std::vector<int> coverage(const Mesh& mesh, const glm::mat4& view, const glm::mat4& proj,
+                          FrameStats* stats = nullptr) {
+    static auto shader = plugin<CountShader>();
+    const Framebuffer fb =
+        draw_fresh(mesh, *shader, proj, glm::vec4(0.0f), stats, view, BlendMode::additive);
     std::vector<int> counts(W * H);
     for (int i = 0; i < W * H; ++i) counts[i] = int(fb.color()[i].r);
     return counts;
@@ -180,17 +189,10 @@ TEST_CASE("perspective-correct interpolation matches a double-precision referenc
                                 {0, 1, 2, 0, 2, 3},
                                 {{0, 0, 0, 1}, {1, 0, 0, 1}, {1, 1, 0, 1}, {0, 1, 0, 1}});
     const glm::mat4 proj = perspective(glm::radians(60.0f), float(W) / H, 0.5f, 20.0f, true);
-    auto render = [&](auto shader) {
-        Framebuffer fb(W, H);
-        fb.clear(glm::vec4(-1.0f), 0.0f);
-        DrawCall call = clip_space_call(mesh, *shader);
-        call.projection = proj;
-        FrameStats stats;
-        Renderer().draw(call, fb, stats);
-        return fb;
-    };
-    const Framebuffer persp = render(plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>());
-    const Framebuffer affine = render(plugin<ColorShader<FACET_INTERP_LINEAR>>());
+    const Framebuffer persp = draw_fresh(mesh, *plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>(),
+                                         proj, glm::vec4(-1.0f));
+    const Framebuffer affine =
+        draw_fresh(mesh, *plugin<ColorShader<FACET_INTERP_LINEAR>>(), proj, glm::vec4(-1.0f));
     const glm::dmat4 inv = glm::inverse(glm::dmat4(proj));
     double max_err = 0, max_affine_err = 0;
     int checked = 0;
@@ -344,13 +346,9 @@ TEST_CASE("screen-linear varyings stay screen-linear through near-plane clipping
     const std::vector<glm::vec4> colors = {{0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}};
     const Mesh mesh = make_mesh(tri, {0, 1, 2}, colors);
     const glm::mat4 proj = perspective(glm::radians(70.0f), float(W) / H, 0.5f, 20.0f, true);
-    auto shader = plugin<ColorShader<FACET_INTERP_LINEAR>>();
-    Framebuffer fb(W, H);
-    fb.clear(glm::vec4(-1.0f), 0.0f);
-    DrawCall call = clip_space_call(mesh, *shader);
-    call.projection = proj;
     FrameStats stats;
-    Renderer().draw(call, fb, stats);
+    const Framebuffer fb = draw_fresh(mesh, *plugin<ColorShader<FACET_INTERP_LINEAR>>(), proj,
+                                      glm::vec4(-1.0f), &stats);
     REQUIRE(stats.triangles_clipped == 1);
     glm::dvec2 win[3];
     for (int k = 0; k < 3; ++k) {
@@ -384,13 +382,8 @@ TEST_CASE("a vertex at the clip-space origin drops its triangle cleanly", "[pipe
     proj[3][3] = 0.0f;
     const Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, -1}, {0, 1, -1}, {-1, -1, -1}},
                                 {0, 1, 2, 3, 1, 2});
-    auto shader = plugin<CountShader>();
-    Framebuffer fb(W, H);
-    fb.clear(glm::vec4(0.0f), 0.0f);
-    DrawCall call = clip_space_call(mesh, *shader);
-    call.projection = proj;
     FrameStats stats;
-    Renderer().draw(call, fb, stats);
+    const Framebuffer fb = draw_fresh(mesh, *plugin<CountShader>(), proj, glm::vec4(0.0f), &stats);
     CHECK(stats.triangles_in == 2);
     CHECK(stats.triangles_rasterized == 1);  // the other triangle is unaffected
     CHECK(stats.triangles_culled_degenerate == 1);
