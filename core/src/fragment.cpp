@@ -83,7 +83,7 @@ void sample_textures(const DrawContext& dc, const float* varyings, float* texels
             continue;
         }
         const float* u = varyings + dc.shader->texture_uv_float(s) * N;
-        sample_many(dc.textures[s], u, u + N, N, out);
+        sample_block(dc.textures[s], u, u + N, out);
     }
 }
 

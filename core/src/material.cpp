@@ -21,8 +21,10 @@ void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, Materia
     yaml::check_map(ctx, node, "texture", {"file", "filter", "wrap"});
     p.texture_file = yaml::as<std::string>(ctx, yaml::require(ctx, node, "file"));
     if (const YAML::Node filter = node["filter"])
-        p.filter = yaml::as_enum<Filter>(
-            ctx, filter, {{"nearest", Filter::nearest}, {"bilinear", Filter::bilinear}});
+        p.filter = yaml::as_enum<Filter>(ctx, filter,
+                                         {{"nearest", Filter::nearest},
+                                          {"bilinear", Filter::bilinear},
+                                          {"trilinear", Filter::trilinear}});
     if (const YAML::Node wrap = node["wrap"])
         p.wrap = yaml::as_enum<Wrap>(
             ctx, wrap,

@@ -55,9 +55,22 @@ Split split(float x) {
     return {static_cast<int>(whole), x - whole};
 }
 
+// One level of a texture: level 0 or a mip.
+struct Level {
+    int width;
+    int height;
+    const glm::vec4* texels;
+};
+
+Level level(const Texture& t, int i) {
+    if (i == 0) return {t.width, t.height, t.texels.data()};
+    const MipLevel& m = t.mips[size_t(i - 1)];
+    return {m.width, m.height, m.texels.data()};
+}
+
 class Sampler {
 public:
-    Sampler(const Texture& texture, Wrap wrap) : t_(texture), wrap_(wrap) {}
+    Sampler(Level level, Wrap wrap) : t_(level), wrap_(wrap) {}
 
     glm::vec4 nearest(glm::vec2 uv) const {
         return texel(split(uv.x * t_.width).index, split(uv.y * t_.height).index);
@@ -79,9 +92,28 @@ private:
         return t_.texels[row * t_.width + wrap_index(x, t_.width, wrap_)];
     }
 
-    const Texture& t_;
+    Level t_;
     Wrap wrap_;
 };
+
+glm::vec4 trilinear(const Texture& t, Wrap wrap, glm::vec2 uv, float lod) {
+    const float l = std::clamp(std::isnan(lod) ? 0.0f : lod, 0.0f, float(t.levels() - 1));
+    const int lo = int(l);
+    const glm::vec4 a = Sampler(level(t, lo), wrap).bilinear(uv);
+    if (lo + 1 >= t.levels() || l == float(lo)) return a;
+    return glm::mix(a, Sampler(level(t, lo + 1), wrap).bilinear(uv), l - float(lo));
+}
+
+// The mean of the up-to-2x2 texels of `src` that texel (x, y) of the next
+// level covers.
+glm::vec4 box(Level src, int x, int y) {
+    glm::vec4 sum(0.0f);
+    int n = 0;
+    for (int j = 2 * y; j < std::min(2 * y + 2, src.height); ++j)
+        for (int i = 2 * x; i < std::min(2 * x + 2, src.width); ++i, ++n)
+            sum += src.texels[size_t(j) * src.width + i];
+    return sum / float(n);
+}
 
 }  // namespace
 
@@ -104,8 +136,9 @@ std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, b
         texture->texels[i] = {colour[p[0]], colour[p[1]], colour[p[2]], float(p[3]) / 255.0f};
     }
     stbi_image_free(pixels);
-    spdlog::info("texture {}: {}x{}, {} channels{}", texture->source, width, height, channels,
-                 srgb ? ", sRGB" : "");
+    generate_mipmaps(*texture);
+    spdlog::info("texture {}: {}x{}, {} channels{}, {} levels", texture->source, width, height,
+                 channels, srgb ? ", sRGB" : "", texture->levels());
     return texture;
 }
 
@@ -120,10 +153,49 @@ std::shared_ptr<const Texture> TextureCache::get(const std::filesystem::path& pa
     return texture;
 }
 
+void generate_mipmaps(Texture& texture) {
+    texture.mips.clear();
+    for (Level src = level(texture, 0); src.width > 1 || src.height > 1;) {
+        MipLevel next;
+        next.width = std::max(1, src.width / 2);
+        next.height = std::max(1, src.height / 2);
+        next.texels.resize(size_t(next.width) * next.height);
+        for (int y = 0; y < next.height; ++y)
+            for (int x = 0; x < next.width; ++x)
+                next.texels[size_t(y) * next.width + x] = box(src, x, y);
+        texture.mips.push_back(std::move(next));
+        src = level(texture, texture.levels() - 1);
+    }
+}
+
+float level_of_detail(const Texture& t, glm::vec2 duv_dx, glm::vec2 duv_dy) {
+    const glm::vec2 size(float(t.width), float(t.height));
+    const float rho = std::max(glm::length(duv_dx * size), glm::length(duv_dy * size));
+    return rho > 0.0f ? std::log2(rho) : 0.0f;
+}
+
 glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv) {
     if (!binding.texture) return glm::vec4(1.0f);  // nothing bound reads as white
-    const Sampler sampler(*binding.texture, binding.wrap);
+    const Sampler sampler(level(*binding.texture, 0), binding.wrap);
     return binding.filter == Filter::nearest ? sampler.nearest(uv) : sampler.bilinear(uv);
+}
+
+void sample_block(const TextureBinding& binding, const float* u, const float* v, float* rgba) {
+    constexpr int N = 16;
+    if (binding.filter != Filter::trilinear || !binding.texture) {
+        sample_many(binding, u, v, N, rgba);
+        return;
+    }
+    const Texture& t = *binding.texture;
+    for (int quad : {0, 2, 8, 10}) {  // top-left lane of each 2x2 quad
+        const glm::vec2 o(u[quad], v[quad]);
+        const float lod = level_of_detail(t, glm::vec2(u[quad + 1], v[quad + 1]) - o,
+                                          glm::vec2(u[quad + 4], v[quad + 4]) - o);
+        for (int lane : {quad, quad + 1, quad + 4, quad + 5}) {
+            const glm::vec4 c = trilinear(t, binding.wrap, {u[lane], v[lane]}, lod);
+            for (int k = 0; k < 4; ++k) rgba[k * N + lane] = c[k];
+        }
+    }
 }
 
 void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,

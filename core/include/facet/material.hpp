@@ -6,7 +6,7 @@
 //     blend: opaque            # opaque | alpha | additive
 //     params:
 //       base_color: [1, 0.5, 0.2, 1]
-//       base_texture: {file: ../../assets/spot/spot_texture.png, filter: bilinear, wrap: repeat}
+//       base_texture: {file: ../../assets/spot/spot_texture.png, filter: trilinear, wrap: repeat}
 //
 // The values are kept as written (MaterialParam), so they can be checked
 // again and re-laid-out when the plugin is reloaded. bind() validates them
@@ -40,7 +40,7 @@ struct MaterialParam {
     bool is_integer = false;      // number written without a fraction
     bool flag = false;            // boolean
     std::filesystem::path texture_file;  // texture: resolved against the material's folder
-    Filter filter = Filter::bilinear;    // texture
+    Filter filter = Filter::trilinear;   // texture: nearest | bilinear | trilinear
     Wrap wrap = Wrap::repeat;            // texture
     int line = 0;                 // 1-based position in the file
     int column = 0;

@@ -3,7 +3,8 @@
 //
 // Colour textures are sRGB-encoded in their files and decoded to linear
 // light at load, so filtering happens in linear light; data textures
-// (normals, masks) are taken as they are.
+// (normals, masks) are taken as they are. A mipmap chain (2x2 box filter in
+// linear light, down to 1x1) is generated at load for trilinear filtering.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -16,16 +17,31 @@
 
 namespace facet {
 
-enum class Filter { nearest, bilinear };
+// nearest and bilinear read level 0; trilinear picks the level of detail
+// from the UV derivatives and blends the two nearest levels.
+enum class Filter { nearest, bilinear, trilinear };
 enum class Wrap { repeat, clamp, mirror };
+
+struct MipLevel {
+    int width = 0;
+    int height = 0;
+    std::vector<glm::vec4> texels;
+};
 
 struct Texture {
     std::string source;
-    int width = 0;
+    int width = 0;                  // level 0
     int height = 0;
     bool srgb = false;
-    std::vector<glm::vec4> texels;  // linear RGBA, row-major, top row first
+    std::vector<glm::vec4> texels;  // level 0: linear RGBA, row-major, top row first
+    std::vector<MipLevel> mips;     // levels 1, 2, ... down to 1x1 (may be empty)
+
+    int levels() const { return 1 + int(mips.size()); }
 };
+
+// Fills texture.mips from level 0 (each level half the size, rounded down,
+// at least 1; each texel the mean of the 2x2 (or fewer) texels it covers).
+void generate_mipmaps(Texture& texture);
 
 // Throws Error(file_not_found | texture_load_failed).
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb);
@@ -41,7 +57,7 @@ private:
 
 struct TextureBinding {
     std::shared_ptr<const Texture> texture;
-    Filter filter = Filter::bilinear;
+    Filter filter = Filter::trilinear;
     Wrap wrap = Wrap::repeat;
 };
 
@@ -49,8 +65,16 @@ struct TextureBinding {
 // rows, as OBJ and glTF store it after the loader's flip).
 glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv);
 
-// Sample `count` coordinates; writes rgba[c * count + i].
+// Sample `count` coordinates at level 0; writes rgba[c * count + i].
 void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,
                  float* rgba);
+
+// Level of detail (0 = level 0) for UV derivatives in UV units per pixel,
+// as trilinear filtering uses it: log2 of the longer footprint axis in texels.
+float level_of_detail(const Texture& texture, glm::vec2 duv_dx, glm::vec2 duv_dy);
+
+// Sample one 4x4 fragment block (lane i at pixel (i % 4, i / 4)), taking
+// each 2x2 quad's UV differences as its derivatives; writes rgba[c * 16 + i].
+void sample_block(const TextureBinding& binding, const float* u, const float* v, float* rgba);
 
 }  // namespace facet
