@@ -80,7 +80,9 @@ TEST_CASE("a plugin written in C loads and draws", "[abi][plugin]") {
 TEST_CASE("plugins with a mismatched ABI are refused, saying why", "[abi][plugin]") {
     std::string why;
     CHECK(load_error(kTestPlugins / "wrong_major.so", &why) == ErrorCode::plugin_abi_mismatch);
-    CHECK_THAT(why, Catch::Contains("built for ABI 2.0") && Catch::Contains("ABI 1.0") &&
+    const std::string minor = std::to_string(FACET_ABI_MINOR);
+    CHECK_THAT(why, Catch::Contains("built for ABI 2." + minor) &&
+                        Catch::Contains("this host speaks ABI 1." + minor) &&
                         Catch::Contains("wrong_major.so"));
     CHECK(load_error(kTestPlugins / "short_desc.so", &why) == ErrorCode::plugin_struct_size);
     CHECK_THAT(why, Catch::Contains("16 bytes"));
@@ -120,7 +122,7 @@ TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
     d.fragment = nullptr;
     CHECK(code() == ErrorCode::plugin_invalid);
     // Needs this host cannot serve (yet) are refused, not silently unmet.
-    for (uint32_t need : {uint32_t(FACET_NEED_TANGENTS), uint32_t(FACET_NEED_AO), 1u << 30}) {
+    for (uint32_t need : {uint32_t(FACET_NEED_TANGENTS), 1u << 30}) {
         d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
         d.needs |= need;
         CHECK(code() == ErrorCode::plugin_invalid);

@@ -43,6 +43,10 @@ facet_draw make_abi_draw(const DrawCall& call, const Framebuffer& target,
         d.light_count = call.light_count;
         d.lights = call.lights;
     }
+    if (call.shader->needs(FACET_NEED_SHADOW_MAP)) {
+        d.shadow_map_count = call.shadow_map_count;
+        d.shadow_maps = call.shadow_maps;
+    }
     d.viewport_width = uint32_t(target.width());
     d.viewport_height = uint32_t(target.height());
     d.time = call.time;
@@ -152,6 +156,7 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     prepare_context(dc, shader, call.textures, call.texture_count);
     dc.state = call.state;
     dc.target = &target;
+    dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
     const facet_draw abi = make_abi_draw(call, target, dc);
     dc.abi = &abi;
     shade_vertices(mesh, shader, abi, scratch_.clip, scratch_.varyings);

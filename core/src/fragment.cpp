@@ -103,6 +103,15 @@ glm::vec4 blend(BlendMode mode, const glm::vec4& src, const glm::vec4& dst) {
     return src;
 }
 
+// Ambient visibility of each lane; lanes off the target read 1.
+void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
+    const int w = dc.target->width(), h = dc.target->height();
+    for (int i = 0; i < N; ++i) {
+        const int x = b.x + i % 4, y = b.y + i / 4;
+        ao[i] = x < w && y < h ? dc.ao[size_t(y) * w + x] : 1.0f;
+    }
+}
+
 void write_pixels(const DrawContext& dc, const Block& b, const float* z, const float* color,
                   uint32_t mask) {
     Framebuffer& fb = *dc.target;
@@ -110,6 +119,7 @@ void write_pixels(const DrawContext& dc, const Block& b, const float* z, const f
         const int i = std::countr_zero(m);
         const int x = b.x + i % 4, y = b.y + i / 4;
         if (dc.state.depth_write) fb.depth()[size_t(y) * fb.width() + x] = z[i];
+        if (!dc.state.color_write) continue;
         const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
         glm::vec4& dst = fb.pixel(x, y);
         dst = blend(dc.state.blend, src, dst);
@@ -158,10 +168,12 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
     alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
     if (dc.sample_textures) sample_textures(dc, varyings, texels);
     alignas(64) float color[4 * N];
+    alignas(64) float ao[N];
+    if (dc.ao) gather_ao(dc, b, ao);
 
     facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, z,
                                dc.sample_textures ? texels : nullptr,
-                               nullptr,  nullptr, color};
+                               nullptr,  dc.ao ? ao : nullptr, color};
     dc.shader->desc().fragment(dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += std::popcount(mask);

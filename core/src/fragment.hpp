@@ -30,6 +30,7 @@ struct DrawContext {
     bool sample_textures = false;
     uint32_t varying_floats = 0;
     const uint8_t* interpolation = nullptr;    // per varying float
+    const float* ao = nullptr;                 // target-sized, if the shader needs AO
     PipelineState state;
     Framebuffer* target = nullptr;
 };

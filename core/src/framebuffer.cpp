@@ -9,14 +9,14 @@
 
 namespace facet {
 
-void Framebuffer::resize(int width, int height) {
+void Framebuffer::resize(int width, int height, bool with_color) {
     if (width <= 0 || height <= 0 || width > kMaxSize || height > kMaxSize)
         throw Error(ErrorCode::out_of_range,
                     "framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                         " (each side must be 1.." + std::to_string(kMaxSize) + ")");
     width_ = width;
     height_ = height;
-    color_.resize(size_t(width) * height);
+    color_.resize(with_color ? size_t(width) * height : 0);
     depth_.resize(size_t(width) * height);
 }
 

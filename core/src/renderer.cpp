@@ -2,13 +2,16 @@
 // which state), then one Renderer::draw() per object (draw.cpp).
 #include "facet/renderer.hpp"
 
+#include "ao.hpp"
 #include "clip.hpp"
+#include "shadow.hpp"
 
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 namespace facet {
 
@@ -40,7 +43,41 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     return p;
 }
 
+double elapsed_ms(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
+        .count();
+}
+
+// AO radius and sample count from the material's `ao_radius` (float) and
+// `ao_samples` (int) parameters, where its shader declares them.
+AoSettings ao_settings(const Material& m) {
+    AoSettings s;
+    const facet_param_desc* radius = m.plugin->find_param("ao_radius");
+    if (radius && radius->type == FACET_PARAM_FLOAT && m.block)
+        std::memcpy(&s.radius, m.block->bytes + radius->offset, sizeof(float));
+    const facet_param_desc* samples = m.plugin->find_param("ao_samples");
+    if (samples && samples->type == FACET_PARAM_INT && m.block)
+        std::memcpy(&s.samples, m.block->bytes + samples->offset, sizeof(int));
+    s.radius = std::max(s.radius, 1e-4f);
+    s.samples = std::clamp(s.samples, 1, 256);
+    return s;
+}
+
+bool drawable(const Object& o) {
+    return o.visible && o.mesh && o.material && o.material->plugin;
+}
+
 }  // namespace
+
+struct Renderer::Passes {
+    std::vector<ShadowMap> shadow_maps;
+    AoPass ao;
+};
+
+Renderer::Renderer() : passes_(std::make_unique<Passes>()) {}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 FrameStats& FrameStats::operator+=(const FrameStats& o) {
     objects += o.objects;
@@ -57,7 +94,14 @@ FrameStats& FrameStats::operator+=(const FrameStats& o) {
     blocks_shaded += o.blocks_shaded;
     fragments_shaded += o.fragments_shaded;
     fragments_depth_rejected += o.fragments_depth_rejected;
+    shadow_passes += o.shadow_passes;
+    prepasses += o.prepasses;
+    ao_passes += o.ao_passes;
     milliseconds += o.milliseconds;
+    ms_shadow += o.ms_shadow;
+    ms_prepass += o.ms_prepass;
+    ms_ao += o.ms_ao;
+    ms_main += o.ms_main;
     return *this;
 }
 
@@ -93,7 +137,51 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     call.lights = scratch_.lights.data();
     call.light_count = uint32_t(scratch_.lights.size());
 
+    // The frame plan: what is visible, and which passes its materials need.
     FrameStats stats;
+    const Material* needs_ao = nullptr;
+    bool needs_shadow = false;
+    scratch_.blended.clear();
+    scratch_.casters.clear();
+    scratch_.opaque.clear();
+    for (const Object& o : scene.objects) {
+        if (!drawable(o)) continue;
+        scratch_.casters.push_back(&o);
+        ++stats.objects;
+        if (outside_frustum(o.mesh->bounds, call.projection * call.view * o.transform.matrix())) {
+            ++stats.objects_culled;
+            continue;
+        }
+        const ShaderPlugin& shader = *o.material->plugin;
+        needs_shadow |= shader.needs(FACET_NEED_SHADOW_MAP);
+        if (shader.needs(FACET_NEED_AO) && !needs_ao) needs_ao = o.material.get();
+        if (o.material->blend == BlendMode::opaque) scratch_.opaque.push_back(&o);
+        else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
+    }
+    if (needs_shadow) {
+        const auto t = std::chrono::steady_clock::now();
+        const int maps = render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow_maps);
+        stats.shadow_passes += uint64_t(maps);
+        call.shadow_maps = maps ? &passes_->shadow_maps[0].abi : nullptr;
+        call.shadow_map_count = uint32_t(maps);
+        stats.ms_shadow += elapsed_ms(t);
+    }
+    if (needs_ao) {
+        passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
+                        s.height, ao_settings(*needs_ao), *this, stats);
+        call.ao = passes_->ao.visibility();
+    }
+    draw_main_pass(scene, call, target, stats);
+    stats.milliseconds = elapsed_ms(start);
+    return stats;
+}
+
+// Opaque objects in scene order, then blended ones farthest first (view z
+// is negative in front of the camera, so the most negative is farthest);
+// ties keep scene order.
+void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
+                              FrameStats& stats) {
+    const auto start = std::chrono::steady_clock::now();
     auto draw_object = [&](const Object& o) {
         const Material& m = *o.material;
         const std::shared_ptr<ShaderPlugin> keep = m.plugin;  // loaded for the whole draw
@@ -103,34 +191,17 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         call.textures = m.textures.data();
         call.texture_count = int(m.textures.size());
         call.model = o.transform.matrix();
-        call.state = pipeline_state(m, s);
+        call.state = pipeline_state(m, scene.settings);
         draw(call, target, stats);
     };
-
-    scratch_.blended.clear();
-    for (const Object& o : scene.objects) {
-        if (!o.visible || !o.mesh || !o.material || !o.material->plugin) continue;
-        ++stats.objects;
-        if (outside_frustum(o.mesh->bounds, call.projection * call.view * o.transform.matrix())) {
-            ++stats.objects_culled;
-            continue;
-        }
-        if (o.material->blend == BlendMode::opaque) draw_object(o);
-        else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
-    }
-    // Blended objects after the opaque ones, farthest first (view z is negative
-    // in front of the camera, so the most negative is farthest); ties keep
-    // scene order.
+    for (const Object* o : scratch_.opaque) draw_object(*o);
     for (BlendedObject& b : scratch_.blended) b.depth = view_depth(*b.object, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
               [](const BlendedObject& a, const BlendedObject& b) {
                   return a.depth < b.depth || (a.depth == b.depth && a.order < b.order);
               });
     for (const BlendedObject& b : scratch_.blended) draw_object(*b.object);
-
-    stats.milliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return stats;
+    stats.ms_main += elapsed_ms(start);
 }
 
 }  // namespace facet

@@ -97,9 +97,20 @@ glm::vec4 read_clear_color(const yaml::Context& ctx, const YAML::Node& node) {
     return c;
 }
 
+void read_shadow_settings(const yaml::Context& ctx, const YAML::Node& node, RenderSettings& s) {
+    yaml::read(ctx, node, "shadow_map_size", s.shadow_map_size);
+    ensure(s.shadow_map_size >= 16 && s.shadow_map_size <= 8192, ctx,
+           where(node, "shadow_map_size"), ErrorCode::out_of_range,
+           "shadow_map_size must be 16..8192");
+    yaml::read(ctx, node, "shadow_distance", s.shadow_distance);
+    ensure(s.shadow_distance >= 0.0f, ctx, where(node, "shadow_distance"),
+           ErrorCode::out_of_range, "shadow_distance must be >= 0 (0: the camera's far plane)");
+}
+
 RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "render",
-                    {"size", "clear_color", "depth", "depth_compare", "cull", "front_face"});
+                    {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
+                     "shadow_map_size", "shadow_distance"});
     RenderSettings s;
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
@@ -122,6 +133,7 @@ RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
             {{"none", CullMode::none}, {"back", CullMode::back}, {"front", CullMode::front}});
     if (const YAML::Node front = node["front_face"])
         s.front_ccw = yaml::as_enum<bool>(ctx, front, {{"ccw", true}, {"cw", false}});
+    read_shadow_settings(ctx, node, s);
     return s;
 }
 

@@ -17,10 +17,14 @@ public:
     static constexpr int kMaxSize = 16384;  // per side; keeps the guard band exact
 
     Framebuffer() = default;
-    Framebuffer(int width, int height) { resize(width, height); }
+    Framebuffer(int width, int height, bool with_color = true) {
+        resize(width, height, with_color);
+    }
 
-    // Reallocates; contents are undefined until the next clear().
-    void resize(int width, int height);
+    // Reallocates; contents are undefined until the next clear(). A
+    // framebuffer without colour (shadow maps, pre-passes) holds depth only.
+    void resize(int width, int height, bool with_color = true);
+    bool has_color() const { return !color_.empty(); }
     void clear(const glm::vec4& color, float depth);
 
     int width() const { return width_; }

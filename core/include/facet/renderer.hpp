@@ -25,6 +25,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace facet {
@@ -47,7 +48,15 @@ struct FrameStats {
     uint64_t blocks_shaded = 0;                // fragment batches
     uint64_t fragments_shaded = 0;             // covered lanes sent to the shader
     uint64_t fragments_depth_rejected = 0;     // covered lanes the early depth test removed
+    // Passes run. Each runs only when a visible material needs it.
+    uint64_t shadow_passes = 0;                // one per shadow-casting light
+    uint64_t prepasses = 0;                    // depth-and-normal pre-pass, for AO
+    uint64_t ao_passes = 0;                    // SSAO and its blur
     double milliseconds = 0.0;                 // render() wall time
+    double ms_shadow = 0.0;                    // ... spent in shadow passes
+    double ms_prepass = 0.0;
+    double ms_ao = 0.0;
+    double ms_main = 0.0;
 
     FrameStats& operator+=(const FrameStats& o);
 };
@@ -59,6 +68,7 @@ struct PipelineState {
     BlendMode blend = BlendMode::opaque;
     DepthCompare depth_compare = DepthCompare::greater_equal;
     bool depth_write = true;
+    bool color_write = true;  // false: depth only (shadow maps, pre-passes)
 };
 
 // One mesh, one shader, one set of matrices.
@@ -74,20 +84,33 @@ struct DrawCall {
     glm::vec3 camera_position{0.0f};
     const facet_light* lights = nullptr;
     uint32_t light_count = 0;
+    const facet_shadow_map* shadow_maps = nullptr;  // for FACET_NEED_SHADOW_MAP
+    uint32_t shadow_map_count = 0;
+    const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
     float time = 0.0f;
     PipelineState state;
 };
 
 class Renderer {
 public:
+    Renderer();
+    ~Renderer();
+    Renderer(Renderer&&) noexcept;
+    Renderer& operator=(Renderer&&) noexcept;
+
     // Resizes `target` to the scene's size if needed, clears it and draws
-    // every visible object.
+    // every visible object. Shadow maps are rendered first only if a visible
+    // material needs them, and the AO pre-pass and AO pass only if one needs
+    // AO; the statistics count the passes that ran.
     FrameStats render(const Scene& scene, Framebuffer& target);
 
     // Draws one mesh into `target` (which must be cleared by the caller).
     void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
 
 private:
+    void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
+                        FrameStats& stats);
+
     struct BlendedObject {
         const Object* object;
         float depth;   // view-space z of its bounds' centre
@@ -98,8 +121,13 @@ private:
         std::vector<float> varyings;   // per vertex, varying_floats each
         std::vector<facet_light> lights;
         std::vector<BlendedObject> blended;
+        std::vector<const Object*> casters;  // every drawable object, for shadow maps
+        std::vector<const Object*> opaque;   // visible opaque objects, for the AO pre-pass
     };
+    struct Passes;  // shadow maps and AO buffers, kept between frames
+
     Scratch scratch_;
+    std::unique_ptr<Passes> passes_;
 };
 
 // The light as the plugin ABI carries it.

@@ -1,7 +1,8 @@
 // Scenes: camera, lights, objects and render settings, from YAML.
 //
 //     camera: {position: [0, 1, 3], target: [0, 0.5, 0], fov_y: 45, near: 0.1, far: 100}
-//     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back}
+//     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back,
+//              shadow_map_size: 2048, shadow_distance: 20}
 //     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
 //     lights:
 //       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
@@ -71,6 +72,8 @@ struct RenderSettings {
     DepthCompare depth_compare = DepthCompare::greater_equal;  // matches reversed_z
     CullMode cull = CullMode::back;
     bool front_ccw = true;  // counter-clockwise triangles (as seen) face the viewer
+    int shadow_map_size = 2048;    // texels per side of each shadow map
+    float shadow_distance = 0.0f;  // directional shadows cover the view up to here; 0: far
 };
 
 struct Object {

@@ -103,6 +103,84 @@ constexpr facet_param_desc texture(const char* name, size_t offset, int uv_varyi
     return p;
 }
 
+// ---- lights ----------------------------------------------------------------------
+
+// Light from `l` arriving at world point `p`.
+struct Incident {
+    glm::vec3 to_light;  // unit vector from p towards the light
+    glm::vec3 radiance;  // colour * intensity * attenuation * spot cone; 0 past range
+    float distance;      // to the light; infinite for directional lights
+};
+
+// Directional lights shine along `direction`. Point and spot lights fall off
+// as 1 / (c + l d + q d^2) with attenuation = {c, l, q}, and are cut off
+// past `range` (if not 0); a spot light fades from its inner to its outer
+// cone: smoothstep(cos outer, cos inner, cos angle).
+inline Incident incident_light(const facet_light& l, glm::vec3 p) {
+    const glm::vec3 color = glm::make_vec3(l.color) * l.intensity;
+    if (l.type == FACET_LIGHT_DIRECTIONAL)
+        return {-glm::normalize(glm::make_vec3(l.direction)), color,
+                std::numeric_limits<float>::infinity()};
+    const glm::vec3 offset = glm::make_vec3(l.position) - p;
+    const float d = glm::length(offset);
+    const glm::vec3 to_light = d > 0.0f ? offset / d : glm::vec3(0.0f, 1.0f, 0.0f);
+    if (l.range > 0.0f && d > l.range) return {to_light, glm::vec3(0.0f), d};
+    const float falloff = 1.0f / glm::max(l.attenuation[0] + l.attenuation[1] * d +
+                                              l.attenuation[2] * d * d,
+                                          1e-6f);
+    float cone = 1.0f;
+    if (l.type == FACET_LIGHT_SPOT)
+        cone = glm::smoothstep(l.spot_cos_outer, l.spot_cos_inner,
+                               glm::dot(-to_light, glm::normalize(glm::make_vec3(l.direction))));
+    return {to_light, color * falloff * cone, d};
+}
+
+// ---- shadow maps (ABI 1.1) ----------------------------------------------------
+
+// Distance from the light (along its axis) of window depth z in `sm`.
+inline float shadow_distance(const facet_shadow_map& sm, float z) {
+    const float n = sm.near_plane, f = sm.far_plane;
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return n + z * (f - n);
+    return n * f / (f - z * (f - n));
+}
+
+// Fraction of a kernel x kernel block of shadow-map texels (percentage-closer
+// filtering) around world point `p` that sees the light. The receiver is
+// moved toward the light by (bias + slope_bias * tan(theta)) texels, theta
+// being the angle between the surface normal and the light (n_dot_l is its
+// cosine): a slope-scaled bias, which keeps surfaces from shadowing
+// themselves ("acne") at any angle. A tap k texels from the centre sees the
+// tilted receiver k * tan(theta) texels deeper, so its bias grows by that
+// much too. Points outside the map are lit.
+inline float shadow_visibility(const facet_shadow_map& sm, glm::vec3 p, float n_dot_l,
+                               int kernel, float bias, float slope_bias) {
+    const glm::vec4 c = glm::make_mat4(sm.view_projection) * glm::vec4(p, 1.0f);
+    if (!(c.w > 0.0f)) return 1.0f;
+    const glm::vec3 ndc = glm::vec3(c) / c.w;
+    if (ndc.z > 1.0f) return 1.0f;
+    const float distance = shadow_distance(sm, glm::max(ndc.z, 0.0f));
+    const float texel = sm.projection == FACET_SHADOW_PERSPECTIVE ? sm.texel_size * distance
+                                                                  : sm.texel_size;
+    const float cos_t = glm::clamp(n_dot_l, 0.1f, 1.0f);
+    const float tan_t = glm::sqrt(1.0f - cos_t * cos_t) / cos_t;
+    const float receiver = distance - texel * (bias + slope_bias * tan_t);
+    const int cx = int(glm::floor((ndc.x * 0.5f + 0.5f) * float(sm.width)));
+    const int cy = int(glm::floor((0.5f - ndc.y * 0.5f) * float(sm.height)));
+    const int r = glm::max(kernel, 1) / 2;
+    int lit = 0;
+    for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+            const int x = cx + dx, y = cy + dy;
+            if (x < 0 || y < 0 || x >= int(sm.width) || y >= int(sm.height)) {
+                ++lit;
+                continue;
+            }
+            const float tap = receiver - texel * tan_t * glm::sqrt(float(dx * dx + dy * dy));
+            lit += tap <= shadow_distance(sm, sm.depth[size_t(y) * sm.width + size_t(x)]);
+        }
+    return float(lit) / float((2 * r + 1) * (2 * r + 1));
+}
+
 // ---- what a shader function sees -------------------------------------------
 
 struct VertexIn {
@@ -125,6 +203,13 @@ struct Draw {
     glm::vec3 camera_position() const { return glm::make_vec3(raw->camera_position); }
     uint32_t light_count() const { return raw->light_count; }
     const facet_light& light(uint32_t i) const { return raw->lights[i]; }
+    // The shadow map of light `i`, or nullptr if it casts none (ABI 1.1).
+    const facet_shadow_map* shadow_map(uint32_t i) const {
+        if (raw->host->abi_minor < 1) return nullptr;
+        for (uint32_t k = 0; k < raw->shadow_map_count; ++k)
+            if (raw->shadow_maps[k].light == i) return &raw->shadow_maps[k];
+        return nullptr;
+    }
 };
 
 // Built-ins of one fragment.

@@ -54,7 +54,7 @@ extern "C" {
 #endif
 
 #define FACET_ABI_MAJOR 1
-#define FACET_ABI_MINOR 0
+#define FACET_ABI_MINOR 1
 
 /* The one symbol a plugin exports. */
 #define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
@@ -82,7 +82,7 @@ extern "C" {
 /* What a shader needs from the core. The core provides only what is asked. */
 
 /* A host refuses a plugin that needs something it cannot provide. The
- * facet 0.1 host provides all but TANGENTS, SHADOW_MAP and AO. */
+ * facet 0.1 host provides all but TANGENTS. */
 enum facet_need {
     FACET_NEED_NORMALS = 1u << 0,     /* vertex normals (else NULL)              */
     FACET_NEED_UVS = 1u << 1,         /* vertex texture coordinates              */
@@ -90,8 +90,11 @@ enum facet_need {
     FACET_NEED_TANGENTS = 1u << 3,    /* vertex tangents                         */
     FACET_NEED_LIGHTS = 1u << 4,      /* facet_draw.lights                       */
     FACET_NEED_TEXTURES = 1u << 5,    /* texels of texture parameters            */
-    FACET_NEED_SHADOW_MAP = 1u << 6,  /* facet_fragment_batch.shadow             */
-    FACET_NEED_AO = 1u << 7,          /* facet_fragment_batch.ao                 */
+    FACET_NEED_SHADOW_MAP = 1u << 6,  /* facet_draw.shadow_maps (ABI 1.1)        */
+    FACET_NEED_AO = 1u << 7,          /* facet_fragment_batch.ao; the host's AO  */
+                                      /*   pass takes its radius and sample count */
+                                      /*   from the material's `ao_radius` (FLOAT) */
+                                      /*   and `ao_samples` (INT), if declared    */
     FACET_NEED_DERIVATIVES = 1u << 8, /* differences across quads: the host must */
                                       /*   keep every lane interpolated (it does) */
     FACET_NEED_BLENDING = 1u << 9,    /* output alpha is meant for blending      */
@@ -168,6 +171,27 @@ typedef struct facet_light {
 } facet_light;
 
 /* ------------------------------------------------------------------------ */
+/* Shadow maps (ABI 1.1): depth seen from a shadow-casting light, rendered by
+ * the host before the main pass when a visible material needs them. A
+ * shader filters them itself (see facet::sdk::shadow_visibility), so its
+ * own parameters choose the kernel and the bias. */
+
+enum facet_shadow_projection { FACET_SHADOW_ORTHOGRAPHIC = 0, FACET_SHADOW_PERSPECTIVE = 1 };
+
+typedef struct facet_shadow_map {
+    uint32_t light;                  /* index into facet_draw.lights             */
+    uint32_t projection;             /* enum facet_shadow_projection             */
+    uint32_t width, height;
+    float view_projection[16];       /* world -> light clip space, depth 0..w    */
+    float near_plane, far_plane;     /* of that projection (standard, not reversed) */
+    float texel_size;                /* world size of a texel: orthographic, in  */
+                                     /*   world units; perspective, per unit of  */
+                                     /*   distance from the light                */
+    const float* depth;              /* [height][width], window depth 0..1 of the */
+                                     /*   nearest caster, top row first          */
+} facet_shadow_map;
+
+/* ------------------------------------------------------------------------ */
 /* Host services, passed with every draw. */
 
 typedef struct facet_draw facet_draw;
@@ -207,6 +231,9 @@ struct facet_draw {
     uint32_t viewport_width;
     uint32_t viewport_height;
     float time;                    /* seconds, for animated shaders          */
+    /* v1.1 */
+    uint32_t shadow_map_count;     /* 0 unless FACET_NEED_SHADOW_MAP         */
+    const facet_shadow_map* shadow_maps;
 };
 
 /* A batch of vertices. Inputs are arrays indexed by vertex; an input the
@@ -235,8 +262,10 @@ typedef struct facet_fragment_batch {
     const float* varyings;  /* [varying_floats][16]                         */
     const float* depth;     /* [16] window depth, 0..1                       */
     const float* texels;    /* [texture slot][4][16] linear RGBA, or NULL    */
-    const float* shadow;    /* [16] light visibility 0..1, or NULL           */
-    const float* ao;        /* [16] ambient visibility 0..1, or NULL         */
+    const float* shadow;    /* reserved, NULL: shadows come from             */
+                            /*   facet_draw.shadow_maps (ABI 1.1)             */
+    const float* ao;        /* [16] ambient visibility 0..1 (screen-space AO, */
+                            /*   blurred) if FACET_NEED_AO, else NULL          */
     float* color;           /* out: [4][16] linear RGBA                      */
 } facet_fragment_batch;
 

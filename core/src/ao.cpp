@@ -1,0 +1,152 @@
+#include "ao.hpp"
+
+#include "internal_shaders.hpp"
+
+#include <glm/gtc/constants.hpp>
+
+#include <chrono>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+constexpr int kSteps = 4;  // march steps along each direction
+
+double elapsed_ms(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
+        .count();
+}
+
+// View-space position of the pre-pass surface at pixel (x, y).
+struct Unproject {
+    glm::mat4 inverse;
+    int width, height;
+
+    glm::vec3 at(int x, int y, float depth) const {
+        const glm::vec4 ndc((x + 0.5f) / width * 2.0f - 1.0f, 1.0f - (y + 0.5f) / height * 2.0f,
+                            depth, 1.0f);
+        const glm::vec4 p = inverse * ndc;
+        return glm::vec3(p) / p.w;
+    }
+};
+
+// Direction k of n, cosine-weighted over the hemisphere around +Z (a
+// Hammersley set), turned by `angle` about +Z.
+glm::vec3 hemisphere(int k, int n, float angle) {
+    const float u = (float(k) + 0.5f) / float(n);
+    uint32_t bits = uint32_t(k);
+    bits = (bits << 16u) | (bits >> 16u);
+    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+    const float phi = glm::two_pi<float>() * float(bits) * 2.3283064365386963e-10f + angle;
+    const float r = std::sqrt(u);
+    return {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0f - u)};
+}
+
+}  // namespace
+
+void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& view,
+                 const glm::mat4& proj, bool reversed_z, int width, int height,
+                 const AoSettings& settings, Renderer& renderer, FrameStats& stats) {
+    auto start = std::chrono::steady_clock::now();
+    if (prepass_.width() != width || prepass_.height() != height) prepass_.resize(width, height);
+    prepass_.clear(glm::vec4(0.0f), reversed_z ? 0.0f : 1.0f);
+    DrawCall call;
+    call.shader = &internal::plugin<internal::ViewNormals>();
+    call.view = view;
+    call.projection = proj;
+    call.state.cull = CullMode::none;
+    call.state.depth_compare = reversed_z ? DepthCompare::greater : DepthCompare::less;
+    FrameStats pass;
+    for (const Object* o : objects) {
+        call.mesh = o->mesh.get();
+        call.model = o->transform.matrix();
+        renderer.draw(call, prepass_, pass);
+    }
+    stats.prepasses += 1;
+    stats.ms_prepass += elapsed_ms(start);
+
+    start = std::chrono::steady_clock::now();
+    linearize(proj, reversed_z);
+    occlusion(proj, settings);
+    blur();
+    stats.ao_passes += 1;
+    stats.ms_ao += elapsed_ms(start);
+}
+
+void AoPass::linearize(const glm::mat4& proj, bool reversed_z) {
+    const int w = prepass_.width(), h = prepass_.height();
+    const float background = reversed_z ? 0.0f : 1.0f;
+    const Unproject unproject{glm::inverse(proj), w, h};
+    view_z_.assign(size_t(w) * h, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (const float d = prepass_.depth_at(x, y); d != background)
+                view_z_[size_t(y) * w + x] = unproject.at(x, y, d).z;
+}
+
+void AoPass::occlusion(const glm::mat4& proj, const AoSettings& s) {
+    const int w = prepass_.width(), h = prepass_.height();
+    const Unproject unproject{glm::inverse(proj), w, h};
+    raw_.assign(size_t(w) * h, 1.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (view_z_[size_t(y) * w + x] == 0.0f) continue;  // background
+            const glm::vec3 p = unproject.at(x, y, prepass_.depth_at(x, y));
+            const glm::vec3 n = glm::normalize(glm::vec3(prepass_.pixel(x, y)));
+            const glm::vec3 t = glm::normalize(glm::abs(n.x) < 0.9f ? glm::cross(n, {1, 0, 0})
+                                                                    : glm::cross(n, {0, 1, 0}));
+            const glm::mat3 tbn(t, glm::cross(n, t), n);
+            const float angle = float((x & 3) * 4 + (y & 3)) * (glm::two_pi<float>() / 16.0f);
+            int occluded = 0;
+            for (int k = 0; k < s.samples; ++k)
+                occluded += blocked(p, tbn * hemisphere(k, s.samples, angle), proj, s.radius);
+            raw_[size_t(y) * w + x] = 1.0f - float(occluded) / float(s.samples);
+        }
+}
+
+// Does the march from p along dir pass behind the pre-pass surface, by less
+// than `radius`, within `radius`?
+bool AoPass::blocked(const glm::vec3& p, const glm::vec3& dir, const glm::mat4& proj,
+                     float radius) const {
+    const int w = prepass_.width(), h = prepass_.height();
+    for (int step = 1; step <= kSteps; ++step) {
+        const glm::vec3 q = p + dir * (radius * float(step) / kSteps);
+        const glm::vec4 c = proj * glm::vec4(q, 1.0f);
+        if (c.w <= 0.0f) return false;
+        const int sx = int(std::floor((c.x / c.w * 0.5f + 0.5f) * w));
+        const int sy = int(std::floor((0.5f - c.y / c.w * 0.5f) * h));
+        if (sx < 0 || sy < 0 || sx >= w || sy >= h) return false;
+        const float surface = view_z_[size_t(sy) * w + sx];  // nearer is larger
+        if (surface == 0.0f) continue;
+        const float behind = surface - q.z;
+        if (behind > 0.02f * radius && behind < radius) return true;
+    }
+    return false;
+}
+
+// Mean of the 4x4 window aligned with the rotation pattern, weighted by
+// depth similarity (view-space z, relative).
+void AoPass::blur() {
+    const int w = prepass_.width(), h = prepass_.height();
+    blurred_.assign(raw_.size(), 1.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float z = view_z_[size_t(y) * w + x];
+            if (z == 0.0f) continue;
+            float sum = 0.0f, weight = 0.0f;
+            for (int j = std::max(y - 1, 0); j <= std::min(y + 2, h - 1); ++j)
+                for (int i = std::max(x - 1, 0); i <= std::min(x + 2, w - 1); ++i) {
+                    const float rel = (view_z_[size_t(j) * w + i] - z) / std::abs(z);
+                    const float wgt = std::exp(-rel * rel * 2500.0f);  // ~2% depth difference
+                    sum += wgt * raw_[size_t(j) * w + i];
+                    weight += wgt;
+                }
+            blurred_[size_t(y) * w + x] = sum / weight;
+        }
+}
+
+}  // namespace facet

@@ -1,0 +1,157 @@
+#include "shadow.hpp"
+
+#include "internal_shaders.hpp"
+
+#include "facet/math.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace facet {
+
+namespace {
+
+// World-space corners of `scene`'s objects' bounds.
+std::vector<glm::vec3> caster_corners(const std::vector<const Object*>& casters) {
+    std::vector<glm::vec3> out;
+    for (const Object* o : casters) {
+        const glm::mat4 m = o->transform.matrix();
+        const Bounds& b = o->mesh->bounds;
+        for (int i = 0; i < 8; ++i)
+            out.push_back(glm::vec3(m * glm::vec4(i & 1 ? b.max.x : b.min.x,
+                                                  i & 2 ? b.max.y : b.min.y,
+                                                  i & 4 ? b.max.z : b.min.z, 1.0f)));
+    }
+    return out;
+}
+
+// Corners of the camera's view frustum from its near plane to `distance`.
+std::vector<glm::vec3> frustum_corners(const Camera& c, float aspect, float distance) {
+    const glm::vec3 forward = glm::normalize(c.target - c.position);
+    const glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
+    const glm::vec3 up = glm::cross(right, forward);
+    std::vector<glm::vec3> out;
+    for (float d : {c.near, std::min(c.far, distance)}) {
+        const float h = c.orthographic ? 0.5f * c.ortho_height
+                                       : d * std::tan(glm::radians(c.fov_y) * 0.5f);
+        for (int i = 0; i < 4; ++i)
+            out.push_back(c.position + forward * d + right * (i & 1 ? h : -h) * aspect +
+                          up * (i & 2 ? h : -h));
+    }
+    return out;
+}
+
+glm::vec3 any_perpendicular_up(const glm::vec3& dir) {
+    return std::abs(dir.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+}
+
+// Orthographic projection of the light-view box [lo, hi] (x, y square; view
+// z negative ahead), standard depth: 0 at the near face.
+glm::mat4 box_projection(glm::vec3 lo, glm::vec3 hi, float& near, float& far) {
+    near = -hi.z;
+    far = -lo.z;
+    const glm::vec2 centre = 0.5f * glm::vec2(lo + hi);
+    const float side = std::max(hi.x - lo.x, hi.y - lo.y);
+    glm::mat4 m(1.0f);
+    m[0][0] = m[1][1] = 2.0f / side;
+    m[3][0] = -centre.x * m[0][0];
+    m[3][1] = -centre.y * m[1][1];
+    m[2][2] = -1.0f / (far - near);
+    m[3][2] = -near / (far - near);
+    return m;
+}
+
+void directional(const Scene& scene, const Light& light, const std::vector<glm::vec3>& casters,
+                 float aspect, int size, facet_shadow_map& sm, glm::mat4& view,
+                 glm::mat4& proj) {
+    const glm::vec3 dir = glm::normalize(light.direction);
+    view = look_at(glm::vec3(0.0f), dir, any_perpendicular_up(dir));
+    const float reach = scene.settings.shadow_distance > 0.0f ? scene.settings.shadow_distance
+                                                               : scene.camera.far;
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::vec3& p : frustum_corners(scene.camera, aspect, reach)) {
+        const glm::vec3 q = glm::vec3(view * glm::vec4(p, 1.0f));
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+    }
+    glm::vec3 olo(INFINITY), ohi(-INFINITY);  // the objects' box
+    for (const glm::vec3& p : casters) {
+        const glm::vec3 q = glm::vec3(view * glm::vec4(p, 1.0f));
+        olo = glm::min(olo, q);
+        ohi = glm::max(ohi, q);
+    }
+    // Across the light: only where the view and the objects overlap (nothing
+    // else can receive a shadow). Along it: every caster, wherever it is.
+    lo = glm::vec3(glm::max(glm::vec2(lo), glm::vec2(olo)), std::min(lo.z, olo.z) - 0.01f);
+    hi = glm::vec3(glm::min(glm::vec2(hi), glm::vec2(ohi)), std::max(hi.z, ohi.z) + 0.01f);
+    hi = glm::max(hi, lo + 0.02f);  // never empty
+    proj = box_projection(lo, hi, sm.near_plane, sm.far_plane);
+    sm.projection = FACET_SHADOW_ORTHOGRAPHIC;
+    sm.texel_size = 2.0f / proj[0][0] / float(size);
+}
+
+void spot(const Light& light, const std::vector<glm::vec3>& casters, int size,
+          facet_shadow_map& sm, glm::mat4& view, glm::mat4& proj) {
+    const glm::vec3 dir = glm::normalize(light.direction);
+    view = look_at(light.position, light.position + dir, any_perpendicular_up(dir));
+    float far = 0.1f;
+    for (const glm::vec3& p : casters) far = std::max(far, glm::length(p - light.position));
+    const float fov = glm::radians(std::min(2.0f * light.spot_outer + 2.0f, 170.0f));
+    sm.near_plane = std::max(far * 1e-4f, 0.01f);
+    sm.far_plane = far * 1.01f;
+    proj = perspective(fov, 1.0f, sm.near_plane, sm.far_plane, false);
+    sm.projection = FACET_SHADOW_PERSPECTIVE;
+    sm.texel_size = 2.0f * std::tan(fov * 0.5f) / float(size);
+}
+
+void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view,
+                const glm::mat4& proj, Renderer& renderer, Framebuffer& target) {
+    DrawCall call;
+    call.shader = &internal::plugin<internal::DepthOnly>();
+    call.view = view;
+    call.projection = proj;
+    call.state.cull = CullMode::none;  // open meshes (planes) cast from both sides
+    call.state.depth_compare = DepthCompare::less;
+    call.state.color_write = false;
+    FrameStats stats;  // the main pass's statistics count the main pass only
+    for (const Object* o : casters) {
+        call.mesh = o->mesh.get();
+        call.model = o->transform.matrix();
+        renderer.draw(call, target, stats);
+    }
+}
+
+}  // namespace
+
+int render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
+                       Renderer& renderer, std::vector<ShadowMap>& maps) {
+    const std::vector<glm::vec3> corners = caster_corners(casters);
+    const int size = scene.settings.shadow_map_size;
+    const float aspect = float(scene.settings.width) / float(scene.settings.height);
+    int count = 0;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        if (!light.casts_shadow || light.type == LightType::point) continue;
+        if (maps.size() <= size_t(count)) maps.emplace_back();
+        ShadowMap& map = maps[size_t(count++)];
+        facet_shadow_map& sm = map.abi;
+        glm::mat4 view, proj;
+        if (light.type == LightType::directional)
+            directional(scene, light, corners, aspect, size, sm, view, proj);
+        else
+            spot(light, corners, size, sm, view, proj);
+        if (map.depth.width() != size) map.depth.resize(size, size, false);
+        map.depth.clear(glm::vec4(0.0f), 1.0f);
+        draw_depth(casters, view, proj, renderer, map.depth);
+        sm.light = uint32_t(i);
+        sm.width = sm.height = uint32_t(size);
+        std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
+        sm.depth = map.depth.depth();
+    }
+    return count;
+}
+
+}  // namespace facet
