@@ -1,0 +1,203 @@
+// facet-bench-shadow-ao: shadow-map and SSAO error against the exact ray
+// caster, with the time each pass takes, on the shadow and ao demo scenes.
+//
+//     facet-bench-shadow-ao [--size WxH] [--runs N] [--rays N]
+//
+// Shadows: every object gets a white, unlit-by-ambient `shadow` material and
+// each shadow-casting light is rendered alone, with and without its shadow
+// map; their ratio is facet's visibility of that light, compared per pixel
+// with the ray caster's hard shadow (0 or 1). AO: every object gets an
+// `ao` material showing only ambient visibility (radius and samples from
+// the demo's ao material), compared with ray-traced AO at the same surface
+// point. Errors are over pixels where both see the same object. Single
+// thread; times are medians over --runs frames.
+#include "reference/raycast.hpp"
+
+#include <facet/material.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+using namespace facet;
+
+namespace {
+
+struct Error {
+    double rmse = 0, max = 0;
+    int pixels = 0;
+};
+
+struct Accumulator {
+    double sq = 0, max = 0;
+    int n = 0;
+    void add(double e) {
+        sq += e * e;
+        max = std::max(max, std::abs(e));
+        ++n;
+    }
+    Error result() const { return {n ? std::sqrt(sq / n) : 0.0, max, n}; }
+};
+
+MaterialParam number(const std::string& name, std::vector<double> values) {
+    MaterialParam p;
+    p.name = name;
+    p.kind = values.size() == 1 ? MaterialParam::Kind::number : MaterialParam::Kind::vector;
+    p.is_integer = values.size() == 1 && values[0] == std::floor(values[0]);
+    p.numbers = std::move(values);
+    return p;
+}
+
+// Gives every object one material: `shader` with `params`.
+void override_materials(Scene& scene, PluginRegistry& registry, const std::string& shader,
+                        std::vector<MaterialParam> params) {
+    auto m = std::make_shared<Material>();
+    m->source = "facet-bench";
+    m->shader = shader;
+    m->params = std::move(params);
+    TextureCache cache;
+    bind(*m, registry.get(shader), cache);
+    for (Object& o : scene.objects) o.material = m;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+struct Timed {
+    Framebuffer image;
+    double shadow = 0, prepass = 0, ao = 0, main = 0, total = 0;
+};
+
+Timed render(const Scene& scene, int runs) {
+    Renderer renderer;
+    Timed t;
+    std::vector<double> shadow, prepass, ao, main, total;
+    for (int i = 0; i < runs; ++i) {
+        const FrameStats s = renderer.render(scene, t.image);
+        shadow.push_back(s.ms_shadow);
+        prepass.push_back(s.ms_prepass);
+        ao.push_back(s.ms_ao);
+        main.push_back(s.ms_main);
+        total.push_back(s.milliseconds);
+    }
+    t.shadow = median(shadow);
+    t.prepass = median(prepass);
+    t.ao = median(ao);
+    t.main = median(main);
+    t.total = median(total);
+    return t;
+}
+
+// The ray caster's surface at pixel (x, y), if any.
+std::optional<reference::Hit> hit_at(const reference::RayCaster& rc, const Scene& s, int x,
+                                     int y) {
+    glm::dvec3 o, d;
+    reference::RayCaster::camera_ray(s, x + 0.5, y + 0.5, o, d);
+    return rc.first_hit(o, d);
+}
+
+Error shadow_error(Scene scene, size_t light, int runs, double& ms_shadow) {
+    const std::vector<Light> all = scene.lights;
+    scene.lights = {all[light]};
+    const Timed shadowed = render(scene, runs);
+    scene.lights[0].casts_shadow = false;
+    const Timed open = render(scene, 1);
+    ms_shadow = shadowed.shadow;
+    const reference::RayCaster rc(scene);
+    Accumulator acc;
+    for (int y = 0; y < shadowed.image.height(); ++y)
+        for (int x = 0; x < shadowed.image.width(); ++x) {
+            const float lit = open.image.pixel(x, y).r;
+            const auto hit = hit_at(rc, scene, x, y);
+            if (lit < 0.01f || !hit) continue;
+            const double facet = shadowed.image.pixel(x, y).r / lit;
+            acc.add(facet - (rc.lit(scene.lights[0], hit->point, hit->normal) ? 1.0 : 0.0));
+        }
+    return acc.result();
+}
+
+Error ao_error(const Scene& scene, const Timed& t, double radius, int rays) {
+    const reference::RayCaster rc(scene);
+    Accumulator acc;
+    for (int y = 0; y < t.image.height(); ++y)
+        for (int x = 0; x < t.image.width(); ++x)
+            if (const auto hit = hit_at(rc, scene, x, y))
+                acc.add(t.image.pixel(x, y).r -
+                        rc.ambient_visibility(hit->point, hit->normal, radius, rays));
+    return acc.result();
+}
+
+void row(const std::string& pass, double ms, const Error& e) {
+    if (e.pixels == 0) {
+        std::printf("%-36s %10.2f %10s %10s %10s\n", pass.c_str(), ms, "-", "-", "-");
+        return;
+    }
+    std::printf("%-36s %10.2f %10.4f %10.4f %10d\n", pass.c_str(), ms, e.rmse, e.max, e.pixels);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int width = 320, height = 180, runs = 5, rays = 256;
+    std::string size = "320x180";
+    CLI::App app{"facet-bench-shadow-ao: shadow-map and SSAO error against a ray caster"};
+    app.add_option("--size", size, "image size WxH")->capture_default_str();
+    app.add_option("--runs", runs, "frames per timing (median)")->capture_default_str();
+    app.add_option("--rays", rays, "reference AO rays per pixel")->capture_default_str();
+    CLI11_PARSE(app, argc, argv);
+    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) return 2;
+    spdlog::set_level(spdlog::level::warn);
+
+    PluginRegistry registry;
+    const std::string configs = std::string(FACET_SOURCE_DIR) + "/configs/scenes/";
+    std::printf("facet-bench-shadow-ao: %dx%d, 1 thread, median of %d frames, %d AO rays\n",
+                width, height, runs, rays);
+    std::printf("%-36s %10s %10s %10s %10s\n", "pass", "ms", "RMSE", "max", "pixels");
+
+    Scene shadow = load_scene(configs + "shadow.yaml", registry);
+    shadow.settings.width = width;
+    shadow.settings.height = height;
+    override_materials(shadow, registry, "shadow",
+                       {number("base_color", {1, 1, 1, 1}), number("ambient", {0, 0, 0})});
+    for (size_t i = 0; i < shadow.lights.size(); ++i) {
+        if (!shadow.lights[i].casts_shadow) continue;
+        double ms = 0;
+        const Error e = shadow_error(shadow, i, runs, ms);
+        const std::string name = std::string("shadow map (") +
+                                 (shadow.lights[i].type == LightType::spot ? "spot" : "directional") +
+                                 ", " + std::to_string(shadow.settings.shadow_map_size) + "^2)";
+        row(name, ms, e);
+    }
+
+    Scene ao = load_scene(configs + "ao.yaml", registry);
+    ao.settings.width = width;
+    ao.settings.height = height;
+    const Material& demo = *ao.objects[0].material;
+    auto param = [&](const char* name) {
+        for (const MaterialParam& p : demo.params)
+            if (p.name == name) return p.numbers[0];
+        return 0.0;
+    };
+    const double radius = param("ao_radius");
+    override_materials(ao, registry, "ao",
+                       {number("base_color", {1, 1, 1, 1}), number("ambient", {1, 1, 1}),
+                        number("ao_radius", {radius}), number("ao_samples", {param("ao_samples")}),
+                        number("strength", {1})});
+    ao.lights.clear();
+    const Timed t = render(ao, runs);
+    const Error e = ao_error(ao, t, radius, rays);
+    row("depth-and-normal pre-pass", t.prepass, {});
+    const std::string name = "SSAO + blur (" + std::to_string(int(param("ao_samples"))) +
+                             " dirs, r=" + std::to_string(radius).substr(0, 4) + ")";
+    row(name, t.ao, e);
+    row("main pass (ao scene)", t.main, {});
+    return 0;
+}

@@ -1,0 +1,234 @@
+// Shadows and ambient occlusion against the exact ray caster, and the frame
+// plan's skips. Scenes are YAML, rendered through the real shadow.so / ao.so.
+#include "reference/raycast.hpp"
+#include "support.hpp"
+
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+
+using namespace facet;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct SceneDir {
+    fs::path dir = test::temp_dir("shadow-ao");
+    SceneDir() {
+        std::ofstream(dir / "ground.obj")
+            << "v -6 0 -6\nv 6 0 -6\nv 6 0 6\nv -6 0 6\nvn 0 1 0\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n";
+        fs::copy_file(fs::path(FACET_SOURCE_DIR) / "plugins/template/cube.obj", dir / "cube.obj");
+    }
+    ~SceneDir() { fs::remove_all(dir); }
+
+    Scene load(const std::string& yaml) {
+        std::ofstream(dir / "scene.yaml") << yaml;
+        return load_scene(dir / "scene.yaml", registry);
+    }
+    PluginRegistry registry;
+};
+
+// Material that shows only the light (white, no ambient): its colour is
+// n.l times the light's visibility.
+const char* kShadowed =
+    "{shader: shadow, params: {base_color: [1, 1, 1, 1], ambient: [0, 0, 0], pcf_kernel: 1}}";
+// Material that shows only the ambient visibility (white, ambient 1, AO).
+const char* kAoOnly =
+    "{shader: ao, params: {base_color: [1, 1, 1, 1], ambient: [1, 1, 1], ao_radius: 0.5, "
+    "ao_samples: 16, strength: 1}}";
+
+std::string camera(int w, int h) {
+    return "camera: {position: [3, 3.5, 4.5], target: [0, 0.2, 0], fov_y: 45}\n"
+           "render: {size: [" + std::to_string(w) + ", " + std::to_string(h) +
+           "], shadow_map_size: 1024}\n";
+}
+
+// The ray caster's answer at pixel (x, y): the surface hit, or nothing.
+std::optional<reference::Hit> hit_at(const reference::RayCaster& rc, const Scene& s, double x,
+                                     double y) {
+    glm::dvec3 o, d;
+    reference::RayCaster::camera_ray(s, x, y, o, d);
+    return rc.first_hit(o, d);
+}
+
+// Inside a spot light's full-intensity cone (directional lights: everywhere).
+bool in_inner_cone(const Light& l, const glm::dvec3& p) {
+    if (l.type != LightType::spot) return true;
+    const glm::dvec3 to_p = glm::normalize(p - glm::dvec3(l.position));
+    return glm::dot(to_p, glm::normalize(glm::dvec3(l.direction))) >
+           std::cos(glm::radians(double(l.spot_inner)));
+}
+
+}  // namespace
+
+TEST_CASE("shadow maps classify lit and shadowed points as the ray caster does",
+          "[shadow]") {
+    const char* lights[] = {
+        "{type: directional, direction: [0.7, -1, 0.5], color: [1, 1, 1], intensity: 1, "
+        "casts_shadow: true}",
+        "{type: spot, position: [1.2, 3.2, 1.0], direction: [-0.35, -1, -0.3], color: [1, 1, 1], "
+        "intensity: 1, spot_inner: 40, spot_outer: 45, casts_shadow: true}"};
+    for (const char* light : lights) {
+        INFO(light);
+        SceneDir sd;
+        const Scene scene = sd.load(camera(200, 150) + "lights: [" + light + "]\nobjects:\n" +
+                                    "  - {mesh: ground.obj, material: " + kShadowed + "}\n" +
+                                    "  - {mesh: cube.obj, position: [0, 0.8, 0], material: " +
+                                    kShadowed + "}\n");
+        Framebuffer fb;
+        const FrameStats stats = Renderer().render(scene, fb);
+        CHECK(stats.shadow_passes == 1);
+        const reference::RayCaster rc(scene);
+        const Light& l = scene.lights[0];
+        int lit = 0, dark = 0;
+        for (int y = 0; y < fb.height(); ++y)
+            for (int x = 0; x < fb.width(); ++x) {
+                const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+                if (!hit || hit->object != 0) continue;  // ground only
+                if (!in_inner_cone(l, hit->point)) continue;  // the cone, not a shadow, darkens
+                const bool truth = rc.lit(l, hit->point, hit->normal);
+                // Skip the penumbra band: a neighbour a pixel away disagrees.
+                bool edge = false;
+                for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                    const auto n = hit_at(rc, scene, x + 0.5 + dx, y + 0.5 + dy);
+                    edge |= !n || n->object != 0 || rc.lit(l, n->point, n->normal) != truth;
+                }
+                if (edge) continue;
+                // Lit ground shows n.l times the spot cone; shadow shows 0.
+                const bool facet_lit = fb.pixel(x, y).r > 0.02f;
+                REQUIRE(facet_lit == truth);
+                (truth ? lit : dark) += 1;
+            }
+        CHECK(lit > 500);
+        CHECK(dark > 200);
+    }
+}
+
+TEST_CASE("a plane facing the light shows no acne, at any angle and kernel", "[shadow]") {
+    for (double degrees : {0.0, 30.0, 60.0, 75.0, 80.0})
+        for (int kernel : {1, 3, 5, 9}) {
+            INFO(degrees << " degrees, kernel " << kernel);
+            const double a = glm::radians(degrees);
+            SceneDir sd;
+            const std::string dir = "[" + std::to_string(-std::sin(a)) + ", " +
+                                    std::to_string(-std::cos(a)) + ", 0]";
+            const std::string material =
+                "{shader: shadow, params: {base_color: [1, 1, 1, 1], ambient: [0, 0, 0], "
+                "pcf_kernel: " + std::to_string(kernel) + "}}";
+            const Scene scene = sd.load(
+                camera(128, 96) + "lights: [{type: directional, direction: " + dir +
+                ", intensity: 1, casts_shadow: true}]\nobjects:\n  - {mesh: ground.obj, " +
+                "material: " + material + "}\n");
+            Framebuffer fb;
+            Renderer().render(scene, fb);
+            const float expected = float(std::cos(a));  // n.l, fully lit
+            int checked = 0;
+            for (int i = 0; i < fb.width() * fb.height(); ++i) {
+                if (fb.depth()[i] == 0.0f) continue;  // sky
+                REQUIRE(fb.color()[i].r == Approx(expected).epsilon(1e-4));
+                ++checked;
+            }
+            CHECK(checked > 3000);
+        }
+}
+
+TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
+    SceneDir sd;
+    const Scene scene = sd.load(camera(160, 120) + "objects:\n  - {mesh: ground.obj, material: " +
+                                kAoOnly + "}\n");
+    Framebuffer fb;
+    const FrameStats stats = Renderer().render(scene, fb);
+    CHECK(stats.prepasses == 1);
+    CHECK(stats.ao_passes == 1);
+    double sum = 0, low = 1;
+    int n = 0;
+    for (int i = 0; i < fb.width() * fb.height(); ++i) {
+        if (fb.depth()[i] == 0.0f) continue;
+        sum += fb.color()[i].r;
+        low = std::min(low, double(fb.color()[i].r));
+        ++n;
+    }
+    CHECK(n > 5000);
+    CHECK(sum / n > 0.995);
+    CHECK(low > 0.95);
+}
+
+TEST_CASE("ambient occlusion: the inside corner of a box is darker than its faces, and "
+          "SSAO agrees with ray-traced AO",
+          "[ao]") {
+    // Inside a room corner: the floor and two walls (cubes stretched into slabs).
+    SceneDir sd;
+    const std::string wall = std::string(", material: ") + kAoOnly + "}\n";
+    const Scene scene = sd.load(
+        "camera: {position: [2.6, 1.9, 2.6], target: [0, 0.4, 0], fov_y: 50}\n"
+        "render: {size: [192, 144]}\nobjects:\n"
+        "  - {mesh: ground.obj" + wall +
+        "  - {mesh: cube.obj, position: [-0.05, 1.5, 1.5], scale: [0.1, 3, 3]" + wall +
+        "  - {mesh: cube.obj, position: [1.5, 1.5, -0.05], scale: [3, 3, 0.1]" + wall);
+    Framebuffer fb;
+    Renderer().render(scene, fb);
+    const reference::RayCaster rc(scene);
+    double corner = 0, open = 0, sq_err = 0;
+    int n_corner = 0, n_open = 0, n = 0;
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+            if (!hit) continue;
+            const double ssao = fb.pixel(x, y).r;
+            const double truth = rc.ambient_visibility(hit->point, hit->normal, 0.5, 256);
+            sq_err += (ssao - truth) * (ssao - truth);
+            ++n;
+            const glm::dvec3 p = hit->point;
+            // Distance to the corner's three edges (the planes' meeting lines).
+            const double to_edge = std::min({glm::length(glm::dvec2(p.x, p.y)),
+                                             glm::length(glm::dvec2(p.y, p.z)),
+                                             glm::length(glm::dvec2(p.x, p.z))});
+            if (to_edge < 0.1) corner += ssao, ++n_corner;
+            if (to_edge > 1.0) open += ssao, ++n_open;
+        }
+    REQUIRE(n_corner > 50);
+    REQUIRE(n_open > 500);
+    const double rmse = std::sqrt(sq_err / n);
+    INFO("corner " << corner / n_corner << ", open " << open / n_open << ", RMSE " << rmse);
+    CHECK(corner / n_corner < open / n_open - 0.2);
+    CHECK(rmse < 0.08);  // stated tolerance: SSAO vs ray-traced AO (radius 0.5, 256 rays)
+}
+
+TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visible material "
+          "needs them",
+          "[shadow][ao][skip]") {
+    SceneDir sd;
+    const std::string lights =
+        "lights: [{type: directional, direction: [0, -1, 0], casts_shadow: true},\n"
+        "         {type: spot, position: [0, 3, 0], direction: [0, -1, 0], casts_shadow: true},\n"
+        "         {type: point, position: [1, 2, 0], casts_shadow: true},\n"
+        "         {type: directional, direction: [1, -1, 0]}]\n";
+    auto stats_for = [&](const std::string& objects) {
+        Framebuffer fb;
+        return Renderer().render(sd.load(camera(64, 48) + lights + "objects:\n" + objects), fb);
+    };
+    const std::string unlit = "  - {mesh: ground.obj, material: {shader: unlit}}\n";
+    const FrameStats plain = stats_for(unlit);
+    CHECK(plain.shadow_passes == 0);
+    CHECK(plain.prepasses == 0);
+    CHECK(plain.ao_passes == 0);
+    const FrameStats shadowed =
+        stats_for(unlit + "  - {mesh: cube.obj, material: " + kShadowed + "}\n");
+    CHECK(shadowed.shadow_passes == 2);  // directional and spot; point lights cast no map
+    CHECK(shadowed.ao_passes == 0);
+    const FrameStats hidden = stats_for(
+        unlit + "  - {mesh: cube.obj, visible: false, material: " + kShadowed + "}\n" +
+        "  - {mesh: cube.obj, position: [0, 0, 80], material: " + kAoOnly + "}\n");  // culled
+    CHECK(hidden.shadow_passes == 0);
+    CHECK(hidden.prepasses == 0);
+    CHECK(hidden.ao_passes == 0);
+    CHECK(hidden.objects_culled == 1);
+    const FrameStats ao = stats_for(unlit + "  - {mesh: cube.obj, material: " + kAoOnly + "}\n");
+    CHECK(ao.prepasses == 1);
+    CHECK(ao.ao_passes == 1);
+    CHECK(ao.shadow_passes == 0);
+}
