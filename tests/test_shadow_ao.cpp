@@ -3,6 +3,7 @@
 #include "reference/raycast.hpp"
 #include "support.hpp"
 
+#include <facet/framebuffer.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 
@@ -231,4 +232,57 @@ TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visibl
     CHECK(ao.prepasses == 1);
     CHECK(ao.ao_passes == 1);
     CHECK(ao.shadow_passes == 0);
+}
+
+TEST_CASE("shadow.so and ao.so match Lambert plus ambient where nothing occludes", "[shader]") {
+    // A point light (with attenuation) and a directional light over an open
+    // plane: the reference evaluates the formula in double precision at the
+    // exact surface point of each sampled pixel's centre.
+    const char* materials[] = {
+        "{shader: shadow, params: {base_color: [0.9, 0.7, 0.5, 1], ambient: [0.05, 0.06, 0.07], "
+        "pcf_kernel: 3}}",
+        "{shader: ao, params: {base_color: [0.9, 0.7, 0.5, 1], ambient: [0.05, 0.06, 0.07], "
+        "strength: 0}}"};
+    for (const char* material : materials) {
+        INFO(material);
+        SceneDir sd;
+        const Scene scene = sd.load(
+            camera(120, 90) +
+            "lights:\n"
+            "  - {type: directional, direction: [-0.3, -1, -0.2], color: [1, 0.9, 0.8], "
+            "intensity: 0.6, casts_shadow: true}\n"
+            "  - {type: point, position: [0.5, 1.2, 0.8], color: [0.5, 0.7, 1], intensity: 1.5, "
+            "attenuation: [1, 0.3, 0.6]}\n"
+            "objects:\n  - {mesh: ground.obj, material: " + material + "}\n");
+        Framebuffer fb;
+        Renderer().render(scene, fb);
+        const reference::RayCaster rc(scene);
+        const glm::dvec3 base(0.9, 0.7, 0.5), ambient(0.05, 0.06, 0.07);
+        int checked = 0;
+        for (int y = 1; y < fb.height(); y += 3)
+            for (int x = 1; x < fb.width(); x += 3) {
+                const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+                if (!hit) continue;
+                glm::dvec3 light = ambient;
+                for (const Light& l : scene.lights) {
+                    glm::dvec3 to = -glm::normalize(glm::dvec3(l.direction));
+                    double falloff = 1.0;
+                    if (l.type == LightType::point) {
+                        const glm::dvec3 offset = glm::dvec3(l.position) - hit->point;
+                        const double d = glm::length(offset);
+                        to = offset / d;
+                        falloff = 1.0 / (l.attenuation.x + l.attenuation.y * d +
+                                         l.attenuation.z * d * d);
+                    }
+                    light += glm::dvec3(l.color) * double(l.intensity) * falloff *
+                             std::max(glm::dot(hit->normal, to), 0.0);
+                }
+                const glm::dvec3 expected = base * light;
+                for (int c = 0; c < 3; ++c)
+                    REQUIRE(std::abs(int(linear_to_srgb8(fb.pixel(x, y)[c])) -
+                                     int(linear_to_srgb8(float(expected[c])))) <= 1);
+                ++checked;
+            }
+        CHECK(checked > 500);
+    }
 }
