@@ -112,27 +112,30 @@ struct Incident {
     float distance;      // to the light; infinite for directional lights
 };
 
-// Directional lights shine along `direction`. Point and spot lights fall off
-// as 1 / (c + l d + q d^2) with attenuation = {c, l, q}, and are cut off
-// past `range` (if not 0); a spot light fades from its inner to its outer
-// cone: smoothstep(cos outer, cos inner, cos angle).
+// How much of a spot light's cone reaches a point at `cos_angle` from its
+// axis: smoothstep(cos outer, cos inner, cos angle), or a hard edge when the
+// two cones are equal.
+inline float spot_cone(const facet_light& l, float cos_angle) {
+    if (l.spot_cos_inner <= l.spot_cos_outer) return cos_angle >= l.spot_cos_outer ? 1.0f : 0.0f;
+    return glm::smoothstep(l.spot_cos_outer, l.spot_cos_inner, cos_angle);
+}
+
+// Directional lights shine along `direction` (the host normalises it).
+// Point and spot lights fall off as 1 / (c + l d + q d^2) with attenuation =
+// {c, l, q}, give nothing past `range` (if not 0) or at their own position,
+// and a spot light is limited to its cone (spot_cone).
 inline Incident incident_light(const facet_light& l, glm::vec3 p) {
     const glm::vec3 color = glm::make_vec3(l.color) * l.intensity;
+    const glm::vec3 direction = glm::make_vec3(l.direction);
     if (l.type == FACET_LIGHT_DIRECTIONAL)
-        return {-glm::normalize(glm::make_vec3(l.direction)), color,
-                std::numeric_limits<float>::infinity()};
+        return {-direction, color, std::numeric_limits<float>::infinity()};
     const glm::vec3 offset = glm::make_vec3(l.position) - p;
     const float d = glm::length(offset);
-    const glm::vec3 to_light = d > 0.0f ? offset / d : glm::vec3(0.0f, 1.0f, 0.0f);
-    if (l.range > 0.0f && d > l.range) return {to_light, glm::vec3(0.0f), d};
-    const float falloff = 1.0f / glm::max(l.attenuation[0] + l.attenuation[1] * d +
-                                              l.attenuation[2] * d * d,
-                                          1e-6f);
-    float cone = 1.0f;
-    if (l.type == FACET_LIGHT_SPOT)
-        cone = glm::smoothstep(l.spot_cos_outer, l.spot_cos_inner,
-                               glm::dot(-to_light, glm::normalize(glm::make_vec3(l.direction))));
-    return {to_light, color * falloff * cone, d};
+    if (d <= 0.0f || (l.range > 0.0f && d > l.range)) return {glm::vec3(0.0f), glm::vec3(0.0f), d};
+    const glm::vec3 to_light = offset / d;
+    float scale = 1.0f / (l.attenuation[0] + l.attenuation[1] * d + l.attenuation[2] * d * d);
+    if (l.type == FACET_LIGHT_SPOT) scale *= spot_cone(l, glm::dot(-to_light, direction));
+    return {to_light, color * scale, d};
 }
 
 // ---- shadow maps (ABI 1.1) ----------------------------------------------------

@@ -1,0 +1,92 @@
+// phong: per-pixel Phong or Blinn-Phong with any number of directional,
+// point and spot lights.
+//
+//     colour = emission + ambient
+//            + sum over lights of radiance * (kd * max(n.L, 0) + specular * s)
+//     kd     = diffuse * base_texture             (texture optional, sRGB)
+//     s      = max(r.v, 0)^shininess,  r = reflect(-L, n)         (Phong)
+//            = max(n.h, 0)^shininess,  h = normalize(L + v)       (blinn: true)
+//     s      = 0 where n.L <= 0;  alpha = 1
+//
+// n is the interpolated normal, normalised per fragment; v points from the
+// fragment to the camera. `radiance` is color * intensity * attenuation *
+// spot factor (facet::sdk::incident_light). All colours are linear.
+#include <facet/shader.hpp>
+
+#include <cmath>
+#include <cstddef>
+
+namespace {
+
+using namespace facet::sdk;
+
+struct Phong {
+    struct Params {
+        glm::vec3 ambient;
+        glm::vec3 diffuse;
+        glm::vec3 specular;
+        glm::vec3 emission;
+        float shininess;
+        int32_t blinn;         // bool
+        int32_t base_texture;  // 1 if bound
+    };
+    struct Varyings {
+        glm::vec3 position;  // world space
+        glm::vec3 normal;    // world space, unit at the vertices
+        glm::vec2 uv;
+    };
+
+    static constexpr const char* name = "phong";
+    static constexpr const char* version = "1.0";
+    static constexpr uint32_t needs =
+        FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS | FACET_NEED_TEXTURES;
+    static constexpr facet_varying_desc varyings[] = {
+        varying("position", 3), varying("normal", 3), varying("uv", 2)};
+    static constexpr facet_param_desc params[] = {
+        color3("ambient", offsetof(Params, ambient), {0.02f, 0.02f, 0.02f},
+               "linear RGB added everywhere"),
+        color3("diffuse", offsetof(Params, diffuse), {0.6f, 0.6f, 0.6f},
+               "linear RGB Lambert reflectance"),
+        color3("specular", offsetof(Params, specular), {0.3f, 0.3f, 0.3f},
+               "linear RGB specular reflectance"),
+        color3("emission", offsetof(Params, emission), {0.0f, 0.0f, 0.0f},
+               "linear RGB the surface emits"),
+        float1("shininess", offsetof(Params, shininess), 32.0f, 1.0f, 10000.0f,
+               "specular exponent: higher is a smaller, sharper highlight"),
+        boolean("blinn", offsetof(Params, blinn), false,
+                "Blinn-Phong (half vector) instead of Phong (reflected vector)"),
+        texture("base_texture", offsetof(Params, base_texture), 2, true,
+                "colour texture (sRGB) multiplying diffuse"),
+    };
+
+    // The specular lobe s for unit n, L, v (n.L > 0).
+    static float lobe(const glm::vec3& n, const glm::vec3& l, const glm::vec3& v, const Params& p) {
+        const float c = p.blinn ? glm::dot(n, glm::normalize(l + v))
+                                : glm::dot(glm::reflect(-l, n), v);
+        return std::pow(glm::max(c, 0.0f), p.shininess);
+    }
+
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
+        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+        const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
+        return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv};
+    }
+
+    static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
+        const glm::vec3 n = glm::normalize(v.normal);
+        const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
+        const glm::vec3 kd = p.diffuse * glm::vec3(f.texture(0));
+        glm::vec3 c = p.emission + p.ambient;
+        for (uint32_t i = 0; i < d.light_count(); ++i) {
+            const Incident in = incident_light(d.light(i), v.position);
+            const float n_l = glm::dot(n, in.to_light);
+            if (n_l <= 0.0f) continue;
+            c += in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p));
+        }
+        return {c, 1.0f};
+    }
+};
+
+}  // namespace
+
+FACET_SHADER(Phong)

@@ -1,0 +1,110 @@
+// toon: cel shading with quantised diffuse bands, a hard specular highlight,
+// a rim light and silhouette outlines. Every light contributes.
+//
+//     band(x)  = ceil(x * bands) / bands for x > 0, else 0
+//                (n.L in ((k-1)/bands, k/bands] gives k/bands: `bands` lit
+//                 levels, plus the unlit side)
+//     colour   = base_color * (ambient + sum of radiance * band(n.L))
+//              + sum of radiance * specular_color   where n.L > 0 and
+//                                                    max(n.h, 0)^shininess > specular_threshold
+//              + rim_color                          where 1 - n.v > rim_threshold
+//     colour   = outline_color                      where n.v < outline_width
+//                                                    (outline_width 0: no outline)
+//     alpha    = 1
+//
+// n is the interpolated normal, normalised per fragment; v points to the
+// camera, h = normalize(L + v). `radiance` is color * intensity *
+// attenuation * spot factor (facet::sdk::incident_light): bands quantise the
+// angle term only, so a point light's falloff stays smooth. The outline is
+// drawn where the surface turns away from the viewer, so it is thicker where
+// the surface curves gently; flat surfaces seen at a grazing angle (a large
+// ground plane) need outline_width 0.
+#include <facet/shader.hpp>
+
+#include <cmath>
+#include <cstddef>
+
+namespace {
+
+using namespace facet::sdk;
+
+struct Toon {
+    struct Params {
+        glm::vec3 base_color;
+        glm::vec3 ambient;
+        int32_t bands;
+        glm::vec3 specular_color;
+        float shininess;
+        float specular_threshold;
+        glm::vec3 rim_color;
+        float rim_threshold;
+        glm::vec3 outline_color;
+        float outline_width;
+    };
+    struct Varyings {
+        glm::vec3 position;  // world space
+        glm::vec3 normal;    // world space, unit at the vertices
+    };
+
+    static constexpr const char* name = "toon";
+    static constexpr const char* version = "1.0";
+    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_LIGHTS;
+    static constexpr facet_varying_desc varyings[] = {varying("position", 3),
+                                                      varying("normal", 3)};
+    static constexpr facet_param_desc params[] = {
+        color3("base_color", offsetof(Params, base_color), {0.8f, 0.3f, 0.2f},
+               "linear RGB albedo"),
+        color3("ambient", offsetof(Params, ambient), {0.08f, 0.08f, 0.1f},
+               "light on the unlit side, multiplied by base_color"),
+        int1("bands", offsetof(Params, bands), 3, 1, 16, "lit diffuse levels"),
+        color3("specular_color", offsetof(Params, specular_color), {1.0f, 1.0f, 1.0f},
+               "colour of the hard highlight (times the light's radiance)"),
+        float1("shininess", offsetof(Params, shininess), 48.0f, 1.0f, 10000.0f,
+               "Blinn exponent: higher is a smaller highlight"),
+        float1("specular_threshold", offsetof(Params, specular_threshold), 0.5f, 0.0f, 1.0f,
+               "highlight where max(n.h, 0)^shininess exceeds this"),
+        color3("rim_color", offsetof(Params, rim_color), {0.15f, 0.15f, 0.2f},
+               "linear RGB added near the silhouette"),
+        float1("rim_threshold", offsetof(Params, rim_threshold), 0.6f, 0.0f, 1.0f,
+               "rim where 1 - n.v exceeds this"),
+        color3("outline_color", offsetof(Params, outline_color), {0.0f, 0.0f, 0.0f},
+               "linear RGB of the silhouette outline"),
+        float1("outline_width", offsetof(Params, outline_width), 0.2f, 0.0f, 1.0f,
+               "outline where n.v is below this; 0: no outline"),
+    };
+
+    static float band(float n_l, int32_t bands) {
+        return n_l > 0.0f ? std::ceil(n_l * float(bands)) / float(bands) : 0.0f;
+    }
+
+    static bool highlight(const glm::vec3& n, const glm::vec3& h, const Params& p) {
+        return std::pow(glm::max(glm::dot(n, h), 0.0f), p.shininess) > p.specular_threshold;
+    }
+
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
+        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+        const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
+        return {world, glm::normalize(d.normal_matrix() * in.normal)};
+    }
+
+    static glm::vec4 fragment(const Varyings& v, Fragment&, const Draw& d, const Params& p) {
+        const glm::vec3 n = glm::normalize(v.normal);
+        const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
+        const float n_v = glm::dot(n, to_eye);
+        if (p.outline_width > 0.0f && n_v < p.outline_width) return {p.outline_color, 1.0f};
+        glm::vec3 light = p.ambient, shine(0.0f);
+        for (uint32_t i = 0; i < d.light_count(); ++i) {
+            const Incident in = incident_light(d.light(i), v.position);
+            const float n_l = glm::dot(n, in.to_light);
+            light += in.radiance * band(n_l, p.bands);
+            if (n_l > 0.0f && highlight(n, glm::normalize(in.to_light + to_eye), p))
+                shine += in.radiance * p.specular_color;
+        }
+        const glm::vec3 rim = 1.0f - n_v > p.rim_threshold ? p.rim_color : glm::vec3(0.0f);
+        return {p.base_color * light + shine + rim, 1.0f};
+    }
+};
+
+}  // namespace
+
+FACET_SHADER(Toon)

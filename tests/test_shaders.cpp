@@ -1,0 +1,666 @@
+// The lit, phong and toon plugins, loaded as the real built .so files, against
+// a double-precision reference of the formulas their sources document.
+//
+// Most tests draw one quad in perspective, through the camera matrices a
+// scene uses, with a non-uniform model transform and a different normal at
+// each corner, lit by a directional, a point (with a range that cuts it
+// off) and a spot light. For each pixel centre well inside the quad the
+// reference casts the exact ray, intersects the quad's plane, and takes the
+// hit's barycentric coordinates in its triangle as the interpolation
+// weights (perspective-correct interpolation is affine interpolation over
+// the triangle itself). It evaluates the formula in double, resolves it
+// with linear_to_srgb8, and facet's resolved pixel must be within 1 code.
+//
+// Where a formula has a discontinuity (a light's range, toon's bands and
+// thresholds), a pixel within a small margin of it is not compared: float
+// rounding and the 1/256-pixel vertex snap may put it on either side, and
+// the output jumps by a whole step there. Each test also checks that enough
+// pixels were compared and that they were not all black or saturated.
+#include "support.hpp"
+
+#include <facet/math.hpp>
+#include <facet/plugin.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+using namespace facet;
+using namespace facet::test;
+using glm::dvec2;
+using glm::dvec3;
+using glm::dvec4;
+
+namespace {
+
+// ---- parameter blocks, laid out by the plugin's own schema -------------------
+
+using Values = std::map<std::string, std::vector<double>>;
+
+void write_param(ParamBlock& block, const facet_param_desc& p, const std::vector<double>& v) {
+    const int floats = param_float_count(p.type);
+    if (floats == 0) {  // INT, BOOL, TEXTURE: one int32
+        REQUIRE(v.size() == 1);
+        const int32_t i = int32_t(v[0]);
+        std::memcpy(block.bytes + p.offset, &i, sizeof i);
+        return;
+    }
+    REQUIRE(v.size() == size_t(floats));
+    for (int k = 0; k < floats; ++k) {
+        const float f = float(v[k]);
+        std::memcpy(block.bytes + p.offset + 4 * k, &f, sizeof f);
+    }
+}
+
+// Every parameter of the schema must be given, and nothing else: a test then
+// states all it depends on, and notices when a schema changes.
+ParamBlock make_block(const ShaderPlugin& shader, const Values& values) {
+    ParamBlock block;
+    for (const auto& [name, v] : values) {
+        INFO("parameter " << name);
+        REQUIRE(shader.find_param(name));
+    }
+    const facet_shader_desc& d = shader.desc();
+    REQUIRE(values.size() == d.param_count);
+    for (uint32_t i = 0; i < d.param_count; ++i)
+        write_param(block, d.params[i], values.at(d.params[i].name));
+    return block;
+}
+
+dvec3 rgb(const Values& v, const std::string& name) {
+    const std::vector<double>& x = v.at(name);
+    return {x.at(0), x.at(1), x.at(2)};
+}
+dvec4 rgba(const Values& v, const std::string& name) {
+    const std::vector<double>& x = v.at(name);
+    return {x.at(0), x.at(1), x.at(2), x.at(3)};
+}
+double num(const Values& v, const std::string& name) { return v.at(name).at(0); }
+
+// ---- lights and their double-precision reference ------------------------------
+
+facet_light directional(glm::vec3 direction, glm::vec3 color, float intensity) {
+    Light l;
+    l.type = LightType::directional;
+    l.direction = glm::normalize(direction);
+    l.color = color;
+    l.intensity = intensity;
+    return to_abi(l);
+}
+
+facet_light point(glm::vec3 position, glm::vec3 color, float intensity, glm::vec3 attenuation,
+                  float range) {
+    Light l;
+    l.type = LightType::point;
+    l.position = position;
+    l.color = color;
+    l.intensity = intensity;
+    l.attenuation = attenuation;
+    l.range = range;
+    return to_abi(l);
+}
+
+facet_light spot(glm::vec3 position, glm::vec3 target, glm::vec3 color, float intensity,
+                 glm::vec3 attenuation, float inner_deg, float outer_deg) {
+    Light l;
+    l.type = LightType::spot;
+    l.position = position;
+    l.direction = glm::normalize(target - position);
+    l.color = color;
+    l.intensity = intensity;
+    l.attenuation = attenuation;
+    l.spot_inner = inner_deg;
+    l.spot_outer = outer_deg;
+    return to_abi(l);
+}
+
+struct RefLight {
+    dvec3 to_light{0.0};
+    dvec3 radiance{0.0};
+    bool near_range = false;  // within the margin of the range cut-off
+};
+
+dvec3 vec(const float* f) { return {f[0], f[1], f[2]}; }
+
+double smoothstep(double e0, double e1, double x) {
+    const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+RefLight ref_light(const facet_light& l, const dvec3& p) {
+    const dvec3 color = vec(l.color) * double(l.intensity);
+    if (l.type == FACET_LIGHT_DIRECTIONAL) return {-vec(l.direction), color};
+    const double d = glm::length(vec(l.position) - p);
+    RefLight out;
+    out.near_range = l.range > 0 && std::abs(d - l.range) < 1e-3;
+    if (l.range > 0 && d > l.range) return out;
+    out.to_light = (vec(l.position) - p) / d;
+    double k = 1.0 / (l.attenuation[0] + l.attenuation[1] * d + l.attenuation[2] * d * d);
+    if (l.type == FACET_LIGHT_SPOT)
+        k *= smoothstep(l.spot_cos_outer, l.spot_cos_inner,
+                        glm::dot(-out.to_light, vec(l.direction)));
+    out.radiance = color * k;
+    return out;
+}
+
+// ---- a draw and the rays through its pixel centres -----------------------------
+
+struct Setup {
+    int width = 96, height = 64;
+    glm::vec3 eye{0.0f};
+    glm::mat4 model{1.0f}, view{1.0f}, projection{1.0f};
+    Mesh mesh;
+    std::vector<facet_light> lights;
+};
+
+Framebuffer draw(const Setup& s, const ShaderPlugin& shader, const ParamBlock& block,
+                 const TextureBinding* texture = nullptr) {
+    Framebuffer fb(s.width, s.height);
+    fb.clear(glm::vec4(0.0f), 0.0f);  // reversed-Z: far is 0
+    DrawCall call;
+    call.mesh = &s.mesh;
+    call.shader = &shader;
+    call.params = block.bytes;
+    call.textures = texture;
+    call.texture_count = texture ? 1 : 0;
+    call.model = s.model;
+    call.view = s.view;
+    call.projection = s.projection;
+    call.camera_position = s.eye;
+    call.lights = s.lights.data();
+    call.light_count = uint32_t(s.lights.size());
+    call.state.cull = CullMode::none;
+    FrameStats stats;
+    Renderer().draw(call, fb, stats);
+    return fb;
+}
+
+struct Ray {
+    dvec3 origin, direction;
+};
+
+Ray pixel_ray(const Setup& s, int x, int y) {
+    const glm::dmat4 inv = glm::inverse(glm::dmat4(s.projection) * glm::dmat4(s.view));
+    const double nx = (x + 0.5) / s.width * 2.0 - 1.0, ny = 1.0 - (y + 0.5) / s.height * 2.0;
+    const dvec4 a = inv * dvec4(nx, ny, 1.0, 1.0);  // reversed-Z: the near plane
+    const dvec4 b = inv * dvec4(nx, ny, 0.5, 1.0);
+    const dvec3 origin = dvec3(a) / a.w;
+    return {origin, glm::normalize(dvec3(b) / b.w - origin)};
+}
+
+Setup perspective_setup(glm::vec3 eye, int width, int height, float fov_deg) {
+    Setup s;
+    s.width = width;
+    s.height = height;
+    s.eye = eye;
+    s.view = look_at(eye, glm::vec3(0.0f), {0.0f, 1.0f, 0.0f});
+    s.projection =
+        perspective(glm::radians(fov_deg), float(width) / float(height), 0.1f, 50.0f, true);
+    return s;
+}
+
+// ---- the quad ----------------------------------------------------------------
+
+// A 2x2 quad in its XY plane, tilted towards the camera, squashed unevenly
+// (so normals need the normal matrix and normalising), with bent corner
+// normals and UVs 0..1, and three lights of different types.
+Setup quad_setup() {
+    Setup s = perspective_setup({0.3f, 1.7f, 3.4f}, 96, 64, 50.0f);
+    Transform t;
+    t.translation = {0.1f, -0.1f, 0.0f};
+    t.rotation = euler_degrees({-75.0f, 20.0f, 0.0f});
+    t.scale = {2.2f, 1.6f, 0.5f};
+    s.model = t.matrix();
+    s.mesh = make_mesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {0, 1, 2, 0, 2, 3});
+    s.mesh.normals = {glm::normalize(glm::vec3(-0.6f, -0.4f, 1.0f)),
+                      glm::normalize(glm::vec3(0.5f, -0.6f, 1.0f)),
+                      glm::normalize(glm::vec3(0.6f, 0.7f, 1.0f)),
+                      glm::normalize(glm::vec3(-0.4f, 0.6f, 1.0f))};
+    s.mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    s.lights = {directional({0.4f, -1.0f, -0.3f}, {1.0f, 0.9f, 0.8f}, 0.5f),
+                point({0.5f, 0.45f, 0.5f}, {0.9f, 0.95f, 1.0f}, 0.6f, {1.0f, 0.5f, 1.5f}, 1.4f),
+                spot({-1.2f, 1.4f, -0.2f}, {-1.0f, -0.2f, -0.6f}, {1.0f, 0.6f, 0.3f}, 1.5f,
+                     {1.0f, 0.0f, 0.3f}, 12.0f, 24.0f)};
+    return s;
+}
+
+// Where the ray of pixel (x, y) meets the quad, with the weights of the
+// triangle's three vertices; empty outside the quad or within `margin`
+// (in quad units) of its edges.
+struct Hit {
+    dvec3 world;
+    int vertex[3];
+    double weight[3];
+};
+
+std::optional<Hit> hit_quad(const Setup& s, int x, int y, double margin = 0.04) {
+    const Ray r = pixel_ray(s, x, y);
+    const glm::dmat4 model(s.model);
+    const glm::dmat4 to_local = glm::inverse(model);
+    const dvec3 o = dvec3(to_local * dvec4(r.origin, 1.0));
+    const dvec3 d = dvec3(to_local * dvec4(r.direction, 0.0));
+    const double t = -o.z / d.z;
+    const dvec2 q = dvec2(o) + t * dvec2(d);
+    if (!(t > 0) || std::abs(q.x) > 1 - margin || std::abs(q.y) > 1 - margin) return std::nullopt;
+    Hit h{dvec3(model * dvec4(q, 0.0, 1.0)), {0, 1, 2}, {}};
+    if (q.y > q.x) h.vertex[1] = 2, h.vertex[2] = 3;  // triangle (0, 2, 3)
+    const dvec2 a(s.mesh.positions[h.vertex[0]]), b(s.mesh.positions[h.vertex[1]]),
+        c(s.mesh.positions[h.vertex[2]]);
+    auto cross = [](dvec2 u, dvec2 v) { return u.x * v.y - u.y * v.x; };
+    const double area = cross(b - a, c - a);
+    h.weight[1] = cross(q - a, c - a) / area;
+    h.weight[2] = cross(b - a, q - a) / area;
+    h.weight[0] = 1.0 - h.weight[1] - h.weight[2];
+    return h;
+}
+
+template <class T>
+T interpolate(const Hit& h, const std::vector<T>& per_vertex) {
+    return h.weight[0] * per_vertex[h.vertex[0]] + h.weight[1] * per_vertex[h.vertex[1]] +
+           h.weight[2] * per_vertex[h.vertex[2]];
+}
+
+std::vector<dvec3> world_positions(const Setup& s) {
+    std::vector<dvec3> out;
+    for (const glm::vec3& p : s.mesh.positions)
+        out.push_back(dvec3(glm::dmat4(s.model) * dvec4(dvec3(p), 1.0)));
+    return out;
+}
+
+// Vertex normals as the shaders make them: normal matrix, then normalised.
+std::vector<dvec3> world_normals(const Setup& s) {
+    const glm::dmat3 n = glm::transpose(glm::inverse(glm::dmat3(glm::dmat4(s.model))));
+    std::vector<dvec3> out;
+    for (const glm::vec3& v : s.mesh.normals) out.push_back(glm::normalize(n * dvec3(v)));
+    return out;
+}
+
+// ---- comparing an image with a reference ---------------------------------------
+
+struct Match {
+    int sampled = 0;
+    int midtones = 0;    // reference pixels with a channel neither black nor saturated
+    int max_error = 0;   // in 8-bit codes
+    std::string worst;
+};
+
+// A reference returns the expected linear RGBA at a hit, or nothing to skip it.
+using Reference = std::function<std::optional<dvec4>(const Hit&)>;
+
+void compare_pixel(const uint8_t* got, const dvec4& want, int x, int y, Match& m) {
+    int err = 0, mid = 0;
+    for (int c = 0; c < 3; ++c) {
+        const int code = linear_to_srgb8(float(want[c]));
+        err = std::max(err, std::abs(int(got[c]) - code));
+        mid |= code > 8 && code < 247;
+    }
+    const int alpha = int(std::lround(std::clamp(want.a, 0.0, 1.0) * 255.0));
+    err = std::max(err, std::abs(int(got[3]) - alpha));
+    ++m.sampled;
+    m.midtones += mid;
+    if (err <= m.max_error) return;
+    m.max_error = err;
+    std::ostringstream o;
+    o << "pixel (" << x << ", " << y << "): facet " << int(got[0]) << " " << int(got[1]) << " "
+      << int(got[2]) << " " << int(got[3]) << ", reference linear " << want.r << " " << want.g
+      << " " << want.b << " " << want.a;
+    m.worst = o.str();
+}
+
+Match compare(const Setup& s, const Framebuffer& fb, const Reference& reference) {
+    const std::vector<uint8_t> px = fb.resolve_srgb8();
+    Match m;
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            const std::optional<Hit> h = hit_quad(s, x, y);
+            if (!h) continue;
+            if (const std::optional<dvec4> want = reference(*h))
+                compare_pixel(&px[4 * (size_t(y) * s.width + x)], *want, x, y, m);
+        }
+    return m;
+}
+
+void require_match(const Match& m, int min_sampled) {
+    INFO("worst " << m.worst);
+    CHECK(m.sampled >= min_sampled);
+    CHECK(m.midtones * 2 >= m.sampled);
+    REQUIRE(m.max_error <= 1);
+}
+
+// Largest difference, in codes, between two images of the same size.
+int max_difference(const Framebuffer& a, const Framebuffer& b) {
+    const std::vector<uint8_t> pa = a.resolve_srgb8(), pb = b.resolve_srgb8();
+    int d = 0;
+    for (size_t i = 0; i < pa.size(); ++i) d = std::max(d, std::abs(int(pa[i]) - int(pb[i])));
+    return d;
+}
+
+// A 2x2 colour texture read with nearest filtering, and its reference
+// texel; empty within a margin of the texel edges.
+TextureBinding checker_texture() {
+    auto tex = std::make_shared<Texture>();
+    tex->width = tex->height = 2;
+    tex->texels = {{1.0, 0.8, 0.6, 1.0}, {0.5, 0.9, 1.0, 1.0},
+                   {0.9, 0.4, 0.7, 1.0}, {0.7, 1.0, 0.5, 1.0}};
+    return {tex, Filter::nearest, Wrap::clamp};
+}
+
+std::optional<dvec4> ref_texel(const Setup& s, const TextureBinding* t, const Hit& h) {
+    if (!t) return dvec4(1.0);
+    std::vector<dvec2> uvs(s.mesh.uvs.begin(), s.mesh.uvs.end());
+    const dvec2 uv = interpolate(h, uvs);
+    if (std::abs(uv.x - 0.5) < 0.01 || std::abs(uv.y - 0.5) < 0.01) return std::nullopt;
+    return dvec4(t->texture->texels[(uv.y >= 0.5) * 2 + (uv.x >= 0.5)]);
+}
+
+// ---- lit -----------------------------------------------------------------------
+
+// ambient + sum of radiance * max(n.L, 0); nothing near a range cut-off.
+std::optional<dvec3> ref_irradiance(const Setup& s, const Values& p, const dvec3& pos,
+                                    const dvec3& n) {
+    dvec3 e = rgb(p, "ambient");
+    for (const facet_light& l : s.lights) {
+        const RefLight in = ref_light(l, pos);
+        if (in.near_range) return std::nullopt;
+        e += in.radiance * std::max(glm::dot(n, in.to_light), 0.0);
+    }
+    return e;
+}
+
+Reference lit_reference(const Setup& s, const Values& p, const TextureBinding* tex) {
+    const std::vector<dvec3> pos = world_positions(s), nrm = world_normals(s);
+    std::vector<dvec3> vertex_e;  // Gouraud: irradiance of each vertex
+    for (size_t i = 0; i < pos.size(); ++i)
+        vertex_e.push_back(ref_irradiance(s, p, pos[i], nrm[i]).value());
+    const bool per_pixel = num(p, "per_pixel") != 0;
+    return [=, &s](const Hit& h) -> std::optional<dvec4> {
+        const std::optional<dvec4> texel = ref_texel(s, tex, h);
+        const std::optional<dvec3> e =
+            per_pixel ? ref_irradiance(s, p, h.world, glm::normalize(interpolate(h, nrm)))
+                      : std::optional<dvec3>(interpolate(h, vertex_e));
+        if (!texel || !e) return std::nullopt;
+        const dvec4 albedo = rgba(p, "base_color") * *texel;
+        return dvec4(dvec3(albedo) * *e, albedo.a);
+    };
+}
+
+Values lit_values(bool per_pixel, bool textured) {
+    return {{"base_color", {0.9, 0.75, 0.6, 0.8}},
+            {"ambient", {0.05, 0.06, 0.08}},
+            {"base_texture", {double(textured)}},
+            {"per_pixel", {double(per_pixel)}}};
+}
+
+// ---- phong ---------------------------------------------------------------------
+
+double ref_lobe(const dvec3& n, const dvec3& l, const dvec3& v, const Values& p) {
+    const double c = num(p, "blinn") != 0 ? glm::dot(n, glm::normalize(l + v))
+                                          : glm::dot(2.0 * glm::dot(n, l) * n - l, v);
+    return std::pow(std::max(c, 0.0), num(p, "shininess"));
+}
+
+Reference phong_reference(const Setup& s, const Values& p, const TextureBinding* tex) {
+    const std::vector<dvec3> nrm = world_normals(s);
+    return [=, &s](const Hit& h) -> std::optional<dvec4> {
+        const std::optional<dvec4> texel = ref_texel(s, tex, h);
+        if (!texel) return std::nullopt;
+        const dvec3 n = glm::normalize(interpolate(h, nrm));
+        const dvec3 v = glm::normalize(dvec3(s.eye) - h.world);
+        const dvec3 kd = rgb(p, "diffuse") * dvec3(*texel);
+        dvec3 c = rgb(p, "emission") + rgb(p, "ambient");
+        for (const facet_light& l : s.lights) {
+            const RefLight in = ref_light(l, h.world);
+            if (in.near_range) return std::nullopt;
+            const double n_l = glm::dot(n, in.to_light);
+            if (n_l <= 0) continue;
+            c += in.radiance * (kd * n_l + rgb(p, "specular") * ref_lobe(n, in.to_light, v, p));
+        }
+        return dvec4(c, 1.0);
+    };
+}
+
+Values phong_values(bool blinn, double shininess, bool textured) {
+    return {{"ambient", {0.02, 0.02, 0.03}},
+            {"diffuse", {0.55, 0.45, 0.35}},
+            {"specular", {0.4, 0.4, 0.45}},
+            {"emission", {0.03, 0.0, 0.01}},
+            {"shininess", {shininess}},
+            {"blinn", {double(blinn)}},
+            {"base_texture", {double(textured)}}};
+}
+
+// ---- toon ----------------------------------------------------------------------
+
+struct ToonRef {
+    dvec3 color;
+    bool outline = false, rim = false, highlight = false;
+    std::vector<double> bands;  // each light's band
+};
+
+bool near(double a, double b, double margin) { return std::abs(a - b) < margin; }
+
+// One light's diffuse band and highlight; false if too near an edge.
+bool ref_toon_light(const RefLight& in, const dvec3& n, const dvec3& v, const Values& p,
+                    ToonRef& out, dvec3& light, dvec3& shine) {
+    if (in.near_range) return false;
+    if (in.radiance == dvec3(0.0)) {  // out of range or cone: no light, so no edges
+        out.bands.push_back(0.0);
+        return true;
+    }
+    const double bands = num(p, "bands"), n_l = glm::dot(n, in.to_light), x = n_l * bands;
+    if (x > -0.01 && near(x, std::round(x), 2e-3 * bands)) return false;
+    const double band = n_l > 0 ? std::ceil(x) / bands : 0.0;
+    light += in.radiance * band;
+    out.bands.push_back(band);
+    if (n_l <= 0) return true;
+    const double s = std::pow(std::max(glm::dot(n, glm::normalize(in.to_light + v)), 0.0),
+                              num(p, "shininess"));
+    if (near(s, num(p, "specular_threshold"), 0.01)) return false;
+    if (s > num(p, "specular_threshold")) {
+        shine += in.radiance * rgb(p, "specular_color");
+        out.highlight = true;
+    }
+    return true;
+}
+
+std::optional<ToonRef> ref_toon(const Setup& s, const Values& p, const dvec3& pos,
+                                const dvec3& n) {
+    const dvec3 v = glm::normalize(dvec3(s.eye) - pos);
+    const double n_v = glm::dot(n, v), width = num(p, "outline_width");
+    ToonRef out;
+    if (width > 0 && near(n_v, width, 2e-3)) return std::nullopt;
+    if (width > 0 && n_v < width) {
+        out.outline = true;
+        out.color = rgb(p, "outline_color");
+        return out;
+    }
+    dvec3 light = rgb(p, "ambient"), shine(0.0);
+    for (const facet_light& l : s.lights)
+        if (!ref_toon_light(ref_light(l, pos), n, v, p, out, light, shine)) return std::nullopt;
+    if (near(1 - n_v, num(p, "rim_threshold"), 2e-3)) return std::nullopt;
+    out.rim = 1 - n_v > num(p, "rim_threshold");
+    const dvec3 rim = out.rim ? rgb(p, "rim_color") : dvec3(0.0);
+    out.color = rgb(p, "base_color") * light + shine + rim;
+    return out;
+}
+
+Values toon_values(int bands, double outline_width) {
+    return {{"base_color", {0.8, 0.45, 0.3}},
+            {"ambient", {0.06, 0.06, 0.08}},
+            {"bands", {double(bands)}},
+            {"specular_color", {0.5, 0.5, 0.45}},
+            {"shininess", {40.0}},
+            {"specular_threshold", {0.5}},
+            {"rim_color", {0.1, 0.15, 0.25}},
+            {"rim_threshold", {0.45}},
+            {"outline_color", {0.02, 0.01, 0.0}},
+            {"outline_width", {outline_width}}};
+}
+
+// ---- a sphere ------------------------------------------------------------------
+
+// A unit sphere with exact normals, `stacks` x `slices` quads.
+Mesh make_sphere(int stacks, int slices) {
+    std::vector<glm::vec3> pos;
+    std::vector<uint32_t> idx;
+    for (int i = 0; i <= stacks; ++i)
+        for (int j = 0; j <= slices; ++j) {
+            const double theta = M_PI * i / stacks, phi = 2.0 * M_PI * j / slices;
+            pos.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
+                             std::sin(theta) * std::sin(phi));
+        }
+    for (int i = 0; i < stacks; ++i)
+        for (int j = 0; j < slices; ++j) {
+            const uint32_t a = uint32_t(i * (slices + 1) + j), b = a + uint32_t(slices) + 1;
+            idx.insert(idx.end(), {a, b, a + 1, a + 1, b, b + 1});
+        }
+    Mesh m = make_mesh(pos, idx);
+    m.normals = pos;
+    return m;
+}
+
+Setup sphere_setup(const std::vector<facet_light>& lights) {
+    Setup s = perspective_setup({0.0f, 0.0f, 4.0f}, 96, 96, 40.0f);
+    s.mesh = make_sphere(48, 96);
+    s.lights = lights;
+    return s;
+}
+
+// Where pixel (x, y)'s ray meets the exact unit sphere.
+std::optional<dvec3> hit_sphere(const Setup& s, int x, int y) {
+    const Ray r = pixel_ray(s, x, y);
+    const double b = glm::dot(r.origin, r.direction), c = glm::dot(r.origin, r.origin) - 1.0;
+    if (b * b - c < 0) return std::nullopt;
+    return r.origin + (-b - std::sqrt(b * b - c)) * r.direction;
+}
+
+bool covered(const Framebuffer& fb, int x, int y) { return fb.depth_at(x, y) > 0.0f; }
+
+}  // namespace
+
+// ---- the tests -----------------------------------------------------------------
+
+TEST_CASE("lit.so matches Lambert plus ambient, per pixel and per vertex", "[shader][lit]") {
+    PluginRegistry registry;
+    const auto lit = registry.get("lit");
+    const Setup s = quad_setup();
+    const TextureBinding texture = checker_texture();
+    Framebuffer images[2];
+    for (bool per_pixel : {true, false})
+        for (bool textured : {false, true}) {
+            INFO("per_pixel " << per_pixel << ", textured " << textured);
+            const Values p = lit_values(per_pixel, textured);
+            const TextureBinding* tex = textured ? &texture : nullptr;
+            const Framebuffer fb = draw(s, *lit, make_block(*lit, p), tex);
+            require_match(compare(s, fb, lit_reference(s, p, tex)), 1500);
+            if (!textured) images[per_pixel] = fb;
+        }
+    // The point light is close: lighting only the vertices misses its peak.
+    CHECK(max_difference(images[0], images[1]) > 10);
+}
+
+TEST_CASE("phong.so matches Phong and Blinn-Phong with directional, point and spot lights",
+          "[shader][phong]") {
+    PluginRegistry registry;
+    const auto phong = registry.get("phong");
+    const Setup s = quad_setup();
+    const TextureBinding texture = checker_texture();
+    struct Case {
+        bool blinn;
+        double shininess;
+        bool textured;
+    };
+    for (const Case c : {Case{false, 24, false}, Case{true, 24, false}, Case{true, 400, false},
+                         Case{false, 1, true}, Case{false, 6000, true}}) {
+        INFO("blinn " << c.blinn << ", shininess " << c.shininess << ", textured " << c.textured);
+        const Values p = phong_values(c.blinn, c.shininess, c.textured);
+        const TextureBinding* tex = c.textured ? &texture : nullptr;
+        const Framebuffer fb = draw(s, *phong, make_block(*phong, p), tex);
+        require_match(compare(s, fb, phong_reference(s, p, tex)), 1500);
+    }
+    // The choice of lobe and the exponent both show.
+    auto image = [&](bool blinn, double shininess) {
+        return draw(s, *phong, make_block(*phong, phong_values(blinn, shininess, false)));
+    };
+    CHECK(max_difference(image(false, 24), image(true, 24)) > 10);
+    CHECK(max_difference(image(true, 24), image(true, 400)) > 10);
+}
+
+TEST_CASE("toon.so matches its formula away from band and threshold edges", "[shader][toon]") {
+    PluginRegistry registry;
+    const auto toon = registry.get("toon");
+    const Setup s = quad_setup();
+    const std::vector<dvec3> nrm = world_normals(s);
+    for (int bands : {1, 3, 5}) {
+        INFO("bands " << bands);
+        const Values p = toon_values(bands, 0.42);
+        const Framebuffer fb = draw(s, *toon, make_block(*toon, p));
+        int outline = 0, rim = 0, highlight = 0;
+        std::set<std::vector<double>> levels;
+        const Match m = compare(s, fb, [&](const Hit& h) -> std::optional<dvec4> {
+            const auto r = ref_toon(s, p, h.world, glm::normalize(interpolate(h, nrm)));
+            if (!r) return std::nullopt;
+            outline += r->outline, rim += r->rim, highlight += r->highlight;
+            if (!r->outline) levels.insert(r->bands);
+            return dvec4(r->color, 1.0);
+        });
+        require_match(m, 1000);
+        // Every feature is on the quad somewhere, so each is compared.
+        CHECK(outline > 20);
+        CHECK(rim > 20);
+        CHECK(highlight > 20);
+        CHECK(levels.size() >= size_t(std::min(bands + 1, 4)));  // combinations of bands
+    }
+}
+
+TEST_CASE("toon bands set the number of diffuse levels on a sphere", "[shader][toon]") {
+    PluginRegistry registry;
+    const auto toon = registry.get("toon");
+    const Setup s = sphere_setup({directional({-1.0f, -0.2f, -0.6f}, {1, 1, 1}, 0.9f)});
+    for (int bands : {1, 2, 4, 7, 10}) {
+        Values p = toon_values(bands, 0.0);  // no outline
+        p["specular_color"] = p["rim_color"] = {0, 0, 0};
+        const Framebuffer fb = draw(s, *toon, make_block(*toon, p));
+        std::set<float> levels;
+        for (int y = 0; y < s.height; ++y)
+            for (int x = 0; x < s.width; ++x)
+                if (covered(fb, x, y)) levels.insert(fb.pixel(x, y).r);
+        // The lit levels 1/bands .. 1, and the unlit side.
+        CHECK(levels.size() == size_t(bands + 1));
+    }
+}
+
+TEST_CASE("toon outlines cover exactly where the sphere turns away from the viewer",
+          "[shader][toon]") {
+    PluginRegistry registry;
+    const auto toon = registry.get("toon");
+    const Setup s = sphere_setup({directional({-0.3f, -0.5f, -1.0f}, {1, 1, 1}, 1.0f)});
+    const glm::vec4 magenta(1.0f, 0.0f, 1.0f, 1.0f);
+    for (double width : {0.0, 0.3, 0.6}) {
+        INFO("outline_width " << width);
+        Values p = toon_values(3, width);
+        p["outline_color"] = {1, 0, 1};
+        const Framebuffer fb = draw(s, *toon, make_block(*toon, p));
+        int inside = 0, outline = 0;
+        for (int y = 0; y < s.height; ++y)
+            for (int x = 0; x < s.width; ++x) {
+                const std::optional<dvec3> h = hit_sphere(s, x, y);
+                if (!covered(fb, x, y) || !h) continue;
+                // The mesh is a polygon: its normals are the sphere's to ~0.01.
+                const double n_v = glm::dot(*h, glm::normalize(dvec3(s.eye) - *h));
+                if (width > 0 && near(n_v, width, 0.02)) continue;
+                const bool is_outline = fb.pixel(x, y) == magenta;
+                INFO("pixel " << x << ", " << y << ", n.v " << n_v);
+                REQUIRE(is_outline == (width > 0 && n_v < width));
+                (is_outline ? outline : inside) += 1;
+            }
+        CHECK(inside > 500);
+        if (width > 0) CHECK(outline > 100);
+    }
+}
