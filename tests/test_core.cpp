@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -310,4 +311,20 @@ TEST_CASE("trilinear filtering picks the analytic level of detail at a grazing a
     INFO("max LOD error " << max_err);
     CHECK(max_lod - min_lod > 3.0);  // the plane really spans several levels
     CHECK(max_err < 0.05);
+}
+
+TEST_CASE("JPEG textures load through stb_image, decoded from sRGB", "[texture]") {
+    // A flat sRGB colour (188, 64, 32), written as a JPEG at full quality.
+    const auto dir = temp_dir("jpeg");
+    std::vector<unsigned char> pixels;
+    for (int i = 0; i < 64; ++i) pixels.insert(pixels.end(), {188, 64, 32});
+    REQUIRE(stbi_write_jpg((dir / "flat.jpg").c_str(), 8, 8, 3, pixels.data(), 100));
+    const auto tex = load_texture(dir / "flat.jpg", true);
+    REQUIRE((tex->width == 8 && tex->height == 8));
+    const glm::vec4 texel = tex->texels[27];
+    CHECK(texel.r == Approx(srgb_to_linear(188 / 255.0f)).margin(0.01));
+    CHECK(texel.g == Approx(srgb_to_linear(64 / 255.0f)).margin(0.01));
+    CHECK(texel.b == Approx(srgb_to_linear(32 / 255.0f)).margin(0.01));
+    CHECK(tex->levels() == 4);  // 8x8 down to 1x1
+    std::filesystem::remove_all(dir);
 }
