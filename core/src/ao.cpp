@@ -50,7 +50,8 @@ glm::vec3 hemisphere(int k, int n, float angle) {
 
 void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& view,
                  const glm::mat4& proj, bool reversed_z, int width, int height,
-                 const AoSettings& settings, Renderer& renderer, FrameStats& stats) {
+                 const AoSettings& settings, Renderer& renderer, ThreadPool& pool,
+                 FrameStats& stats) {
     auto start = std::chrono::steady_clock::now();
     if (prepass_.width() != width || prepass_.height() != height) prepass_.resize(width, height);
     prepass_.clear(glm::vec4(0.0f), reversed_z ? 0.0f : 1.0f);
@@ -70,42 +71,45 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     stats.ms_prepass += elapsed_ms(start);
 
     start = std::chrono::steady_clock::now();
-    linearize(proj, reversed_z);
-    occlusion(proj, settings);
-    blur();
+    view_z_.resize(size_t(width) * height);
+    raw_.resize(view_z_.size());
+    blurred_.resize(view_z_.size());
+    pool.parallel_for(height, [&](int y, int) { linearize(proj, reversed_z, y); });
+    pool.parallel_for(height, [&](int y, int) { occlusion(proj, settings, y); });
+    pool.parallel_for(height, [&](int y, int) { blur(y); });
     stats.ao_passes += 1;
     stats.ms_ao += elapsed_ms(start);
 }
 
-void AoPass::linearize(const glm::mat4& proj, bool reversed_z) {
+// View-space z of row y of the pre-pass (0 where nothing was drawn).
+void AoPass::linearize(const glm::mat4& proj, bool reversed_z, int y) {
     const int w = prepass_.width(), h = prepass_.height();
     const float background = reversed_z ? 0.0f : 1.0f;
     const Unproject unproject{glm::inverse(proj), w, h};
-    view_z_.assign(size_t(w) * h, 0.0f);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (const float d = prepass_.depth_at(x, y); d != background)
-                view_z_[size_t(y) * w + x] = unproject.at(x, y, d).z;
+    for (int x = 0; x < w; ++x) {
+        const float d = prepass_.depth_at(x, y);
+        view_z_[size_t(y) * w + x] = d == background ? 0.0f : unproject.at(x, y, d).z;
+    }
 }
 
-void AoPass::occlusion(const glm::mat4& proj, const AoSettings& s) {
+// Ambient visibility of row y, before the blur.
+void AoPass::occlusion(const glm::mat4& proj, const AoSettings& s, int y) {
     const int w = prepass_.width(), h = prepass_.height();
     const Unproject unproject{glm::inverse(proj), w, h};
-    raw_.assign(size_t(w) * h, 1.0f);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (view_z_[size_t(y) * w + x] == 0.0f) continue;  // background
-            const glm::vec3 p = unproject.at(x, y, prepass_.depth_at(x, y));
-            const glm::vec3 n = glm::normalize(glm::vec3(prepass_.pixel(x, y)));
-            const glm::vec3 t = glm::normalize(glm::abs(n.x) < 0.9f ? glm::cross(n, {1, 0, 0})
-                                                                    : glm::cross(n, {0, 1, 0}));
-            const glm::mat3 tbn(t, glm::cross(n, t), n);
-            const float angle = float((x & 3) * 4 + (y & 3)) * (glm::two_pi<float>() / 16.0f);
-            int occluded = 0;
-            for (int k = 0; k < s.samples; ++k)
-                occluded += blocked(p, tbn * hemisphere(k, s.samples, angle), proj, s.radius);
-            raw_[size_t(y) * w + x] = 1.0f - float(occluded) / float(s.samples);
-        }
+    for (int x = 0; x < w; ++x) {
+        raw_[size_t(y) * w + x] = 1.0f;
+        if (view_z_[size_t(y) * w + x] == 0.0f) continue;  // background
+        const glm::vec3 p = unproject.at(x, y, prepass_.depth_at(x, y));
+        const glm::vec3 n = glm::normalize(glm::vec3(prepass_.pixel(x, y)));
+        const glm::vec3 t = glm::normalize(glm::abs(n.x) < 0.9f ? glm::cross(n, {1, 0, 0})
+                                                                : glm::cross(n, {0, 1, 0}));
+        const glm::mat3 tbn(t, glm::cross(n, t), n);
+        const float angle = float((x & 3) * 4 + (y & 3)) * (glm::two_pi<float>() / 16.0f);
+        int occluded = 0;
+        for (int k = 0; k < s.samples; ++k)
+            occluded += blocked(p, tbn * hemisphere(k, s.samples, angle), proj, s.radius);
+        raw_[size_t(y) * w + x] = 1.0f - float(occluded) / float(s.samples);
+    }
 }
 
 // Does the march from p along dir pass behind the pre-pass surface, by less
@@ -128,25 +132,24 @@ bool AoPass::blocked(const glm::vec3& p, const glm::vec3& dir, const glm::mat4& 
     return false;
 }
 
-// Mean of the 4x4 window aligned with the rotation pattern, weighted by
-// depth similarity (view-space z, relative).
-void AoPass::blur() {
+// Row y: mean of the 4x4 window aligned with the rotation pattern, weighted
+// by depth similarity (view-space z, relative).
+void AoPass::blur(int y) {
     const int w = prepass_.width(), h = prepass_.height();
-    blurred_.assign(raw_.size(), 1.0f);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const float z = view_z_[size_t(y) * w + x];
-            if (z == 0.0f) continue;
-            float sum = 0.0f, weight = 0.0f;
-            for (int j = std::max(y - 1, 0); j <= std::min(y + 2, h - 1); ++j)
-                for (int i = std::max(x - 1, 0); i <= std::min(x + 2, w - 1); ++i) {
-                    const float rel = (view_z_[size_t(j) * w + i] - z) / std::abs(z);
-                    const float wgt = std::exp(-rel * rel * 2500.0f);  // ~2% depth difference
-                    sum += wgt * raw_[size_t(j) * w + i];
-                    weight += wgt;
-                }
-            blurred_[size_t(y) * w + x] = sum / weight;
-        }
+    for (int x = 0; x < w; ++x) {
+        const float z = view_z_[size_t(y) * w + x];
+        blurred_[size_t(y) * w + x] = 1.0f;
+        if (z == 0.0f) continue;
+        float sum = 0.0f, weight = 0.0f;
+        for (int j = std::max(y - 1, 0); j <= std::min(y + 2, h - 1); ++j)
+            for (int i = std::max(x - 1, 0); i <= std::min(x + 2, w - 1); ++i) {
+                const float rel = (view_z_[size_t(j) * w + i] - z) / std::abs(z);
+                const float wgt = std::exp(-rel * rel * 2500.0f);  // ~2% depth difference
+                sum += wgt * raw_[size_t(j) * w + i];
+                weight += wgt;
+            }
+        blurred_[size_t(y) * w + x] = sum / weight;
+    }
 }
 
 }  // namespace facet

@@ -13,6 +13,8 @@
 // without bleeding across depth edges.
 #pragma once
 
+#include "thread_pool.hpp"
+
 #include "facet/framebuffer.hpp"
 #include "facet/renderer.hpp"
 #include "facet/scene.hpp"
@@ -32,15 +34,16 @@ public:
     // (stats.ms_ao). `reversed_z` and `clear_depth` describe the depth range.
     void run(const std::vector<const Object*>& objects, const glm::mat4& view,
              const glm::mat4& proj, bool reversed_z, int width, int height,
-             const AoSettings& settings, Renderer& renderer, FrameStats& stats);
+             const AoSettings& settings, Renderer& renderer, ThreadPool& pool,
+             FrameStats& stats);
 
     // Ambient visibility per pixel of the last run, row-major.
     const float* visibility() const { return blurred_.data(); }
 
 private:
-    void linearize(const glm::mat4& proj, bool reversed_z);
-    void occlusion(const glm::mat4& proj, const AoSettings& settings);
-    void blur();
+    void linearize(const glm::mat4& proj, bool reversed_z, int y);
+    void occlusion(const glm::mat4& proj, const AoSettings& settings, int y);
+    void blur(int y);
     bool blocked(const glm::vec3& p, const glm::vec3& dir, const glm::mat4& proj,
                  float radius) const;
 

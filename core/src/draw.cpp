@@ -1,7 +1,12 @@
-// Geometry for one draw: vertex stage, primitive assembly, clipping, setup,
-// then rasterization and the fragment stage (fragment.cpp).
+// Geometry for one draw: vertex stage, primitive assembly, clipping and
+// setup (in parallel chunks), binning into tiles (bin.cpp), then the tiles
+// rasterized and shaded in parallel (rasterize.hpp, fragment.cpp). The
+// triangles go through in batches of kTriangleBatch, which bounds memory
+// however large the mesh.
+#include "bin.hpp"
 #include "clip.hpp"
 #include "fragment.hpp"
+#include "geometry.hpp"
 #include "rasterize.hpp"
 #include "setup.hpp"
 
@@ -19,6 +24,8 @@ namespace facet {
 namespace {
 
 constexpr uint32_t kVertexBatch = 256;
+constexpr size_t kSetupChunk = 1024;                   // triangles per setup task
+constexpr size_t kTriangleBatch = 16 * kSetupChunk;   // triangles binned at once
 
 void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_ptr(m), 64); }
 
@@ -79,37 +86,6 @@ int screen_orientation(const ClipVertex* poly, int n, const Viewport& viewport) 
     return (area > 0.0) - (area < 0.0);
 }
 
-// Clips the triangle and draws the fan of what is left, each piece held to
-// the orientation of the whole polygon. Returns the result that counts for
-// the input triangle.
-template <class Draw>
-SetupResult draw_clipped(const SetupVertex v[3], uint32_t planes, const Viewport& viewport,
-                         const DrawContext& dc, Draw&& draw_one) {
-    ClipVertex in[3], out[kMaxClipVertices];
-    const int floats = int(dc.varying_floats);
-    for (int i = 0; i < 3; ++i) {
-        in[i].position = v[i].clip;
-        std::memcpy(in[i].varyings, v[i].varyings, sizeof(float) * floats);
-    }
-    const int n =
-        clip_polygon(in, 3, planes, viewport.guard_ndc(), floats, dc.interpolation, out);
-    if (n < 3) return SetupResult::clipped_away;
-    // Flat varyings keep the first input vertex's value, not a blend.
-    for (int k = 0; k < floats; ++k)
-        if (dc.interpolation[k] == FACET_INTERP_FLAT)
-            for (int i = 0; i < n; ++i) out[i].varyings[k] = v[0].varyings[k];
-    const int orientation = screen_orientation(out, n, viewport);
-    SetupResult result = SetupResult::clipped_away;
-    for (int i = 1; i + 1 < n; ++i) {
-        const SetupVertex tri[3] = {{out[0].position, out[0].varyings},
-                                    {out[i].position, out[i].varyings},
-                                    {out[i + 1].position, out[i + 1].varyings}};
-        const SetupResult r = draw_one(tri, orientation);
-        if (r == SetupResult::ok || result == SetupResult::clipped_away) result = r;
-    }
-    return result;
-}
-
 void count(SetupResult r, FrameStats& stats) {
     switch (r) {
         case SetupResult::ok: ++stats.triangles_rasterized; break;
@@ -120,15 +96,95 @@ void count(SetupResult r, FrameStats& stats) {
     }
 }
 
-// Vertex stage: every vertex once, kVertexBatch per plugin call, with only
-// the inputs the shader asks for.
+// Assembles, clips and sets up a range of a mesh's triangles into `chunk`.
+class Assembler {
+public:
+    Assembler(const DrawContext& dc, const Geometry& g, const Viewport& viewport,
+              const CullState& cull)
+        : dc_(dc), g_(g), viewport_(viewport), cull_(cull) {}
+
+    void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
+        for (size_t t = 0; t < triangles; ++t, idx += 3) {
+            ++chunk.stats.triangles_in;
+            const glm::vec4* c[3] = {&g_.clip[idx[0]], &g_.clip[idx[1]], &g_.clip[idx[2]]};
+            if (!finite(*c[0]) || !finite(*c[1]) || !finite(*c[2])) {
+                ++chunk.stats.triangles_invalid;
+                continue;
+            }
+            const ClipClass cc = classify(*c[0], *c[1], *c[2], viewport_.guard_ndc());
+            if (cc.reject) {
+                ++chunk.stats.triangles_culled_frustum;
+                continue;
+            }
+            SetupVertex v[3];
+            for (int i = 0; i < 3; ++i)
+                v[i] = {glm::dvec4(*c[i]), g_.varyings.data() + size_t(idx[i]) * dc_.varying_floats};
+            const SetupResult r = cc.clip ? clipped(v, cc.clip, chunk) : setup(v, 0, chunk);
+            if (r == SetupResult::ok && cc.clip) ++chunk.stats.triangles_clipped;
+            count(r, chunk.stats);
+        }
+    }
+
+private:
+    SetupResult setup(const SetupVertex v[3], int orientation, SetupChunk& chunk) const {
+        TriangleSetup& t = chunk.setups.emplace_back();
+        const SetupResult r = setup_triangle(v, viewport_, cull_, t, orientation);
+        if (r != SetupResult::ok) chunk.setups.pop_back();
+        return r;
+    }
+
+    // Clips the triangle and sets up the fan of what is left, each piece held
+    // to the orientation of the whole polygon.
+    SetupResult clipped(const SetupVertex v[3], uint32_t planes, SetupChunk& chunk) const {
+        ClipVertex in[3], out[kMaxClipVertices];
+        const int floats = int(dc_.varying_floats);
+        for (int i = 0; i < 3; ++i) {
+            in[i].position = v[i].clip;
+            std::memcpy(in[i].varyings, v[i].varyings, sizeof(float) * floats);
+        }
+        const int n = clip_polygon(in, 3, planes, viewport_.guard_ndc(), floats,
+                                   dc_.interpolation, out);
+        if (n < 3) return SetupResult::clipped_away;
+        // Flat varyings keep the first input vertex's value, not a blend.
+        for (int k = 0; k < floats; ++k)
+            if (dc_.interpolation[k] == FACET_INTERP_FLAT)
+                for (int i = 0; i < n; ++i) out[i].varyings[k] = v[0].varyings[k];
+        const size_t first = chunk.clipped_used;
+        chunk.clipped_used += size_t(n);
+        if (chunk.clipped.size() < chunk.clipped_used) chunk.clipped.resize(chunk.clipped_used);
+        std::copy(out, out + n, chunk.clipped.begin() + std::ptrdiff_t(first));
+        const int orientation = screen_orientation(out, n, viewport_);
+        SetupResult result = SetupResult::clipped_away;
+        for (int i = 1; i + 1 < n; ++i) {
+            const ClipVertex* a = &chunk.clipped[first];
+            const ClipVertex* b = &chunk.clipped[first + size_t(i)];
+            const ClipVertex* c = &chunk.clipped[first + size_t(i) + 1];
+            const SetupVertex tri[3] = {{a->position, a->varyings},
+                                        {b->position, b->varyings},
+                                        {c->position, c->varyings}};
+            const SetupResult r = setup(tri, orientation, chunk);
+            if (r == SetupResult::ok || result == SetupResult::clipped_away) result = r;
+        }
+        return result;
+    }
+
+    const DrawContext& dc_;
+    const Geometry& g_;
+    const Viewport& viewport_;
+    const CullState& cull_;
+};
+
+// Vertex stage: every vertex once, kVertexBatch per plugin call (batches in
+// parallel), with only the inputs the shader asks for.
 void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const facet_draw& abi,
-                    std::vector<glm::vec4>& clip, std::vector<float>& varyings) {
+                    Geometry& g) {
     const size_t vcount = mesh.vertex_count();
     const uint32_t floats = shader.varying_floats();
-    clip.resize(vcount);
-    varyings.resize(vcount * floats + 1);
-    for (size_t first = 0; first < vcount; first += kVertexBatch) {
+    g.clip.resize(vcount);
+    g.varyings.resize(vcount * floats + 1);
+    const int batches = int((vcount + kVertexBatch - 1) / kVertexBatch);
+    g.pool.parallel_for(batches, [&](int b, int) {
+        const size_t first = size_t(b) * kVertexBatch;
         const facet_vertex_batch batch{
             uint32_t(std::min<size_t>(kVertexBatch, vcount - first)),
             glm::value_ptr(mesh.positions[first]),
@@ -136,10 +192,21 @@ void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const facet_dr
             input(shader, FACET_NEED_UVS, mesh.uvs, first),
             input(shader, FACET_NEED_COLORS, mesh.colors, first),
             nullptr,  // tangents: no shader may ask for them yet (plugin.cpp refuses it)
-            glm::value_ptr(clip[first]),
-            varyings.data() + first * floats,
+            glm::value_ptr(g.clip[first]),
+            g.varyings.data() + first * floats,
             floats};
         shader.desc().vertex(&abi, &batch);
+    });
+}
+
+// Rasterizes and shades one tile's triangles, in submission order.
+void draw_tile(const DrawContext& dc, Geometry& g, int tile, int worker) {
+    int x0, y0, x1, y1;
+    g.bins.rect(tile, x0, y0, x1, y1);
+    FrameStats& stats = g.worker_stats[size_t(worker)];
+    for (const uint32_t entry : g.bins.entries(tile)) {
+        const TriangleSetup& t = g.chunks[entry >> 16].setups[entry & 0xFFFFu];
+        rasterize(t, x0, y0, x1, y1, [&](const Block& b) { shade_block(dc, t, b, stats); });
     }
 }
 
@@ -150,6 +217,7 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
         throw Error(ErrorCode::config_invalid, "draw call without a mesh or a shader");
     const Mesh& mesh = *call.mesh;
     const ShaderPlugin& shader = *call.shader;
+    Geometry& g = *geometry_;
     ++stats.draws;
 
     DrawContext dc;
@@ -159,45 +227,36 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
     const facet_draw abi = make_abi_draw(call, target, dc);
     dc.abi = &abi;
-    shade_vertices(mesh, shader, abi, scratch_.clip, scratch_.varyings);
+    shade_vertices(mesh, shader, abi, g);
     stats.vertices_shaded += mesh.vertex_count();
 
-    // Primitive assembly and everything after it, one triangle at a time.
     const Viewport viewport{target.width(), target.height()};
     const CullState cull = cull_state(call.state);
-    TriangleSetup setup;
-    auto draw_one = [&](const SetupVertex tri[3], int orientation) {
-        const SetupResult r = setup_triangle(tri, viewport, cull, setup, orientation);
-        if (r == SetupResult::ok)
-            rasterize(setup, [&](const Block& b) { shade_block(dc, setup, b, stats); });
-        return r;
-    };
-    const uint32_t floats = dc.varying_floats;
-    const uint32_t* idx = mesh.indices.data();
-    for (size_t t = 0; t < mesh.triangle_count(); ++t, idx += 3) {
-        ++stats.triangles_in;
-        const glm::vec4* c[3] = {&scratch_.clip[idx[0]], &scratch_.clip[idx[1]],
-                                 &scratch_.clip[idx[2]]};
-        if (!finite(*c[0]) || !finite(*c[1]) || !finite(*c[2])) {
-            ++stats.triangles_invalid;
-            continue;
-        }
-        const ClipClass cc = classify(*c[0], *c[1], *c[2], viewport.guard_ndc());
-        if (cc.reject) {
-            ++stats.triangles_culled_frustum;
-            continue;
-        }
-        SetupVertex v[3];
-        for (int i = 0; i < 3; ++i)
-            v[i] = {glm::dvec4(*c[i]), scratch_.varyings.data() + size_t(idx[i]) * floats};
-        if (!cc.clip) {
-            count(draw_one(v, 0), stats);
-            continue;
-        }
-        const SetupResult r = draw_clipped(v, cc.clip, viewport, dc, draw_one);
-        if (r == SetupResult::ok) ++stats.triangles_clipped;
-        count(r, stats);
+    const Assembler assembler(dc, g, viewport, cull);
+    g.bins.resize(target.width(), target.height());
+    for (FrameStats& w : g.worker_stats) w = {};
+    const size_t triangles = mesh.triangle_count();
+    for (size_t first = 0; first < triangles; first += kTriangleBatch) {
+        const size_t count = std::min(kTriangleBatch, triangles - first);
+        const int chunks = int((count + kSetupChunk - 1) / kSetupChunk);
+        if (g.chunks.size() < size_t(chunks)) g.chunks.resize(size_t(chunks));
+        g.pool.parallel_for(chunks, [&](int c, int) {
+            SetupChunk& chunk = g.chunks[size_t(c)];
+            chunk.setups.clear();
+            chunk.clipped_used = 0;
+            chunk.stats = {};
+            const size_t begin = first + size_t(c) * kSetupChunk;
+            assembler.run(mesh.indices.data() + 3 * begin,
+                          std::min(kSetupChunk, first + count - begin), chunk);
+        });
+        g.bins.bin(g.chunks, chunks);
+        const std::vector<int>& busy = g.bins.busy();
+        g.pool.parallel_for(int(busy.size()),
+                            [&](int i, int worker) { draw_tile(dc, g, busy[size_t(i)], worker); });
+        g.bins.clear();
+        for (int c = 0; c < chunks; ++c) stats += g.chunks[size_t(c)].stats;
     }
+    for (const FrameStats& w : g.worker_stats) stats += w;
 }
 
 }  // namespace facet

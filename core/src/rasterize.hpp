@@ -13,6 +13,7 @@
 
 #include <facet/shader_abi.h>
 
+#include <algorithm>
 #include <cstdint>
 
 namespace facet {
@@ -26,14 +27,23 @@ struct Block {
 // Coverage of the block at (bx, by); fills `block` and returns its mask.
 uint32_t cover_block(const TriangleSetup& t, int bx, int by, Block& block);
 
-// Calls visit(const Block&) for every block of t's bounding box that the
-// triangle covers at least partly.
+// Calls visit(const Block&) for every block of t's bounding box, within the
+// rectangle [x0, x1] x [y0, y1] (a tile, whose corners are multiples of 4),
+// that the triangle covers at least partly.
+template <class Visit>
+void rasterize(const TriangleSetup& t, int x0, int y0, int x1, int y1, Visit&& visit) {
+    Block block;
+    const int bx0 = std::max(t.x0, x0) & ~3, by0 = std::max(t.y0, y0) & ~3;
+    const int bx1 = std::min(t.x1, x1), by1 = std::min(t.y1, y1);
+    for (int by = by0; by <= by1; by += FACET_BLOCK_SIZE)
+        for (int bx = bx0; bx <= bx1; bx += FACET_BLOCK_SIZE)
+            if (cover_block(t, bx, by, block)) visit(block);
+}
+
+// The same over the whole bounding box.
 template <class Visit>
 void rasterize(const TriangleSetup& t, Visit&& visit) {
-    Block block;
-    for (int by = t.y0 & ~3; by <= t.y1; by += FACET_BLOCK_SIZE)
-        for (int bx = t.x0 & ~3; bx <= t.x1; bx += FACET_BLOCK_SIZE)
-            if (cover_block(t, bx, by, block)) visit(block);
+    rasterize(t, t.x0, t.y0, t.x1, t.y1, visit);
 }
 
 }  // namespace facet

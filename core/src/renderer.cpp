@@ -4,6 +4,7 @@
 
 #include "ao.hpp"
 #include "clip.hpp"
+#include "geometry.hpp"
 #include "shadow.hpp"
 
 #include <spdlog/spdlog.h>
@@ -71,13 +72,17 @@ bool drawable(const Object& o) {
 
 struct Renderer::Passes {
     std::vector<ShadowMap> shadow_maps;
+    std::vector<glm::vec3> corners;  // scratch for fitting shadow maps
     AoPass ao;
 };
 
-Renderer::Renderer() : passes_(std::make_unique<Passes>()) {}
+Renderer::Renderer(int threads)
+    : passes_(std::make_unique<Passes>()), geometry_(std::make_unique<Geometry>(threads)) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+int Renderer::threads() const { return geometry_->pool.size(); }
 
 FrameStats& FrameStats::operator+=(const FrameStats& o) {
     objects += o.objects;
@@ -160,7 +165,8 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     }
     if (needs_shadow) {
         const auto t = std::chrono::steady_clock::now();
-        const int maps = render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow_maps);
+        const int maps = render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow_maps,
+                                            passes_->corners);
         stats.shadow_passes += uint64_t(maps);
         call.shadow_maps = maps ? &passes_->shadow_maps[0].abi : nullptr;
         call.shadow_map_count = uint32_t(maps);
@@ -168,7 +174,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     }
     if (needs_ao) {
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
-                        s.height, ao_settings(*needs_ao), *this, stats);
+                        s.height, ao_settings(*needs_ao), *this, geometry_->pool, stats);
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);

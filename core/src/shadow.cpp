@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -14,9 +15,9 @@ namespace facet {
 
 namespace {
 
-// World-space corners of `scene`'s objects' bounds.
-std::vector<glm::vec3> caster_corners(const std::vector<const Object*>& casters) {
-    std::vector<glm::vec3> out;
+// World-space corners of the casters' bounds, into `out`.
+void caster_corners(const std::vector<const Object*>& casters, std::vector<glm::vec3>& out) {
+    out.clear();
     for (const Object* o : casters) {
         const glm::mat4 m = o->transform.matrix();
         const Bounds& b = o->mesh->bounds;
@@ -25,21 +26,21 @@ std::vector<glm::vec3> caster_corners(const std::vector<const Object*>& casters)
                                                   i & 2 ? b.max.y : b.min.y,
                                                   i & 4 ? b.max.z : b.min.z, 1.0f)));
     }
-    return out;
 }
 
 // Corners of the camera's view frustum from its near plane to `distance`.
-std::vector<glm::vec3> frustum_corners(const Camera& c, float aspect, float distance) {
+std::array<glm::vec3, 8> frustum_corners(const Camera& c, float aspect, float distance) {
     const glm::vec3 forward = glm::normalize(c.target - c.position);
     const glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
     const glm::vec3 up = glm::cross(right, forward);
-    std::vector<glm::vec3> out;
+    std::array<glm::vec3, 8> out;
+    int k = 0;
     for (float d : {c.near, std::min(c.far, distance)}) {
         const float h = c.orthographic ? 0.5f * c.ortho_height
                                        : d * std::tan(glm::radians(c.fov_y) * 0.5f);
         for (int i = 0; i < 4; ++i)
-            out.push_back(c.position + forward * d + right * (i & 1 ? h : -h) * aspect +
-                          up * (i & 2 ? h : -h));
+            out[size_t(k++)] = c.position + forward * d + right * (i & 1 ? h : -h) * aspect +
+                               up * (i & 2 ? h : -h);
     }
     return out;
 }
@@ -127,8 +128,9 @@ void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view
 }  // namespace
 
 int render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
-                       Renderer& renderer, std::vector<ShadowMap>& maps) {
-    const std::vector<glm::vec3> corners = caster_corners(casters);
+                       Renderer& renderer, std::vector<ShadowMap>& maps,
+                       std::vector<glm::vec3>& corners) {
+    caster_corners(casters, corners);
     const int size = scene.settings.shadow_map_size;
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
     int count = 0;

@@ -24,9 +24,11 @@ struct ShadowMap {
     Framebuffer depth;
 };
 
-// Renders the maps into `maps` (reusing their storage), one per light with
-// casts_shadow that is directional or spot. Returns how many it rendered.
+// Renders the maps into `maps` (reusing their storage, and `corners` as
+// scratch), one per light with casts_shadow that is directional or spot.
+// Returns how many it rendered.
 int render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
-                       Renderer& renderer, std::vector<ShadowMap>& maps);
+                       Renderer& renderer, std::vector<ShadowMap>& maps,
+                       std::vector<glm::vec3>& corners);
 
 }  // namespace facet

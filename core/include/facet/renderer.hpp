@@ -91,9 +91,13 @@ struct DrawCall {
     PipelineState state;
 };
 
+struct Geometry;  // core/src/geometry.hpp
+
 class Renderer {
 public:
-    Renderer();
+    // Renders with `threads` threads (counting the caller); 0: one per
+    // hardware thread. The image does not depend on the thread count.
+    explicit Renderer(int threads = 0);
     ~Renderer();
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
@@ -107,6 +111,8 @@ public:
     // Draws one mesh into `target` (which must be cleared by the caller).
     void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
 
+    int threads() const;
+
 private:
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                         FrameStats& stats);
@@ -117,8 +123,6 @@ private:
         size_t order;  // position in the scene
     };
     struct Scratch {
-        std::vector<glm::vec4> clip;   // per vertex
-        std::vector<float> varyings;   // per vertex, varying_floats each
         std::vector<facet_light> lights;
         std::vector<BlendedObject> blended;
         std::vector<const Object*> casters;  // every drawable object, for shadow maps
@@ -128,6 +132,7 @@ private:
 
     Scratch scratch_;
     std::unique_ptr<Passes> passes_;
+    std::unique_ptr<Geometry> geometry_;
 };
 
 // The light as the plugin ABI carries it.
