@@ -1,0 +1,239 @@
+// facet-bench: frame times of facet's pipeline over scenes, sizes, shaders
+// and thread counts.
+//
+//     facet-bench [--scene NAME]... [--size WxH]... [--shader NAME]...
+//                 [--threads N]... [--runs N] [--csv FILE] [--json FILE]
+//
+// Scenes (made here, except the bunny):
+//   small     a sphere of ~1k triangles
+//   medium    the Stanford bunny (69,451 triangles) from ../shared/assets,
+//             or a ~70k-triangle sphere where that file is absent
+//   large     a sphere of ~1M triangles
+//   fill      six screen-covering quads drawn far to near: 6x overdraw
+//   subpixel  a grid of ~1M triangles of about half a pixel each
+// Every object gets the shader under test with its default parameters, one
+// shadow-casting directional light and one point light. Each configuration
+// renders one warm-up frame, then --runs frames; the median is reported, with
+// the thread count, and the process's peak resident memory so far.
+#include <facet/material.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+using namespace facet;
+
+namespace {
+
+// A UV sphere of radius 1 with about `triangles` triangles.
+std::shared_ptr<Mesh> sphere(int triangles) {
+    const int rings = std::max(4, int(std::sqrt(triangles / 4.0)));
+    const int segments = 2 * rings;
+    auto m = std::make_shared<Mesh>();
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s <= segments; ++s) {
+            const float theta = float(M_PI) * r / rings, phi = 2.0f * float(M_PI) * s / segments;
+            const glm::vec3 p(std::sin(theta) * std::cos(phi), std::cos(theta),
+                              std::sin(theta) * std::sin(phi));
+            m->positions.push_back(p);
+            m->normals.push_back(p);
+            m->uvs.push_back({float(s) / segments, float(r) / rings});
+        }
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + 1,
+                           c = a + uint32_t(segments + 1), d = c + 1;
+            m->indices.insert(m->indices.end(), {a, c, b, b, c, d});
+        }
+    m->bounds = compute_bounds(m->positions);
+    return m;
+}
+
+// An n x n grid of quads in the z = 0 plane over [-w, w] x [-h, h], facing +Z.
+std::shared_ptr<Mesh> grid(int n, float w, float h, float z = 0.0f) {
+    auto m = std::make_shared<Mesh>();
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            m->positions.push_back({w * (2.0f * i / n - 1.0f), h * (2.0f * j / n - 1.0f), z});
+            m->normals.push_back({0, 0, 1});
+            m->uvs.push_back({float(i) / n, float(j) / n});
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n + 1),
+                           d = c + 1;
+            m->indices.insert(m->indices.end(), {a, b, d, a, d, c});
+        }
+    m->bounds = compute_bounds(m->positions);
+    return m;
+}
+
+// The mesh scaled and moved to fit a unit sphere at the origin.
+Transform fit(const Mesh& m) {
+    Transform t;
+    const glm::vec3 centre = 0.5f * (m.bounds.min + m.bounds.max);
+    const float radius = 0.5f * glm::length(m.bounds.max - m.bounds.min);
+    t.scale = glm::vec3(1.0f / radius);
+    t.translation = -centre / radius;
+    return t;
+}
+
+std::vector<Object> scene_objects(const std::string& name, std::string& note) {
+    if (name == "small") return {{"sphere", sphere(1000), {}, nullptr, true}};
+    if (name == "large") return {{"sphere", sphere(1000000), {}, nullptr, true}};
+    if (name == "medium") {
+        const std::filesystem::path bunny =
+            std::filesystem::path(FACET_SOURCE_DIR) / "../shared/assets/models/stanford-bunny.obj";
+        if (std::filesystem::exists(bunny)) {
+            auto mesh = load_mesh(bunny);
+            note = "Stanford bunny";
+            return {{"bunny", mesh, fit(*mesh), nullptr, true}};
+        }
+        note = "70k-triangle sphere (bunny not found)";
+        return {{"sphere", sphere(70000), {}, nullptr, true}};
+    }
+    if (name == "fill") {
+        std::vector<Object> quads;
+        for (int k = 0; k < 6; ++k)  // far to near: every layer passes the depth test
+            quads.push_back({"layer", grid(1, 4.0f, 4.0f, -1.5f + 0.5f * k), {}, nullptr, true});
+        return quads;
+    }
+    if (name == "subpixel") return {{"grid", grid(700, 1.6f, 0.9f), {}, nullptr, true}};
+    throw std::runtime_error("unknown scene '" + name + "'");
+}
+
+Scene make_scene(const std::string& name, std::string& note) {
+    Scene s;
+    s.objects = scene_objects(name, note);
+    s.camera.position = {0.0f, 0.35f, 2.6f};
+    s.camera.target = {0.0f, 0.0f, 0.0f};
+    s.camera.fov_y = 45.0f;
+    Light sun;
+    sun.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, -0.4f));
+    sun.casts_shadow = true;
+    Light point;
+    point.type = LightType::point;
+    point.position = {1.5f, 1.5f, 2.0f};
+    point.attenuation = {1.0f, 0.0f, 0.2f};
+    s.lights = {sun, point};
+    return s;
+}
+
+void set_shader(Scene& s, PluginRegistry& registry, const std::string& shader) {
+    auto m = std::make_shared<Material>();
+    m->source = "facet-bench";
+    m->shader = shader;
+    TextureCache cache;
+    bind(*m, registry.get(shader), cache);
+    for (Object& o : s.objects) o.material = m;
+}
+
+double peak_rss_mib() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_maxrss) / 1024.0;
+}
+
+struct Result {
+    std::string scene, note, shader;
+    int width, height, threads;
+    uint64_t triangles;
+    double median_ms, min_ms, peak_rss_mib;
+};
+
+Result measure(Scene& scene, const std::string& name, const std::string& note,
+               const std::string& shader, int threads, int runs) {
+    Renderer renderer(threads);
+    Framebuffer fb;
+    const FrameStats first = renderer.render(scene, fb);  // warm-up
+    std::vector<double> ms;
+    for (int i = 0; i < runs; ++i) ms.push_back(renderer.render(scene, fb).milliseconds);
+    std::sort(ms.begin(), ms.end());
+    return {name, note, shader, scene.settings.width, scene.settings.height, renderer.threads(),
+            first.triangles_in, ms[ms.size() / 2], ms.front(), peak_rss_mib()};
+}
+
+void write_csv(const std::string& path, const std::vector<Result>& results) {
+    std::ofstream out(path);
+    out << "scene,note,shader,width,height,threads,triangles,median_ms,min_ms,peak_rss_mib\n";
+    for (const Result& r : results)
+        out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << r.width << ','
+            << r.height << ',' << r.threads << ',' << r.triangles << ',' << r.median_ms << ','
+            << r.min_ms << ',' << r.peak_rss_mib << '\n';
+}
+
+void write_json(const std::string& path, const std::vector<Result>& results) {
+    std::ofstream out(path);
+    out << "[\n";
+    for (size_t i = 0; i < results.size(); ++i) {
+        const Result& r = results[i];
+        out << "  {\"scene\": \"" << r.scene << "\", \"note\": \"" << r.note
+            << "\", \"shader\": \"" << r.shader << "\", \"width\": " << r.width
+            << ", \"height\": " << r.height << ", \"threads\": " << r.threads
+            << ", \"triangles\": " << r.triangles << ", \"median_ms\": " << r.median_ms
+            << ", \"min_ms\": " << r.min_ms << ", \"peak_rss_mib\": " << r.peak_rss_mib << "}"
+            << (i + 1 < results.size() ? "," : "") << "\n";
+    }
+    out << "]\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> scenes = {"small", "medium", "large", "fill", "subpixel"};
+    std::vector<std::string> sizes = {"1280x720", "1920x1080"};
+    std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao"};
+    const int all = int(std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<int> threads = {1, all};
+    int runs = 5;
+    std::string csv = "facet-bench.csv", json = "facet-bench.json";
+    CLI::App app{"facet-bench: facet's frame times over scenes, sizes, shaders and threads"};
+    app.add_option("--scene", scenes, "small, medium, large, fill, subpixel");
+    app.add_option("--size", sizes, "image size WxH");
+    app.add_option("--shader", shaders, "shader plugin name");
+    app.add_option("--threads", threads, "threads (counting the caller)");
+    app.add_option("--runs", runs, "frames per configuration (median)")->capture_default_str();
+    app.add_option("--csv", csv, "CSV output")->capture_default_str();
+    app.add_option("--json", json, "JSON output")->capture_default_str();
+    CLI11_PARSE(app, argc, argv);
+    spdlog::set_level(spdlog::level::warn);
+
+    PluginRegistry registry;
+    std::vector<Result> results;
+    std::printf("%-9s %-10s %-7s %7s %10s %12s %10s\n", "scene", "size", "shader", "threads",
+                "triangles", "median ms", "peak MiB");
+    for (const std::string& name : scenes) {
+        std::string note;
+        Scene scene = make_scene(name, note);
+        for (const std::string& size : sizes) {
+            if (std::sscanf(size.c_str(), "%dx%d", &scene.settings.width,
+                            &scene.settings.height) != 2)
+                return 2;
+            for (const std::string& shader : shaders) {
+                set_shader(scene, registry, shader);
+                for (int t : threads) {
+                    const Result r = measure(scene, name, note, shader, t, std::max(1, runs));
+                    std::printf("%-9s %-10s %-7s %7d %10llu %12.2f %10.1f\n", name.c_str(),
+                                size.c_str(), shader.c_str(), r.threads,
+                                (unsigned long long)r.triangles, r.median_ms, r.peak_rss_mib);
+                    std::fflush(stdout);
+                    results.push_back(r);
+                }
+            }
+        }
+    }
+    write_csv(csv, results);
+    write_json(json, results);
+    std::printf("wrote %s and %s\n", csv.c_str(), json.c_str());
+    return 0;
+}
