@@ -26,6 +26,10 @@ namespace {
 constexpr uint32_t kVertexBatch = 256;
 constexpr size_t kSetupChunk = 1024;                   // triangles per setup task
 constexpr size_t kTriangleBatch = 16 * kSetupChunk;   // triangles binned at once
+// Bins hold chunk << 16 | index: both must fit in 16 bits (a clipped
+// triangle becomes at most kMaxClipVertices - 2 setups).
+static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
+static_assert(kTriangleBatch / kSetupChunk < (1u << 16));
 
 void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_ptr(m), 64); }
 
