@@ -47,8 +47,8 @@ const char* kScenes[] = {"default.yaml",       "scenes/lit.yaml",    "scenes/pho
 
 Scene small_scene(PluginRegistry& registry, const std::string& name) {
     Scene s = load_scene(std::string(FACET_SOURCE_DIR) + "/configs/" + name, registry);
-    s.settings.width = 333;  // not a multiple of the tile or block size
-    s.settings.height = 187;
+    s.settings.width = 197;  // several tiles; not a multiple of the tile or block size
+    s.settings.height = 111;
     return s;
 }
 
@@ -79,7 +79,7 @@ TEST_CASE("a triangle soup with clipping renders the same at any thread count", 
     std::vector<glm::vec3> pos;
     std::vector<glm::vec4> colors;
     std::vector<uint32_t> idx;
-    for (uint32_t i = 0; i < 3 * 4000; ++i) {
+    for (uint32_t i = 0; i < 3 * 1200; ++i) {
         pos.push_back({xy(rng), xy(rng), z(rng)});
         colors.push_back({c(rng), c(rng), c(rng), 0.5f});
         idx.push_back(i);
@@ -98,7 +98,7 @@ TEST_CASE("a triangle soup with clipping renders the same at any thread count", 
         return fb;
     };
     const Framebuffer one = draw(1);
-    for (int threads : {2, 4, 7}) CHECK(same_bits(one, draw(threads)));
+    for (int threads : {2, 5}) CHECK(same_bits(one, draw(threads)));
 }
 
 #if FACET_COUNT_ALLOCATIONS
