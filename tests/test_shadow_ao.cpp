@@ -286,3 +286,45 @@ TEST_CASE("shadow.so and ao.so match Lambert plus ambient where nothing occludes
         CHECK(checked > 500);
     }
 }
+
+TEST_CASE("two shadow-casting lights each cast their own shadow in one frame", "[shadow]") {
+    // A directional light and a spot light, both casting: each ground pixel
+    // shows the sum of n.l over the lights that the ray caster says it sees.
+    SceneDir sd;
+    const Scene scene = sd.load(
+        camera(200, 150) +
+        "lights:\n"
+        "  - {type: directional, direction: [0.7, -1, 0.5], intensity: 0.5, casts_shadow: true}\n"
+        "  - {type: spot, position: [-1.0, 3.2, 1.2], direction: [0.3, -1, -0.35], "
+        "intensity: 0.5, spot_inner: 40, spot_outer: 45, casts_shadow: true}\n"
+        "objects:\n  - {mesh: ground.obj, material: " + std::string(kShadowed) + "}\n" +
+        "  - {mesh: cube.obj, position: [0, 0.8, 0], material: " + kShadowed + "}\n");
+    Framebuffer fb;
+    REQUIRE(Renderer().render(scene, fb).shadow_passes == 2);
+    const reference::RayCaster rc(scene);
+    int shadowed_by[2] = {0, 0};
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+            if (!hit || hit->object != 0 || !in_inner_cone(scene.lights[1], hit->point)) continue;
+            double expected = 0;
+            bool edge = false;
+            for (size_t l = 0; l < 2; ++l) {
+                const Light& light = scene.lights[l];
+                const bool lit = rc.lit(light, hit->point, hit->normal);
+                for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                    const auto n = hit_at(rc, scene, x + 0.5 + dx, y + 0.5 + dy);
+                    edge |= !n || n->object != 0 || rc.lit(light, n->point, n->normal) != lit;
+                }
+                const glm::dvec3 to = light.type == LightType::spot
+                                          ? glm::normalize(glm::dvec3(light.position) - hit->point)
+                                          : -glm::normalize(glm::dvec3(light.direction));
+                expected += lit ? 0.5 * std::max(to.y, 0.0) : 0.0;
+                shadowed_by[l] += !lit;
+            }
+            if (edge) continue;
+            REQUIRE(fb.pixel(x, y).r == Approx(expected).margin(2e-3));
+        }
+    CHECK(shadowed_by[0] > 100);
+    CHECK(shadowed_by[1] > 100);
+}

@@ -72,7 +72,8 @@ bool drawable(const Object& o) {
 
 struct Renderer::Passes {
     std::vector<ShadowMap> shadow_maps;
-    std::vector<glm::vec3> corners;  // scratch for fitting shadow maps
+    std::vector<facet_shadow_map> shadow_abi;  // the maps as the ABI's contiguous array
+    std::vector<glm::vec3> corners;            // scratch for fitting shadow maps
     AoPass ao;
 };
 
@@ -168,7 +169,10 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         const int maps = render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow_maps,
                                             passes_->corners);
         stats.shadow_passes += uint64_t(maps);
-        call.shadow_maps = maps ? &passes_->shadow_maps[0].abi : nullptr;
+        passes_->shadow_abi.resize(size_t(maps));
+        for (size_t i = 0; i < size_t(maps); ++i)
+            passes_->shadow_abi[i] = passes_->shadow_maps[i].abi;
+        call.shadow_maps = passes_->shadow_abi.data();
         call.shadow_map_count = uint32_t(maps);
         stats.ms_shadow += elapsed_ms(t);
     }
