@@ -105,7 +105,7 @@ class Assembler {
 public:
     Assembler(const DrawContext& dc, const Geometry& g, const Viewport& viewport,
               const CullState& cull)
-        : dc_(dc), g_(g), viewport_(viewport), cull_(cull) {}
+        : dc_(dc), g_(g), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()) {}
 
     void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
         for (size_t t = 0; t < triangles; ++t, idx += 3) {
@@ -115,7 +115,7 @@ public:
                 ++chunk.stats.triangles_invalid;
                 continue;
             }
-            const ClipClass cc = classify(*c[0], *c[1], *c[2], viewport_.guard_ndc());
+            const ClipClass cc = classify(*c[0], *c[1], *c[2], guard_);
             if (cc.reject) {
                 ++chunk.stats.triangles_culled_frustum;
                 continue;
@@ -146,8 +146,7 @@ private:
             in[i].position = v[i].clip;
             std::memcpy(in[i].varyings, v[i].varyings, sizeof(float) * floats);
         }
-        const int n = clip_polygon(in, 3, planes, viewport_.guard_ndc(), floats,
-                                   dc_.interpolation, out);
+        const int n = clip_polygon(in, 3, planes, guard_, floats, dc_.interpolation, out);
         if (n < 3) return SetupResult::clipped_away;
         // Flat varyings keep the first input vertex's value, not a blend.
         for (int k = 0; k < floats; ++k)
@@ -176,6 +175,7 @@ private:
     const Geometry& g_;
     const Viewport& viewport_;
     const CullState& cull_;
+    const double guard_;  // guard-band half-width, NDC
 };
 
 // Vertex stage: every vertex once, kVertexBatch per plugin call (batches in

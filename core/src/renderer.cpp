@@ -71,9 +71,7 @@ bool drawable(const Object& o) {
 }  // namespace
 
 struct Renderer::Passes {
-    std::vector<ShadowMap> shadow_maps;
-    std::vector<facet_shadow_map> shadow_abi;  // the maps as the ABI's contiguous array
-    std::vector<glm::vec3> corners;            // scratch for fitting shadow maps
+    ShadowMaps shadow;
     AoPass ao;
 };
 
@@ -166,14 +164,10 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     }
     if (needs_shadow) {
         const auto t = std::chrono::steady_clock::now();
-        const int maps = render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow_maps,
-                                            passes_->corners);
-        stats.shadow_passes += uint64_t(maps);
-        passes_->shadow_abi.resize(size_t(maps));
-        for (size_t i = 0; i < size_t(maps); ++i)
-            passes_->shadow_abi[i] = passes_->shadow_maps[i].abi;
-        call.shadow_maps = passes_->shadow_abi.data();
-        call.shadow_map_count = uint32_t(maps);
+        render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow);
+        stats.shadow_passes += passes_->shadow.abi.size();
+        call.shadow_maps = passes_->shadow.abi.data();
+        call.shadow_map_count = uint32_t(passes_->shadow.abi.size());
         stats.ms_shadow += elapsed_ms(t);
     }
     if (needs_ao) {

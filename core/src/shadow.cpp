@@ -127,33 +127,31 @@ void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view
 
 }  // namespace
 
-int render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
-                       Renderer& renderer, std::vector<ShadowMap>& maps,
-                       std::vector<glm::vec3>& corners) {
-    caster_corners(casters, corners);
+void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
+                        Renderer& renderer, ShadowMaps& maps) {
+    caster_corners(casters, maps.corners);
     const int size = scene.settings.shadow_map_size;
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
-    int count = 0;
+    maps.abi.clear();
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Light& light = scene.lights[i];
         if (!light.casts_shadow || light.type == LightType::point) continue;
-        if (maps.size() <= size_t(count)) maps.emplace_back();
-        ShadowMap& map = maps[size_t(count++)];
-        facet_shadow_map& sm = map.abi;
+        facet_shadow_map& sm = maps.abi.emplace_back();
+        if (maps.depth.size() < maps.abi.size()) maps.depth.emplace_back();
+        Framebuffer& depth = maps.depth[maps.abi.size() - 1];
         glm::mat4 view, proj;
         if (light.type == LightType::directional)
-            directional(scene, light, corners, aspect, size, sm, view, proj);
+            directional(scene, light, maps.corners, aspect, size, sm, view, proj);
         else
-            spot(light, corners, size, sm, view, proj);
-        if (map.depth.width() != size) map.depth.resize(size, size, false);
-        map.depth.clear(glm::vec4(0.0f), 1.0f);
-        draw_depth(casters, view, proj, renderer, map.depth);
+            spot(light, maps.corners, size, sm, view, proj);
+        if (depth.width() != size) depth.resize(size, size, false);
+        depth.clear(glm::vec4(0.0f), 1.0f);
+        draw_depth(casters, view, proj, renderer, depth);
         sm.light = uint32_t(i);
         sm.width = sm.height = uint32_t(size);
         std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
-        sm.depth = map.depth.depth();
+        sm.depth = depth.depth();
     }
-    return count;
 }
 
 }  // namespace facet

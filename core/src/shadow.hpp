@@ -19,16 +19,17 @@
 
 namespace facet {
 
-struct ShadowMap {
-    facet_shadow_map abi{};
-    Framebuffer depth;
+// The maps of one frame: `abi` is the contiguous array shaders receive, and
+// abi[i].depth points into depth[i]. Storage is reused from frame to frame.
+struct ShadowMaps {
+    std::vector<facet_shadow_map> abi;
+    std::vector<Framebuffer> depth;
+    std::vector<glm::vec3> corners;  // scratch for fitting
 };
 
-// Renders the maps into `maps` (reusing their storage, and `corners` as
-// scratch), one per light with casts_shadow that is directional or spot.
-// Returns how many it rendered.
-int render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
-                       Renderer& renderer, std::vector<ShadowMap>& maps,
-                       std::vector<glm::vec3>& corners);
+// Renders one map per light with casts_shadow that is directional or spot;
+// afterwards maps.abi holds exactly those.
+void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
+                        Renderer& renderer, ShadowMaps& maps);
 
 }  // namespace facet
