@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
 
@@ -71,4 +72,28 @@ TEST_CASE("extreme near/far ratios keep nearby surfaces far away ordered", "[str
         }
         for (int i = 0; i < 64 * 48; ++i) REQUIRE(fb.color()[i] == glm::vec4(1, 0, 0, 1));
     }
+}
+
+TEST_CASE("near-singular and singular model matrices keep normals well defined", "[stress]") {
+    // Flattening an object to nothing along one axis (a common end of an
+    // animation) must not turn its normals into NaN: they tend to the
+    // flattened axis.
+    for (float s : {1.0f, 1e-3f, 1e-20f, 1e-40f, 0.0f}) {
+        INFO("z scale " << s);
+        const glm::mat4 model = glm::scale(glm::mat4(1.0f), glm::vec3(2.0f, 0.5f, s));
+        const glm::mat3 n = normal_matrix(model);
+        const glm::vec3 tilted = glm::normalize(n * glm::normalize(glm::vec3(1, 1, 1)));
+        REQUIRE(std::isfinite(tilted.x));
+        REQUIRE(std::isfinite(tilted.z));
+        if (s <= 1e-3f) CHECK(tilted.z > 0.99f);
+        // Mirroring keeps normals pointing out of the (mirrored) surface.
+        const glm::mat3 m = normal_matrix(glm::scale(glm::mat4(1.0f), glm::vec3(-1, 1, 1)));
+        CHECK((m * glm::vec3(1, 0, 0)).x < 0.0f);
+    }
+    // The same direction as the inverse-transpose wherever that exists.
+    const glm::mat4 skew = glm::mat4(glm::mat3(1.0f, 0.2f, 0.0f, 0.5f, 1.5f, 0.1f, 0.0f, 0.3f, 0.7f));
+    const glm::vec3 a = glm::normalize(normal_matrix(skew) * glm::vec3(0.3f, -0.5f, 0.8f));
+    const glm::vec3 b = glm::normalize(glm::transpose(glm::inverse(glm::mat3(skew))) *
+                                       glm::vec3(0.3f, -0.5f, 0.8f));
+    CHECK(glm::length(a - b) < 1e-6f);
 }

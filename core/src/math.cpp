@@ -63,8 +63,14 @@ glm::mat4 orthographic(float height, float aspect, float near, float far, bool r
     return m;
 }
 
+// The cofactor matrix of M is det(M) times its inverse-transpose, so it maps
+// normals to the same directions (times the sign of det, for mirrors), and
+// unlike the inverse it stays finite when M is singular or nearly so.
 glm::mat3 normal_matrix(const glm::mat4& model) {
-    return glm::transpose(glm::inverse(glm::mat3(model)));
+    const glm::vec3 a(model[0]), b(model[1]), c(model[2]);
+    const float det = glm::dot(a, glm::cross(b, c));
+    const glm::mat3 cofactor(glm::cross(b, c), glm::cross(c, a), glm::cross(a, b));
+    return det < 0.0f ? -cofactor : cofactor;
 }
 
 }  // namespace facet

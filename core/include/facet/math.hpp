@@ -35,7 +35,9 @@ glm::mat4 perspective(float fov_y, float aspect, float near, float far, bool rev
 // Orthographic projection of a box `height` tall centred on the view axis.
 glm::mat4 orthographic(float height, float aspect, float near, float far, bool reversed_z);
 
-// Inverse-transpose of the upper 3x3 of `model`, for transforming normals.
+// Transforms normals by `model`: the inverse-transpose of its upper 3x3 up to
+// a positive scale (normalise the result), computed as the cofactor matrix,
+// which stays finite where the model matrix is singular or nearly so.
 glm::mat3 normal_matrix(const glm::mat4& model);
 
 }  // namespace facet

@@ -224,7 +224,8 @@ struct facet_draw {
     float projection[16];
     float view_projection[16];
     float model_view_projection[16];
-    float normal_matrix[16];       /* inverse-transpose of model (3x3 in a 4x4) */
+    float normal_matrix[16];       /* inverse-transpose of model up to a positive */
+                                   /*   scale (3x3 in a 4x4): normalise normals */
     float camera_position[4];      /* world space, w = 1                     */
     uint32_t light_count;          /* 0 unless FACET_NEED_LIGHTS             */
     const facet_light* lights;
