@@ -96,13 +96,6 @@ Timed render(const Scene& scene, int runs) {
     return t;
 }
 
-// The ray caster's surface at pixel (x, y), if any.
-std::optional<reference::Hit> hit_at(const reference::RayCaster& rc, const Scene& s, int x,
-                                     int y) {
-    glm::dvec3 o, d;
-    reference::RayCaster::camera_ray(s, x + 0.5, y + 0.5, o, d);
-    return rc.first_hit(o, d);
-}
 
 Error shadow_error(Scene scene, size_t light, int runs, double& ms_shadow) {
     const std::vector<Light> all = scene.lights;
@@ -116,7 +109,7 @@ Error shadow_error(Scene scene, size_t light, int runs, double& ms_shadow) {
     for (int y = 0; y < shadowed.image.height(); ++y)
         for (int x = 0; x < shadowed.image.width(); ++x) {
             const float lit = open.image.pixel(x, y).r;
-            const auto hit = hit_at(rc, scene, x, y);
+            const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
             if (lit < 0.01f || !hit) continue;
             const double facet = shadowed.image.pixel(x, y).r / lit;
             acc.add(facet - (rc.lit(scene.lights[0], hit->point, hit->normal) ? 1.0 : 0.0));
@@ -129,7 +122,7 @@ Error ao_error(const Scene& scene, const Timed& t, double radius, int rays) {
     Accumulator acc;
     for (int y = 0; y < t.image.height(); ++y)
         for (int x = 0; x < t.image.width(); ++x)
-            if (const auto hit = hit_at(rc, scene, x, y))
+            if (const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5))
                 acc.add(t.image.pixel(x, y).r -
                         rc.ambient_visibility(hit->point, hit->normal, radius, rays));
     return acc.result();

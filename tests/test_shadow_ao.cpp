@@ -48,13 +48,6 @@ std::string camera(int w, int h) {
            "], shadow_map_size: 1024}\n";
 }
 
-// The ray caster's answer at pixel (x, y): the surface hit, or nothing.
-std::optional<reference::Hit> hit_at(const reference::RayCaster& rc, const Scene& s, double x,
-                                     double y) {
-    glm::dvec3 o, d;
-    reference::RayCaster::camera_ray(s, x, y, o, d);
-    return rc.first_hit(o, d);
-}
 
 // Inside a spot light's full-intensity cone (directional lights: everywhere).
 bool in_inner_cone(const Light& l, const glm::dvec3& p) {
@@ -88,14 +81,14 @@ TEST_CASE("shadow maps classify lit and shadowed points as the ray caster does",
         int lit = 0, dark = 0;
         for (int y = 0; y < fb.height(); ++y)
             for (int x = 0; x < fb.width(); ++x) {
-                const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+                const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
                 if (!hit || hit->object != 0) continue;  // ground only
                 if (!in_inner_cone(l, hit->point)) continue;  // the cone, not a shadow, darkens
                 const bool truth = rc.lit(l, hit->point, hit->normal);
                 // Skip the penumbra band: a neighbour a pixel away disagrees.
                 bool edge = false;
                 for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                    const auto n = hit_at(rc, scene, x + 0.5 + dx, y + 0.5 + dy);
+                    const auto n = rc.camera_hit(scene, x + 0.5 + dx, y + 0.5 + dy);
                     edge |= !n || n->object != 0 || rc.lit(l, n->point, n->normal) != truth;
                 }
                 if (edge) continue;
@@ -177,7 +170,7 @@ TEST_CASE("ambient occlusion: the inside corner of a box is darker than its face
     int n_corner = 0, n_open = 0, n = 0;
     for (int y = 0; y < fb.height(); ++y)
         for (int x = 0; x < fb.width(); ++x) {
-            const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+            const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
             if (!hit) continue;
             const double ssao = fb.pixel(x, y).r;
             const double truth = rc.ambient_visibility(hit->point, hit->normal, 0.5, 256);
@@ -261,7 +254,7 @@ TEST_CASE("shadow.so and ao.so match Lambert plus ambient where nothing occludes
         int checked = 0;
         for (int y = 1; y < fb.height(); y += 3)
             for (int x = 1; x < fb.width(); x += 3) {
-                const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+                const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
                 if (!hit) continue;
                 glm::dvec3 light = ambient;
                 for (const Light& l : scene.lights) {
@@ -305,7 +298,7 @@ TEST_CASE("two shadow-casting lights each cast their own shadow in one frame", "
     int shadowed_by[2] = {0, 0};
     for (int y = 0; y < fb.height(); ++y)
         for (int x = 0; x < fb.width(); ++x) {
-            const auto hit = hit_at(rc, scene, x + 0.5, y + 0.5);
+            const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
             if (!hit || hit->object != 0 || !in_inner_cone(scene.lights[1], hit->point)) continue;
             double expected = 0;
             bool edge = false;
@@ -313,7 +306,7 @@ TEST_CASE("two shadow-casting lights each cast their own shadow in one frame", "
                 const Light& light = scene.lights[l];
                 const bool lit = rc.lit(light, hit->point, hit->normal);
                 for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                    const auto n = hit_at(rc, scene, x + 0.5 + dx, y + 0.5 + dy);
+                    const auto n = rc.camera_hit(scene, x + 0.5 + dx, y + 0.5 + dy);
                     edge |= !n || n->object != 0 || rc.lit(light, n->point, n->normal) != lit;
                 }
                 const glm::dvec3 to = light.type == LightType::spot

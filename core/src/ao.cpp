@@ -1,6 +1,7 @@
 #include "ao.hpp"
 
 #include "internal_shaders.hpp"
+#include "timing.hpp"
 
 #include <glm/gtc/constants.hpp>
 
@@ -12,11 +13,6 @@ namespace facet {
 namespace {
 
 constexpr int kSteps = 4;  // march steps along each direction
-
-double elapsed_ms(std::chrono::steady_clock::time_point since) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
-        .count();
-}
 
 // View-space position of the pre-pass surface at pixel (x, y).
 struct Unproject {

@@ -6,6 +6,7 @@
 #include "clip.hpp"
 #include "geometry.hpp"
 #include "shadow.hpp"
+#include "timing.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -42,11 +43,6 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.depth_compare = s.depth_compare;
     p.depth_write = m.writes_depth();
     return p;
-}
-
-double elapsed_ms(std::chrono::steady_clock::time_point since) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
-        .count();
 }
 
 // AO radius and sample count from the material's `ao_radius` (float) and

@@ -138,6 +138,12 @@ void RayCaster::camera_ray(const Scene& scene, double x, double y, glm::dvec3& o
     dir = glm::dvec3(b) / b.w - origin;
 }
 
+std::optional<Hit> RayCaster::camera_hit(const Scene& scene, double x, double y) const {
+    glm::dvec3 o, d;
+    camera_ray(scene, x, y, o, d);
+    return first_hit(o, d);
+}
+
 bool RayCaster::lit(const Light& light, const glm::dvec3& p, const glm::dvec3& n) const {
     const glm::dvec3 start = p + n * 1e-6;
     if (light.type == LightType::directional)

@@ -38,6 +38,10 @@ public:
     static void camera_ray(const Scene& scene, double x, double y, glm::dvec3& origin,
                            glm::dvec3& dir);
 
+    // The surface the camera sees at window point (x, y) (pixel centres are
+    // at + 0.5), if any.
+    std::optional<Hit> camera_hit(const Scene& scene, double x, double y) const;
+
     // Does point p (normal n) see `light`? (Point lights: towards position.)
     bool lit(const Light& light, const glm::dvec3& p, const glm::dvec3& n) const;
 
