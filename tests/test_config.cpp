@@ -271,7 +271,8 @@ TEST_CASE("a scene loads camera, settings, lights and objects", "[scene]") {
     env.write("materials/shared.yaml", "shader: test\nparams:\n  albedo: ../px.tga\n");
     const facet::Scene s = env.scene(R"(
 camera: {position: [0, 1, 4], target: [0, 1, 0], projection: orthographic, height: 3, near: 0.5, far: 50}
-render: {size: [320, 200], clear_color: [0.1, 0.2, 0.3], depth: standard, cull: front, front_face: cw}
+render: {size: [320, 200], clear_color: [0.1, 0.2, 0.3], depth: standard, cull: front, front_face: cw,
+         msaa: 8, wireframe: true, shadows: false, ao: false}
 lights:
   - {type: spot, position: [0, 3, 0], direction: [0, -2, 0], spot_inner: 10, spot_outer: 15, casts_shadow: true}
 objects:
@@ -287,6 +288,10 @@ objects:
     REQUIRE(s.settings.depth_compare == facet::DepthCompare::less_equal);
     REQUIRE(s.settings.cull == facet::CullMode::front);
     REQUIRE_FALSE(s.settings.front_ccw);
+    REQUIRE(s.settings.msaa == 8);
+    REQUIRE(s.settings.wireframe);
+    REQUIRE_FALSE(s.settings.shadows);
+    REQUIRE_FALSE(s.settings.ao);
     REQUIRE(s.lights.size() == 1);
     REQUIRE(s.lights[0].type == facet::LightType::spot);
     REQUIRE(s.lights[0].direction == glm::vec3(0, -1, 0));
@@ -349,6 +354,8 @@ TEST_CASE("scene values are checked for sense", "[scene]") {
     check("render: {size: [0, 100]}\n", ErrorCode::out_of_range, 1, 17);
     check("render: {size: [100, 20000]}\n", ErrorCode::out_of_range, 1, 22);
     check("render: {depth_compare: lesser}\n", ErrorCode::config_invalid, 1, 25);
+    check("render: {msaa: 3}\n", ErrorCode::out_of_range, 1, 16);
+    check("render: {wireframe: maybe}\n", ErrorCode::wrong_type, 1, 21);
     check("lights:\n  - {direction: [0, 0, 0]}\n", ErrorCode::config_invalid, 2, 17);
     check("lights:\n  - {type: spot, spot_inner: 40, spot_outer: 30}\n", ErrorCode::out_of_range, 2,
           30);

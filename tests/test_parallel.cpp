@@ -71,6 +71,24 @@ TEST_CASE("every demo scene renders bit for bit the same at any thread count", "
     }
 }
 
+TEST_CASE("MSAA and wireframe render bit for bit the same at any thread count", "[parallel][msaa]") {
+    PluginRegistry registry;
+    for (const char* name : {"default.yaml", "scenes/shadow.yaml"}) {
+        INFO(name);
+        Scene scene = small_scene(registry, name);
+        scene.settings.msaa = 4;
+        scene.settings.wireframe = true;
+        Framebuffer one;
+        Renderer(1).render(scene, one);
+        REQUIRE(one.samples() == 4);
+        for (int threads : {2, 3}) {
+            Framebuffer many;
+            Renderer(threads).render(scene, many);
+            CHECK(same_bits(one, many));
+        }
+    }
+}
+
 TEST_CASE("a triangle soup with clipping renders the same at any thread count", "[parallel]") {
     // Overlapping triangles of every size, many crossing the near plane and
     // leaving the screen, blended so that draw order matters.

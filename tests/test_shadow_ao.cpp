@@ -225,6 +225,25 @@ TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visibl
     CHECK(ao.prepasses == 1);
     CHECK(ao.ao_passes == 1);
     CHECK(ao.shadow_passes == 0);
+
+    // The render settings switch the passes off (the viewer's keys do).
+    Scene both = sd.load(camera(64, 48) + lights + "objects:\n" + unlit +
+                         "  - {mesh: cube.obj, material: " + kShadowed + "}\n" +
+                         "  - {mesh: cube.obj, position: [1, 0, 0], material: " + kAoOnly + "}\n");
+    Framebuffer fb;
+    Renderer renderer;
+    const FrameStats on = renderer.render(both, fb);
+    CHECK(on.shadow_passes == 2);
+    CHECK(on.ao_passes == 1);
+    both.settings.shadows = false;
+    const FrameStats no_shadows = renderer.render(both, fb);
+    CHECK(no_shadows.shadow_passes == 0);
+    CHECK(no_shadows.ao_passes == 1);
+    both.settings.ao = false;
+    const FrameStats neither = renderer.render(both, fb);
+    CHECK(neither.shadow_passes == 0);
+    CHECK(neither.prepasses == 0);
+    CHECK(neither.ao_passes == 0);
 }
 
 TEST_CASE("shadow.so and ao.so match Lambert plus ambient where nothing occludes", "[shader]") {

@@ -210,7 +210,8 @@ void draw_tile(const DrawContext& dc, Geometry& g, int tile, int worker) {
     FrameStats& stats = g.worker_stats[size_t(worker)];
     for (const uint32_t entry : g.bins.entries(tile)) {
         const TriangleSetup& t = g.chunks[entry >> 16].setups[entry & 0xFFFFu];
-        rasterize(t, x0, y0, x1, y1, [&](const Block& b) { shade_block(dc, t, b, stats); });
+        rasterize(t, x0, y0, x1, y1, dc.target->samples(),
+                  [&](const Block& b) { shade_block(dc, t, b, stats); });
     }
 }
 
@@ -234,7 +235,7 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     shade_vertices(mesh, shader, abi, g);
     stats.vertices_shaded += mesh.vertex_count();
 
-    const Viewport viewport{target.width(), target.height()};
+    const Viewport viewport{target.width(), target.height(), target.samples()};
     const CullState cull = cull_state(call.state);
     const Assembler assembler(dc, g, viewport, cull);
     g.bins.resize(target.width(), target.height());

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 namespace facet {
 
@@ -126,6 +127,85 @@ void write_pixels(const DrawContext& dc, const Block& b, const float* z, const f
     }
 }
 
+// MSAA: the depth plane's change per pixel in x and y, from the exact
+// edge functions (vertex k+2's weight is edge k over twice the area).
+glm::vec2 depth_gradient(const TriangleSetup& t) {
+    const double scale = double(kSubpixelOne) / double(t.area2);
+    const double dz1 = double(t.z[1]) - t.z[0], dz2 = double(t.z[2]) - t.z[0];
+    return {float((-t.edge[2].dy * dz1 - t.edge[0].dy * dz2) * scale),
+            float((t.edge[2].dx * dz1 + t.edge[0].dx * dz2) * scale)};
+}
+
+// Per-sample depth of one block, and which covered samples pass the depth
+// test: the surviving sample bits go to `passed`, the lanes with any to the
+// result.
+struct SampleDepth {
+    float z[Framebuffer::kMaxSamples][N];
+    uint8_t passed[N];
+};
+
+uint32_t sample_depth_test(const DrawContext& dc, const TriangleSetup& t, const Block& b,
+                           uint32_t mask, SampleDepth& out) {
+    const int n = dc.target->samples(), width = dc.target->width();
+    const float* depth = dc.target->sample_depth();
+    const glm::vec2 dz = depth_gradient(t);
+    uint32_t lanes = 0;
+    for (uint32_t m = mask; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        const float centre = t.z[0] + b.bary[1][i] * (t.z[1] - t.z[0]) +
+                             b.bary[2][i] * (t.z[2] - t.z[0]);
+        const size_t at = (size_t(b.y + i / 4) * width + (b.x + i % 4)) * size_t(n);
+        out.passed[i] = 0;
+        for (uint32_t bits = b.samples[i]; bits; bits &= bits - 1) {
+            const int s = std::countr_zero(bits);
+            const glm::vec2 o = glm::vec2(sample_offset(n, s)) * (1.0f / 16.0f);
+            const float z = std::clamp(centre + dz.x * o.x + dz.y * o.y, 0.0f, 1.0f);
+            out.z[s][i] = z;
+            if (depth_passes(dc.state.depth_compare, z, depth[at + size_t(s)]))
+                out.passed[i] |= uint8_t(1u << s);
+        }
+        lanes |= uint32_t(out.passed[i] != 0) << i;
+    }
+    return lanes;
+}
+
+void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
+                   const float* color, uint32_t mask) {
+    Framebuffer& fb = *dc.target;
+    const int n = fb.samples();
+    for (uint32_t m = mask; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        const size_t at = (size_t(b.y + i / 4) * fb.width() + (b.x + i % 4)) * size_t(n);
+        const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
+        for (uint32_t bits = sd.passed[i]; bits; bits &= bits - 1) {
+            const int s = std::countr_zero(bits);
+            if (dc.state.depth_write) fb.sample_depth()[at + size_t(s)] = sd.z[s][i];
+            if (!dc.state.color_write) continue;
+            glm::vec4& dst = fb.sample_color()[at + size_t(s)];
+            dst = blend(dc.state.blend, src, dst);
+        }
+    }
+}
+
+// Wireframe: blends the wire colour over the lanes within about a pixel of
+// an edge. Lane i lies bary * area2 / length sub-pixels from an edge, where
+// bary is the weight of the vertex opposite it; both triangles of a shared
+// edge draw their own side, so the line is centred on the edge.
+void blend_wire(const DrawContext& dc, const TriangleSetup& t, const Block& b, float* color) {
+    float to_pixels[3];  // per edge k: pixels per unit of the weight of vertex k + 2
+    for (int k = 0; k < 3; ++k) {
+        const double length = std::hypot(double(t.edge[k].dx), double(t.edge[k].dy));
+        to_pixels[k] = float(double(t.area2) / (length * double(kSubpixelOne)));
+    }
+    for (int i = 0; i < N; ++i) {
+        const float d = std::min({b.bary[2][i] * to_pixels[0], b.bary[0][i] * to_pixels[1],
+                                  b.bary[1][i] * to_pixels[2]});
+        const float cover = std::clamp(2.0f * (1.0f - d), 0.0f, 1.0f);  // 1 up to 0.5 px
+        for (int c = 0; c < 3; ++c)
+            color[c * N + i] += cover * (dc.state.wire_color[c] - color[c * N + i]);
+    }
+}
+
 void host_log(int level, const char* shader, const char* message) {
     const spdlog::level::level_enum levels[] = {spdlog::level::debug, spdlog::level::info,
                                                 spdlog::level::warn, spdlog::level::err};
@@ -159,7 +239,10 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
                  FrameStats& stats) {
     alignas(64) float z[N];
     interpolate_depth(t, b, z);
-    const uint32_t mask = depth_test(dc, b, z, b.mask);
+    const bool msaa = dc.target->samples() > 1;
+    SampleDepth sd;
+    const uint32_t mask =
+        msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, b, z, b.mask);
     stats.fragments_depth_rejected += std::popcount(b.mask) - std::popcount(mask);
     if (!mask) return;
 
@@ -177,7 +260,9 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
     dc.shader->desc().fragment(dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += std::popcount(mask);
-    write_pixels(dc, b, z, color, batch.mask & mask);  // a shader may only clear bits
+    if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);
+    if (msaa) write_samples(dc, b, sd, color, batch.mask & mask);  // a shader may only clear bits
+    else write_pixels(dc, b, z, color, batch.mask & mask);
 }
 
 const facet_host* host_services() {

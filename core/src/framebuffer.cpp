@@ -9,20 +9,62 @@
 
 namespace facet {
 
-void Framebuffer::resize(int width, int height, bool with_color) {
+namespace {
+
+bool valid_samples(int n) { return n == 1 || n == 2 || n == 4 || n == 8; }
+
+}  // namespace
+
+glm::ivec2 sample_offset(int n, int s) {
+    static constexpr int kTwo[2][2] = {{4, 4}, {-4, -4}};
+    static constexpr int kFour[4][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
+    static constexpr int kEight[8][2] = {{1, -3}, {-1, 3}, {5, 1},  {-3, -5},
+                                         {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
+    switch (n) {
+        case 2: return {kTwo[s][0], kTwo[s][1]};
+        case 4: return {kFour[s][0], kFour[s][1]};
+        case 8: return {kEight[s][0], kEight[s][1]};
+        default: return {0, 0};
+    }
+}
+
+void Framebuffer::resize(int width, int height, bool with_color, int samples) {
     if (width <= 0 || height <= 0 || width > kMaxSize || height > kMaxSize)
         throw Error(ErrorCode::out_of_range,
                     "framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                         " (each side must be 1.." + std::to_string(kMaxSize) + ")");
+    if (!valid_samples(samples))
+        throw Error(ErrorCode::out_of_range,
+                    "MSAA sample count " + std::to_string(samples) + " (must be 1, 2, 4 or 8)");
     width_ = width;
     height_ = height;
-    color_.resize(with_color ? size_t(width) * height : 0);
-    depth_.resize(size_t(width) * height);
+    samples_ = samples;
+    const size_t pixels = size_t(width) * height;
+    const size_t multi = samples > 1 ? pixels * size_t(samples) : 0;
+    color_.resize(with_color ? pixels : 0);
+    depth_.resize(pixels);
+    sample_color_.resize(with_color ? multi : 0);
+    sample_depth_.resize(multi);
 }
 
 void Framebuffer::clear(const glm::vec4& color, float depth) {
     std::fill(color_.begin(), color_.end(), color);
     std::fill(depth_.begin(), depth_.end(), depth);
+    std::fill(sample_color_.begin(), sample_color_.end(), color);
+    std::fill(sample_depth_.begin(), sample_depth_.end(), depth);
+}
+
+void Framebuffer::resolve() {
+    if (samples_ == 1) return;
+    const size_t n = size_t(samples_);
+    const float weight = 1.0f / float(samples_);
+    for (size_t p = 0; p < depth_.size(); ++p) {
+        depth_[p] = sample_depth_[p * n];
+        if (color_.empty()) continue;
+        glm::vec4 sum(0.0f);
+        for (size_t s = 0; s < n; ++s) sum += sample_color_[p * n + s];
+        color_[p] = sum * weight;
+    }
 }
 
 float linear_to_srgb(float linear) {

@@ -7,6 +7,12 @@
 // the three vertices, computed from the exact integer edge functions.
 //
 // Lane i of a block is pixel (x + i % 4, y + i / 4), as in the plugin ABI.
+//
+// With MSAA (samples > 1) coverage is tested at each of the pixel's sample
+// positions (Framebuffer's sample_offset()) instead of its centre, under the
+// same top-left rule: `samples[i]` has bit s set when lane i's sample s is
+// covered, and a lane is in `mask` when any of its samples is. The weights
+// stay those of the pixel centre, where the shader runs.
 #pragma once
 
 #include "setup.hpp"
@@ -22,28 +28,38 @@ struct Block {
     int x, y;                        // pixel of lane 0 (multiples of 4)
     uint32_t mask;                   // covered lanes inside the bounding box
     float bary[3][FACET_BLOCK_LANES];  // weight of vertex k at lane i
+    uint8_t samples[FACET_BLOCK_LANES];  // MSAA only: covered samples of lane i
 };
 
-// Coverage of the block at (bx, by); fills `block` and returns its mask.
-uint32_t cover_block(const TriangleSetup& t, int bx, int by, Block& block);
+// Coverage of the block at (bx, by) at `samples` samples per pixel (1, 2,
+// 4 or 8); fills `block` and returns its mask.
+uint32_t cover_block(const TriangleSetup& t, int bx, int by, int samples, Block& block);
+inline uint32_t cover_block(const TriangleSetup& t, int bx, int by, Block& block) {
+    return cover_block(t, bx, by, 1, block);
+}
 
 // Calls visit(const Block&) for every block of t's bounding box, within the
 // rectangle [x0, x1] x [y0, y1] (a tile, whose corners are multiples of 4),
 // that the triangle covers at least partly.
 template <class Visit>
-void rasterize(const TriangleSetup& t, int x0, int y0, int x1, int y1, Visit&& visit) {
+void rasterize(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples,
+               Visit&& visit) {
     Block block;
     const int bx0 = std::max(t.x0, x0) & ~3, by0 = std::max(t.y0, y0) & ~3;
     const int bx1 = std::min(t.x1, x1), by1 = std::min(t.y1, y1);
     for (int by = by0; by <= by1; by += FACET_BLOCK_SIZE)
         for (int bx = bx0; bx <= bx1; bx += FACET_BLOCK_SIZE)
-            if (cover_block(t, bx, by, block)) visit(block);
+            if (cover_block(t, bx, by, samples, block)) visit(block);
 }
 
 // The same over the whole bounding box.
 template <class Visit>
+void rasterize(const TriangleSetup& t, int samples, Visit&& visit) {
+    rasterize(t, t.x0, t.y0, t.x1, t.y1, samples, visit);
+}
+template <class Visit>
 void rasterize(const TriangleSetup& t, Visit&& visit) {
-    rasterize(t, t.x0, t.y0, t.x1, t.y1, visit);
+    rasterize(t, t.x0, t.y0, t.x1, t.y1, 1, visit);
 }
 
 }  // namespace facet

@@ -42,6 +42,7 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.blend = m.blend;
     p.depth_compare = s.depth_compare;
     p.depth_write = m.writes_depth();
+    p.wireframe = s.wireframe;
     return p;
 }
 
@@ -102,6 +103,7 @@ FrameStats& FrameStats::operator+=(const FrameStats& o) {
     ms_prepass += o.ms_prepass;
     ms_ao += o.ms_ao;
     ms_main += o.ms_main;
+    ms_post += o.ms_post;
     return *this;
 }
 
@@ -125,7 +127,9 @@ facet_light to_abi(const Light& l) {
 FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
-    if (target.width() != s.width || target.height() != s.height) target.resize(s.width, s.height);
+    if (target.width() != s.width || target.height() != s.height || target.samples() != s.msaa ||
+        !target.has_color())
+        target.resize(s.width, s.height, true, s.msaa);
     target.clear(s.clear_color, s.reversed_z ? 0.0f : 1.0f);
 
     DrawCall call;
@@ -153,8 +157,8 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
             continue;
         }
         const ShaderPlugin& shader = *o.material->plugin;
-        needs_shadow |= shader.needs(FACET_NEED_SHADOW_MAP);
-        if (shader.needs(FACET_NEED_AO) && !needs_ao) needs_ao = o.material.get();
+        needs_shadow |= s.shadows && shader.needs(FACET_NEED_SHADOW_MAP);
+        if (s.ao && shader.needs(FACET_NEED_AO) && !needs_ao) needs_ao = o.material.get();
         if (o.material->blend == BlendMode::opaque) scratch_.opaque.push_back(&o);
         else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
     }
@@ -172,6 +176,9 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);
+    const auto post = std::chrono::steady_clock::now();
+    target.resolve();
+    stats.ms_post += elapsed_ms(post);
     stats.milliseconds = elapsed_ms(start);
     return stats;
 }

@@ -110,7 +110,8 @@ void read_shadow_settings(const yaml::Context& ctx, const YAML::Node& node, Rend
 RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "render",
                     {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
-                     "shadow_map_size", "shadow_distance"});
+                     "shadow_map_size", "shadow_distance", "msaa", "wireframe", "shadows",
+                     "ao"});
     RenderSettings s;
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
@@ -134,6 +135,12 @@ RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
     if (const YAML::Node front = node["front_face"])
         s.front_ccw = yaml::as_enum<bool>(ctx, front, {{"ccw", true}, {"cw", false}});
     read_shadow_settings(ctx, node, s);
+    yaml::read(ctx, node, "msaa", s.msaa);
+    ensure(s.msaa == 1 || s.msaa == 2 || s.msaa == 4 || s.msaa == 8, ctx, where(node, "msaa"),
+           ErrorCode::out_of_range, "msaa must be 1, 2, 4 or 8 samples per pixel");
+    yaml::read(ctx, node, "wireframe", s.wireframe);
+    yaml::read(ctx, node, "shadows", s.shadows);
+    yaml::read(ctx, node, "ao", s.ao);
     return s;
 }
 

@@ -77,8 +77,12 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
     out.area2 = area2 < 0 ? -area2 : area2;
     out.front_facing = front;
 
-    pixel_range(std::min({X[0], X[1], X[2]}), std::max({X[0], X[1], X[2]}), out.x0, out.x1);
-    pixel_range(std::min({Y[0], Y[1], Y[2]}), std::max({Y[0], Y[1], Y[2]}), out.y0, out.y1);
+    // Samples lie less than half a pixel from the centre.
+    const int64_t reach = viewport.samples > 1 ? kSubpixelOne / 2 : 0;
+    pixel_range(std::min({X[0], X[1], X[2]}) - reach, std::max({X[0], X[1], X[2]}) + reach,
+                out.x0, out.x1);
+    pixel_range(std::min({Y[0], Y[1], Y[2]}) - reach, std::max({Y[0], Y[1], Y[2]}) + reach,
+                out.y0, out.y1);
     out.x0 = std::max(out.x0, 0);
     out.y0 = std::max(out.y0, 0);
     out.x1 = std::min(out.x1, viewport.width - 1);

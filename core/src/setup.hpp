@@ -30,6 +30,7 @@ constexpr double kGuardBandPixels = double(1 << 20);
 struct Viewport {
     int width = 0;
     int height = 0;
+    int samples = 1;  // MSAA: the bounding box then reaches every sample position
     // Guard-band half-width in NDC units for this viewport (see clip.hpp).
     double guard_ndc() const;
 };

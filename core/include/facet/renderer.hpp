@@ -57,6 +57,7 @@ struct FrameStats {
     double ms_prepass = 0.0;
     double ms_ao = 0.0;
     double ms_main = 0.0;
+    double ms_post = 0.0;                      // MSAA resolve
 
     FrameStats& operator+=(const FrameStats& o);
 };
@@ -69,6 +70,8 @@ struct PipelineState {
     DepthCompare depth_compare = DepthCompare::greater_equal;
     bool depth_write = true;
     bool color_write = true;  // false: depth only (shadow maps, pre-passes)
+    bool wireframe = false;   // blend each triangle's edges (about 1 pixel) over its colour
+    glm::vec3 wire_color{0.9f, 0.9f, 0.9f};  // linear
 };
 
 // One mesh, one shader, one set of matrices.
@@ -102,10 +105,12 @@ public:
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
 
-    // Resizes `target` to the scene's size if needed, clears it and draws
-    // every visible object. Shadow maps are rendered first only if a visible
-    // material needs them, and the AO pre-pass and AO pass only if one needs
-    // AO; the statistics count the passes that ran.
+    // Resizes `target` to the scene's size and MSAA sample count if needed,
+    // clears it, draws every visible object and resolves the samples. Shadow
+    // maps are rendered first only if a visible material needs them (and
+    // settings.shadows allows), and the AO pre-pass and AO pass only if one
+    // needs AO (and settings.ao allows); the statistics count the passes
+    // that ran.
     FrameStats render(const Scene& scene, Framebuffer& target);
 
     // Draws one mesh into `target` (which must be cleared by the caller).

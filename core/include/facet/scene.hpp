@@ -2,7 +2,8 @@
 //
 //     camera: {position: [0, 1, 3], target: [0, 0.5, 0], fov_y: 45, near: 0.1, far: 100}
 //     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back,
-//              shadow_map_size: 2048, shadow_distance: 20}
+//              shadow_map_size: 2048, shadow_distance: 20, msaa: 4, wireframe: false,
+//              shadows: true, ao: true}
 //     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
 //     lights:
 //       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
@@ -74,6 +75,10 @@ struct RenderSettings {
     bool front_ccw = true;  // counter-clockwise triangles (as seen) face the viewer
     int shadow_map_size = 2048;    // texels per side of each shadow map
     float shadow_distance = 0.0f;  // directional shadows cover the view up to here; 0: far
+    int msaa = 1;                  // samples per pixel: 1, 2, 4 or 8
+    bool wireframe = false;        // draw each triangle's edges over its shading
+    bool shadows = true;           // false: no shadow passes; shaders see no shadow maps
+    bool ao = true;                // false: no AO passes; shaders see full visibility
 };
 
 struct Object {

@@ -1,0 +1,182 @@
+// Multisampling and wireframe through Renderer::draw, against exact and
+// double-precision references: per-sample coverage of shared edges, the
+// resolve, per-sample depth, and the wireframe's distance to each edge.
+#include "support.hpp"
+
+#include <facet/framebuffer.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+#include <vector>
+
+using namespace facet;
+using namespace facet::test;
+
+namespace {
+
+constexpr int W = 64, H = 48;
+
+// `mesh` drawn into a fresh W x H target with `samples` samples, cleared
+// to black and far depth (reversed-Z).
+Framebuffer draw_msaa(const Mesh& mesh, const ShaderPlugin& shader, int samples,
+                      BlendMode blend = BlendMode::opaque, bool wireframe = false) {
+    Framebuffer fb(W, H, true, samples);
+    fb.clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), 0.0f);
+    DrawCall call = clip_space_call(mesh, shader);  // no culling, no depth test
+    call.state.blend = blend;
+    call.state.wireframe = wireframe;
+    call.state.wire_color = glm::vec3(1.0f);
+    FrameStats stats;
+    Renderer(1).draw(call, fb, stats);
+    fb.resolve();
+    return fb;
+}
+
+glm::dvec2 sample_position(int x, int y, int n, int s) {
+    const glm::ivec2 o = sample_offset(n, s);
+    return {x + 0.5 + o.x / 16.0, y + 0.5 + o.y / 16.0};
+}
+
+// A fan of n triangles in NDC around `centre`, rotated by `angle`.
+Mesh fan(int n, float radius, float angle, glm::vec2 centre) {
+    std::vector<glm::vec3> pos{{centre, 0.5f}};
+    std::vector<uint32_t> idx;
+    for (int i = 0; i < n; ++i) {
+        const float a = angle + glm::two_pi<float>() * float(i) / float(n);
+        pos.push_back({centre + radius * glm::vec2(std::cos(a), std::sin(a)), 0.5f});
+        idx.insert(idx.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % n)});
+    }
+    return make_mesh(pos, idx);
+}
+
+glm::dvec2 to_ndc(glm::dvec2 window) { return {window.x / W * 2 - 1, 1 - window.y / H * 2}; }
+
+}  // namespace
+
+TEST_CASE("MSAA: shared edges cover every sample exactly once", "[msaa][watertight]") {
+    static auto shader = plugin<CountShader>();
+    for (int n : {2, 4, 8}) {
+        for (int step = 0; step < 12; ++step) {
+            CAPTURE(n, step);
+            const float r = 0.8f;
+            const glm::vec2 centre(0.017f * float(step % 5), -0.013f * float(step % 3));
+            const int sides = 5 + 3 * step;
+            Framebuffer fb = draw_msaa(fan(sides, r, 0.29f * float(step), centre), *shader, n,
+                                       BlendMode::additive);
+            const double inner = r * std::cos(glm::pi<double>() / sides) - 2.0 / H;
+            for (int y = 0; y < H; ++y)
+                for (int x = 0; x < W; ++x)
+                    for (int s = 0; s < n; ++s) {
+                        const float count = fb.sample_color()[(size_t(y) * W + x) * n + s].r;
+                        REQUIRE(count <= 1.0f);
+                        const glm::dvec2 ndc = to_ndc(sample_position(x, y, n, s));
+                        if (glm::length(ndc - glm::dvec2(centre)) < inner) REQUIRE(count == 1.0f);
+                    }
+        }
+    }
+}
+
+TEST_CASE("MSAA: the resolve gives each pixel its covered fraction", "[msaa]") {
+    static auto shader = plugin<CountShader>();
+    // One big triangle whose long edge crosses the target at a slope no
+    // sample lies on; every other edge is far off screen.
+    const glm::dvec2 a(-20.0, -10.0), b(90.0, 40.3);  // window coordinates
+    const glm::vec3 pa = window_to_ndc(a, W, H), pb = window_to_ndc(b, W, H);
+    const glm::vec3 pc = window_to_ndc({-20.0, 200.0}, W, H);
+    const Mesh mesh = make_mesh({pa, pb, pc}, {0, 1, 2});
+    for (int n : {2, 4, 8}) {
+        CAPTURE(n);
+        const Framebuffer fb = draw_msaa(mesh, *shader, n);
+        int partial = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                int covered = 0;  // samples below the line a-b (y down)
+                for (int s = 0; s < n; ++s) {
+                    const glm::dvec2 p = sample_position(x, y, n, s);
+                    covered += (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x) > 0;
+                }
+                partial += covered > 0 && covered < n;
+                REQUIRE(fb.pixel(x, y).r == float(covered) / float(n));
+            }
+        CHECK(partial > 10);  // the edge really crossed pixels partly
+    }
+}
+
+TEST_CASE("MSAA: depth is tested per sample on the exact depth plane", "[msaa][depth]") {
+    // Two planes crossing along a slanted line: at every sample the nearer
+    // one (larger z, reversed-Z) wins, judged in double precision.
+    const glm::vec3 quad[4] = {window_to_ndc({0, 0}, W, H), window_to_ndc({W, 0}, W, H),
+                               window_to_ndc({W, H}, W, H), window_to_ndc({0, H}, W, H)};
+    auto depth_a = [](glm::dvec2 p) { return 0.2 + 0.6 * p.x / W; };
+    auto depth_b = [](glm::dvec2 p) { return 0.7 - 0.3 * p.x / W + 0.2 * p.y / H; };
+    auto plane = [&](auto depth, glm::vec4 color) {
+        std::vector<glm::vec3> pos;
+        const glm::dvec2 window[4] = {{0, 0}, {W, 0}, {W, H}, {0, H}};
+        for (int i = 0; i < 4; ++i) pos.push_back({quad[i].x, quad[i].y, float(depth(window[i]))});
+        return make_mesh(pos, {0, 1, 2, 0, 2, 3}, std::vector<glm::vec4>(4, color));
+    };
+    const Mesh red = plane(depth_a, {1, 0, 0, 1}), green = plane(depth_b, {0, 1, 0, 1});
+    static auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    for (int n : {4, 8}) {
+        Framebuffer fb(W, H, true, n);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        FrameStats stats;
+        Renderer renderer(1);
+        for (const Mesh* m : {&red, &green}) {
+            DrawCall call = clip_space_call(*m, *shader);
+            call.state.depth_compare = DepthCompare::greater_equal;  // reversed-Z
+            renderer.draw(call, fb, stats);
+        }
+        int checked = 0;
+        double max_error = 0.0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x)
+                for (int s = 0; s < n; ++s) {
+                    const glm::dvec2 p = sample_position(x, y, n, s);
+                    const double za = depth_a(p), zb = depth_b(p);
+                    const size_t at = (size_t(y) * W + x) * n + s;
+                    max_error = std::max(max_error, std::abs(fb.sample_depth()[at] - std::max(za, zb)));
+                    if (std::abs(za - zb) < 1e-5) continue;  // too close to call in float
+                    REQUIRE(fb.sample_color()[at].r == (za > zb ? 1.0f : 0.0f));
+                    ++checked;
+                }
+        INFO("max per-sample depth error " << max_error);
+        CHECK(max_error < 1e-6);
+        CHECK(checked > W * H * n * 9 / 10);
+    }
+}
+
+TEST_CASE("wireframe blends the wire within a pixel of each edge, by exact distance",
+          "[wireframe]") {
+    static auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const glm::dvec2 v[3] = {{5.3, 4.1}, {58.7, 12.2}, {20.4, 44.6}};
+    std::vector<glm::vec3> pos;
+    for (const glm::dvec2& p : v) pos.push_back(window_to_ndc(p, W, H));
+    const Mesh mesh = make_mesh(pos, {0, 1, 2}, std::vector<glm::vec4>(3, {0, 0, 0, 1}));
+    const Framebuffer fb = draw_msaa(mesh, *shader, 1, BlendMode::opaque, true);
+    int on_wire = 0, inside = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const glm::dvec2 c(x + 0.5, y + 0.5);
+            double d = 1e9;  // distance to the nearest edge, in pixels
+            int side = 0;
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec2 a = v[k], b = v[(k + 1) % 3], e = b - a;
+                const double cross = e.x * (c.y - a.y) - e.y * (c.x - a.x);
+                side += cross > 0 ? 1 : cross < 0 ? -1 : 0;
+                d = std::min(d, std::abs(cross) / glm::length(e));
+            }
+            if (std::abs(side) != 3) continue;  // pixel centre outside the triangle
+            ++inside;
+            const double expected = std::clamp(2.0 * (1.0 - d), 0.0, 1.0);
+            CAPTURE(x, y, d);
+            // Vertices snap to 1/256 pixel: allow for that in the distance.
+            REQUIRE(fb.pixel(x, y).r == Approx(expected).margin(2.0 * 2.0 / 256.0));
+            on_wire += d < 0.5;
+        }
+    CHECK(on_wire > 60);
+    CHECK(inside > 500);
+}
