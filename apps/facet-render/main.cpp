@@ -1,12 +1,13 @@
 // facet-render: render a scene headless to a PNG.
 //
-//     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--plugin-path DIR]...
-//                  [--watch [--rebuild]]
+//     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]]
+//                  [--msaa N] [--wireframe] [--plugin-path DIR]... [--watch [--rebuild]]
 //
 // With no scene, renders the default scene (configs/default.yaml). With
 // --watch it keeps running and renders again whenever the scene, a material
 // or a shader plugin changes (hot reload); with --rebuild it also rebuilds a
 // built-in shader when its source under shaders/ changes.
+#include <facet/command_line.hpp>
 #include <facet/error.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/hot_reload.hpp>
@@ -21,7 +22,6 @@
 
 #include <atomic>
 #include <csignal>
-#include <cstdio>
 #include <optional>
 #include <string>
 #include <thread>
@@ -32,6 +32,9 @@ struct Options {
     std::string scene;
     std::string output = "facet.png";
     std::string size;
+    std::string camera;
+    int msaa = 0;  // 0: the scene's
+    bool wireframe = false;
     std::vector<std::string> plugin_paths;
     bool watch = false;
     bool rebuild = false;
@@ -39,15 +42,6 @@ struct Options {
 };
 
 std::atomic<bool> g_stop{false};
-
-// "1280x720" -> width, height; false if malformed.
-bool parse_size(const std::string& text, int& width, int& height) {
-    char x = 0;
-    char rest = 0;
-    return std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) == 3 &&
-           (x == 'x' || x == 'X') && width >= 1 && height >= 1 &&
-           width <= facet::Framebuffer::kMaxSize && height <= facet::Framebuffer::kMaxSize;
-}
 
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
     spdlog::info("rendered {}x{} in {:.2f} ms: {} objects ({} culled), {} triangles in, "
@@ -59,12 +53,15 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                  s.triangles_culled_degenerate, s.triangles_invalid, s.fragments_shaded);
 }
 
-// Renders `scene` to the output PNG, at the --size if one was given.
+// Renders `scene` to the output PNG, with what the command line overrides.
 void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> size) {
     if (size) {
         scene.settings.width = size->x;
         scene.settings.height = size->y;
     }
+    if (!opt.camera.empty()) scene.camera = *facet::parse_camera(opt.camera, scene.camera);
+    if (opt.msaa) scene.settings.msaa = opt.msaa;
+    if (opt.wireframe) scene.settings.wireframe = true;
     facet::Framebuffer framebuffer;
     facet::Renderer renderer;
     const facet::FrameStats stats = renderer.render(scene, framebuffer);
@@ -96,14 +93,15 @@ void watch(const Options& opt, facet::PluginRegistry& registry, facet::Scene& sc
 
 int run(const Options& opt) {
     std::optional<glm::ivec2> size;
-    if (!opt.size.empty()) {
-        glm::ivec2 s;
-        if (!parse_size(opt.size, s.x, s.y)) {
-            spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
-                          facet::Framebuffer::kMaxSize, opt.size);
-            return 2;
-        }
-        size = s;
+    if (!opt.size.empty() && !(size = facet::parse_size(opt.size))) {
+        spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
+                      facet::Framebuffer::kMaxSize, opt.size);
+        return 2;
+    }
+    if (!opt.camera.empty() && !facet::parse_camera(opt.camera, facet::Camera{})) {
+        spdlog::error("--camera: expected X,Y,Z,TX,TY,TZ[,FOV] (position, target, degrees), "
+                      "got '{}'", opt.camera);
+        return 2;
     }
     facet::PluginRegistry registry;
     for (const std::string& dir : opt.plugin_paths) registry.add_scene_path(dir);
@@ -123,6 +121,11 @@ int main(int argc, char** argv) {
     app.add_option("scene", opt.scene, "scene file (YAML); default: the default scene");
     app.add_option("-o,--output", opt.output, "output PNG")->capture_default_str();
     app.add_option("--size", opt.size, "image size WxH, overriding the scene's");
+    app.add_option("--camera", opt.camera,
+                   "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");
+    app.add_option("--msaa", opt.msaa, "samples per pixel, overriding the scene's")
+        ->check(CLI::IsMember({1, 2, 4, 8}));
+    app.add_flag("--wireframe", opt.wireframe, "draw triangle edges over the shading");
     app.add_option("--plugin-path", opt.plugin_paths, "extra folder to search for shaders");
     app.add_flag("--watch", opt.watch, "keep running; render again when files change");
     app.add_flag("--rebuild", opt.rebuild, "with --watch: rebuild built-in shaders on edit")

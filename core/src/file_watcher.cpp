@@ -62,13 +62,20 @@ struct FileWatcher::Impl {
 void FileWatcher::Impl::drain_inotify() {
     alignas(inotify_event) char buffer[16384];
     const ssize_t n = read(inotify_fd, buffer, sizeof buffer);
-    std::lock_guard lock(mutex);
-    for (ssize_t at = 0; at < n;) {
-        const auto* e = reinterpret_cast<const inotify_event*>(buffer + at);
-        auto folder = watches.find(e->wd);
-        if (folder != watches.end() && e->len > 0) changes.insert(folder->second / e->name);
-        at += ssize_t(sizeof(inotify_event) + e->len);
+    bool changed = false;
+    {
+        std::lock_guard lock(mutex);
+        for (ssize_t at = 0; at < n;) {
+            const auto* e = reinterpret_cast<const inotify_event*>(buffer + at);
+            auto folder = watches.find(e->wd);
+            if (folder != watches.end() && e->len > 0) {
+                changes.insert(folder->second / e->name);
+                changed = true;
+            }
+            at += ssize_t(sizeof(inotify_event) + e->len);
+        }
     }
+    if (changed && options.on_change) options.on_change();
 }
 
 void FileWatcher::Impl::run_inotify() {
@@ -86,9 +93,11 @@ void FileWatcher::Impl::poll_once() {
         std::lock_guard lock(mutex);
         for (const auto& [folder, _] : polled) folders.push_back(folder);
     }
+    bool changed = false;
     for (const fs::path& folder : folders) {
         std::map<fs::path, Stamp> now = listing(folder);
         std::lock_guard lock(mutex);
+        const size_t queued = changes.size();
         std::map<fs::path, Stamp>& before = polled[folder];
         for (const auto& [path, stamp] : now) {
             auto it = before.find(path);
@@ -97,7 +106,9 @@ void FileWatcher::Impl::poll_once() {
         for (const auto& [path, _] : before)
             if (!now.count(path)) changes.insert(path);
         before = std::move(now);
+        changed |= changes.size() != queued;
     }
+    if (changed && options.on_change) options.on_change();
 }
 
 void FileWatcher::Impl::run_polling() {

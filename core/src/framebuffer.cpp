@@ -83,7 +83,13 @@ uint8_t linear_to_srgb8(float linear) {
 }
 
 std::vector<uint8_t> Framebuffer::resolve_srgb8() const {
-    std::vector<uint8_t> out(color_.size() * 4);
+    std::vector<uint8_t> out;
+    resolve_srgb8(out);
+    return out;
+}
+
+void Framebuffer::resolve_srgb8(std::vector<uint8_t>& out) const {
+    out.resize(color_.size() * 4);
     for (size_t i = 0; i < color_.size(); ++i) {
         const glm::vec4& c = color_[i];
         out[4 * i + 0] = linear_to_srgb8(c.r);
@@ -92,7 +98,6 @@ std::vector<uint8_t> Framebuffer::resolve_srgb8() const {
         const float a = std::clamp(std::isnan(c.a) ? 0.0f : c.a, 0.0f, 1.0f);
         out[4 * i + 3] = static_cast<uint8_t>(std::lround(a * 255.0f));
     }
-    return out;
 }
 
 void Framebuffer::write_png(const std::filesystem::path& path) const {

@@ -32,7 +32,8 @@ namespace facet {
     X(mesh_load_failed, "mesh failed to load")                               \
     X(mesh_invalid, "mesh is invalid")                                       \
     X(texture_load_failed, "texture failed to load")                         \
-    X(output_failed, "could not write output")
+    X(output_failed, "could not write output")                               \
+    X(display_failed, "could not open a window")
 
 enum class ErrorCode {
 #define FACET_ERROR_ENUM(id, text) id,

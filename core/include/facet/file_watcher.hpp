@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <set>
 #include <vector>
@@ -26,6 +27,9 @@ public:
     struct Options {
         bool force_polling = false;
         std::chrono::milliseconds poll_interval{100};
+        // Called on the watcher's thread whenever a change is queued, so a
+        // host can sleep until then (a viewer wakes its event loop).
+        std::function<void()> on_change;
     };
 
     FileWatcher();

@@ -60,6 +60,8 @@ public:
 
     // 8-bit sRGB RGBA, row-major. Alpha is stored linearly.
     std::vector<uint8_t> resolve_srgb8() const;
+    // The same into `out`, reusing its memory (a viewer's steady frames).
+    void resolve_srgb8(std::vector<uint8_t>& out) const;
     // Writes resolve_srgb8() as PNG; throws Error(output_failed).
     void write_png(const std::filesystem::path& path) const;
 

@@ -71,6 +71,13 @@ public:
     // Events since the last call, oldest first. Each is also logged.
     std::vector<ReloadEvent> take_events();
 
+    // True while a changed file waits to settle: keep calling update().
+    bool pending() const { return !pending_.empty(); }
+
+    // Watches the folders of the scene's files again; call after adding a
+    // material file to scene.material_files (a viewer swapping materials).
+    void rewatch() { watch_scene(); }
+
     FileWatcher::Backend backend() const { return watcher_.backend(); }
 
 private:

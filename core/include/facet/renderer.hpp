@@ -71,7 +71,7 @@ struct PipelineState {
     bool depth_write = true;
     bool color_write = true;  // false: depth only (shadow maps, pre-passes)
     bool wireframe = false;   // blend each triangle's edges (about 1 pixel) over its colour
-    glm::vec3 wire_color{0.9f, 0.9f, 0.9f};  // linear
+    glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
 };
 
 // One mesh, one shader, one set of matrices.

@@ -1,0 +1,214 @@
+// The viewer's input: keys, mouse, window events and dropped files.
+#include "viewer.hpp"
+
+#include <facet/error.hpp>
+#include <facet/material.hpp>
+
+#include <algorithm>
+
+namespace facet::view {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr float kDegreesPerPoint = 0.3f;
+
+// configs/materials/*.yaml, sorted, as canonical paths.
+std::vector<fs::path> material_files(const fs::path& folder) {
+    std::vector<fs::path> out;
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder, ec))
+        if (e.path().extension() == ".yaml") out.push_back(fs::weakly_canonical(e.path()));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+int next_msaa(int samples) { return samples >= 8 ? 1 : samples * 2; }
+
+}  // namespace
+
+bool Viewer::handle(const SDL_Event& e) {
+    switch (e.type) {
+        case SDL_QUIT: return false;
+        case SDL_KEYDOWN: return handle_key(e.key);
+        case SDL_KEYUP: hold(e.key.keysym.sym, -1); break;
+        case SDL_MOUSEMOTION: handle_drag(e.motion); break;
+        case SDL_MOUSEWHEEL:
+            controller_.zoom(float(e.wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -e.wheel.y
+                                                                                : e.wheel.y));
+            scene_dirty_ = true;
+            break;
+        case SDL_WINDOWEVENT: handle_window(e.window); break;
+        case SDL_DROPFILE:
+            handle_drop(e.drop.file);
+            SDL_free(e.drop.file);
+            break;
+        default: break;  // includes the file watcher's wake-up
+    }
+    return true;
+}
+
+// Fly keys are tracked from events (not SDL's keyboard state), so synthetic
+// events drive them too.
+void Viewer::hold(SDL_Keycode key, int pressed) {
+    glm::ivec3 axis(0);
+    switch (key) {
+        case SDLK_d: axis.x = 1; break;
+        case SDLK_a: axis.x = -1; break;
+        case SDLK_SPACE: axis.y = 1; break;
+        case SDLK_LSHIFT:
+        case SDLK_RSHIFT: axis.y = -1; break;
+        case SDLK_w: axis.z = 1; break;
+        case SDLK_s: axis.z = -1; break;
+        default: return;
+    }
+    held_ = glm::clamp(held_ + axis * pressed, glm::ivec3(-1), glm::ivec3(1));
+    if (pressed > 0) last_flight_ = std::chrono::steady_clock::now();
+}
+
+void Viewer::advance_flight() {
+    const auto now = std::chrono::steady_clock::now();
+    const float seconds = std::min(0.1f, std::chrono::duration<float>(now - last_flight_).count());
+    last_flight_ = now;
+    if (!controller_.flying() || held_ == glm::ivec3(0)) return;
+    controller_.fly(glm::vec3(held_), seconds);
+    scene_dirty_ = true;
+}
+
+bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
+    if (!key.repeat) hold(key.keysym.sym, 1);
+    const bool shift = key.keysym.mod & KMOD_SHIFT;
+    bool redraw = true;  // false: only the overlay changes
+    switch (key.keysym.sym) {
+        case SDLK_ESCAPE: return false;
+        case SDLK_h:
+        case SDLK_F1: show_help_ = !show_help_; redraw = false; break;
+        case SDLK_o: show_overlay_ = !show_overlay_; redraw = false; break;
+        case SDLK_r: controller_.reset(); held_ = glm::ivec3(0); break;
+        case SDLK_f: controller_.set_flying(!controller_.flying()); redraw = false; break;
+        case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS: controller_.faster(); redraw = false; break;
+        case SDLK_MINUS: case SDLK_KP_MINUS: controller_.slower(); redraw = false; break;
+        case SDLK_TAB: select_next(); redraw = false; break;
+        case SDLK_m: cycle_material(shift ? -1 : 1); break;
+        case SDLK_l: settings_.wireframe = !settings_.wireframe; break;
+        case SDLK_n: settings_.msaa = next_msaa(settings_.msaa); break;
+        case SDLK_1: settings_.shadows = !settings_.shadows; break;
+        case SDLK_2: settings_.ao = !settings_.ao; break;
+        case SDLK_p:
+        case SDLK_F12: take_screenshot(); redraw = false; break;
+        default: return true;
+    }
+    if (redraw) scene_dirty_ = true;
+    overlay_dirty_ = true;
+    return true;
+}
+
+void Viewer::take_screenshot() {
+    const fs::path path = screenshot_name();
+    try {
+        save_screenshot(path);
+        message("saved " + path.string(), false);
+    } catch (const Error& e) {
+        message(e.what(), true);
+    }
+}
+
+// Left drag orbits (looks, when flying); right or middle drag, or shift with
+// left, pans.
+void Viewer::handle_drag(const SDL_MouseMotionEvent& m) {
+    const float dx = float(m.xrel), dy = float(m.yrel);
+    const bool left = m.state & SDL_BUTTON_LMASK;
+    const bool pan = (m.state & (SDL_BUTTON_RMASK | SDL_BUTTON_MMASK)) ||
+                     (left && (SDL_GetModState() & KMOD_SHIFT));
+    if (pan) {
+        int height = 0;
+        SDL_GetWindowSize(window_, nullptr, &height);
+        controller_.pan(dx, dy, float(height));
+    } else if (left && controller_.flying()) {
+        controller_.look(-dx * kDegreesPerPoint, dy * kDegreesPerPoint);
+    } else if (left) {
+        controller_.orbit(-dx * kDegreesPerPoint, dy * kDegreesPerPoint);
+    } else {
+        return;  // a plain move changes nothing
+    }
+    scene_dirty_ = true;
+}
+
+void Viewer::handle_window(const SDL_WindowEvent& w) {
+    switch (w.event) {
+        case SDL_WINDOWEVENT_SIZE_CHANGED: scene_dirty_ = true; break;
+        case SDL_WINDOWEVENT_EXPOSED: overlay_dirty_ = true; break;
+        case SDL_WINDOWEVENT_FOCUS_LOST: held_ = glm::ivec3(0); break;
+        default: break;
+    }
+}
+
+void Viewer::handle_drop(const char* file) {
+    const fs::path path(file ? file : "");
+    if (path.extension() != ".yaml" && path.extension() != ".yml") {
+        message("not a scene file (.yaml): " + path.string(), true);
+        return;
+    }
+    open_scene(path);
+}
+
+void Viewer::open_scene(const fs::path& path) {
+    try {
+        adopt_scene(load_scene(path, registry_));
+        message("opened " + path.string(), false);
+    } catch (const Error& e) {
+        message(std::string(e.what()) + " (keeping the current scene)", true);
+    }
+}
+
+void Viewer::select_next() {
+    if (scene_.objects.empty()) return;
+    selected_ = (selected_ + 1) % int(scene_.objects.size());
+    update_selected_label();
+}
+
+void Viewer::update_selected_label() {
+    if (scene_.objects.empty()) {
+        info_.selected = "(no objects)";
+        return;
+    }
+    const Object& o = scene_.objects[size_t(selected_)];
+    const std::string name = o.name.empty() ? "object " + std::to_string(selected_ + 1) : o.name;
+    const std::string material =
+        o.material ? fs::path(o.material->source).filename().string() : "(none)";
+    info_.selected = name + ": " + material;
+    overlay_dirty_ = true;
+}
+
+// Gives the selected object the next (step 1) or previous (-1) material
+// file of the materials folder. A file that fails to load is reported and
+// skipped over on the next press; the object keeps its material.
+void Viewer::cycle_material(int step) {
+    const std::vector<fs::path> files = material_files(options_.materials);
+    if (scene_.objects.empty() || files.empty()) {
+        message("no materials in " + options_.materials.string(), true);
+        return;
+    }
+    Object& object = scene_.objects[size_t(selected_)];
+    const fs::path current = object.material ? fs::weakly_canonical(object.material->source) : "";
+    const auto at = std::find(files.begin(), files.end(), current);
+    const int n = int(files.size());
+    const int index = at == files.end() ? (step > 0 ? 0 : n - 1)
+                                        : ((int(at - files.begin()) + step) % n + n) % n;
+    const fs::path& file = files[size_t(index)];
+    try {
+        std::shared_ptr<Material>& shared = scene_.material_files[file];
+        if (!shared) shared = load_material(file, registry_, textures_);
+        object.material = shared;
+    } catch (const Error& e) {
+        scene_.material_files.erase(file);
+        message(e.what(), true);
+        return;
+    }
+    reload_->rewatch();
+    update_selected_label();
+    message(info_.selected, false);
+}
+
+}  // namespace facet::view

@@ -1,0 +1,83 @@
+// facet-view: the SDL2 viewer.
+//
+//     facet-view [SCENE.yaml] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]] [--msaa N]
+//                [--threads N] [--plugin-path DIR]... [--rebuild]
+//                [--frames N [--screenshot out.png]]
+//
+// With no scene it opens the default scene. --frames renders N frames and
+// exits (with --screenshot, saving the last one first): scripted runs and
+// tests. Keys and mouse: press H in the window, or see README.md.
+#include "viewer.hpp"
+
+#include <facet/command_line.hpp>
+#include <facet/error.hpp>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+namespace {
+
+struct Script {
+    int frames = 0;
+    std::string screenshot;
+};
+
+int run(facet::view::Options options, const Script& script) {
+    facet::view::Viewer viewer(std::move(options));
+    if (script.frames <= 0) {
+        viewer.run();
+        return 0;
+    }
+    for (int i = 0; i < script.frames; ++i) {
+        viewer.invalidate();
+        if (!viewer.pump()) break;
+    }
+    if (!script.screenshot.empty()) {
+        viewer.save_screenshot(script.screenshot);
+        spdlog::info("wrote {}", script.screenshot);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    facet::view::Options options;
+    Script script;
+    std::string size;
+    bool verbose = false;
+    CLI::App app{"facet-view: an interactive viewer for facet scenes"};
+    app.add_option("scene", options.scene, "scene file (YAML); default: the default scene");
+    app.add_option("--size", size, "window size WxH in points; default: the scene's size");
+    app.add_option("--camera", options.camera,
+                   "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");
+    app.add_option("--msaa", options.msaa, "samples per pixel, overriding the scene's")
+        ->check(CLI::IsMember({1, 2, 4, 8}));
+    app.add_option("--threads", options.threads, "render threads; 0: one per hardware thread")
+        ->check(CLI::Range(0, 256));
+    app.add_option("--plugin-path", options.plugin_paths, "extra folder to search for shaders");
+    app.add_flag("--rebuild", options.rebuild, "rebuild built-in shaders when their sources change");
+    app.add_option("--frames", script.frames, "render N frames, then exit");
+    app.add_option("--screenshot", script.screenshot, "with --frames: save the last frame as PNG")
+        ->needs("--frames");
+    app.add_option("--screenshot-dir", options.screenshots, "where P saves screenshots")
+        ->capture_default_str();
+    app.add_flag("-v,--verbose", verbose, "log debug messages");
+    CLI11_PARSE(app, argc, argv);
+    spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
+    spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+    if (!size.empty() && !(options.size = facet::parse_size(size))) {
+        spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
+                      facet::Framebuffer::kMaxSize, size);
+        return 2;
+    }
+    try {
+        return run(std::move(options), script);
+    } catch (const facet::Error& e) {
+        spdlog::error("{}", e.what());
+    } catch (const std::exception& e) {
+        spdlog::error("unexpected error: {}", e.what());
+    }
+    return 1;
+}

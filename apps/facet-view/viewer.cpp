@@ -1,0 +1,268 @@
+// The viewer's window, loop and frames. Input handling is in input.cpp.
+#include "viewer.hpp"
+
+#include <facet/command_line.hpp>
+#include <facet/error.hpp>
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <ctime>
+
+namespace facet::view {
+
+namespace {
+
+constexpr auto kMessageTime = std::chrono::seconds(5);
+
+// An SDL event type of our own: "a watched file changed", pushed from the
+// file watcher's thread (SDL_PushEvent is thread-safe) to end SDL_WaitEvent.
+Uint32 wake_event() {
+    static const Uint32 type = SDL_RegisterEvents(1);
+    return type;
+}
+
+void wake() {
+    SDL_Event e{};
+    e.type = wake_event();
+    SDL_PushEvent(&e);
+}
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+Scene load_or_default(const Options& o, PluginRegistry& registry, std::string& error) {
+    if (!o.scene.empty()) {
+        try {
+            return load_scene(o.scene, registry);
+        } catch (const Error& e) {
+            error = std::string(e.what()) + " (showing the default scene)";
+        }
+    }
+    return load_scene(default_scene_path(), registry);
+}
+
+}  // namespace
+
+Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(options_.threads) {
+    for (const std::string& dir : options_.plugin_paths) registry_.add_scene_path(dir);
+    if (options_.materials.empty()) options_.materials = default_scene_path().parent_path() / "materials";
+    std::string error;
+    adopt_scene(load_or_default(options_, registry_, error));
+    if (!error.empty()) message(error, true);
+    if (options_.msaa) settings_.msaa = options_.msaa;
+    if (!options_.camera.empty()) {
+        if (const auto camera = parse_camera(options_.camera, scene_.camera)) controller_.reset(*camera);
+        else message("--camera: expected X,Y,Z,TX,TY,TZ[,FOV]; using the scene's camera", true);
+    }
+
+    if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0)
+        throw Error(ErrorCode::display_failed, SDL_GetError());
+    const glm::ivec2 size = options_.size.value_or(glm::ivec2(settings_.width, settings_.height));
+    window_ = SDL_CreateWindow("facet-view", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, size.x,
+                               size.y, SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
+    if (window_) sdl_renderer_ = SDL_CreateRenderer(window_, -1, 0);
+    if (!sdl_renderer_) {
+        const std::string why = SDL_GetError();
+        if (window_) SDL_DestroyWindow(window_);
+        SDL_QuitSubSystem(SDL_INIT_VIDEO);
+        throw Error(ErrorCode::display_failed, why);
+    }
+    resize_texture();
+
+    HotReload::Options reload;
+    reload.watcher.on_change = wake;
+    reload_ = std::make_unique<HotReload>(registry_, scene_, reload);
+    if (options_.rebuild) {
+        FileWatcher::Options watch;
+        watch.on_change = wake;
+        rebuilder_ = std::make_unique<ShaderRebuilder>(
+            built_in_shader_sources(), ShaderRebuilder::cmake_target(build_folder()), watch);
+    }
+}
+
+Viewer::~Viewer() {
+    reload_.reset();  // stop the watcher thread before SDL goes
+    rebuilder_.reset();
+    if (texture_) SDL_DestroyTexture(texture_);
+    SDL_DestroyRenderer(sdl_renderer_);
+    SDL_DestroyWindow(window_);
+    SDL_QuitSubSystem(SDL_INIT_VIDEO);
+}
+
+// Takes `fresh` as the scene: the camera goes home to the file's camera,
+// the viewer's toggles start from the file's settings.
+void Viewer::adopt_scene(Scene fresh) {
+    scene_ = std::move(fresh);
+    settings_ = scene_.settings;
+    if (options_.msaa) settings_.msaa = options_.msaa;
+    controller_.reset(scene_.camera);
+    selected_ = 0;
+    if (reload_) reload_->rewatch();
+    if (window_)
+        SDL_SetWindowTitle(window_, ("facet-view - " + scene_.source.filename().string()).c_str());
+    update_selected_label();
+    scene_dirty_ = true;
+}
+
+void Viewer::message(std::string text, bool error, bool log) {
+    if (log && error) spdlog::error("{}", text);
+    else if (log) spdlog::info("{}", text);
+    messages_.push_back({std::move(text), error, std::chrono::steady_clock::now() + kMessageTime});
+    if (messages_.size() > 8) messages_.erase(messages_.begin());
+    overlay_dirty_ = true;
+}
+
+void Viewer::run() {
+    while (true) {
+        const int wait = wait_ms();
+        SDL_Event e;
+        const bool got = wait < 0 ? SDL_WaitEvent(&e) : SDL_WaitEventTimeout(&e, wait);
+        if (got && !handle(e)) return;
+        if (!pump()) return;
+    }
+}
+
+bool Viewer::pump() {
+    SDL_Event e;
+    while (SDL_PollEvent(&e))
+        if (!handle(e)) return false;
+    if (!frame()) ++idle_wakeups_;
+    return true;
+}
+
+// Forever when idle; otherwise until the next thing that needs a frame.
+int Viewer::wait_ms() const {
+    if (scene_dirty_ || overlay_dirty_) return 0;
+    if (controller_.flying() && held_ != glm::ivec3(0)) return 1;  // moving: as fast as it renders
+    if (reload_->pending()) return 20;  // a changed file is settling
+    if (building_) return 200;
+    int wait = -1;
+    const auto now = std::chrono::steady_clock::now();
+    for (const Message& m : messages_) {
+        if (m.until <= now) continue;
+        const int left = int(std::chrono::duration_cast<std::chrono::milliseconds>(m.until - now).count()) + 1;
+        wait = wait < 0 ? left : std::min(wait, left);  // redraw when it fades
+    }
+    return wait;
+}
+
+void Viewer::apply_reload() {
+    const Camera before = scene_.camera;
+    if (reload_->update()) {
+        scene_dirty_ = true;
+        // A reloaded scene file keeps the viewer's camera unless the file's
+        // camera itself changed.
+        const Camera& after = scene_.camera;
+        if (after.position != before.position || after.target != before.target ||
+            after.fov_y != before.fov_y)
+            controller_.reset(after);
+        const RenderSettings toggles = settings_;
+        settings_ = scene_.settings;
+        settings_.msaa = toggles.msaa;
+        settings_.wireframe = toggles.wireframe;
+        settings_.shadows = toggles.shadows;
+        settings_.ao = toggles.ao;
+        selected_ = std::min(selected_, std::max(0, int(scene_.objects.size()) - 1));
+        update_selected_label();
+    }
+    for (const ReloadEvent& e : reload_->take_events()) message(e.message, e.refused(), false);
+    if (!rebuilder_) return;
+    for (const ReloadEvent& e : rebuilder_->update()) {  // logged by the rebuilder
+        building_ = e.kind == ReloadEvent::Kind::build_started;
+        message(e.message, e.refused(), false);
+    }
+}
+
+bool Viewer::frame() {
+    apply_reload();
+    advance_flight();
+    const bool rendered = scene_dirty_;
+    if (scene_dirty_) render();
+    if (scene_dirty_ || overlay_dirty_) present();
+    scene_dirty_ = overlay_dirty_ = false;
+    return rendered;
+}
+
+void Viewer::render() {
+    const auto start = std::chrono::steady_clock::now();
+    int w = 0, h = 0;
+    SDL_GetRendererOutputSize(sdl_renderer_, &w, &h);  // pixels, not points (HiDPI)
+    settings_.width = std::clamp(w, 1, Framebuffer::kMaxSize);
+    settings_.height = std::clamp(h, 1, Framebuffer::kMaxSize);
+    scene_.settings = settings_;
+    scene_.camera = controller_.camera();
+    info_.stats = renderer_.render(scene_, framebuffer_);
+    framebuffer_.resolve_srgb8(image_);
+    ++frames_;
+    info_.threads = renderer_.threads();
+    info_.settings = settings_;
+    info_.shadows_needed = info_.ao_needed = false;
+    for (const Object& o : scene_.objects) {
+        if (!o.visible || !o.material || !o.material->plugin) continue;
+        info_.shadows_needed |= o.material->plugin->needs(FACET_NEED_SHADOW_MAP);
+        info_.ao_needed |= o.material->plugin->needs(FACET_NEED_AO);
+    }
+    info_.frame_ms = ms_since(start);
+}
+
+void Viewer::present() {
+    int w = 0, h = 0;
+    SDL_GetRendererOutputSize(sdl_renderer_, &w, &h);
+    if (glm::ivec2(w, h) != texture_size_) resize_texture();
+    if (image_.size() != size_t(texture_size_.x) * texture_size_.y * 4) {
+        scene_dirty_ = true;  // the window changed since the last render
+        return;
+    }
+    shown_ = image_;
+    int points_w = 0;
+    SDL_GetWindowSize(window_, &points_w, nullptr);
+    const int scale = std::max(1, (w + points_w / 2) / std::max(1, points_w)) *
+                      (h >= 1200 ? 2 : 1);  // HiDPI, and large windows
+    ImageView view{shown_.data(), texture_size_.x, texture_size_.y};
+    info_.idle_wakeups = idle_wakeups_;
+    info_.flying = controller_.flying();
+    info_.fly_speed = controller_.speed();
+    if (show_overlay_) {
+        const int y = 4 * scale + draw_panel(view, 4 * scale, 4 * scale, stats_text(info_),
+                                             {235, 235, 235, 255}, scale);
+        draw_messages(view, 4 * scale, y + 2 * scale, messages_, scale);
+    }
+    if (show_help_)
+        draw_panel(view, 4 * scale, std::max(0, h - text_height(help_text(), scale) - 10 * scale),
+                   help_text(), {255, 230, 150, 255}, scale);
+    SDL_UpdateTexture(texture_, nullptr, shown_.data(), texture_size_.x * 4);
+    SDL_RenderClear(sdl_renderer_);
+    SDL_RenderCopy(sdl_renderer_, texture_, nullptr, nullptr);
+    SDL_RenderPresent(sdl_renderer_);
+}
+
+void Viewer::resize_texture() {
+    int w = 0, h = 0;
+    SDL_GetRendererOutputSize(sdl_renderer_, &w, &h);
+    w = std::clamp(w, 1, Framebuffer::kMaxSize);
+    h = std::clamp(h, 1, Framebuffer::kMaxSize);
+    if (texture_) SDL_DestroyTexture(texture_);
+    texture_ = SDL_CreateTexture(sdl_renderer_, SDL_PIXELFORMAT_RGBA32,
+                                 SDL_TEXTUREACCESS_STREAMING, w, h);
+    if (!texture_) throw Error(ErrorCode::display_failed, SDL_GetError());
+    texture_size_ = {w, h};
+    scene_dirty_ = true;
+}
+
+void Viewer::save_screenshot(const std::filesystem::path& path) const {
+    framebuffer_.write_png(path);
+}
+
+std::filesystem::path Viewer::screenshot_name() const {
+    const std::time_t now = std::time(nullptr);
+    char stamp[32];
+    std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
+    std::filesystem::path path = options_.screenshots / (std::string("facet-") + stamp + ".png");
+    for (int n = 2; std::filesystem::exists(path); ++n)
+        path = options_.screenshots / (std::string("facet-") + stamp + "-" + std::to_string(n) + ".png");
+    return path;
+}
+
+}  // namespace facet::view

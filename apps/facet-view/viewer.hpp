@@ -1,0 +1,144 @@
+// facet-view: an SDL2 window onto facet's renderer.
+//
+// The viewer keeps one Scene and renders it with the core into a
+// Framebuffer, then shows it through an SDL streaming texture with the
+// overlay drawn over it by the core's bitmap font. It renders only when
+// something changed (camera, window size, a key that changes what is drawn,
+// a hot-reloaded plugin or config); otherwise it sleeps in SDL_WaitEvent,
+// woken by input or by the file watcher, and uses no CPU.
+//
+// Bad input never stops it: a scene that fails to load at start falls back
+// to the default scene, a dropped or reloaded file that fails leaves the
+// last good state rendering, and every error shows in the overlay and the
+// log.
+//
+// Only this folder touches SDL; the core stays free of any window system.
+#pragma once
+
+#include "camera_controller.hpp"
+#include "overlay.hpp"
+
+#include <facet/framebuffer.hpp>
+#include <facet/hot_reload.hpp>
+#include <facet/plugin.hpp>
+#include <facet/rebuild.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+#include <facet/texture.hpp>
+
+#include <SDL.h>
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace facet::view {
+
+struct Options {
+    std::string scene;                     // empty: the default scene
+    std::optional<glm::ivec2> size;        // window size in points; default: the scene's
+    std::string camera;                    // X,Y,Z,TX,TY,TZ[,FOV] (command_line.hpp)
+    std::vector<std::string> plugin_paths;
+    int threads = 0;                       // 0: one per hardware thread
+    int msaa = 0;                          // 0: the scene's
+    bool rebuild = false;                  // rebuild built-in shaders when sources change
+    std::filesystem::path materials;       // default: configs/materials of the source tree
+    std::filesystem::path screenshots = "."; // where P writes its PNGs
+};
+
+class Viewer {
+public:
+    // Opens the window and loads the scene. Throws Error if SDL cannot open
+    // a window, or if neither the scene nor the default scene loads.
+    explicit Viewer(Options options);
+    ~Viewer();
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
+    // Until the window closes or Esc/Q: sleeps until an event, handles it,
+    // renders if anything changed.
+    void run();
+    // Handles the queued events without waiting, then frame(). False once
+    // the viewer was asked to quit.
+    bool pump();
+    // Applies hot reload and fly motion, then renders and presents if
+    // anything changed. Returns true if it rendered.
+    bool frame();
+    // Handles one event; false if it asks to quit.
+    bool handle(const SDL_Event& event);
+    // Marks the scene as changed, so the next frame() renders it.
+    void invalidate() { scene_dirty_ = true; }
+    // Writes the last rendered image (no overlay) as PNG; throws Error.
+    void save_screenshot(const std::filesystem::path& path) const;
+    // "facet-YYYYMMDD-HHMMSS.png" in the screenshots folder, not yet taken.
+    std::filesystem::path screenshot_name() const;
+
+    const CameraController& controller() const { return controller_; }
+    const Scene& scene() const { return scene_; }
+    const RenderSettings& settings() const { return settings_; }
+    const Framebuffer& framebuffer() const { return framebuffer_; }
+    // The last image presented: the frame in sRGB8 with the overlay on it.
+    const std::vector<uint8_t>& shown() const { return shown_; }
+    const std::vector<Message>& messages() const { return messages_; }
+    const OverlayInfo& overlay() const { return info_; }
+    int selected() const { return selected_; }
+    uint64_t frames_rendered() const { return frames_; }
+    bool overlay_visible() const { return show_overlay_; }
+    bool help_visible() const { return show_help_; }
+
+private:
+    bool handle_key(const SDL_KeyboardEvent& key);
+    void handle_drag(const SDL_MouseMotionEvent& motion);
+    void handle_window(const SDL_WindowEvent& window);
+    void handle_drop(const char* file);
+    void hold(SDL_Keycode key, int pressed);  // +1 on key down, -1 on key up
+    void apply_reload();
+    void advance_flight();
+    void render();
+    void present();
+    void resize_texture();
+    int wait_ms() const;  // how long run() may sleep: -1 forever
+    void cycle_material(int step);
+    void take_screenshot();
+    void select_next();
+    void open_scene(const std::filesystem::path& path);
+    void adopt_scene(Scene fresh);
+    void message(std::string text, bool error, bool log = true);  // log: also to spdlog
+    void update_selected_label();
+
+    Options options_;
+    SDL_Window* window_ = nullptr;
+    SDL_Renderer* sdl_renderer_ = nullptr;
+    SDL_Texture* texture_ = nullptr;
+    glm::ivec2 texture_size_{0};
+
+    PluginRegistry registry_;
+    TextureCache textures_;
+    Scene scene_;
+    std::unique_ptr<HotReload> reload_;
+    std::unique_ptr<ShaderRebuilder> rebuilder_;
+    bool building_ = false;
+    Renderer renderer_;
+    Framebuffer framebuffer_;
+    std::vector<uint8_t> image_;    // the frame in sRGB8
+    std::vector<uint8_t> shown_;    // the frame with the overlay
+
+    CameraController controller_;
+    RenderSettings settings_;       // the scene's, with the viewer's toggles
+    OverlayInfo info_;
+    std::vector<Message> messages_;
+    int selected_ = 0;
+    bool show_overlay_ = true;
+    bool show_help_ = false;
+    bool scene_dirty_ = true;
+    bool overlay_dirty_ = true;
+    uint64_t frames_ = 0;
+    uint64_t idle_wakeups_ = 0;
+    std::chrono::steady_clock::time_point last_flight_;
+    glm::ivec3 held_{0};  // fly keys held: D - A, Space - Shift, W - S, kept from events
+};
+
+}  // namespace facet::view

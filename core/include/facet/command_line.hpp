@@ -1,0 +1,24 @@
+// Parsing of the values the command-line tools share (facet-render,
+// facet-view, facet-bench), so each tool reads them the same way.
+#pragma once
+
+#include "facet/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <string_view>
+
+namespace facet {
+
+// "1280x720" -> {1280, 720}; nothing if malformed or a side is outside
+// 1..Framebuffer::kMaxSize.
+std::optional<glm::ivec2> parse_size(std::string_view text);
+
+// "px,py,pz,tx,ty,tz" or "px,py,pz,tx,ty,tz,fov": `base` with the position,
+// target and (optionally) vertical field of view replaced; nothing if
+// malformed, non-finite, looking along the camera's up axis (or with the
+// target on the position), or with fov outside (0, 180).
+std::optional<Camera> parse_camera(std::string_view text, const Camera& base);
+
+}  // namespace facet

@@ -1,0 +1,349 @@
+// facet-view, driven as a user would: synthetic SDL events into a real
+// window (under Xvfb in CI), files edited and shaders recompiled while it
+// runs, and the scripted command line against facet-render.
+//
+// Run through `xvfb-run` by CTest; the camera controller tests need no
+// display.
+#include "support.hpp"
+#include "viewer.hpp"
+
+#include <facet/error.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <stb/stb_image.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+using namespace facet;
+using namespace facet::view;
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+namespace {
+
+void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
+
+void push(SDL_Event e) { REQUIRE(SDL_PushEvent(&e) == 1); }
+
+void key(SDL_Keycode sym, bool down = true, Uint16 mod = KMOD_NONE) {
+    SDL_Event e{};
+    e.type = down ? SDL_KEYDOWN : SDL_KEYUP;
+    e.key.state = down ? SDL_PRESSED : SDL_RELEASED;
+    e.key.keysym.sym = sym;
+    e.key.keysym.mod = mod;
+    push(e);
+    if (down) key(sym, false, mod);
+}
+
+void drag(int dx, int dy, Uint32 buttons) {
+    SDL_Event e{};
+    e.type = SDL_MOUSEMOTION;
+    e.motion.state = buttons;
+    e.motion.xrel = dx;
+    e.motion.yrel = dy;
+    push(e);
+}
+
+float distance(const Camera& c) { return glm::length(c.position - c.target); }
+
+// A viewer on the default scene (or `scene`), small and on one thread.
+Options small(const std::string& scene = "") {
+    Options o;
+    o.scene = scene;
+    o.size = glm::ivec2(160, 90);
+    o.threads = 1;
+    o.screenshots = test::temp_dir("shots");
+    return o;
+}
+
+// Pumps until `done` or `timeout`; true if done.
+template <class Done>
+bool pump_until(Viewer& v, Done done, std::chrono::milliseconds timeout = 10s) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+        v.pump();
+        if (done()) return true;
+        std::this_thread::sleep_for(10ms);
+    }
+    return false;
+}
+
+bool has_message(const Viewer& v, const std::string& part, bool error) {
+    for (const Message& m : v.messages())
+        if (m.error == error && m.text.find(part) != std::string::npos) return true;
+    return false;
+}
+
+// Compiles tests/plugins/c_plugin.c as shader `name` filling red `red`.
+bool compile_plugin(const fs::path& out, const std::string& name, float red) {
+    const fs::path tmp = out.string() + ".tmp";
+    const std::string cmd = std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -O1 -I" +
+                            FACET_SOURCE_DIR + "/plugins/include -DPLUGIN_NAME='\"" + name +
+                            "\"' -DFILL_RED=" + std::to_string(red) + "f " + FACET_SOURCE_DIR +
+                            "/tests/plugins/c_plugin.c -o " + tmp.string();
+    if (std::system(cmd.c_str()) != 0) return false;
+    fs::rename(tmp, out);  // as a build does: the new file appears whole
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("orbit keeps the distance to the target and stops short of the poles", "[camera]") {
+    Camera home;
+    home.position = {0, 1, 4};
+    home.target = {0, 1, 0};
+    CameraController c(home);
+    c.orbit(90, 0);
+    CHECK(distance(c.camera()) == Approx(4.0f));
+    CHECK(c.camera().position.x == Approx(4.0f).margin(1e-5));  // a quarter turn about +y
+    c.orbit(0, 200);
+    const glm::vec3 d = glm::normalize(c.camera().position - c.camera().target);
+    CHECK(glm::degrees(std::asin(d.y)) == Approx(89.0f).margin(1e-3));
+    CHECK(distance(c.camera()) == Approx(4.0f));
+    c.reset();
+    CHECK(c.camera().position == home.position);
+}
+
+TEST_CASE("pan moves camera and target together; zoom scales the distance", "[camera]") {
+    Camera home;
+    home.position = {0, 0, 5};
+    home.target = {0, 0, 0};
+    home.fov_y = 90.0f;  // the view is 2 * 5 units tall at the target
+    CameraController c(home);
+    c.pan(50, 0, 100);  // half the view's height, dragged right: the camera goes left
+    CHECK(c.camera().position.x == Approx(-5.0f));
+    CHECK(c.camera().target.x == Approx(-5.0f));
+    CHECK(distance(c.camera()) == Approx(5.0f));
+    c.zoom(2);
+    CHECK(distance(c.camera()) == Approx(5.0f * 0.81f));
+    c.zoom(-2);
+    CHECK(distance(c.camera()) == Approx(5.0f));
+}
+
+TEST_CASE("fly moves along the view at its speed and looks around in place", "[camera]") {
+    Camera home;
+    home.position = {0, 0, 5};
+    home.target = {0, 0, 0};
+    CameraController c(home);
+    CHECK(c.speed() == Approx(5.0f));  // crosses the distance to the target in a second
+    c.fly({0, 0, 1}, 0.5f);
+    CHECK(c.camera().position.z == Approx(2.5f));
+    c.fly({0, 1, 0}, 0.2f);
+    CHECK(c.camera().position.y == Approx(1.0f));
+    c.faster();
+    CHECK(c.speed() == Approx(7.5f));
+    const glm::vec3 eye = c.camera().position;
+    c.look(90, 0);
+    CHECK(c.camera().position == eye);
+    const glm::vec3 forward = glm::normalize(c.camera().target - eye);
+    CHECK(forward.x == Approx(-1.0f).margin(1e-5));  // positive yaw turns left
+}
+
+TEST_CASE("the viewer renders once, then only when something changes", "[viewer]") {
+    Viewer v(small());
+    v.pump();
+    REQUIRE(v.frames_rendered() == 1);
+    for (int i = 0; i < 20; ++i) v.pump();
+    CHECK(v.frames_rendered() == 1);  // idle: nothing rendered
+    CHECK(v.overlay().stats.triangles_in == 5856);  // Spot
+    drag(5, 0, 0);  // a move without a button changes nothing
+    v.pump();
+    CHECK(v.frames_rendered() == 1);
+}
+
+TEST_CASE("an orbit drag and the wheel move the camera and render again", "[viewer]") {
+    Viewer v(small());
+    v.pump();
+    const Camera before = v.controller().camera();
+    const std::vector<uint8_t> image = v.shown();
+    drag(40, 10, SDL_BUTTON_LMASK);
+    v.pump();
+    const Camera after = v.controller().camera();
+    CHECK(after.position != before.position);
+    CHECK(distance(after) == Approx(distance(before)));
+    CHECK(v.frames_rendered() == 2);
+    CHECK(v.shown() != image);
+    SDL_Event wheel{};
+    wheel.type = SDL_MOUSEWHEEL;
+    wheel.wheel.y = 1;
+    push(wheel);
+    v.pump();
+    CHECK(distance(v.controller().camera()) == Approx(0.9f * distance(before)));
+    key(SDLK_r);
+    v.pump();
+    CHECK(v.controller().camera().position == before.position);
+}
+
+TEST_CASE("keys cycle materials and toggle wireframe, MSAA, passes and the overlay", "[viewer]") {
+    Viewer v(small());
+    v.pump();
+    const std::string first = v.scene().objects[0].material->source;
+    const std::vector<uint8_t> plain = v.shown();
+    key(SDLK_m);
+    v.pump();
+    const std::string second = v.scene().objects[0].material->source;
+    CHECK(second != first);
+    CHECK(fs::path(second).parent_path() ==
+          fs::weakly_canonical(fs::path(FACET_SOURCE_DIR) / "configs/materials"));
+    CHECK(v.frames_rendered() == 2);
+    key(SDLK_m, true, KMOD_LSHIFT);  // and back
+    v.pump();
+    CHECK(fs::weakly_canonical(v.scene().objects[0].material->source) ==
+          fs::weakly_canonical(first));
+
+    key(SDLK_l);
+    v.pump();
+    CHECK(v.settings().wireframe);
+    CHECK(v.shown() != plain);
+    key(SDLK_n);
+    v.pump();
+    CHECK(v.framebuffer().samples() == 2);
+    key(SDLK_1);
+    key(SDLK_2);
+    v.pump();
+    CHECK_FALSE(v.settings().shadows);
+    CHECK_FALSE(v.settings().ao);
+    CHECK(v.overlay().settings.msaa == 2);
+
+    // The overlay is drawn over the image, and O hides it.
+    CHECK(v.shown() != v.framebuffer().resolve_srgb8());
+    key(SDLK_o);
+    v.pump();
+    CHECK_FALSE(v.overlay_visible());
+    CHECK(v.shown() == v.framebuffer().resolve_srgb8());
+    const uint64_t frames = v.frames_rendered();
+    key(SDLK_h);
+    v.pump();
+    CHECK(v.help_visible());
+    CHECK(v.frames_rendered() == frames);  // help is overlay only: no new render
+}
+
+TEST_CASE("fly mode moves while a key is held, and stops when it is released", "[viewer]") {
+    Viewer v(small());
+    v.pump();
+    key(SDLK_f);
+    v.pump();
+    const glm::vec3 start = v.controller().camera().position;
+    SDL_Event down{};
+    down.type = SDL_KEYDOWN;
+    down.key.keysym.sym = SDLK_w;
+    push(down);
+    v.pump();
+    std::this_thread::sleep_for(50ms);
+    v.pump();
+    const glm::vec3 moved = v.controller().camera().position;
+    CHECK(glm::length(moved - start) > 0.0f);
+    SDL_Event up = down;
+    up.type = SDL_KEYUP;
+    push(up);
+    v.pump();
+    const uint64_t frames = v.frames_rendered();
+    std::this_thread::sleep_for(30ms);
+    v.pump();
+    CHECK(v.frames_rendered() == frames);
+}
+
+TEST_CASE("P saves a screenshot named by time", "[viewer]") {
+    Options o = small();
+    const fs::path dir = o.screenshots;
+    Viewer v(o);
+    v.pump();
+    key(SDLK_p);
+    v.pump();
+    int pngs = 0;
+    for (const auto& e : fs::directory_iterator(dir))
+        pngs += e.path().extension() == ".png" && e.path().filename().string().rfind("facet-", 0) == 0;
+    CHECK(pngs == 1);
+    CHECK(has_message(v, "saved", false));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("bad input shows an error and keeps the last good state", "[viewer][bad]") {
+    Viewer v(small("/no/such/scene.yaml"));  // falls back to the default scene
+    v.pump();
+    CHECK(has_message(v, "/no/such/scene.yaml: file not found", true));
+    REQUIRE(v.scene().objects.size() == 1);
+
+    const fs::path dir = test::temp_dir("view-bad");
+    write(dir / "broken.yaml", "camera: {position: [0, 0, 1}\n");
+    SDL_Event drop{};
+    drop.type = SDL_DROPFILE;
+    drop.drop.file = SDL_strdup((dir / "broken.yaml").c_str());
+    push(drop);
+    v.pump();
+    CHECK(has_message(v, "broken.yaml:1:", true));
+    CHECK(v.scene().source == fs::path(FACET_SOURCE_DIR) / "configs/default.yaml");
+    fs::remove_all(dir);
+}
+
+TEST_CASE("an edited material re-renders; a broken one is refused and the image stays",
+          "[viewer][reload]") {
+    const fs::path dir = test::temp_dir("view-reload");
+    write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+    write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [1, 0, 0, 1]}\n");
+    write(dir / "scene.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\n"
+                              "objects:\n  - {mesh: quad.obj, material: material.yaml}\n");
+    Viewer v(small((dir / "scene.yaml").string()));
+    v.pump();
+    REQUIRE(v.framebuffer().pixel(80, 45).r == Approx(1.0f));
+    write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [0, 1, 0, 1]}\n");
+    REQUIRE(pump_until(v, [&] { return v.framebuffer().pixel(80, 45).g > 0.99f; }));
+    CHECK(has_message(v, "reloaded", false));
+    const uint64_t frames = v.frames_rendered();
+    write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [0, 0, 1, 1}\n");
+    REQUIRE(pump_until(v, [&] { return has_message(v, "keeping the previous version", true); }));
+    CHECK(v.frames_rendered() == frames);
+    CHECK(v.framebuffer().pixel(80, 45).g > 0.99f);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("a recompiled shader appears in the running viewer", "[viewer][reload]") {
+    const fs::path dir = test::temp_dir("view-shader");
+    fs::create_directories(dir / "plugins");
+    REQUIRE(compile_plugin(dir / "plugins/hot.so", "hot", 0.25f));
+    write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+    write(dir / "scene.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\n"
+                              "plugin_paths: [plugins]\n"
+                              "objects:\n  - {mesh: quad.obj, material: {shader: hot}}\n");
+    Viewer v(small((dir / "scene.yaml").string()));
+    v.pump();
+    REQUIRE(v.framebuffer().pixel(80, 45).r == Approx(0.25f));
+    REQUIRE(compile_plugin(dir / "plugins/hot.so", "hot", 0.75f));
+    REQUIRE(pump_until(v, [&] { return v.framebuffer().pixel(80, 45).r > 0.7f; }));
+    CHECK(has_message(v, "reloaded shader 'hot'", false));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("a scripted run's screenshot matches facet-render's image of the same view",
+          "[viewer][script]") {
+    const fs::path dir = test::temp_dir("view-script");
+    const std::string camera = "--camera -1.5,0.9,-2.4,0,0.3,0.2,40 --size 320x180 --msaa 4";
+    const std::string view = std::string(FACET_VIEW_EXE) + " --frames 2 " + camera +
+                             " --screenshot " + (dir / "view.png").string() + " 2>/dev/null";
+    const std::string render = std::string(FACET_RENDER_EXE) + " " + camera + " -o " +
+                               (dir / "render.png").string() + " 2>/dev/null";
+    REQUIRE(std::system(view.c_str()) == 0);
+    REQUIRE(std::system(render.c_str()) == 0);
+    int w1, h1, w2, h2, n;
+    stbi_uc* a = stbi_load((dir / "view.png").c_str(), &w1, &h1, &n, 4);
+    stbi_uc* b = stbi_load((dir / "render.png").c_str(), &w2, &h2, &n, 4);
+    REQUIRE(a);
+    REQUIRE(b);
+    REQUIRE(w1 == 320);
+    REQUIRE(h1 == 180);
+    REQUIRE(w2 == w1);
+    REQUIRE(h2 == h1);
+    // Tolerance: one 8-bit code per channel (the same core renders both).
+    int max_diff = 0, lit = 0;
+    for (int i = 0; i < w1 * h1 * 4; ++i) max_diff = std::max(max_diff, std::abs(a[i] - b[i]));
+    for (int i = 0; i < w1 * h1; ++i) lit += a[4 * i] > 100;
+    stbi_image_free(a);
+    stbi_image_free(b);
+    INFO("max difference " << max_diff << " codes");
+    CHECK(max_diff <= 1);
+    CHECK(lit > 2000);  // the cow is in view
+    fs::remove_all(dir);
+}
