@@ -74,6 +74,22 @@ TEST_CASE("sRGB resolve matches the transfer function, and PNGs round-trip", "[f
     }
     CHECK(linear_to_srgb8(-1.0f) == 0);
     CHECK(linear_to_srgb8(7.0f) == 255);
+    // Against the transfer function in double precision, rounded: every
+    // float in a dense sweep of 0..1 and on both sides of each code's edge.
+    auto reference = [](float v) {
+        const double l = v, e = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055;
+        return int(std::floor(e * 255.0 + 0.5));
+    };
+    for (int i = 0; i <= 1 << 20; ++i) {
+        const float v = float(i) / float(1 << 20);
+        REQUIRE(int(linear_to_srgb8(v)) == reference(v));
+    }
+    for (int code = 1; code < 256; ++code) {
+        const double e = (code - 0.5) / 255.0;
+        const float edge = float(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
+        for (float v = std::nextafter(edge, 0.0f), k = 0; k < 3; ++k, v = std::nextafter(v, 2.0f))
+            REQUIRE(int(linear_to_srgb8(v)) == reference(v));
+    }
     CHECK(linear_to_srgb8(std::nanf("")) == 0);
 
     Framebuffer fb(5, 3);

@@ -24,7 +24,7 @@ struct Message {
 // Everything the statistics panel reports about the last frame.
 struct OverlayInfo {
     FrameStats stats;
-    double frame_ms = 0.0;       // render, overlay and present
+    double frame_ms = 0.0;       // render and conversion to sRGB8
     int threads = 1;
     RenderSettings settings;     // as rendered (size, MSAA, wireframe, passes)
     bool shadows_needed = false; // a visible material asks for shadow maps

@@ -77,9 +77,47 @@ float srgb_to_linear(float encoded) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
+namespace {
+
+// linear_to_srgb8 without a pow per value, and exact: code c starts at the
+// linear value whose encoding is (c - 0.5) / 255, found in double precision
+// and rounded up to the next float, so `linear >= threshold[c]` holds
+// exactly when the double-precision encoding of `linear` rounds to c or
+// more. A coarse table of buckets gives the starting code; at most a step
+// or two remains.
+struct Srgb8Table {
+    static constexpr int kBuckets = 4096;
+    float threshold[256];
+    uint8_t start[kBuckets + 1];
+
+    Srgb8Table() {
+        threshold[0] = 0.0f;
+        for (int c = 1; c < 256; ++c) {
+            const double e = (c - 0.5) / 255.0;
+            const double x = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+            float t = float(x);
+            if (double(t) < x) t = std::nextafter(t, 2.0f);
+            threshold[c] = t;
+        }
+        int c = 0;
+        for (int i = 0; i <= kBuckets; ++i) {
+            const float v = float(i) / kBuckets;
+            while (c < 255 && v >= threshold[c + 1]) ++c;
+            start[i] = uint8_t(c);
+        }
+    }
+};
+
+const Srgb8Table kSrgb8;
+
+}  // namespace
+
 uint8_t linear_to_srgb8(float linear) {
     if (!(linear > 0.0f)) return 0;  // also maps NaN to 0
-    return static_cast<uint8_t>(std::lround(linear_to_srgb(linear) * 255.0f));
+    if (linear >= 1.0f) return 255;
+    int c = kSrgb8.start[int(linear * Srgb8Table::kBuckets)];
+    while (c < 255 && linear >= kSrgb8.threshold[c + 1]) ++c;
+    return uint8_t(c);
 }
 
 std::vector<uint8_t> Framebuffer::resolve_srgb8() const {
