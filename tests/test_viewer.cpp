@@ -148,6 +148,7 @@ TEST_CASE("the viewer renders once, then only when something changes", "[viewer]
     REQUIRE(v.frames_rendered() == 1);
     for (int i = 0; i < 20; ++i) v.pump();
     CHECK(v.frames_rendered() == 1);  // idle: nothing rendered
+    CHECK(v.wait_ms() == -1);         // and run() would sleep until an event
     CHECK(v.overlay().stats.triangles_in == 5856);  // Spot
     drag(5, 0, 0);  // a move without a button changes nothing
     v.pump();
@@ -289,11 +290,13 @@ TEST_CASE("an edited material re-renders; a broken one is refused and the image 
     Viewer v(small((dir / "scene.yaml").string()));
     v.pump();
     REQUIRE(v.framebuffer().pixel(80, 45).r == Approx(1.0f));
-    write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [0, 1, 0, 1]}\n");
+    // Each version has a different size, so a watcher polling sizes and
+    // coarse timestamps sees every change too.
+    write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [0, 1, 0, 1.0]}\n");
     REQUIRE(pump_until(v, [&] { return v.framebuffer().pixel(80, 45).g > 0.99f; }));
     CHECK(has_message(v, "reloaded", false));
     const uint64_t frames = v.frames_rendered();
-    write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [0, 0, 1, 1}\n");
+    write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [0, 0, 1, 1.00}\n");
     REQUIRE(pump_until(v, [&] { return has_message(v, "keeping the previous version", true); }));
     CHECK(v.frames_rendered() == frames);
     CHECK(v.framebuffer().pixel(80, 45).g > 0.99f);
@@ -345,5 +348,108 @@ TEST_CASE("a scripted run's screenshot matches facet-render's image of the same 
     INFO("max difference " << max_diff << " codes");
     CHECK(max_diff <= 1);
     CHECK(lit > 2000);  // the cow is in view
+    fs::remove_all(dir);
+}
+
+TEST_CASE("messages fade on time, and an idle viewer then sleeps", "[viewer]") {
+    Options o = small();
+    o.message_time = 150ms;
+    Viewer v(o);
+    v.pump();
+    key(SDLK_p);  // a screenshot: "saved ..."
+    v.pump();
+    REQUIRE(v.messages().size() == 1);
+    const int wait = v.wait_ms();
+    CHECK(wait > 0);
+    CHECK(wait <= 151);
+    const uint64_t presents = v.frames_presented();
+    std::this_thread::sleep_for(200ms);
+    v.pump();
+    CHECK(v.frames_presented() == presents + 1);  // the overlay without the message
+    CHECK(v.messages().empty());
+    CHECK(v.wait_ms() == -1);
+    fs::remove_all(o.screenshots);
+}
+
+TEST_CASE("fly keys never stick: both shifts, and a reset while a key is held", "[viewer]") {
+    Viewer v(small());
+    v.pump();
+    key(SDLK_f);
+    v.pump();
+    auto press = [](SDL_Keycode k, bool down) {
+        SDL_Event e{};
+        e.type = down ? SDL_KEYDOWN : SDL_KEYUP;
+        e.key.keysym.sym = k;
+        push(e);
+    };
+    press(SDLK_LSHIFT, true);
+    press(SDLK_RSHIFT, true);
+    v.pump();
+    CHECK(v.wait_ms() == 1);  // moving
+    press(SDLK_LSHIFT, false);
+    press(SDLK_RSHIFT, false);
+    v.pump();
+    CHECK(v.wait_ms() == -1);
+    press(SDLK_w, true);
+    key(SDLK_r);
+    press(SDLK_w, false);
+    v.pump();
+    CHECK(v.wait_ms() == -1);
+    const glm::vec3 still = v.controller().camera().position;
+    std::this_thread::sleep_for(20ms);
+    v.pump();
+    CHECK(v.controller().camera().position == still);
+}
+
+TEST_CASE("a scene edit keeps the user's camera unless the file's camera changed",
+          "[viewer][reload]") {
+    const fs::path dir = test::temp_dir("view-camera");
+    write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+    const std::string objects =
+        "objects:\n  - {name: a, mesh: quad.obj, material: {shader: unlit}}\n"
+        "  - {name: b, mesh: quad.obj, position: [0, 0, -1], material: {shader: unlit}}\n";
+    write(dir / "scene.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\n" + objects);
+    Viewer v(small((dir / "scene.yaml").string()));
+    v.pump();
+    drag(30, 0, SDL_BUTTON_LMASK);
+    key(SDLK_TAB);  // select the second object
+    v.pump();
+    REQUIRE(v.selected() == 1);
+    const Camera orbited = v.controller().camera();
+    // A light added, and one object fewer: the camera stays, the selection
+    // stays valid.
+    write(dir / "scene.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\n"
+                              "lights: [{type: directional, direction: [0, -1, 0]}]\n"
+                              "objects:\n  - {name: a, mesh: quad.obj, material: {shader: unlit}}\n");
+    REQUIRE(pump_until(v, [&] { return v.scene().lights.size() == 1; }));
+    CHECK(v.controller().camera().position == orbited.position);
+    CHECK(v.selected() == 0);
+    key(SDLK_m);
+    v.pump();
+    CHECK(v.scene().objects[0].material->source.find("configs/materials") != std::string::npos);
+    // The file's camera moved: the view follows it.
+    write(dir / "scene.yaml", "camera: {position: [0, 1, 5], target: [0, 0, 0]}\n" + objects);
+    REQUIRE(pump_until(v, [&] { return v.scene().objects.size() == 2; }));
+    CHECK(v.controller().camera().position == glm::vec3(0, 1, 5));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("odd input: a dropped non-scene file, a scene with no objects", "[viewer][bad]") {
+    const fs::path dir = test::temp_dir("view-empty");
+    write(dir / "empty.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\nobjects: []\n");
+    Viewer v(small((dir / "empty.yaml").string()));
+    v.pump();
+    REQUIRE(v.scene().objects.empty());
+    key(SDLK_TAB);
+    key(SDLK_m);
+    v.pump();
+    CHECK(has_message(v, "no object", true));
+    SDL_Event drop{};
+    drop.type = SDL_DROPFILE;
+    drop.drop.file = SDL_strdup("/tmp/picture.png");
+    push(drop);
+    v.pump();
+    CHECK(has_message(v, "not a scene file", true));
+    CHECK(v.scene().source == dir / "empty.yaml");
     fs::remove_all(dir);
 }

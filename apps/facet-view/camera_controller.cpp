@@ -10,7 +10,12 @@ namespace facet::view {
 namespace {
 
 constexpr float kMaxElevation = 89.0f;  // degrees from the horizon
-constexpr float kMinDistance = 1e-3f;
+
+// The closest zoom may bring the camera to its target: far enough that
+// float positions stay distinct wherever the target is.
+float min_distance(const glm::vec3& target) {
+    return 1e-4f * std::max(1.0f, glm::length(target));
+}
 
 // Any unit vector perpendicular to unit `u`.
 glm::vec3 perpendicular(const glm::vec3& u) {
@@ -65,6 +70,7 @@ void CameraController::pan(float dx, float dy, float height) {
     if (!(height > 0.0f)) return;
     const glm::vec3 offset = camera_.target - camera_.position;
     const float distance = glm::length(offset);
+    if (!(distance > 0.0f)) return;
     const float view_height = camera_.orthographic
                                   ? camera_.ortho_height
                                   : 2.0f * distance * std::tan(glm::radians(camera_.fov_y) * 0.5f);
@@ -76,12 +82,19 @@ void CameraController::pan(float dx, float dy, float height) {
     camera_.target += shift;
 }
 
+// Perspective: the camera moves along its view. Orthographic: the view
+// height shrinks and the camera stays, so the near plane never cuts in.
 void CameraController::zoom(float steps) {
+    const float factor = std::pow(0.9f, steps);
+    if (camera_.orthographic) {
+        camera_.ortho_height = std::max(1e-6f, camera_.ortho_height * factor);
+        return;
+    }
     const glm::vec3 offset = camera_.position - camera_.target;
     const float distance = glm::length(offset);
-    const float scaled = std::max(kMinDistance, distance * std::pow(0.9f, steps));
+    if (!(distance > 0.0f)) return;
+    const float scaled = std::max(min_distance(camera_.target), distance * factor);
     camera_.position = camera_.target + offset * (scaled / distance);
-    if (camera_.orthographic) camera_.ortho_height *= std::pow(0.9f, steps);
 }
 
 void CameraController::fly(const glm::vec3& move, float seconds) {

@@ -28,7 +28,8 @@ public:
     // Pan by a drag of (dx, dy) points in a view `height` points tall: the
     // point under the cursor at the target's depth follows it.
     void pan(float dx, float dy, float height);
-    // Zoom by wheel steps: each step brings the camera 10% closer.
+    // Zoom by wheel steps: each step brings the camera 10% closer (an
+    // orthographic camera's view height shrinks 10% instead).
     void zoom(float steps);
 
     // Fly: turns in place (degrees), and moves by `move` in view axes

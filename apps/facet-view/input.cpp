@@ -32,7 +32,7 @@ bool Viewer::handle(const SDL_Event& e) {
     switch (e.type) {
         case SDL_QUIT: return false;
         case SDL_KEYDOWN: return handle_key(e.key);
-        case SDL_KEYUP: hold(e.key.keysym.sym, -1); break;
+        case SDL_KEYUP: hold(e.key.keysym.sym, false); break;
         case SDL_MOUSEMOTION: handle_drag(e.motion); break;
         case SDL_MOUSEWHEEL:
             controller_.zoom(float(e.wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -e.wheel.y
@@ -44,40 +44,45 @@ bool Viewer::handle(const SDL_Event& e) {
             handle_drop(e.drop.file);
             SDL_free(e.drop.file);
             break;
+        case SDL_DROPTEXT: SDL_free(e.drop.file); break;  // owned by us, unused
         default: break;  // includes the file watcher's wake-up
     }
     return true;
 }
 
-// Fly keys are tracked from events (not SDL's keyboard state), so synthetic
-// events drive them too.
-void Viewer::hold(SDL_Keycode key, int pressed) {
-    glm::ivec3 axis(0);
-    switch (key) {
-        case SDLK_d: axis.x = 1; break;
-        case SDLK_a: axis.x = -1; break;
-        case SDLK_SPACE: axis.y = 1; break;
-        case SDLK_LSHIFT:
-        case SDLK_RSHIFT: axis.y = -1; break;
-        case SDLK_w: axis.z = 1; break;
-        case SDLK_s: axis.z = -1; break;
-        default: return;
+// The fly keys, in the order of held_, and the view axis each moves along.
+constexpr SDL_Keycode kFlyKeys[7] = {SDLK_w,     SDLK_a,      SDLK_s,     SDLK_d,
+                                     SDLK_SPACE, SDLK_LSHIFT, SDLK_RSHIFT};
+const glm::vec3 kFlyAxes[7] = {{0, 0, 1}, {-1, 0, 0}, {0, 0, -1}, {1, 0, 0},
+                               {0, 1, 0}, {0, -1, 0}, {0, -1, 0}};
+
+void Viewer::hold(SDL_Keycode key, bool down) {
+    for (size_t k = 0; k < held_.size(); ++k) {
+        if (kFlyKeys[k] != key) continue;
+        if (down && !held_[k]) last_flight_ = std::chrono::steady_clock::now();
+        held_[k] = down;
     }
-    held_ = glm::clamp(held_ + axis * pressed, glm::ivec3(-1), glm::ivec3(1));
-    if (pressed > 0) last_flight_ = std::chrono::steady_clock::now();
+}
+
+glm::vec3 Viewer::flight() const {
+    glm::vec3 move(0.0f);
+    for (size_t k = 0; k < held_.size(); ++k)
+        if (held_[k]) move += kFlyAxes[k];
+    return glm::clamp(move, glm::vec3(-1.0f), glm::vec3(1.0f));
 }
 
 void Viewer::advance_flight() {
     const auto now = std::chrono::steady_clock::now();
     const float seconds = std::min(0.1f, std::chrono::duration<float>(now - last_flight_).count());
     last_flight_ = now;
-    if (!controller_.flying() || held_ == glm::ivec3(0)) return;
-    controller_.fly(glm::vec3(held_), seconds);
+    const glm::vec3 move = flight();
+    if (!controller_.flying() || move == glm::vec3(0.0f)) return;
+    controller_.fly(move, seconds);
     scene_dirty_ = true;
 }
 
 bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
-    if (!key.repeat) hold(key.keysym.sym, 1);
+    if (!key.repeat) hold(key.keysym.sym, true);
     const bool shift = key.keysym.mod & KMOD_SHIFT;
     bool redraw = true;  // false: only the overlay changes
     switch (key.keysym.sym) {
@@ -85,7 +90,7 @@ bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
         case SDLK_h:
         case SDLK_F1: show_help_ = !show_help_; redraw = false; break;
         case SDLK_o: show_overlay_ = !show_overlay_; redraw = false; break;
-        case SDLK_r: controller_.reset(); held_ = glm::ivec3(0); break;
+        case SDLK_r: controller_.reset(); break;
         case SDLK_f: controller_.set_flying(!controller_.flying()); redraw = false; break;
         case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS: controller_.faster(); redraw = false; break;
         case SDLK_MINUS: case SDLK_KP_MINUS: controller_.slower(); redraw = false; break;
@@ -123,7 +128,7 @@ void Viewer::handle_drag(const SDL_MouseMotionEvent& m) {
                      (left && (SDL_GetModState() & KMOD_SHIFT));
     if (pan) {
         int height = 0;
-        SDL_GetWindowSize(window_, nullptr, &height);
+        SDL_GetWindowSize(window_.get(), nullptr, &height);  // points, as the mouse moves
         controller_.pan(dx, dy, float(height));
     } else if (left && controller_.flying()) {
         controller_.look(-dx * kDegreesPerPoint, dy * kDegreesPerPoint);
@@ -137,9 +142,10 @@ void Viewer::handle_drag(const SDL_MouseMotionEvent& m) {
 
 void Viewer::handle_window(const SDL_WindowEvent& w) {
     switch (w.event) {
-        case SDL_WINDOWEVENT_SIZE_CHANGED: scene_dirty_ = true; break;
+        case SDL_WINDOWEVENT_SIZE_CHANGED:
+        case SDL_WINDOWEVENT_DISPLAY_CHANGED: scene_dirty_ = true; break;  // maybe new DPI
         case SDL_WINDOWEVENT_EXPOSED: overlay_dirty_ = true; break;
-        case SDL_WINDOWEVENT_FOCUS_LOST: held_ = glm::ivec3(0); break;
+        case SDL_WINDOWEVENT_FOCUS_LOST: held_.fill(false); break;
         default: break;
     }
 }
@@ -185,9 +191,13 @@ void Viewer::update_selected_label() {
 // file of the materials folder. A file that fails to load is reported and
 // skipped over on the next press; the object keeps its material.
 void Viewer::cycle_material(int step) {
+    if (scene_.objects.empty()) {
+        message("the scene has no object to give a material", true);
+        return;
+    }
     const std::vector<fs::path> files = material_files(options_.materials);
-    if (scene_.objects.empty() || files.empty()) {
-        message("no materials in " + options_.materials.string(), true);
+    if (files.empty()) {
+        message("no materials (*.yaml) in " + options_.materials.string(), true);
         return;
     }
     Object& object = scene_.objects[size_t(selected_)];

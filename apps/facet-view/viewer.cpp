@@ -13,7 +13,11 @@ namespace facet::view {
 
 namespace {
 
-constexpr auto kMessageTime = std::chrono::seconds(5);
+bool same_camera(const Camera& a, const Camera& b) {
+    return a.position == b.position && a.target == b.target && a.up == b.up &&
+           a.orthographic == b.orthographic && a.fov_y == b.fov_y &&
+           a.ortho_height == b.ortho_height && a.near == b.near && a.far == b.far;
+}
 
 // An SDL event type of our own: "a watched file changed", pushed from the
 // file watcher's thread (SDL_PushEvent is thread-safe) to end SDL_WaitEvent.
@@ -45,6 +49,13 @@ Scene load_or_default(const Options& o, PluginRegistry& registry, std::string& e
 
 }  // namespace
 
+Viewer::SdlVideo::SdlVideo() {
+    if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0)
+        throw Error(ErrorCode::display_failed, SDL_GetError());
+}
+
+Viewer::SdlVideo::~SdlVideo() { SDL_QuitSubSystem(SDL_INIT_VIDEO); }
+
 Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(options_.threads) {
     for (const std::string& dir : options_.plugin_paths) registry_.add_scene_path(dir);
     if (options_.materials.empty()) options_.materials = default_scene_path().parent_path() / "materials";
@@ -57,18 +68,12 @@ Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(option
         else message("--camera: expected X,Y,Z,TX,TY,TZ[,FOV]; using the scene's camera", true);
     }
 
-    if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0)
-        throw Error(ErrorCode::display_failed, SDL_GetError());
     const glm::ivec2 size = options_.size.value_or(glm::ivec2(settings_.width, settings_.height));
-    window_ = SDL_CreateWindow("facet-view", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, size.x,
-                               size.y, SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
-    if (window_) sdl_renderer_ = SDL_CreateRenderer(window_, -1, 0);
-    if (!sdl_renderer_) {
-        const std::string why = SDL_GetError();
-        if (window_) SDL_DestroyWindow(window_);
-        SDL_QuitSubSystem(SDL_INIT_VIDEO);
-        throw Error(ErrorCode::display_failed, why);
-    }
+    window_.reset(SDL_CreateWindow("facet-view", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
+                                   size.x, size.y, SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI));
+    if (window_) sdl_renderer_.reset(SDL_CreateRenderer(window_.get(), -1, 0));
+    if (!sdl_renderer_) throw Error(ErrorCode::display_failed, SDL_GetError());
+    SDL_SetWindowTitle(window_.get(), ("facet-view - " + scene_.source.filename().string()).c_str());
     resize_texture();
 
     HotReload::Options reload;
@@ -82,14 +87,9 @@ Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(option
     }
 }
 
-Viewer::~Viewer() {
-    reload_.reset();  // stop the watcher thread before SDL goes
-    rebuilder_.reset();
-    if (texture_) SDL_DestroyTexture(texture_);
-    SDL_DestroyRenderer(sdl_renderer_);
-    SDL_DestroyWindow(window_);
-    SDL_QuitSubSystem(SDL_INIT_VIDEO);
-}
+// Members go in reverse order: the watchers (which push SDL events) stop
+// before the texture, renderer, window and video subsystem go.
+Viewer::~Viewer() = default;
 
 // Takes `fresh` as the scene: the camera goes home to the file's camera,
 // the viewer's toggles start from the file's settings.
@@ -101,7 +101,8 @@ void Viewer::adopt_scene(Scene fresh) {
     selected_ = 0;
     if (reload_) reload_->rewatch();
     if (window_)
-        SDL_SetWindowTitle(window_, ("facet-view - " + scene_.source.filename().string()).c_str());
+        SDL_SetWindowTitle(window_.get(),
+                           ("facet-view - " + scene_.source.filename().string()).c_str());
     update_selected_label();
     scene_dirty_ = true;
 }
@@ -109,8 +110,10 @@ void Viewer::adopt_scene(Scene fresh) {
 void Viewer::message(std::string text, bool error, bool log) {
     if (log && error) spdlog::error("{}", text);
     else if (log) spdlog::info("{}", text);
-    messages_.push_back({std::move(text), error, std::chrono::steady_clock::now() + kMessageTime});
+    const auto until = std::chrono::steady_clock::now() + options_.message_time;
+    messages_.push_back({std::move(text), error, until});
     if (messages_.size() > 8) messages_.erase(messages_.begin());
+    fade_at_ = std::min(fade_at_, until);
     overlay_dirty_ = true;
 }
 
@@ -135,29 +138,22 @@ bool Viewer::pump() {
 // Forever when idle; otherwise until the next thing that needs a frame.
 int Viewer::wait_ms() const {
     if (scene_dirty_ || overlay_dirty_) return 0;
-    if (controller_.flying() && held_ != glm::ivec3(0)) return 1;  // moving: as fast as it renders
+    if (controller_.flying() && flight() != glm::vec3(0.0f)) return 1;  // moving
     if (reload_->pending()) return 20;  // a changed file is settling
-    if (building_) return 200;
-    int wait = -1;
-    const auto now = std::chrono::steady_clock::now();
-    for (const Message& m : messages_) {
-        if (m.until <= now) continue;
-        const int left = int(std::chrono::duration_cast<std::chrono::milliseconds>(m.until - now).count()) + 1;
-        wait = wait < 0 ? left : std::min(wait, left);  // redraw when it fades
-    }
-    return wait;
+    if (building_ > 0) return 200;
+    if (fade_at_ == std::chrono::steady_clock::time_point::max()) return -1;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        fade_at_ - std::chrono::steady_clock::now());
+    return int(std::max<int64_t>(0, left.count() + 1));  // present when a message fades
 }
 
 void Viewer::apply_reload() {
-    const Camera before = scene_.camera;
+    const Camera before = scene_.camera;  // the file's: render() never changes it
     if (reload_->update()) {
         scene_dirty_ = true;
         // A reloaded scene file keeps the viewer's camera unless the file's
         // camera itself changed.
-        const Camera& after = scene_.camera;
-        if (after.position != before.position || after.target != before.target ||
-            after.fov_y != before.fov_y)
-            controller_.reset(after);
+        if (!same_camera(scene_.camera, before)) controller_.reset(scene_.camera);
         const RenderSettings toggles = settings_;
         settings_ = scene_.settings;
         settings_.msaa = toggles.msaa;
@@ -170,7 +166,9 @@ void Viewer::apply_reload() {
     for (const ReloadEvent& e : reload_->take_events()) message(e.message, e.refused(), false);
     if (!rebuilder_) return;
     for (const ReloadEvent& e : rebuilder_->update()) {  // logged by the rebuilder
-        building_ = e.kind == ReloadEvent::Kind::build_started;
+        if (e.kind == ReloadEvent::Kind::build_started) ++building_;
+        if (e.kind == ReloadEvent::Kind::build_succeeded || e.kind == ReloadEvent::Kind::build_failed)
+            building_ = std::max(0, building_ - 1);
         message(e.message, e.refused(), false);
     }
 }
@@ -178,22 +176,35 @@ void Viewer::apply_reload() {
 bool Viewer::frame() {
     apply_reload();
     advance_flight();
-    const bool rendered = scene_dirty_;
-    if (scene_dirty_) render();
-    if (scene_dirty_ || overlay_dirty_) present();
-    scene_dirty_ = overlay_dirty_ = false;
-    return rendered;
+    if (std::chrono::steady_clock::now() >= fade_at_) overlay_dirty_ = true;
+    const bool render_now = scene_dirty_, present_now = scene_dirty_ || overlay_dirty_;
+    scene_dirty_ = overlay_dirty_ = false;  // present() may ask again
+    if (render_now) render();
+    if (present_now) present();
+    return render_now;
 }
 
 void Viewer::render() {
     const auto start = std::chrono::steady_clock::now();
-    int w = 0, h = 0;
-    SDL_GetRendererOutputSize(sdl_renderer_, &w, &h);  // pixels, not points (HiDPI)
-    settings_.width = std::clamp(w, 1, Framebuffer::kMaxSize);
-    settings_.height = std::clamp(h, 1, Framebuffer::kMaxSize);
-    scene_.settings = settings_;
-    scene_.camera = controller_.camera();
-    info_.stats = renderer_.render(scene_, framebuffer_);
+    const glm::ivec2 size = drawable_size();  // pixels, not points (HiDPI)
+    settings_.width = size.x;
+    settings_.height = size.y;
+    // Render with the viewer's camera and settings; the scene keeps the
+    // file's, which hot reload compares against.
+    Scene& s = scene_;
+    const Camera file_camera = s.camera;
+    const RenderSettings file_settings = s.settings;
+    s.camera = controller_.camera();
+    s.settings = settings_;
+    try {
+        info_.stats = renderer_.render(s, framebuffer_);
+    } catch (...) {
+        s.camera = file_camera;
+        s.settings = file_settings;
+        throw;
+    }
+    s.camera = file_camera;
+    s.settings = file_settings;
     framebuffer_.resolve_srgb8(image_);
     ++frames_;
     info_.threads = renderer_.threads();
@@ -207,19 +218,29 @@ void Viewer::render() {
     info_.frame_ms = ms_since(start);
 }
 
-void Viewer::present() {
+// The drawable size in pixels, as the framebuffer can hold it.
+glm::ivec2 Viewer::drawable_size() const {
     int w = 0, h = 0;
-    SDL_GetRendererOutputSize(sdl_renderer_, &w, &h);
-    if (glm::ivec2(w, h) != texture_size_) resize_texture();
+    SDL_GetRendererOutputSize(sdl_renderer_.get(), &w, &h);
+    return {std::clamp(w, 1, Framebuffer::kMaxSize), std::clamp(h, 1, Framebuffer::kMaxSize)};
+}
+
+void Viewer::present() {
+    if (drawable_size() != texture_size_) resize_texture();
     if (image_.size() != size_t(texture_size_.x) * texture_size_.y * 4) {
         scene_dirty_ = true;  // the window changed since the last render
         return;
     }
+    const auto now = std::chrono::steady_clock::now();
+    std::erase_if(messages_, [&](const Message& m) { return m.until <= now; });
+    fade_at_ = std::chrono::steady_clock::time_point::max();
+    for (const Message& m : messages_) fade_at_ = std::min(fade_at_, m.until);
     shown_ = image_;
-    int points_w = 0;
-    SDL_GetWindowSize(window_, &points_w, nullptr);
-    const int scale = std::max(1, (w + points_w / 2) / std::max(1, points_w)) *
-                      (h >= 1200 ? 2 : 1);  // HiDPI, and large windows
+    const int h = texture_size_.y;
+    int points_w = 0, points_h = 0;
+    SDL_GetWindowSize(window_.get(), &points_w, &points_h);
+    const int scale = std::max(1, (texture_size_.x + points_w / 2) / std::max(1, points_w)) *
+                      (points_h >= 1200 ? 2 : 1);  // HiDPI, and large windows
     ImageView view{shown_.data(), texture_size_.x, texture_size_.y};
     info_.idle_wakeups = idle_wakeups_;
     info_.flying = controller_.flying();
@@ -232,22 +253,19 @@ void Viewer::present() {
     if (show_help_)
         draw_panel(view, 4 * scale, std::max(0, h - text_height(help_text(), scale) - 10 * scale),
                    help_text(), {255, 230, 150, 255}, scale);
-    SDL_UpdateTexture(texture_, nullptr, shown_.data(), texture_size_.x * 4);
-    SDL_RenderClear(sdl_renderer_);
-    SDL_RenderCopy(sdl_renderer_, texture_, nullptr, nullptr);
-    SDL_RenderPresent(sdl_renderer_);
+    SDL_UpdateTexture(texture_.get(), nullptr, shown_.data(), texture_size_.x * 4);
+    SDL_RenderClear(sdl_renderer_.get());
+    SDL_RenderCopy(sdl_renderer_.get(), texture_.get(), nullptr, nullptr);
+    SDL_RenderPresent(sdl_renderer_.get());
+    ++presents_;
 }
 
 void Viewer::resize_texture() {
-    int w = 0, h = 0;
-    SDL_GetRendererOutputSize(sdl_renderer_, &w, &h);
-    w = std::clamp(w, 1, Framebuffer::kMaxSize);
-    h = std::clamp(h, 1, Framebuffer::kMaxSize);
-    if (texture_) SDL_DestroyTexture(texture_);
-    texture_ = SDL_CreateTexture(sdl_renderer_, SDL_PIXELFORMAT_RGBA32,
-                                 SDL_TEXTUREACCESS_STREAMING, w, h);
+    const glm::ivec2 size = drawable_size();
+    texture_.reset(SDL_CreateTexture(sdl_renderer_.get(), SDL_PIXELFORMAT_RGBA32,
+                                     SDL_TEXTUREACCESS_STREAMING, size.x, size.y));
     if (!texture_) throw Error(ErrorCode::display_failed, SDL_GetError());
-    texture_size_ = {w, h};
+    texture_size_ = size;
     scene_dirty_ = true;
 }
 

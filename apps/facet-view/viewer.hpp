@@ -28,6 +28,7 @@
 
 #include <SDL.h>
 
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -47,6 +48,7 @@ struct Options {
     bool rebuild = false;                  // rebuild built-in shaders when sources change
     std::filesystem::path materials;       // default: configs/materials of the source tree
     std::filesystem::path screenshots = "."; // where P writes its PNGs
+    std::chrono::milliseconds message_time{5000};  // how long overlay messages show
 };
 
 class Viewer {
@@ -58,7 +60,7 @@ public:
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
 
-    // Until the window closes or Esc/Q: sleeps until an event, handles it,
+    // Until the window closes or Esc: sleeps until an event, handles it,
     // renders if anything changed.
     void run();
     // Handles the queued events without waiting, then frame(). False once
@@ -71,6 +73,10 @@ public:
     bool handle(const SDL_Event& event);
     // Marks the scene as changed, so the next frame() renders it.
     void invalidate() { scene_dirty_ = true; }
+    // How long run() may sleep before the next frame() has work: -1 until an
+    // event arrives (idle), 0 now, else milliseconds (a file settling, a
+    // build running, a message due to fade, a fly key held).
+    int wait_ms() const;
     // Writes the last rendered image (no overlay) as PNG; throws Error.
     void save_screenshot(const std::filesystem::path& path) const;
     // "facet-YYYYMMDD-HHMMSS.png" in the screenshots folder, not yet taken.
@@ -86,6 +92,7 @@ public:
     const OverlayInfo& overlay() const { return info_; }
     int selected() const { return selected_; }
     uint64_t frames_rendered() const { return frames_; }
+    uint64_t frames_presented() const { return presents_; }
     bool overlay_visible() const { return show_overlay_; }
     bool help_visible() const { return show_help_; }
 
@@ -94,13 +101,14 @@ private:
     void handle_drag(const SDL_MouseMotionEvent& motion);
     void handle_window(const SDL_WindowEvent& window);
     void handle_drop(const char* file);
-    void hold(SDL_Keycode key, int pressed);  // +1 on key down, -1 on key up
+    void hold(SDL_Keycode key, bool down);
+    glm::vec3 flight() const;  // the fly keys held, as view axes
     void apply_reload();
     void advance_flight();
     void render();
     void present();
     void resize_texture();
-    int wait_ms() const;  // how long run() may sleep: -1 forever
+    glm::ivec2 drawable_size() const;
     void cycle_material(int step);
     void take_screenshot();
     void select_next();
@@ -109,10 +117,22 @@ private:
     void message(std::string text, bool error, bool log = true);  // log: also to spdlog
     void update_selected_label();
 
+    // SDL's video subsystem, held for the viewer's lifetime (declared first,
+    // so it goes last).
+    struct SdlVideo {
+        SdlVideo();
+        ~SdlVideo();
+    };
+    template <class T, void (*Destroy)(T*)>
+    struct SdlDeleter {
+        void operator()(T* p) const { Destroy(p); }
+    };
+
     Options options_;
-    SDL_Window* window_ = nullptr;
-    SDL_Renderer* sdl_renderer_ = nullptr;
-    SDL_Texture* texture_ = nullptr;
+    SdlVideo video_;
+    std::unique_ptr<SDL_Window, SdlDeleter<SDL_Window, SDL_DestroyWindow>> window_;
+    std::unique_ptr<SDL_Renderer, SdlDeleter<SDL_Renderer, SDL_DestroyRenderer>> sdl_renderer_;
+    std::unique_ptr<SDL_Texture, SdlDeleter<SDL_Texture, SDL_DestroyTexture>> texture_;
     glm::ivec2 texture_size_{0};
 
     PluginRegistry registry_;
@@ -120,7 +140,7 @@ private:
     Scene scene_;
     std::unique_ptr<HotReload> reload_;
     std::unique_ptr<ShaderRebuilder> rebuilder_;
-    bool building_ = false;
+    int building_ = 0;  // shader builds running (--rebuild)
     Renderer renderer_;
     Framebuffer framebuffer_;
     std::vector<uint8_t> image_;    // the frame in sRGB8
@@ -138,7 +158,12 @@ private:
     uint64_t frames_ = 0;
     uint64_t idle_wakeups_ = 0;
     std::chrono::steady_clock::time_point last_flight_;
-    glm::ivec3 held_{0};  // fly keys held: D - A, Space - Shift, W - S, kept from events
+    std::chrono::steady_clock::time_point fade_at_ =  // when the next message fades
+        std::chrono::steady_clock::time_point::max();
+    uint64_t presents_ = 0;
+    // Fly keys held (W A S D Space LShift RShift), kept from events rather
+    // than SDL's keyboard state so synthetic events drive them too.
+    std::array<bool, 7> held_{};
 };
 
 }  // namespace facet::view

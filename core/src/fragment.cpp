@@ -233,6 +233,7 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureB
     dc.textures = textures;
     dc.texture_count = textures ? std::min(texture_count, shader.texture_count()) : 0;
     dc.sample_textures = shader.needs(FACET_NEED_TEXTURES) && shader.texture_count() > 0;
+    dc.needs_ao = shader.needs(FACET_NEED_AO);
 }
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
@@ -253,10 +254,11 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
     alignas(64) float color[4 * N];
     alignas(64) float ao[N];
     if (dc.ao) gather_ao(dc, b, ao);
+    else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
 
     facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, z,
                                dc.sample_textures ? texels : nullptr,
-                               nullptr,  dc.ao ? ao : nullptr, color};
+                               nullptr,  dc.needs_ao ? ao : nullptr, color};
     dc.shader->desc().fragment(dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += std::popcount(mask);

@@ -31,6 +31,7 @@ struct DrawContext {
     uint32_t varying_floats = 0;
     const uint8_t* interpolation = nullptr;    // per varying float
     const float* ao = nullptr;                 // target-sized, if the shader needs AO
+    bool needs_ao = false;                     // the shader asks for AO (all ones without a pass)
     PipelineState state;
     Framebuffer* target = nullptr;
 };

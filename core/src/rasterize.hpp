@@ -12,7 +12,9 @@
 // positions (Framebuffer's sample_offset()) instead of its centre, under the
 // same top-left rule: `samples[i]` has bit s set when lane i's sample s is
 // covered, and a lane is in `mask` when any of its samples is. The weights
-// stay those of the pixel centre, where the shader runs.
+// stay those of the pixel centre, where the shader runs, even when the
+// centre itself is outside the triangle (no centroid interpolation: values
+// there are extrapolated, by less than half a pixel).
 #pragma once
 
 #include "setup.hpp"
