@@ -62,7 +62,6 @@ Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(option
     std::string error;
     adopt_scene(load_or_default(options_, registry_, error));
     if (!error.empty()) message(error, true);
-    if (options_.msaa) settings_.msaa = options_.msaa;
     if (!options_.camera.empty()) {
         if (const auto camera = parse_camera(options_.camera, scene_.camera)) controller_.reset(*camera);
         else message("--camera: expected X,Y,Z,TX,TY,TZ[,FOV]; using the scene's camera", true);
@@ -73,7 +72,7 @@ Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(option
                                    size.x, size.y, SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI));
     if (window_) sdl_renderer_.reset(SDL_CreateRenderer(window_.get(), -1, 0));
     if (!sdl_renderer_) throw Error(ErrorCode::display_failed, SDL_GetError());
-    SDL_SetWindowTitle(window_.get(), ("facet-view - " + scene_.source.filename().string()).c_str());
+    show_title();
     resize_texture();
 
     HotReload::Options reload;
@@ -100,11 +99,15 @@ void Viewer::adopt_scene(Scene fresh) {
     controller_.reset(scene_.camera);
     selected_ = 0;
     if (reload_) reload_->rewatch();
-    if (window_)
-        SDL_SetWindowTitle(window_.get(),
-                           ("facet-view - " + scene_.source.filename().string()).c_str());
+    show_title();
     update_selected_label();
     scene_dirty_ = true;
+}
+
+void Viewer::show_title() {
+    if (!window_) return;  // not open yet: the constructor shows it
+    const std::string title = "facet-view - " + scene_.source.filename().string();
+    SDL_SetWindowTitle(window_.get(), title.c_str());
 }
 
 void Viewer::message(std::string text, bool error, bool log) {

@@ -114,6 +114,7 @@ private:
     void select_next();
     void open_scene(const std::filesystem::path& path);
     void adopt_scene(Scene fresh);
+    void show_title();
     void message(std::string text, bool error, bool log = true);  // log: also to spdlog
     void update_selected_label();
 
