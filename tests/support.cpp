@@ -1,7 +1,12 @@
 #include "support.hpp"
 
+#include <glm/gtc/constants.hpp>
+
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
 
 namespace facet::test {
 
@@ -14,6 +19,17 @@ Mesh make_mesh(std::vector<glm::vec3> positions, std::vector<uint32_t> indices,
     m.colors = std::move(colors);
     m.bounds = compute_bounds(m.positions);
     return m;
+}
+
+Mesh fan(int n, float radius, float angle, glm::vec2 centre) {
+    std::vector<glm::vec3> pos{{centre, 0.5f}};
+    std::vector<uint32_t> idx;
+    for (int i = 0; i < n; ++i) {
+        const float a = angle + glm::two_pi<float>() * float(i) / float(n);
+        pos.push_back({centre + radius * glm::vec2(std::cos(a), std::sin(a)), 0.5f});
+        idx.insert(idx.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % n)});
+    }
+    return make_mesh(pos, idx);
 }
 
 DrawCall clip_space_call(const Mesh& mesh, const ShaderPlugin& shader) {
@@ -37,6 +53,19 @@ std::filesystem::path temp_dir(const std::string& tag) {
                                  std::to_string(counter++));
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+void write(const std::filesystem::path& file, const std::string& text) {
+    std::ofstream(file) << text;
+}
+
+bool compile_plugin(const std::filesystem::path& out, const std::string& name,
+                    const std::string& flags) {
+    const std::string cmd = std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -O1 -I" +
+                            FACET_SOURCE_DIR + "/plugins/include -DPLUGIN_NAME='\"" + name +
+                            "\"' " + flags + " " + FACET_SOURCE_DIR +
+                            "/tests/plugins/c_plugin.c -o " + out.string();
+    return std::system(cmd.c_str()) == 0;
 }
 
 }  // namespace facet::test

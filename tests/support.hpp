@@ -61,6 +61,9 @@ std::shared_ptr<ShaderPlugin> plugin() {
 Mesh make_mesh(std::vector<glm::vec3> positions, std::vector<uint32_t> indices,
                std::vector<glm::vec4> colors = {});
 
+// A fan of n triangles around `centre` in NDC (z = 0.5), rotated by `angle`.
+Mesh fan(int n, float radius, float angle, glm::vec2 centre);
+
 // A DrawCall with identity matrices: positions are clip coordinates.
 DrawCall clip_space_call(const Mesh& mesh, const ShaderPlugin& shader);
 
@@ -69,5 +72,13 @@ glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height);
 
 // A fresh, empty temporary folder.
 std::filesystem::path temp_dir(const std::string& tag);
+
+// Writes `text` to `file`.
+void write(const std::filesystem::path& file, const std::string& text);
+
+// Compiles the test plugin (tests/plugins/c_plugin.c) as shader `name` into
+// `out`, with extra compiler `flags` (-DFILL_RED=..., -DWITH_GAIN, ...).
+bool compile_plugin(const std::filesystem::path& out, const std::string& name,
+                    const std::string& flags);
 
 }  // namespace facet::test

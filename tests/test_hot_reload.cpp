@@ -14,8 +14,6 @@
 #include <catch2/catch.hpp>
 
 #include <atomic>
-#include <cstdlib>
-#include <fstream>
 #include <functional>
 #include <thread>
 
@@ -25,16 +23,8 @@ using namespace std::chrono_literals;
 
 namespace {
 
-// Compiles the test plugin as `dir/name.so` with extra `flags`.
-bool compile_plugin(const fs::path& out, const std::string& name, const std::string& flags) {
-    const std::string cmd = std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -O1 -I" +
-                            FACET_SOURCE_DIR + "/plugins/include -DPLUGIN_NAME='\"" + name +
-                            "\"' " + flags + " " + FACET_SOURCE_DIR +
-                            "/tests/plugins/c_plugin.c -o " + out.string();
-    return std::system(cmd.c_str()) == 0;
-}
-
-void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
+using test::compile_plugin;
+using test::write;
 
 // A folder with a plugin folder, a full-screen quad, a material using the
 // shader "hot" (with gain 1), and a scene.

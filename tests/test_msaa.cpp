@@ -40,18 +40,6 @@ glm::dvec2 sample_position(int x, int y, int n, int s) {
     return {x + 0.5 + o.x / 16.0, y + 0.5 + o.y / 16.0};
 }
 
-// A fan of n triangles in NDC around `centre`, rotated by `angle`.
-Mesh fan(int n, float radius, float angle, glm::vec2 centre) {
-    std::vector<glm::vec3> pos{{centre, 0.5f}};
-    std::vector<uint32_t> idx;
-    for (int i = 0; i < n; ++i) {
-        const float a = angle + glm::two_pi<float>() * float(i) / float(n);
-        pos.push_back({centre + radius * glm::vec2(std::cos(a), std::sin(a)), 0.5f});
-        idx.insert(idx.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % n)});
-    }
-    return make_mesh(pos, idx);
-}
-
 glm::dvec2 to_ndc(glm::dvec2 window) { return {window.x / W * 2 - 1, 1 - window.y / H * 2}; }
 
 }  // namespace

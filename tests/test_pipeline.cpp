@@ -45,18 +45,6 @@ std::vector<int> coverage(const Mesh& mesh, const glm::mat4& view, const glm::ma
     return counts;
 }
 
-// A fan of n triangles around `centre` in NDC, rotated by `angle`.
-Mesh fan(int n, float radius, float angle, glm::vec2 centre) {
-    std::vector<glm::vec3> pos{{centre, 0.5f}};
-    std::vector<uint32_t> idx;
-    for (int i = 0; i < n; ++i) {
-        const float a = angle + glm::two_pi<float>() * float(i) / float(n);
-        pos.push_back({centre + radius * glm::vec2(std::cos(a), std::sin(a)), 0.5f});
-        idx.insert(idx.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % n)});
-    }
-    return make_mesh(pos, idx);
-}
-
 // An n x n grid of quads in the z = 0 plane, two triangles each, spanning
 // [-1, 1]^2, with alternating diagonals.
 Mesh grid(int n) {

@@ -14,7 +14,6 @@
 #include <stb/stb_image.h>
 
 #include <cstdlib>
-#include <fstream>
 #include <thread>
 
 using namespace facet;
@@ -24,7 +23,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
+using test::write;
 
 void push(SDL_Event e) { REQUIRE(SDL_PushEvent(&e) == 1); }
 
@@ -77,15 +76,12 @@ bool has_message(const Viewer& v, const std::string& part, bool error) {
     return false;
 }
 
-// Compiles tests/plugins/c_plugin.c as shader `name` filling red `red`.
+// Compiles the test plugin as shader `name` filling red `red`, appearing
+// whole at `out` as a build's output does.
 bool compile_plugin(const fs::path& out, const std::string& name, float red) {
     const fs::path tmp = out.string() + ".tmp";
-    const std::string cmd = std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -O1 -I" +
-                            FACET_SOURCE_DIR + "/plugins/include -DPLUGIN_NAME='\"" + name +
-                            "\"' -DFILL_RED=" + std::to_string(red) + "f " + FACET_SOURCE_DIR +
-                            "/tests/plugins/c_plugin.c -o " + tmp.string();
-    if (std::system(cmd.c_str()) != 0) return false;
-    fs::rename(tmp, out);  // as a build does: the new file appears whole
+    if (!test::compile_plugin(tmp, name, "-DFILL_RED=" + std::to_string(red) + "f")) return false;
+    fs::rename(tmp, out);
     return true;
 }
 

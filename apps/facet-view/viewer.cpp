@@ -36,6 +36,28 @@ double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+// Puts a camera and settings into a scene for as long as it lives, then
+// gives the scene back its own.
+class ViewOf {
+public:
+    ViewOf(Scene& scene, const Camera& camera, const RenderSettings& settings)
+        : scene_(scene), camera_(scene.camera), settings_(scene.settings) {
+        scene.camera = camera;
+        scene.settings = settings;
+    }
+    ~ViewOf() {
+        scene_.camera = camera_;
+        scene_.settings = settings_;
+    }
+    ViewOf(const ViewOf&) = delete;
+    ViewOf& operator=(const ViewOf&) = delete;
+
+private:
+    Scene& scene_;
+    const Camera camera_;
+    const RenderSettings settings_;
+};
+
 Scene load_or_default(const Options& o, PluginRegistry& registry, std::string& error) {
     if (!o.scene.empty()) {
         try {
@@ -192,22 +214,12 @@ void Viewer::render() {
     const glm::ivec2 size = drawable_size();  // pixels, not points (HiDPI)
     settings_.width = size.x;
     settings_.height = size.y;
-    // Render with the viewer's camera and settings; the scene keeps the
-    // file's, which hot reload compares against.
-    Scene& s = scene_;
-    const Camera file_camera = s.camera;
-    const RenderSettings file_settings = s.settings;
-    s.camera = controller_.camera();
-    s.settings = settings_;
-    try {
-        info_.stats = renderer_.render(s, framebuffer_);
-    } catch (...) {
-        s.camera = file_camera;
-        s.settings = file_settings;
-        throw;
+    {
+        // Render with the viewer's camera and settings; the scene keeps
+        // the file's, which hot reload compares against.
+        const ViewOf view(scene_, controller_.camera(), settings_);
+        info_.stats = renderer_.render(scene_, framebuffer_);
     }
-    s.camera = file_camera;
-    s.settings = file_settings;
     framebuffer_.resolve_srgb8(image_);
     ++frames_;
     info_.threads = renderer_.threads();
