@@ -272,7 +272,7 @@ TEST_CASE("a scene loads camera, settings, lights and objects", "[scene]") {
     const facet::Scene s = env.scene(R"(
 camera: {position: [0, 1, 4], target: [0, 1, 0], projection: orthographic, height: 3, near: 0.5, far: 50}
 render: {size: [320, 200], clear_color: [0.1, 0.2, 0.3], depth: standard, cull: front, front_face: cw,
-         msaa: 8, wireframe: true, shadows: false, ao: false}
+         msaa: 8, subpixel_bits: 4, wireframe: true, shadows: false, ao: false}
 lights:
   - {type: spot, position: [0, 3, 0], direction: [0, -2, 0], spot_inner: 10, spot_outer: 15, casts_shadow: true}
 objects:
@@ -289,6 +289,7 @@ objects:
     REQUIRE(s.settings.cull == facet::CullMode::front);
     REQUIRE_FALSE(s.settings.front_ccw);
     REQUIRE(s.settings.msaa == 8);
+    REQUIRE(s.settings.subpixel_bits == 4);
     REQUIRE(s.settings.wireframe);
     REQUIRE_FALSE(s.settings.shadows);
     REQUIRE_FALSE(s.settings.ao);
@@ -355,6 +356,8 @@ TEST_CASE("scene values are checked for sense", "[scene]") {
     check("render: {size: [100, 20000]}\n", ErrorCode::out_of_range, 1, 22);
     check("render: {depth_compare: lesser}\n", ErrorCode::config_invalid, 1, 25);
     check("render: {msaa: 3}\n", ErrorCode::out_of_range, 1, 16);
+    check("render: {subpixel_bits: 9}\n", ErrorCode::out_of_range, 1, 25);
+    check("render: {subpixel_bits: 0}\n", ErrorCode::out_of_range, 1, 25);
     check("render: {wireframe: maybe}\n", ErrorCode::wrong_type, 1, 21);
     check("lights:\n  - {direction: [0, 0, 0]}\n", ErrorCode::config_invalid, 2, 17);
     check("lights:\n  - {type: spot, spot_inner: 40, spot_outer: 30}\n", ErrorCode::out_of_range, 2,

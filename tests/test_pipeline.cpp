@@ -66,6 +66,27 @@ glm::dvec2 pixel_centre(int i) { return {i % W + 0.5, i / W + 0.5}; }
 
 }  // namespace
 
+TEST_CASE("a draw snaps vertices to its pipeline state's sub-pixel bits", "[pipeline][subpixel]") {
+    // A quad whose left side is at x = 10.6: with 8 bits, column 10's centre
+    // (10.5) is outside; with 1 bit the side rounds to 10.5 and, being a
+    // left edge, takes that column in.
+    const glm::vec3 a = window_to_ndc({10.6, 0.0}, W, H), b = window_to_ndc({30.0, 0.0}, W, H),
+                    c = window_to_ndc({30.0, H}, W, H), d = window_to_ndc({10.6, H}, W, H);
+    const Mesh quad = make_mesh({a, b, c, d}, {0, 2, 1, 0, 3, 2});
+    static auto shader = plugin<CountShader>();
+    for (int bits : {8, 1}) {
+        Framebuffer fb(W, H);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        DrawCall call = clip_space_call(quad, *shader);
+        call.state.subpixel_bits = bits;
+        FrameStats stats;
+        Renderer(1).draw(call, fb, stats);
+        CAPTURE(bits);
+        CHECK(fb.pixel(10, H / 2).r == (bits == 1 ? 1.0f : 0.0f));
+        CHECK(fb.pixel(11, H / 2).r == 1.0f);
+    }
+}
+
 TEST_CASE("fans are watertight at many rotations", "[pipeline][watertight]") {
     for (int step = 0; step < 90; ++step) {
         const float angle = float(step) * 0.0713f;

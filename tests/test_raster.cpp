@@ -59,7 +59,7 @@ glm::dvec4 clip_of(P p) {
 
 using PixelSet = std::set<std::pair<int, int>>;
 
-PixelSet raster(const P v[3], bool* drawn = nullptr) {
+PixelSet raster(const P v[3], bool* drawn = nullptr, int subpixel_bits = 8) {
     const float none = 0.0f;
     const SetupVertex sv[3] = {{clip_of(v[0]), &none}, {clip_of(v[1]), &none},
                                {clip_of(v[2]), &none}};
@@ -67,7 +67,8 @@ PixelSet raster(const P v[3], bool* drawn = nullptr) {
     cull.cull_back = false;
     TriangleSetup t;
     PixelSet out;
-    const bool ok = setup_triangle(sv, Viewport{kSize, kSize}, cull, t) == SetupResult::ok;
+    const bool ok = setup_triangle(sv, Viewport{kSize, kSize, 1, subpixel_bits}, cull, t) ==
+                    SetupResult::ok;
     if (drawn) *drawn = ok;
     if (!ok) return out;
     rasterize(t, [&](const Block& b) {
@@ -195,6 +196,33 @@ TEST_CASE("random sub-pixel triangles match the oracle", "[raster]") {
         for (P& p : v) p = {coord(rng), coord(rng)};
         REQUIRE(raster(v) == oracle(v));
     }
+}
+
+TEST_CASE("fewer sub-pixel bits: vertices round to the coarser grid, then the fill rule holds",
+          "[raster][subpixel]") {
+    // Rounding to the nearest multiple of 2^(8 - bits) sub-pixels, halves
+    // away from zero, is what "n sub-pixel bits" means for a vertex.
+    auto coarse = [](int64_t c, int bits) {
+        const int64_t q = int64_t(1) << (8 - bits);
+        return c >= 0 ? (c + q / 2) / q * q : -((-c + q / 2) / q * q);
+    };
+    std::mt19937 rng(2718);
+    std::uniform_int_distribution<int64_t> coord(-4 * 256, (kSize + 4) * 256);
+    int differs = 0;
+    for (int bits = 1; bits <= 8; ++bits) {
+        CAPTURE(bits);
+        for (int n = 0; n < 400; ++n) {
+            P v[3], snapped[3];
+            for (int k = 0; k < 3; ++k) {
+                v[k] = {coord(rng), coord(rng)};
+                snapped[k] = {coarse(v[k].x, bits), coarse(v[k].y, bits)};
+            }
+            const PixelSet got = raster(v, nullptr, bits);
+            REQUIRE(got == oracle(snapped));
+            if (bits < 8 && got != oracle(v)) ++differs;
+        }
+    }
+    CHECK(differs > 100);  // coarser snapping really moved coverage
 }
 
 TEST_CASE("degenerate triangles draw nothing", "[raster]") {

@@ -235,7 +235,8 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     shade_vertices(mesh, shader, abi, g);
     stats.vertices_shaded += mesh.vertex_count();
 
-    const Viewport viewport{target.width(), target.height(), target.samples()};
+    const Viewport viewport{target.width(), target.height(), target.samples(),
+                            call.state.subpixel_bits};
     const CullState cull = cull_state(call.state);
     const Assembler assembler(dc, g, viewport, cull);
     g.bins.resize(target.width(), target.height());

@@ -43,6 +43,7 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.depth_compare = s.depth_compare;
     p.depth_write = m.writes_depth();
     p.wireframe = s.wireframe;
+    p.subpixel_bits = s.subpixel_bits;
     return p;
 }
 

@@ -110,8 +110,8 @@ void read_shadow_settings(const yaml::Context& ctx, const YAML::Node& node, Rend
 RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "render",
                     {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
-                     "shadow_map_size", "shadow_distance", "msaa", "wireframe", "shadows",
-                     "ao"});
+                     "shadow_map_size", "shadow_distance", "msaa", "subpixel_bits", "wireframe",
+                     "shadows", "ao"});
     RenderSettings s;
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
@@ -138,6 +138,9 @@ RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::read(ctx, node, "msaa", s.msaa);
     ensure(s.msaa == 1 || s.msaa == 2 || s.msaa == 4 || s.msaa == 8, ctx, where(node, "msaa"),
            ErrorCode::out_of_range, "msaa must be 1, 2, 4 or 8 samples per pixel");
+    yaml::read(ctx, node, "subpixel_bits", s.subpixel_bits);
+    ensure(s.subpixel_bits >= 1 && s.subpixel_bits <= 8, ctx, where(node, "subpixel_bits"),
+           ErrorCode::out_of_range, "subpixel_bits must be 1..8 (D3D10+ and the default: 8)");
     yaml::read(ctx, node, "wireframe", s.wireframe);
     yaml::read(ctx, node, "shadows", s.shadows);
     yaml::read(ctx, node, "ao", s.ao);

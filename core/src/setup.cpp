@@ -7,9 +7,12 @@ namespace facet {
 
 namespace {
 
-int64_t snap(double window) {
+// Rounds a window coordinate to the nearest multiple of 1 / 2^bits pixel,
+// in units of the kSubpixelBits grid.
+int64_t snap(double window, int bits) {
     const double limit = kGuardBandPixels * 2.0;  // never reached after clipping
-    return std::llround(std::clamp(window, -limit, limit) * double(kSubpixelOne));
+    const int coarse = kSubpixelBits - bits;
+    return std::llround(std::ldexp(std::clamp(window, -limit, limit), bits)) * (int64_t(1) << coarse);
 }
 
 int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -48,11 +51,12 @@ glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
 SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
                            const CullState& cull, TriangleSetup& out, int orientation) {
     int64_t X[3], Y[3];
+    const int bits = std::clamp(viewport.subpixel_bits, 1, kSubpixelBits);
     for (int i = 0; i < 3; ++i) {
         if (!(v[i].clip.w > 0.0)) return SetupResult::degenerate;
         const glm::dvec2 p = to_window(v[i].clip, viewport);
-        X[i] = snap(p.x);
-        Y[i] = snap(p.y);
+        X[i] = snap(p.x, bits);
+        Y[i] = snap(p.y, bits);
     }
     const int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area2 == 0 || (orientation != 0 && (area2 > 0) != (orientation > 0)))

@@ -4,8 +4,8 @@
 // guarantees it), their varyings, the viewport and the culling state. A
 // vertex with w <= 0 (only the origin survives clipping with w = 0) makes
 // the triangle degenerate.
-// Gives: a TriangleSetup: vertices snapped to fixed point with 8 sub-pixel
-// bits, three integer edge functions with the top-left fill rule folded in,
+// Gives: a TriangleSetup: vertices snapped to fixed point with the
+// viewport's sub-pixel bits (8 by default, as D3D10+ requires), three integer edge functions with the top-left fill rule folded in,
 // the pixel bounding box clipped to the viewport, and what the fragment
 // stage needs to interpolate (window depth, 1/w, varyings) - or a reason the
 // triangle draws nothing.
@@ -21,6 +21,10 @@
 
 namespace facet {
 
+// The fixed-point grid every position and edge function lives on: 8 bits
+// below the pixel. Vertices snap to a coarser grid when the viewport asks
+// for fewer sub-pixel bits, but pixel centres and MSAA sample positions
+// (multiples of 1/16 pixel) stay exact on this one.
 constexpr int kSubpixelBits = 8;
 constexpr int64_t kSubpixelOne = int64_t(1) << kSubpixelBits;
 // Half-width of the guard band in pixels: window coordinates stay within
@@ -31,6 +35,10 @@ struct Viewport {
     int width = 0;
     int height = 0;
     int samples = 1;  // MSAA: the bounding box then reaches every sample position
+    // Vertex precision: window positions round to 1 / 2^subpixel_bits of a
+    // pixel, 1..kSubpixelBits. Fewer bits model coarser hardware (Vulkan
+    // asks for at least 4); the quality sweep in facet-bench --pareto uses it.
+    int subpixel_bits = kSubpixelBits;
     // Guard-band half-width in NDC units for this viewport (see clip.hpp).
     double guard_ndc() const;
 };

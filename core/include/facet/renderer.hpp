@@ -71,6 +71,7 @@ struct PipelineState {
     bool depth_write = true;
     bool color_write = true;  // false: depth only (shadow maps, pre-passes)
     bool wireframe = false;   // blend each triangle's edges (about 1 pixel) over its colour
+    int subpixel_bits = 8;    // vertex snapping precision, 1..8 (D3D10+: 8)
     glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
 };
 

@@ -2,8 +2,8 @@
 //
 //     camera: {position: [0, 1, 3], target: [0, 0.5, 0], fov_y: 45, near: 0.1, far: 100}
 //     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back,
-//              shadow_map_size: 2048, shadow_distance: 20, msaa: 4, wireframe: false,
-//              shadows: true, ao: true}
+//              shadow_map_size: 2048, shadow_distance: 20, msaa: 4, subpixel_bits: 8,
+//              wireframe: false, shadows: true, ao: true}
 //     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
 //     lights:
 //       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
@@ -76,6 +76,7 @@ struct RenderSettings {
     int shadow_map_size = 2048;    // texels per side of each shadow map
     float shadow_distance = 0.0f;  // directional shadows cover the view up to here; 0: far
     int msaa = 1;                  // samples per pixel: 1, 2, 4 or 8
+    int subpixel_bits = 8;         // vertex snapping precision, 1..8 bits below the pixel
     bool wireframe = false;        // draw each triangle's edges over its shading
     bool shadows = true;           // false: no shadow passes; shaders see no shadow maps
     bool ao = true;                // false: no AO passes; shaders see full visibility
