@@ -33,37 +33,6 @@ static_assert(kTriangleBatch / kSetupChunk < (1u << 16));
 
 void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_ptr(m), 64); }
 
-facet_draw make_abi_draw(const DrawCall& call, const Framebuffer& target,
-                         const DrawContext& dc) {
-    facet_draw d{};
-    static const ParamBlock kNoParams{};
-    d.host = host_services();
-    d.params = call.params ? call.params : kNoParams.bytes;  // never NULL
-    d.host_data = &dc;
-    copy_matrix(d.model, call.model);
-    copy_matrix(d.view, call.view);
-    copy_matrix(d.projection, call.projection);
-    copy_matrix(d.view_projection, call.projection * call.view);
-    copy_matrix(d.model_view_projection, call.projection * call.view * call.model);
-    copy_matrix(d.normal_matrix, glm::mat4(normal_matrix(call.model)));
-    d.camera_position[0] = call.camera_position.x;
-    d.camera_position[1] = call.camera_position.y;
-    d.camera_position[2] = call.camera_position.z;
-    d.camera_position[3] = 1.0f;
-    if (call.shader->needs(FACET_NEED_LIGHTS)) {
-        d.light_count = call.light_count;
-        d.lights = call.lights;
-    }
-    if (call.shader->needs(FACET_NEED_SHADOW_MAP)) {
-        d.shadow_map_count = call.shadow_map_count;
-        d.shadow_maps = call.shadow_maps;
-    }
-    d.viewport_width = uint32_t(target.width());
-    d.viewport_height = uint32_t(target.height());
-    d.time = call.time;
-    return d;
-}
-
 template <class T>
 const float* input(const ShaderPlugin& shader, facet_need need, const std::vector<T>& data,
                    size_t first) {
@@ -217,6 +186,36 @@ void draw_tile(const DrawContext& dc, Geometry& g, int tile, int worker) {
 
 }  // namespace
 
+facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc) {
+    facet_draw d{};
+    static const ParamBlock kNoParams{};
+    d.host = host_services();
+    d.params = call.params ? call.params : kNoParams.bytes;  // never NULL
+    d.host_data = &dc;
+    copy_matrix(d.model, call.model);
+    copy_matrix(d.view, call.view);
+    copy_matrix(d.projection, call.projection);
+    copy_matrix(d.view_projection, call.projection * call.view);
+    copy_matrix(d.model_view_projection, call.projection * call.view * call.model);
+    copy_matrix(d.normal_matrix, glm::mat4(normal_matrix(call.model)));
+    d.camera_position[0] = call.camera_position.x;
+    d.camera_position[1] = call.camera_position.y;
+    d.camera_position[2] = call.camera_position.z;
+    d.camera_position[3] = 1.0f;
+    if (call.shader->needs(FACET_NEED_LIGHTS)) {
+        d.light_count = call.light_count;
+        d.lights = call.lights;
+    }
+    if (call.shader->needs(FACET_NEED_SHADOW_MAP)) {
+        d.shadow_map_count = call.shadow_map_count;
+        d.shadow_maps = call.shadow_maps;
+    }
+    d.viewport_width = uint32_t(width);
+    d.viewport_height = uint32_t(height);
+    d.time = call.time;
+    return d;
+}
+
 void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
     if (!call.mesh || !call.shader)
         throw Error(ErrorCode::config_invalid, "draw call without a mesh or a shader");
@@ -230,7 +229,7 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     dc.state = call.state;
     dc.target = &target;
     dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
-    const facet_draw abi = make_abi_draw(call, target, dc);
+    const facet_draw abi = make_abi_draw(call, target.width(), target.height(), dc);
     dc.abi = &abi;
     shade_vertices(mesh, shader, abi, g);
     stats.vertices_shaded += mesh.vertex_count();

@@ -42,6 +42,10 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureB
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
                  FrameStats& stats);
 
+// What the plugin sees of `call` drawn into a width x height target
+// (draw.cpp). host_data points at `dc`, for the host's services.
+facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc);
+
 // The service table passed to plugins in facet_draw.host.
 const facet_host* host_services();
 

@@ -31,17 +31,48 @@ glm::dmat3 frame(const glm::dvec3& n) {
 
 }  // namespace
 
+// The winding facet culls for an object, as seen through the camera.
+uint8_t culled_winding(const Scene& scene, const Object& o) {
+    const CullMode mode =
+        o.material ? o.material->cull.value_or(scene.settings.cull) : scene.settings.cull;
+    if (mode == CullMode::none) return 0;
+    const bool drop_front = mode == CullMode::front;
+    const bool drop_ccw = drop_front == scene.settings.front_ccw;
+    return drop_ccw ? 2 : 1;
+}
+
+CameraRays::CameraRays(const Scene& scene) {
+    const RenderSettings& s = scene.settings;
+    inverse_ = glm::inverse(
+        glm::dmat4(scene.camera.projection(float(s.width) / float(s.height), s.reversed_z)) *
+        glm::dmat4(scene.camera.view()));
+    width_ = s.width;
+    height_ = s.height;
+    near_ = s.reversed_z ? 1.0 : 0.0;
+    far_ = 1.0 - near_;
+}
+
+void CameraRays::ray(double x, double y, glm::dvec3& origin, glm::dvec3& dir) const {
+    const glm::dvec2 ndc(x / width_ * 2.0 - 1.0, 1.0 - y / height_ * 2.0);
+    const glm::dvec4 a = inverse_ * glm::dvec4(ndc, near_, 1.0);
+    const glm::dvec4 b = inverse_ * glm::dvec4(ndc, far_, 1.0);
+    origin = glm::dvec3(a) / a.w;
+    dir = glm::dvec3(b) / b.w - origin;
+}
+
 RayCaster::RayCaster(const Scene& scene) {
+    cull_.assign(scene.objects.size(), keep_all);
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
         if (!o.visible || !o.mesh) continue;
+        cull_[i] = Cull(culled_winding(scene, o));
         const glm::dmat4 m(o.transform.matrix());
         const Mesh& mesh = *o.mesh;
         for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
             glm::dvec3 v[3];
             for (int k = 0; k < 3; ++k)
                 v[k] = glm::dvec3(m * glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[t + k]]), 1));
-            triangles_.push_back({v[0], v[1], v[2], int(i)});
+            triangles_.push_back({v[0], v[1], v[2], int(i), int(t / 3)});
         }
     }
     nodes_.reserve(2 * triangles_.size() + 1);
@@ -72,27 +103,11 @@ int RayCaster::build(int first, int count) {
     return index;
 }
 
-// Moller-Trumbore.
-bool RayCaster::intersect(const Triangle& tri, const glm::dvec3& o, const glm::dvec3& d,
-                          double t_max, double& t) const {
-    const glm::dvec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;
-    const glm::dvec3 p = glm::cross(d, e2);
-    const double det = glm::dot(e1, p);
-    if (std::abs(det) < 1e-300) return false;
-    const double inv = 1.0 / det;
-    const glm::dvec3 s = o - tri.a;
-    const double u = glm::dot(s, p) * inv;
-    if (u < 0.0 || u > 1.0) return false;
-    const glm::dvec3 q = glm::cross(s, e1);
-    const double v = glm::dot(d, q) * inv;
-    if (v < 0.0 || u + v > 1.0) return false;
-    t = glm::dot(e2, q) * inv;
-    return t > kEpsilon && t < t_max;
-}
-
-std::optional<Hit> RayCaster::first_hit(const glm::dvec3& o, const glm::dvec3& d,
-                                        double t_max) const {
-    if (nodes_.empty()) return std::nullopt;
+// Moller-Trumbore, in the form where the determinant's sign is the
+// winding the ray sees: det > 0 when it sees a, b, c counter-clockwise.
+int RayCaster::trace(const glm::dvec3& o, const glm::dvec3& d, double& t_max, double& u_out,
+                     double& v_out, bool cull, bool any) const {
+    if (nodes_.empty()) return -1;
     const glm::dvec3 inv_d = 1.0 / d;
     int best = -1;
     int stack[128];
@@ -107,41 +122,57 @@ std::optional<Hit> RayCaster::first_hit(const glm::dvec3& o, const glm::dvec3& d
             continue;
         }
         for (int i = n.first; i < n.first + n.count; ++i) {
-            double t;
-            if (intersect(triangles_[size_t(i)], o, d, t_max, t)) {
-                t_max = t;
-                best = i;
-            }
+            const Triangle& tri = triangles_[size_t(i)];
+            const glm::dvec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;
+            const glm::dvec3 p = glm::cross(d, e2);
+            const double det = glm::dot(e1, p);
+            if (std::abs(det) < 1e-300) continue;
+            if (cull && cull_[size_t(tri.object)] == (det > 0 ? drop_ccw : drop_cw)) continue;
+            const double inv = 1.0 / det;
+            const glm::dvec3 s = o - tri.a;
+            const double u = glm::dot(s, p) * inv;
+            if (u < 0.0 || u > 1.0) continue;
+            const glm::dvec3 q = glm::cross(s, e1);
+            const double v = glm::dot(d, q) * inv;
+            if (v < 0.0 || u + v > 1.0) continue;
+            const double t = glm::dot(e2, q) * inv;
+            if (!(t > kEpsilon && t < t_max)) continue;
+            t_max = t;
+            u_out = u;
+            v_out = v;
+            best = i;
+            if (any) return best;
         }
     }
+    return best;
+}
+
+std::optional<Hit> RayCaster::first_hit(const glm::dvec3& o, const glm::dvec3& d, double t_max,
+                                        bool cull) const {
+    double u = 0, v = 0;
+    const int best = trace(o, d, t_max, u, v, cull, false);
     if (best < 0) return std::nullopt;
     const Triangle& tri = triangles_[size_t(best)];
     glm::dvec3 n = glm::normalize(glm::cross(tri.b - tri.a, tri.c - tri.a));
-    if (glm::dot(n, d) > 0) n = -n;
-    return Hit{t_max, o + d * t_max, n, tri.object};
+    const bool ccw = glm::dot(n, d) < 0;
+    if (!ccw) n = -n;
+    return Hit{t_max, o + d * t_max, n, tri.object, tri.index, u, v, ccw};
 }
 
 bool RayCaster::occluded(const glm::dvec3& o, const glm::dvec3& d, double t_max) const {
-    return first_hit(o, d, t_max).has_value();
+    double u, v;
+    return trace(o, d, t_max, u, v, false, true) >= 0;
 }
 
 void RayCaster::camera_ray(const Scene& scene, double x, double y, glm::dvec3& origin,
                            glm::dvec3& dir) {
-    const RenderSettings& s = scene.settings;
-    const glm::dmat4 inv = glm::inverse(
-        glm::dmat4(scene.camera.projection(float(s.width) / float(s.height), s.reversed_z)) *
-        glm::dmat4(scene.camera.view()));
-    const glm::dvec2 ndc(x / s.width * 2.0 - 1.0, 1.0 - y / s.height * 2.0);
-    const double near = s.reversed_z ? 1.0 : 0.0, far = 1.0 - near;
-    const glm::dvec4 a = inv * glm::dvec4(ndc, near, 1.0), b = inv * glm::dvec4(ndc, far, 1.0);
-    origin = glm::dvec3(a) / a.w;
-    dir = glm::dvec3(b) / b.w - origin;
+    CameraRays(scene).ray(x, y, origin, dir);
 }
 
 std::optional<Hit> RayCaster::camera_hit(const Scene& scene, double x, double y) const {
     glm::dvec3 o, d;
     camera_ray(scene, x, y, o, d);
-    return first_hit(o, d);
+    return first_hit(o, d, 1.0, true);  // t = 1 is the far plane
 }
 
 bool RayCaster::lit(const Light& light, const glm::dvec3& p, const glm::dvec3& n) const {
@@ -152,21 +183,24 @@ bool RayCaster::lit(const Light& light, const glm::dvec3& p, const glm::dvec3& n
     return !occluded(start, to, 1.0 - 1e-9);
 }
 
+bool RayCaster::open(const glm::dvec3& p, const glm::dvec3& n, double radius, double u,
+                     double v) const {
+    // Malley's method: a uniform point on the unit disc, lifted to the
+    // hemisphere, is cosine-distributed.
+    const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
+    const glm::dvec3 d = frame(n) * glm::dvec3(r * std::cos(phi), r * std::sin(phi),
+                                              std::sqrt(1.0 - u));
+    return !occluded(p + n * 1e-6, d, radius);
+}
+
 double RayCaster::ambient_visibility(const glm::dvec3& p, const glm::dvec3& n, double radius,
                                      int rays) const {
-    const glm::dmat3 f = frame(n);
-    const glm::dvec3 start = p + n * 1e-6;
     const int side = std::max(1, int(std::lround(std::sqrt(double(rays)))));
-    int open = 0;
+    int count = 0;
     for (int j = 0; j < side; ++j)
-        for (int i = 0; i < side; ++i) {
-            const double u = (i + 0.5) / side, v = (j + 0.5) / side;  // stratified
-            const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
-            const glm::dvec3 d = f * glm::dvec3(r * std::cos(phi), r * std::sin(phi),
-                                                std::sqrt(1.0 - u));
-            open += !occluded(start, d, radius);
-        }
-    return double(open) / double(side * side);
+        for (int i = 0; i < side; ++i)  // stratified
+            count += open(p, n, radius, (i + 0.5) / side, (j + 0.5) / side);
+    return double(count) / double(side * side);
 }
 
 }  // namespace facet::reference

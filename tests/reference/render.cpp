@@ -1,0 +1,363 @@
+#include "render.hpp"
+
+#include "raycast.hpp"
+
+#include "ao.hpp"        // AoSettings: the default radius
+#include "fragment.hpp"  // DrawContext, make_abi_draw
+
+#include <facet/renderer.hpp>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+namespace facet::reference {
+
+namespace {
+
+constexpr int N = FACET_BLOCK_LANES;
+
+// One drawable object, ready to shade: its draw in three lightings (every
+// light, none, and each light alone, all without shadow maps), its vertex
+// outputs and its textures at level 0, filtered bilinearly.
+struct Prepared {
+    const ShaderPlugin* shader = nullptr;
+    const Mesh* mesh = nullptr;
+    std::vector<TextureBinding> textures;
+    DrawContext dc;
+    facet_draw all{}, none{};
+    std::vector<facet_draw> alone;  // by light
+    std::vector<float> varyings;    // [vertex][varying_floats]
+    std::vector<glm::dvec2> window; // per vertex, for `linear` varyings
+    bool has_linear = false;
+    bool shadowed = false;          // the shader takes shadow maps, and shadows are on
+    bool needs_ao = false;
+    double ao_radius = AoSettings{}.radius;
+};
+
+void check_supported(const Object& o) {
+    const Material& m = *o.material;
+    const uint32_t unsupported = FACET_NEED_DERIVATIVES | FACET_NEED_DISCARD | FACET_NEED_BLENDING;
+    if (m.blend != BlendMode::opaque || (m.plugin->needs() & unsupported))
+        throw std::runtime_error("reference renderer: object '" + o.name + "' (material " +
+                                 m.source + ", shader " + m.plugin->name() +
+                                 ") blends, discards or takes derivatives; only opaque, "
+                                 "derivative-free materials have a reference");
+}
+
+double material_ao_radius(const Material& m) {
+    double radius = AoSettings{}.radius;
+    const facet_param_desc* p = m.plugin->find_param("ao_radius");
+    if (p && p->type == FACET_PARAM_FLOAT && m.block) {
+        float r;
+        std::memcpy(&r, m.block->bytes + p->offset, sizeof r);
+        radius = r;
+    }
+    return std::max(radius, 1e-4);
+}
+
+std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
+                                  const std::vector<facet_light>& lights) {
+    check_supported(o);
+    const RenderSettings& s = scene.settings;
+    const Material& m = *o.material;
+    auto p = std::make_unique<Prepared>();
+    p->shader = m.plugin.get();
+    p->mesh = o.mesh.get();
+    p->textures = m.textures;
+    for (TextureBinding& t : p->textures) t.filter = Filter::bilinear;
+    prepare_context(p->dc, *p->shader, p->textures.data(), int(p->textures.size()));
+    p->shadowed = s.shadows && p->shader->needs(FACET_NEED_SHADOW_MAP);
+    p->needs_ao = p->shader->needs(FACET_NEED_AO);
+    p->ao_radius = material_ao_radius(m);
+
+    DrawCall call;
+    call.mesh = p->mesh;
+    call.shader = p->shader;
+    call.params = m.block ? m.block->bytes : nullptr;
+    call.model = o.transform.matrix();
+    call.view = scene.camera.view();
+    call.projection = scene.camera.projection(float(s.width) / float(s.height), s.reversed_z);
+    call.camera_position = scene.camera.position;
+    call.lights = lights.data();
+    call.light_count = uint32_t(lights.size());
+    p->all = make_abi_draw(call, s.width, s.height, p->dc);
+    p->dc.abi = &p->all;
+    p->none = p->all;
+    p->none.light_count = 0;
+    for (size_t k = 0; k < lights.size(); ++k) {
+        facet_draw d = p->all;
+        d.lights = &lights[k];
+        d.light_count = 1;
+        p->alone.push_back(d);
+    }
+
+    // The shader's vertex function, once over the whole mesh.
+    const Mesh& mesh = *p->mesh;
+    const uint32_t floats = p->shader->varying_floats();
+    const size_t count = mesh.vertex_count();
+    std::vector<glm::vec4> clip(count);
+    p->varyings.resize(count * floats + 1);
+    auto input = [&](facet_need need, const auto& data) -> const float* {
+        return p->shader->needs(need) && !data.empty() ? glm::value_ptr(data[0]) : nullptr;
+    };
+    const facet_vertex_batch batch{uint32_t(count),
+                                   glm::value_ptr(mesh.positions[0]),
+                                   input(FACET_NEED_NORMALS, mesh.normals),
+                                   input(FACET_NEED_UVS, mesh.uvs),
+                                   input(FACET_NEED_COLORS, mesh.colors),
+                                   nullptr,
+                                   glm::value_ptr(clip[0]),
+                                   p->varyings.data(),
+                                   floats};
+    if (count) p->shader->desc().vertex(&p->all, &batch);
+
+    for (uint32_t k = 0; k < floats; ++k)
+        p->has_linear |= p->shader->float_interpolation()[k] == FACET_INTERP_LINEAR;
+    if (p->has_linear) {
+        const glm::dmat4 mvp = glm::dmat4(call.projection) * glm::dmat4(call.view) *
+                               glm::dmat4(call.model);
+        for (const glm::vec3& v : mesh.positions) {
+            const glm::dvec4 c = mvp * glm::dvec4(glm::dvec3(v), 1.0);
+            p->window.push_back({(c.x / c.w + 1.0) * 0.5 * s.width,
+                                 (1.0 - c.y / c.w) * 0.5 * s.height});
+        }
+    }
+    return p;
+}
+
+// What one sample sees.
+struct Sample {
+    std::optional<Hit> hit;
+    glm::dvec2 window;
+};
+
+class Shader {
+public:
+    Shader(const Scene& scene, const std::vector<std::unique_ptr<Prepared>>& objects,
+           const RayCaster& rc, const RenderOptions& options)
+        : scene_(scene), objects_(objects), rc_(rc), options_(options) {
+        for (size_t k = 0; k < scene.lights.size(); ++k) {
+            const Light& l = scene.lights[k];
+            if (l.casts_shadow && l.type != LightType::point) casters_.push_back(k);
+        }
+    }
+
+    // Shades lanes `mask` of one 4x4 block, all on object `object` and on
+    // the same side of their triangles; adds each lane's colour to sum.
+    // ao_uv[i] is lane i's first point for AO directions.
+    void shade(int object, bool front, uint32_t mask, int bx, int by, const Sample* samples,
+               const glm::dvec2* ao_uv, glm::dvec4* sum) {
+        const Prepared& p = *objects_[size_t(object)];
+        const uint32_t floats = p.shader->varying_floats();
+        const uint8_t* interp = p.shader->float_interpolation();
+        const int first = std::countr_zero(mask);
+        for (int i = 0; i < N; ++i) {
+            const Sample& sm = samples[(mask >> i) & 1 ? i : first];
+            const Hit& h = *sm.hit;
+            const uint32_t* idx = &p.mesh->indices[3 * size_t(h.triangle)];
+            double w[3] = {1.0 - h.u - h.v, h.u, h.v};
+            double ws[3] = {w[0], w[1], w[2]};
+            if (p.has_linear) screen_weights(p, idx, sm.window, ws);
+            for (uint32_t k = 0; k < floats; ++k) {
+                const float* v0 = &p.varyings[idx[0] * floats + k];
+                double value;
+                if (interp[k] == FACET_INTERP_FLAT) value = *v0;
+                else {
+                    const double* ww = interp[k] == FACET_INTERP_LINEAR ? ws : w;
+                    value = 0.0;
+                    for (int c = 0; c < 3; ++c) value += ww[c] * p.varyings[idx[c] * floats + k];
+                }
+                varyings_[k * N + i] = float(value);
+            }
+            const glm::dvec4 clip = view_projection_ * glm::dvec4(h.point, 1.0);
+            depth_[i] = float(std::clamp(clip.z / clip.w, 0.0, 1.0));
+            ao_[i] = 1.0f;
+            if (p.needs_ao && scene_.settings.ao && ((mask >> i) & 1)) {
+                int open = 0;
+                for (int r = 0; r < options_.ao_rays; ++r) {
+                    const glm::dvec2 uv = glm::fract(ao_uv[i] + double(r) * kR2);
+                    open += rc_.open(h.point, h.normal, p.ao_radius, uv.x, uv.y);
+                }
+                ao_[i] = float(open) / float(options_.ao_rays);
+            }
+        }
+        sample_textures(p);
+
+        facet_fragment_batch b{};
+        b.x = bx;
+        b.y = by;
+        b.front_facing = front;
+        b.varyings = varyings_;
+        b.depth = depth_;
+        b.texels = p.shader->texture_count() ? texels_ : nullptr;
+        b.ao = p.needs_ao ? ao_ : nullptr;
+        float color[4 * N], alone[4 * N], dark[4 * N];
+        run(p, p.all, b, mask, color);
+
+        // Remove the share of each light a lane cannot see.
+        bool have_dark = false;
+        for (size_t k : p.shadowed ? casters_ : std::vector<size_t>{}) {
+            uint32_t blocked = 0;
+            for (uint32_t m = mask; m; m &= m - 1) {
+                const int i = std::countr_zero(m);
+                const Hit& h = *samples[i].hit;
+                if (!rc_.lit(scene_.lights[k], h.point, h.normal)) blocked |= 1u << i;
+            }
+            if (!blocked) continue;
+            if (!have_dark) run(p, p.none, b, mask, dark);
+            have_dark = true;
+            run(p, p.alone[k], b, mask, alone);
+            for (uint32_t m = blocked; m; m &= m - 1) {
+                const int i = std::countr_zero(m);
+                for (int c = 0; c < 3; ++c) color[c * N + i] -= alone[c * N + i] - dark[c * N + i];
+            }
+        }
+        for (uint32_t m = mask; m; m &= m - 1) {
+            const int i = std::countr_zero(m);
+            sum[i] += glm::dvec4(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
+        }
+    }
+
+    glm::dmat4 view_projection_;
+    static constexpr glm::dvec2 kR2{0.7548776662466927, 0.5698402909980532};  // R2 sequence steps
+
+private:
+    static void screen_weights(const Prepared& p, const uint32_t* idx, glm::dvec2 q,
+                               double* w) {
+        const glm::dvec2 a = p.window[idx[0]], b = p.window[idx[1]], c = p.window[idx[2]];
+        auto cross = [](glm::dvec2 e, glm::dvec2 f) { return e.x * f.y - e.y * f.x; };
+        const double area = cross(b - a, c - a);
+        if (area == 0.0) return;
+        w[1] = cross(q - a, c - a) / area;
+        w[2] = cross(b - a, q - a) / area;
+        w[0] = 1.0 - w[1] - w[2];
+    }
+
+    void sample_textures(const Prepared& p) {
+        for (int s = 0; s < p.shader->texture_count(); ++s) {
+            float* out = texels_ + s * 4 * N;
+            const TextureBinding* t = s < int(p.textures.size()) ? &p.textures[size_t(s)] : nullptr;
+            if (!t || !t->texture) {
+                std::fill(out, out + 4 * N, 1.0f);
+                continue;
+            }
+            const float* u = varyings_ + p.shader->texture_uv_float(s) * N;
+            sample_many(*t, u, u + N, N, out);
+        }
+    }
+
+    static void run(const Prepared& p, const facet_draw& draw, facet_fragment_batch b,
+                    uint32_t mask, float* color) {
+        b.mask = mask;
+        b.color = color;
+        p.shader->desc().fragment(&draw, &b);
+    }
+
+    const Scene& scene_;
+    const std::vector<std::unique_ptr<Prepared>>& objects_;
+    const RayCaster& rc_;
+    const RenderOptions& options_;
+    std::vector<size_t> casters_;
+    float varyings_[FACET_MAX_VARYING_FLOATS * N] = {};
+    float depth_[N] = {}, ao_[N] = {};
+    float texels_[FACET_MAX_TEXTURES * 4 * N] = {};
+};
+
+}  // namespace
+
+std::vector<glm::dvec4> render(const Scene& scene, const RenderOptions& options) {
+    const RenderSettings& s = scene.settings;
+    const int grid = std::max(1, options.grid);
+    std::vector<facet_light> lights;
+    for (const Light& l : scene.lights) lights.push_back(to_abi(l));
+    std::vector<std::unique_ptr<Prepared>> objects(scene.objects.size());
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& o = scene.objects[i];
+        if (o.visible && o.mesh && o.material && o.material->plugin)
+            objects[i] = prepare(scene, o, lights);
+    }
+    const RayCaster rc(scene);
+    const CameraRays camera(scene);
+    const glm::dmat4 view_projection =
+        glm::dmat4(scene.camera.projection(float(s.width) / float(s.height), s.reversed_z)) *
+        glm::dmat4(scene.camera.view());
+
+    std::vector<glm::dvec4> image(size_t(s.width) * s.height);
+    const int blocks_x = (s.width + 3) / 4, blocks_y = (s.height + 3) / 4;
+    std::atomic<int> next{0};
+    auto worker = [&] {
+        Shader shader(scene, objects, rc, options);
+        shader.view_projection_ = view_projection;
+        Sample samples[N];
+        glm::dvec2 ao_uv[N];
+        glm::dvec4 sum[N];
+        for (int row; (row = next++) < blocks_y;) {
+            for (int bx = 0; bx < blocks_x; ++bx) {
+                const int x0 = bx * 4, y0 = row * 4;
+                std::fill(sum, sum + N, glm::dvec4(0.0));
+                glm::dvec2 ao_start[N];
+                for (int i = 0; i < N; ++i) {  // a fixed, decorrelated start per pixel
+                    std::minstd_rand rng(uint32_t((y0 + i / 4) * s.width + x0 + i % 4 + 1));
+                    std::uniform_real_distribution<double> unit(0.0, 1.0);
+                    ao_start[i] = {unit(rng), unit(rng)};
+                }
+                for (int sy = 0; sy < grid; ++sy)
+                    for (int sx = 0; sx < grid; ++sx) {
+                        const double ox = (sx + 0.5) / grid, oy = (sy + 0.5) / grid;
+                        const double k = double((sy * grid + sx) * options.ao_rays);
+                        for (int i = 0; i < N; ++i) {
+                            const int x = x0 + i % 4, y = y0 + i / 4;
+                            samples[i].hit.reset();
+                            if (x >= s.width || y >= s.height) continue;
+                            samples[i].window = {x + ox, y + oy};
+                            glm::dvec3 o, d;
+                            camera.ray(x + ox, y + oy, o, d);
+                            samples[i].hit = rc.first_hit(o, d, 1.0, true);
+                            ao_uv[i] = glm::fract(ao_start[i] + k * Shader::kR2);
+                            if (!samples[i].hit) sum[i] += glm::dvec4(s.clear_color);
+                        }
+                        // Shade the lanes object by object, side by side.
+                        uint32_t left = 0;
+                        for (int i = 0; i < N; ++i) left |= uint32_t(bool(samples[i].hit)) << i;
+                        while (left) {
+                            const Hit& h = *samples[std::countr_zero(left)].hit;
+                            const bool front = h.ccw == s.front_ccw;
+                            uint32_t group = 0;
+                            for (uint32_t m = left; m; m &= m - 1) {
+                                const int i = std::countr_zero(m);
+                                const Hit& g = *samples[i].hit;
+                                if (g.object == h.object && (g.ccw == s.front_ccw) == front)
+                                    group |= 1u << i;
+                            }
+                            shader.shade(h.object, front, group, x0, y0, samples, ao_uv, sum);
+                            left &= ~group;
+                        }
+                    }
+                for (int i = 0; i < N; ++i) {
+                    const int x = x0 + i % 4, y = y0 + i / 4;
+                    if (x < s.width && y < s.height)
+                        image[size_t(y) * s.width + x] = sum[i] / double(grid * grid);
+                }
+            }
+        }
+    };
+    int threads = options.threads > 0 ? options.threads
+                                      : int(std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    return image;
+}
+
+}  // namespace facet::reference
