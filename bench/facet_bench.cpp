@@ -3,6 +3,10 @@
 //
 //     facet-bench [--scene NAME]... [--size WxH]... [--shader NAME]...
 //                 [--threads N]... [--runs N] [--csv FILE] [--json FILE]
+//     facet-bench --pareto [--size WxH] [--threads N] [--runs N]
+//                 [--reference-grid N] [--csv FILE] [--plot FILE]
+//
+// --pareto measures run time against error instead (pareto.hpp).
 //
 // Scenes (made here, except the bunny):
 //   small     a sphere of ~1k triangles
@@ -11,10 +15,16 @@
 //   large     a sphere of ~1M triangles
 //   fill      six screen-covering quads drawn far to near: 6x overdraw
 //   subpixel  a grid of ~1M triangles of about half a pixel each
+//   huge      a sphere of ~5M triangles (memory: a draw holds per-vertex
+//             results and a bounded batch of triangles, never the whole mesh)
 // Every object gets the shader under test with its default parameters, one
 // shadow-casting directional light and one point light. Each configuration
 // renders one warm-up frame, then --runs frames; the median is reported, with
-// the thread count, and the process's peak resident memory so far.
+// the thread count and the peak resident memory while rendering that scene
+// (Linux: VmHWM, reset when the scene starts; it includes the scene itself).
+#include "pareto.hpp"
+
+#include <facet/command_line.hpp>
 #include <facet/material.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
@@ -29,6 +39,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <thread>
 
 using namespace facet;
@@ -91,6 +102,7 @@ Transform fit(const Mesh& m) {
 std::vector<Object> scene_objects(const std::string& name, std::string& note) {
     if (name == "small") return {{"sphere", sphere(1000), {}, nullptr, true}};
     if (name == "large") return {{"sphere", sphere(1000000), {}, nullptr, true}};
+    if (name == "huge") return {{"sphere", sphere(5000000), {}, nullptr, true}};
     if (name == "medium") {
         const std::filesystem::path bunny =
             std::filesystem::path(FACET_SOURCE_DIR) / "../shared/assets/models/stanford-bunny.obj";
@@ -138,11 +150,19 @@ void set_shader(Scene& s, PluginRegistry& registry, const std::string& shader) {
     for (Object& o : s.objects) o.material = m;
 }
 
+// Peak resident memory since the last reset_peak_rss(), in MiB (Linux's
+// VmHWM; elsewhere the process's peak, from getrusage).
 double peak_rss_mib() {
+    std::ifstream status("/proc/self/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
     return double(u.ru_maxrss) / 1024.0;
 }
+
+// Linux: writing 5 to clear_refs resets VmHWM to the current resident size.
+void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
 struct Result {
     std::string scene, note, shader;
@@ -190,15 +210,23 @@ void write_json(const std::string& path, const std::vector<Result>& results) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::vector<std::string> scenes = {"small", "medium", "large", "fill", "subpixel"};
+    std::vector<std::string> scenes = {"small", "medium", "large", "fill", "subpixel", "huge"};
     std::vector<std::string> sizes = {"1280x720", "1920x1080"};
     std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao"};
     const int all = int(std::max(1u, std::thread::hardware_concurrency()));
     std::vector<int> threads = {1, all};
     int runs = 5;
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
+    bool pareto = false;
+    bench::ParetoOptions po;
     CLI::App app{"facet-bench: facet's frame times over scenes, sizes, shaders and threads"};
-    app.add_option("--scene", scenes, "small, medium, large, fill, subpixel");
+    app.add_flag("--pareto", pareto,
+                 "run time against error for each quality knob, against the reference renderer "
+                 "(writes pareto.csv and pareto.png unless --csv / --plot say otherwise)");
+    app.add_option("--reference-grid", po.grid, "--pareto: reference samples per pixel side")
+        ->capture_default_str();
+    app.add_option("--plot", po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
+    app.add_option("--scene", scenes, "small, medium, large, fill, subpixel, huge");
     app.add_option("--size", sizes, "image size WxH");
     app.add_option("--shader", shaders, "shader plugin name");
     app.add_option("--threads", threads, "threads (counting the caller)");
@@ -207,12 +235,25 @@ int main(int argc, char** argv) {
     app.add_option("--json", json, "JSON output")->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     spdlog::set_level(spdlog::level::warn);
+    if (pareto) {
+        if (app.count("--size")) {
+            const auto size = parse_size(sizes.front());
+            if (!size) return 2;
+            po.width = size->x;
+            po.height = size->y;
+        }
+        if (app.count("--threads")) po.threads = threads.front();
+        if (app.count("--runs")) po.runs = std::max(1, runs);
+        if (app.count("--csv")) po.csv = csv;
+        return bench::run_pareto(po);
+    }
 
     PluginRegistry registry;
     std::vector<Result> results;
     std::printf("%-9s %-10s %-7s %7s %10s %12s %10s\n", "scene", "size", "shader", "threads",
                 "triangles", "median ms", "peak MiB");
     for (const std::string& name : scenes) {
+        reset_peak_rss();
         std::string note;
         Scene scene = make_scene(name, note);
         for (const std::string& size : sizes) {
