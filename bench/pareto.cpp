@@ -1,0 +1,255 @@
+#include "pareto.hpp"
+
+#include "reference/metrics.hpp"
+#include "reference/render.hpp"
+
+#include <facet/material.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <thread>
+
+namespace facet::bench {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// One point of a sweep: the knobs as set (-1: as the scene has it).
+struct Setting {
+    int msaa = -1;
+    int filter = -1;  // Filter, as int
+    int subpixel_bits = -1;
+    int shadow_map_size = -1;
+    int pcf_kernel = -1;
+    int ao_samples = -1;
+    double ao_radius = -1.0;
+};
+
+struct Point {
+    std::string scene;
+    Setting setting;
+    double median_ms = 0.0;
+    reference::ImageError error;
+    bool front = false;
+};
+
+const char* filter_name(int f) {
+    return f == int(Filter::nearest) ? "nearest" : f == int(Filter::bilinear) ? "bilinear"
+                                                                             : "trilinear";
+}
+
+// Every material of `scene` replaced by a private copy changed by `edit`.
+void edit_materials(Scene& scene, const std::function<void(Material&)>& edit) {
+    for (Object& o : scene.objects) {
+        if (!o.material) continue;
+        auto m = std::make_shared<Material>(*o.material);
+        edit(*m);
+        o.material = m;
+    }
+}
+
+// Sets parameter `name` where a material's shader declares it (INT or FLOAT).
+void set_param(Material& m, const char* name, double value) {
+    const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
+    if (!p || !m.block) return;
+    auto block = std::make_shared<ParamBlock>(*m.block);
+    if (p->type == FACET_PARAM_INT) {
+        const int32_t v = int32_t(value);
+        std::memcpy(block->bytes + p->offset, &v, sizeof v);
+    } else if (p->type == FACET_PARAM_FLOAT) {
+        const float v = float(value);
+        std::memcpy(block->bytes + p->offset, &v, sizeof v);
+    }
+    m.block = block;
+}
+
+// The material's value of FLOAT parameter `name`, or `otherwise`.
+double param_or(const Material& m, const char* name, double otherwise) {
+    const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
+    if (!p || !m.block || p->type != FACET_PARAM_FLOAT) return otherwise;
+    float v;
+    std::memcpy(&v, m.block->bytes + p->offset, sizeof v);
+    return v;
+}
+
+Scene with(const Scene& base, const Setting& s) {
+    Scene scene = base;
+    if (s.msaa > 0) scene.settings.msaa = s.msaa;
+    if (s.subpixel_bits > 0) scene.settings.subpixel_bits = s.subpixel_bits;
+    if (s.shadow_map_size > 0) scene.settings.shadow_map_size = s.shadow_map_size;
+    edit_materials(scene, [&](Material& m) {
+        if (s.filter >= 0)
+            for (TextureBinding& t : m.textures) t.filter = Filter(s.filter);
+        if (s.pcf_kernel > 0) set_param(m, "pcf_kernel", s.pcf_kernel);
+        if (s.ao_samples > 0) set_param(m, "ao_samples", s.ao_samples);
+        if (s.ao_radius > 0) set_param(m, "ao_radius", s.ao_radius);
+    });
+    return scene;
+}
+
+double median_frame_ms(const Scene& scene, Renderer& renderer, int runs, Framebuffer& fb) {
+    renderer.render(scene, fb);  // warm-up: passes allocate their buffers
+    std::vector<double> ms;
+    for (int i = 0; i < runs; ++i) ms.push_back(renderer.render(scene, fb).milliseconds);
+    std::sort(ms.begin(), ms.end());
+    return ms[ms.size() / 2];
+}
+
+// Marks the points of each scene that no other point of that scene beats on
+// both time and RMSE.
+void mark_fronts(std::vector<Point>& points) {
+    for (Point& p : points) {
+        p.front = true;
+        for (const Point& q : points)
+            if (&q != &p && q.scene == p.scene && q.median_ms <= p.median_ms &&
+                q.error.rmse <= p.error.rmse &&
+                (q.median_ms < p.median_ms || q.error.rmse < p.error.rmse))
+                p.front = false;
+    }
+}
+
+// The shadow and AO sweeps run at 4x MSAA, so that edge aliasing, which
+// those knobs do not touch, does not drown what they change.
+constexpr int kPassMsaa = 4;
+
+std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
+    std::vector<Setting> out;
+    if (scene == "lit") {
+        for (int bits : {2, 4, 6, 8})
+            for (int f : {int(Filter::nearest), int(Filter::bilinear), int(Filter::trilinear)})
+                for (int msaa : {1, 2, 4, 8}) {
+                    Setting s;
+                    s.msaa = msaa;
+                    s.filter = f;
+                    s.subpixel_bits = bits;
+                    out.push_back(s);
+                }
+    } else if (scene == "shadow") {
+        for (int size : {512, 1024, 2048, 4096})
+            for (int pcf : {1, 3, 5, 7}) {
+                Setting s;
+                s.msaa = kPassMsaa;
+                s.shadow_map_size = size;
+                s.pcf_kernel = pcf;
+                out.push_back(s);
+            }
+    } else if (scene == "ao") {
+        double radius = 0.0;
+        for (const Object& o : base.objects)
+            if (o.material) radius = std::max(radius, param_or(*o.material, "ao_radius", 0.0));
+        for (double scale : {0.5, 1.0, 2.0})
+            for (int samples : {4, 8, 16, 32}) {
+                Setting s;
+                s.msaa = kPassMsaa;
+                s.ao_samples = samples;
+                s.ao_radius = radius * scale;
+                out.push_back(s);
+            }
+    }
+    return out;
+}
+
+void write_csv(const std::string& path, const std::vector<Point>& points, int threads) {
+    std::ofstream out(path);
+    out << "scene,msaa,filter,subpixel_bits,shadow_map_size,pcf_kernel,ao_samples,ao_radius,"
+           "threads,median_ms,rmse,max_error,dssim,pareto\n";
+    for (const Point& p : points) {
+        const Setting& s = p.setting;
+        out << p.scene << ',' << s.msaa << ',' << (s.filter >= 0 ? filter_name(s.filter) : "")
+            << ',' << s.subpixel_bits << ',' << s.shadow_map_size << ',' << s.pcf_kernel << ','
+            << s.ao_samples << ',' << s.ao_radius << ',' << threads << ',' << p.median_ms << ','
+            << p.error.rmse << ',' << p.error.max << ',' << p.error.dssim << ','
+            << (p.front ? 1 : 0) << '\n';
+    }
+    if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+std::string label(const Setting& s) {
+    std::string l;
+    auto add = [&](const std::string& part) { l += (l.empty() ? "" : " ") + part; };
+    if (s.msaa > 0) add("msaa=" + std::to_string(s.msaa));
+    if (s.filter >= 0) add(filter_name(s.filter));
+    if (s.subpixel_bits > 0) add("bits=" + std::to_string(s.subpixel_bits));
+    if (s.shadow_map_size > 0) add("map=" + std::to_string(s.shadow_map_size));
+    if (s.pcf_kernel > 0) add("pcf=" + std::to_string(s.pcf_kernel));
+    if (s.ao_samples > 0) add("samples=" + std::to_string(s.ao_samples));
+    if (s.ao_radius > 0) {
+        char r[32];
+        std::snprintf(r, sizeof r, "radius=%.3g", s.ao_radius);
+        add(r);
+    }
+    return l;
+}
+
+}  // namespace
+
+int run_pareto(const ParetoOptions& o) {
+    const int threads = o.threads > 0 ? o.threads
+                                      : int(std::max(1u, std::thread::hardware_concurrency()));
+    std::printf("facet-bench --pareto: %dx%d, %d thread(s), median of %d frames; reference "
+                "%dx%d samples per pixel (ao scene: %dx%d, %d AO rays each), %d thread(s)\n",
+                o.width, o.height, threads, o.runs, o.grid, o.grid, o.ao_grid, o.ao_grid,
+                o.ao_rays, threads);
+    PluginRegistry registry;
+    Renderer renderer(threads);
+    Framebuffer fb;
+    std::vector<Point> points;
+    for (const std::string name : {"lit", "shadow", "ao"}) {
+        const fs::path file = fs::path(FACET_SOURCE_DIR) / "configs/scenes" / (name + ".yaml");
+        Scene base = load_scene(file, registry);
+        base.settings.width = o.width;
+        base.settings.height = o.height;
+        reference::RenderOptions ro;
+        ro.grid = name == "ao" ? o.ao_grid : o.grid;
+        ro.ao_rays = o.ao_rays;
+        ro.threads = threads;
+        const auto start = std::chrono::steady_clock::now();
+        const std::vector<glm::dvec4> truth = reference::render(base, ro);
+        std::printf("\n%s (%s): reference in %.1f s\n", name.c_str(), file.string().c_str(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        std::printf("  %-40s %9s %9s %9s %9s\n", "setting", "ms", "rmse", "max", "dssim");
+        for (const Setting& s : sweep(name, base)) {
+            const Scene scene = with(base, s);
+            Point p{name, s, 0.0, {}, false};
+            p.median_ms = median_frame_ms(scene, renderer, o.runs, fb);
+            p.error = reference::compare(reference::linear_image(fb), truth, o.width, o.height);
+            std::printf("  %-40s %9.2f %9.5f %9.4f %9.5f\n", label(s).c_str(), p.median_ms,
+                        p.error.rmse, p.error.max, p.error.dssim);
+            std::fflush(stdout);
+            points.push_back(p);
+        }
+    }
+    mark_fronts(points);
+    std::printf("\nPareto front (no setting of the same scene is both faster and lower in RMSE):\n");
+    for (const Point& p : points)
+        if (p.front)
+            std::printf("  %-7s %-40s %8.2f ms  rmse %.5f\n", p.scene.c_str(), label(p.setting).c_str(),
+                        p.median_ms, p.error.rmse);
+    write_csv(o.csv, points, threads);
+    std::printf("wrote %s\n", o.csv.c_str());
+
+    if (o.plot.empty()) return 0;
+    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    const std::string command = python + " \"" FACET_SOURCE_DIR "/bench/plot_pareto.py\" \"" +
+                                o.csv + "\" \"" + o.plot + "\"";
+    if (std::system(command.c_str()) != 0) {
+        spdlog::error("plotting failed ({}); python3-matplotlib comes with scripts/install-deps",
+                      command);
+        return 1;
+    }
+    std::printf("wrote %s\n", o.plot.c_str());
+    return 0;
+}
+
+}  // namespace facet::bench

@@ -1,0 +1,34 @@
+// facet-bench --pareto: run time against error for each quality knob.
+//
+// Three demo scenes, each with the knobs that matter to it, swept over a
+// grid of settings (the other settings stay as the scene file has them):
+//   lit     MSAA 1/2/4/8 x texture filter nearest/bilinear/trilinear x
+//           sub-pixel bits 2/4/6/8
+//   shadow  shadow-map size 512..4096 x PCF kernel 1/3/5/7, at 4x MSAA
+//   ao      AO samples 4..32 x AO radius 0.5/1/2 x the material's, at 4x MSAA
+// Each setting is rendered `runs` times (median frame time) and compared
+// with the reference renderer's image of the scene as written (RMSE, max
+// error and DSSIM on sRGB values, tests/reference/metrics.hpp). The CSV
+// marks each scene's Pareto front (no other setting is both faster and
+// more accurate by RMSE); bench/plot_pareto.py draws it.
+#pragma once
+
+#include <string>
+
+namespace facet::bench {
+
+struct ParetoOptions {
+    int width = 480, height = 270;
+    int threads = 0;        // 0: every hardware thread
+    int runs = 7;
+    int grid = 16;          // reference samples per pixel side
+    int ao_grid = 8;        // ... for the AO scene, which traces ao_rays per sample
+    int ao_rays = 32;
+    std::string csv = "pareto.csv";
+    std::string plot = "pareto.png";
+};
+
+// Returns the process exit code.
+int run_pareto(const ParetoOptions& options);
+
+}  // namespace facet::bench
