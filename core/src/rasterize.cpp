@@ -2,6 +2,8 @@
 
 #include "facet/framebuffer.hpp"
 
+#include <cstdlib>
+
 namespace facet {
 
 namespace {
@@ -50,26 +52,39 @@ uint32_t cover_block(const TriangleSetup& t, int bx, int by, int samples, Block&
     const int64_t half = kSubpixelOne / 2;
     const int64_t px = int64_t(bx) * kSubpixelOne + half;  // centre of lane 0
     const int64_t py = int64_t(by) * kSubpixelOne + half;
-    const double inv_area = 1.0 / double(t.area2);
-
-    uint32_t inside = box_mask(t, bx, by);
-    for (int k = 0; k < 3; ++k) {
-        const EdgeFunction& e = t.edge[k];
-        const int64_t e0 = e.at(px, py);
-        const int64_t step_x = -e.dy * kSubpixelOne;
-        const int64_t step_y = e.dx * kSubpixelOne;
-        float* weight = block.bary[(k + 2) % 3];
-        uint32_t edge_mask = 0;
-        for (int i = 0; i < N; ++i) {
-            const int64_t value = e0 + (i % 4) * step_x + (i / 4) * step_y;
-            edge_mask |= uint32_t(value + e.bias >= 0) << i;
-            weight[i] = float(double(value) * inv_area);
-        }
-        inside &= edge_mask;
-    }
-    if (samples > 1) inside = box_mask(t, bx, by) & cover_samples(t, px, py, samples, block.samples);
     block.x = bx;
     block.y = by;
+    block.mask = 0;
+
+    // Trivial reject: an edge that is negative at the block's best corner
+    // (widened by half a pixel, where MSAA samples may lie) covers nothing.
+    int64_t e0[3], step_x[3], step_y[3];
+    for (int k = 0; k < 3; ++k) {
+        const EdgeFunction& e = t.edge[k];
+        e0[k] = e.at(px, py);
+        step_x[k] = -e.dy * kSubpixelOne;
+        step_y[k] = e.dx * kSubpixelOne;
+        int64_t best = e0[k] + std::max<int64_t>(0, 3 * step_x[k]) +
+                       std::max<int64_t>(0, 3 * step_y[k]) + e.bias;
+        if (samples > 1) best += (std::abs(step_x[k]) + std::abs(step_y[k])) / 2;
+        if (best < 0) return 0;
+    }
+
+    uint32_t inside = box_mask(t, bx, by);
+    const double inv_area = 1.0 / double(t.area2);
+    for (int k = 0; k < 3; ++k) {
+        uint32_t edge_mask = 0;
+        for (int i = 0; i < N; ++i)
+            edge_mask |= uint32_t(e0[k] + (i % 4) * step_x[k] + (i / 4) * step_y[k] +
+                                      t.edge[k].bias >= 0) << i;
+        inside &= edge_mask;
+        // The weight of the vertex opposite the edge, a plane over the block.
+        const double w0 = double(e0[k]) * inv_area, wx = double(step_x[k]) * inv_area,
+                     wy = double(step_y[k]) * inv_area;
+        float* weight = block.bary[(k + 2) % 3];
+        for (int i = 0; i < N; ++i) weight[i] = float(w0 + (i % 4) * wx + (i / 4) * wy);
+    }
+    if (samples > 1) inside = box_mask(t, bx, by) & cover_samples(t, px, py, samples, block.samples);
     block.mask = inside;
     return inside;
 }
