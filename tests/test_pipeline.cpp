@@ -345,6 +345,29 @@ TEST_CASE("NaN and Inf vertices are dropped and counted", "[pipeline][robust]") 
     CHECK(stats.triangles_rasterized == 1);
 }
 
+TEST_CASE("NaN and Inf in matrices drop the draw's triangles and count them",
+          "[pipeline][robust]") {
+    auto shader = plugin<CountShader>();
+    const Mesh mesh = fan(12, 0.6f, 0.1f, {0.0f, 0.0f});
+    const float nan = std::nanf(""), inf = INFINITY;
+    for (int which = 0; which < 4; ++which) {
+        CAPTURE(which);
+        Framebuffer fb(W, H);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        DrawCall call = clip_space_call(mesh, *shader);
+        if (which == 0) call.model[3][0] = nan;        // translation
+        if (which == 1) call.model[1][1] = inf;        // scale
+        if (which == 2) call.projection[2][3] = nan;   // w row
+        if (which == 3) call.view[0][0] = -inf;
+        FrameStats stats;
+        Renderer().draw(call, fb, stats);
+        CHECK(stats.triangles_in == 12);
+        CHECK(stats.triangles_invalid + stats.triangles_culled_frustum == 12);
+        CHECK(stats.triangles_rasterized == 0);
+        for (int i = 0; i < W * H; ++i) REQUIRE(fb.color()[i].r == 0.0f);
+    }
+}
+
 TEST_CASE("screen-linear varyings stay screen-linear through near-plane clipping",
           "[pipeline][clip][interpolation]") {
     // All three vertices are in front of the eye (w > 0), one nearer than the
