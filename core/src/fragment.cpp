@@ -113,6 +113,7 @@ void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
     }
 }
 
+// `color` may be null when the state writes no colour.
 void write_pixels(const DrawContext& dc, const Block& b, const float* z, const float* color,
                   uint32_t mask) {
     Framebuffer& fb = *dc.target;
@@ -176,11 +177,11 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
     for (uint32_t m = mask; m; m &= m - 1) {
         const int i = std::countr_zero(m);
         const size_t at = (size_t(b.y + i / 4) * fb.width() + (b.x + i % 4)) * size_t(n);
-        const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
         for (uint32_t bits = sd.passed[i]; bits; bits &= bits - 1) {
             const int s = std::countr_zero(bits);
             if (dc.state.depth_write) fb.sample_depth()[at + size_t(s)] = sd.z[s][i];
             if (!dc.state.color_write) continue;
+            const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
             glm::vec4& dst = fb.sample_color()[at + size_t(s)];
             dst = blend(dc.state.blend, src, dst);
         }
@@ -246,6 +247,12 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
         msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, b, z, b.mask);
     stats.fragments_depth_rejected += std::popcount(b.mask) - std::popcount(mask);
     if (!mask) return;
+    if (!dc.state.color_write && !dc.shader->needs(FACET_NEED_DISCARD)) {
+        // Depth only (shadow maps): the shader's colour would go nowhere.
+        if (msaa) write_samples(dc, b, sd, nullptr, mask);
+        else write_pixels(dc, b, z, nullptr, mask);
+        return;
+    }
 
     alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
     interpolate_varyings(dc, t, b, varyings);

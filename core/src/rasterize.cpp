@@ -58,33 +58,47 @@ uint32_t cover_block(const TriangleSetup& t, int bx, int by, int samples, Block&
 
     // Trivial reject: an edge that is negative at the block's best corner
     // (widened by half a pixel, where MSAA samples may lie) covers nothing.
+    // Trivial accept: an edge that holds at the worst corner covers all.
     int64_t e0[3], step_x[3], step_y[3];
+    bool all_in[3];
     for (int k = 0; k < 3; ++k) {
         const EdgeFunction& e = t.edge[k];
         e0[k] = e.at(px, py);
         step_x[k] = -e.dy * kSubpixelOne;
         step_y[k] = e.dx * kSubpixelOne;
-        int64_t best = e0[k] + std::max<int64_t>(0, 3 * step_x[k]) +
-                       std::max<int64_t>(0, 3 * step_y[k]) + e.bias;
-        if (samples > 1) best += (std::abs(step_x[k]) + std::abs(step_y[k])) / 2;
+        const int64_t reach = samples > 1 ? (std::abs(step_x[k]) + std::abs(step_y[k])) / 2 : 0;
+        const int64_t best = e0[k] + std::max<int64_t>(0, 3 * step_x[k]) +
+                             std::max<int64_t>(0, 3 * step_y[k]) + e.bias + reach;
         if (best < 0) return 0;
+        const int64_t worst = e0[k] + std::min<int64_t>(0, 3 * step_x[k]) +
+                              std::min<int64_t>(0, 3 * step_y[k]) + e.bias - reach;
+        all_in[k] = worst >= 0;
     }
 
     uint32_t inside = box_mask(t, bx, by);
     const double inv_area = 1.0 / double(t.area2);
     for (int k = 0; k < 3; ++k) {
-        uint32_t edge_mask = 0;
-        for (int i = 0; i < N; ++i)
-            edge_mask |= uint32_t(e0[k] + (i % 4) * step_x[k] + (i / 4) * step_y[k] +
-                                      t.edge[k].bias >= 0) << i;
-        inside &= edge_mask;
+        if (!all_in[k]) {
+            uint32_t edge_mask = 0;
+            for (int i = 0; i < N; ++i)
+                edge_mask |= uint32_t(e0[k] + (i % 4) * step_x[k] + (i / 4) * step_y[k] +
+                                          t.edge[k].bias >= 0) << i;
+            inside &= edge_mask;
+        }
         // The weight of the vertex opposite the edge, a plane over the block.
         const double w0 = double(e0[k]) * inv_area, wx = double(step_x[k]) * inv_area,
                      wy = double(step_y[k]) * inv_area;
         float* weight = block.bary[(k + 2) % 3];
         for (int i = 0; i < N; ++i) weight[i] = float(w0 + (i % 4) * wx + (i / 4) * wy);
     }
-    if (samples > 1) inside = box_mask(t, bx, by) & cover_samples(t, px, py, samples, block.samples);
+    if (samples > 1) {
+        if (all_in[0] && all_in[1] && all_in[2]) {  // every sample of every lane
+            for (int i = 0; i < N; ++i)
+                block.samples[i] = uint8_t((inside >> i) & 1u ? (1u << samples) - 1u : 0u);
+        } else {
+            inside = box_mask(t, bx, by) & cover_samples(t, px, py, samples, block.samples);
+        }
+    }
     block.mask = inside;
     return inside;
 }
