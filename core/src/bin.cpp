@@ -4,6 +4,24 @@
 
 namespace facet {
 
+namespace {
+
+// Can the triangle cover any sample in pixels [x0, x1] x [y0, y1]? False
+// when one edge is negative over the whole rectangle (its best corner, on
+// the pixels' outer boundary, so MSAA samples are included).
+bool overlaps(const TriangleSetup& t, int x0, int y0, int x1, int y1) {
+    const int64_t left = int64_t(x0) * kSubpixelOne, right = int64_t(x1 + 1) * kSubpixelOne;
+    const int64_t top = int64_t(y0) * kSubpixelOne, bottom = int64_t(y1 + 1) * kSubpixelOne;
+    for (const EdgeFunction& e : t.edge) {
+        // E grows with x when dy < 0 and with y when dx > 0.
+        const int64_t x = e.dy < 0 ? right : left, y = e.dx > 0 ? bottom : top;
+        if (e.at(x, y) + e.bias < 0) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
 void Bins::resize(int width, int height) {
     width_ = width;
     height_ = height;
@@ -20,8 +38,16 @@ void Bins::bin(const std::vector<SetupChunk>& chunks, int count) {
         for (size_t i = 0; i < setups.size(); ++i) {
             const TriangleSetup& t = setups[i];
             const uint32_t entry = uint32_t(c) << 16 | uint32_t(i);
-            for (int ty = t.y0 / kTileSize; ty <= t.y1 / kTileSize; ++ty)
-                for (int tx = t.x0 / kTileSize; tx <= t.x1 / kTileSize; ++tx) {
+            const int tx0 = t.x0 / kTileSize, tx1 = t.x1 / kTileSize;
+            const int ty0 = t.y0 / kTileSize, ty1 = t.y1 / kTileSize;
+            const bool one_tile = tx0 == tx1 && ty0 == ty1;
+            for (int ty = ty0; ty <= ty1; ++ty)
+                for (int tx = tx0; tx <= tx1; ++tx) {
+                    // Large triangles skip the tiles of their box they miss.
+                    if (!one_tile && !overlaps(t, tx * kTileSize, ty * kTileSize,
+                                               tx * kTileSize + kTileSize - 1,
+                                               ty * kTileSize + kTileSize - 1))
+                        continue;
                     const int tile = ty * columns_ + tx;
                     std::vector<uint32_t>& list = tiles_[size_t(tile)];
                     if (list.empty()) busy_.push_back(tile);
