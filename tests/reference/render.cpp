@@ -144,8 +144,9 @@ struct Sample {
 class Shader {
 public:
     Shader(const Scene& scene, const std::vector<std::unique_ptr<Prepared>>& objects,
-           const RayCaster& rc, const RenderOptions& options)
-        : scene_(scene), objects_(objects), rc_(rc), options_(options) {
+           const RayCaster& rc, const glm::dmat4& view_projection, const RenderOptions& options)
+        : scene_(scene), objects_(objects), rc_(rc), view_projection_(view_projection),
+          options_(options) {
         for (size_t k = 0; k < scene.lights.size(); ++k) {
             const Light& l = scene.lights[k];
             if (l.casts_shadow && l.type != LightType::point) casters_.push_back(k);
@@ -228,8 +229,9 @@ public:
         }
     }
 
-    glm::dmat4 view_projection_;
-    static constexpr glm::dvec2 kR2{0.7548776662466927, 0.5698402909980532};  // R2 sequence steps
+    // Steps of the R2 low-discrepancy sequence (Roberts 2018), which spreads
+    // AO directions over a pixel's samples.
+    static constexpr glm::dvec2 kR2{0.7548776662466927, 0.5698402909980532};
 
 private:
     static void screen_weights(const Prepared& p, const uint32_t* idx, glm::dvec2 q,
@@ -266,6 +268,7 @@ private:
     const Scene& scene_;
     const std::vector<std::unique_ptr<Prepared>>& objects_;
     const RayCaster& rc_;
+    const glm::dmat4 view_projection_;
     const RenderOptions& options_;
     std::vector<size_t> casters_;
     float varyings_[FACET_MAX_VARYING_FLOATS * N] = {};
@@ -283,8 +286,10 @@ std::vector<glm::dvec4> render(const Scene& scene, const RenderOptions& options)
     std::vector<std::unique_ptr<Prepared>> objects(scene.objects.size());
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
-        if (o.visible && o.mesh && o.material && o.material->plugin)
-            objects[i] = prepare(scene, o, lights);
+        if (!o.visible || !o.mesh) continue;  // what the ray caster leaves out too
+        if (!o.material || !o.material->plugin)
+            throw std::runtime_error("reference renderer: object '" + o.name + "' has no bound material");
+        objects[i] = prepare(scene, o, lights);
     }
     const RayCaster rc(scene);
     const CameraRays camera(scene);
@@ -296,8 +301,7 @@ std::vector<glm::dvec4> render(const Scene& scene, const RenderOptions& options)
     const int blocks_x = (s.width + 3) / 4, blocks_y = (s.height + 3) / 4;
     std::atomic<int> next{0};
     auto worker = [&] {
-        Shader shader(scene, objects, rc, options);
-        shader.view_projection_ = view_projection;
+        Shader shader(scene, objects, rc, view_projection, options);
         Sample samples[N];
         glm::dvec2 ao_uv[N];
         glm::dvec4 sum[N];
