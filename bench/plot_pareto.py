@@ -56,7 +56,7 @@ def main(csv_path, png_path):
             ax.annotate(label(r, scene), (float(r["median_ms"]), float(r["rmse"])),
                         textcoords="offset points", xytext=(4, 4), fontsize=7, color="crimson")
         ax.set_title(f"{scene}: {knobs}", fontsize=10)
-        ax.set_xlabel(f"median frame time, ms ({threads} threads)")
+        ax.set_xlabel(f"median frame time, ms ({threads} thread{'' if threads == '1' else 's'})")
         ax.set_ylabel("RMSE against the reference (sRGB, 0..1)")
         ax.set_yscale("log")
         ax.grid(True, which="both", alpha=0.3)
