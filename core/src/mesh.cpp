@@ -19,9 +19,11 @@ namespace facet {
 
 namespace {
 
-constexpr unsigned kImportFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                  aiProcess_GenSmoothNormals | aiProcess_FlipUVs |
-                                  aiProcess_SortByPType;
+// ValidateDataStructure runs first and refuses out-of-range face indices,
+// which the later steps would follow out of bounds (a fuzzed PLY did).
+constexpr unsigned kImportFlags = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                                  aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
+                                  aiProcess_FlipUVs | aiProcess_SortByPType;
 
 // Optional attributes the merged mesh carries: those any part has. Parts
 // without them get zero UVs or white.
@@ -116,7 +118,8 @@ void check_attribute(const Mesh& mesh, size_t size, const char* name) {
 }  // namespace
 
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path) {
-    if (!std::filesystem::is_regular_file(path))
+    std::error_code ec;  // a name too long for the OS is a missing file too, not an exception
+    if (!std::filesystem::is_regular_file(path, ec))
         throw Error(ErrorCode::file_not_found, "", path.string());
     if (looks_like_ply(path)) check_ply(path);  // assimp 5.2 hangs or crashes on some bad PLY
     Assimp::Importer importer;

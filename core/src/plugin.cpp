@@ -170,7 +170,8 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
                                                  std::string_view expected_name,
                                                  const fs::path& private_copy) {
     const std::string origin = path.string();
-    if (!fs::exists(path)) throw Error(ErrorCode::file_not_found, "shader plugin", origin);
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw Error(ErrorCode::file_not_found, "shader plugin", origin);
     std::shared_ptr<ShaderPlugin> plugin(new ShaderPlugin);
     plugin->origin_ = origin;
     fs::path file = path;

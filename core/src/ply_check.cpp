@@ -149,7 +149,9 @@ void walk_ascii(std::istream& in, const Header& h, const std::filesystem::path& 
             for (const Property& p : e.properties) {
                 uint64_t tokens = 1;
                 if (p.count_size) {
-                    if (!(in >> token) || token.find_first_not_of("0123456789") != std::string::npos)
+                    if (!(in >> token) || token.empty() || token.size() > 10 ||
+                        token.find_first_not_of("0123456789") != std::string::npos ||
+                        std::stoull(token) > kMaxCount)
                         fail(path, "bad list count in element '" + e.name + "' " + std::to_string(i));
                     tokens = std::stoull(token);
                 }

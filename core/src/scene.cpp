@@ -9,6 +9,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <map>
 
 namespace facet {
@@ -42,6 +43,14 @@ bool all_at_least(const glm::vec3& v, float lo) { return v.x >= lo && v.y >= lo 
 
 // ---- camera and render settings ----------------------------------------------
 
+// v scaled to unit length in double precision, where float's squares would
+// overflow (1e20) or underflow (1e-30); zero for a zero vector.
+glm::vec3 unit(const glm::vec3& v) {
+    const glm::dvec3 d(v);
+    const double length = glm::length(d);
+    return length > 0.0 && std::isfinite(length) ? glm::vec3(d / length) : glm::vec3(0.0f);
+}
+
 void check_camera(const yaml::Context& ctx, const YAML::Node& node, const Camera& c) {
     ensure(c.near > 0.0f, ctx, where(node, "near"), ErrorCode::out_of_range, "near must be > 0");
     ensure(c.far > c.near, ctx, where(node, "far"), ErrorCode::out_of_range,
@@ -50,10 +59,11 @@ void check_camera(const yaml::Context& ctx, const YAML::Node& node, const Camera
            "fov_y must be between 0 and 180 degrees");
     ensure(c.ortho_height > 0.0f, ctx, where(node, "height"), ErrorCode::out_of_range,
            "height must be > 0");
-    const glm::vec3 forward = c.target - c.position;
-    ensure(glm::length(forward) > 0.0f, ctx, where(node, "target"), ErrorCode::config_invalid,
-           "the camera's target is its position");
-    ensure(glm::length(glm::cross(glm::normalize(forward), c.up)) > 1e-6f, ctx, where(node, "up"),
+    const glm::vec3 forward = unit(glm::vec3(glm::dvec3(c.target) - glm::dvec3(c.position)));
+    ensure(forward != glm::vec3(0.0f) && std::isfinite(glm::length(c.target - c.position)), ctx,
+           where(node, "target"), ErrorCode::config_invalid,
+           "the camera's target must differ from its position, by a finite distance");
+    ensure(glm::length(glm::cross(forward, unit(c.up))) > 1e-6f, ctx, where(node, "up"),
            ErrorCode::config_invalid, "up is zero or parallel to the view direction");
 }
 
@@ -176,9 +186,9 @@ Light read_light(const yaml::Context& ctx, const YAML::Node& node) {
                                            {"spot", LightType::spot}});
     yaml::read(ctx, node, "position", l.position);
     yaml::read(ctx, node, "direction", l.direction);
-    ensure(glm::length(l.direction) > 0.0f, ctx, where(node, "direction"),
+    l.direction = unit(l.direction);
+    ensure(l.direction != glm::vec3(0.0f), ctx, where(node, "direction"),
            ErrorCode::config_invalid, "direction must not be zero");
-    l.direction = glm::normalize(l.direction);
     yaml::read(ctx, node, "color", l.color);
     yaml::read(ctx, node, "intensity", l.intensity);
     yaml::read(ctx, node, "range", l.range);
@@ -197,9 +207,9 @@ glm::quat read_rotation(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "rotation", {"axis", "angle"});
     const glm::vec3 axis = yaml::as<glm::vec3>(ctx, yaml::require(ctx, node, "axis"));
     const float angle = yaml::as<float>(ctx, yaml::require(ctx, node, "angle"));
-    ensure(glm::length(axis) > 0.0f, ctx, node["axis"], ErrorCode::config_invalid,
+    ensure(unit(axis) != glm::vec3(0.0f), ctx, node["axis"], ErrorCode::config_invalid,
            "the rotation axis must not be zero");
-    return glm::angleAxis(glm::radians(angle), glm::normalize(axis));
+    return glm::angleAxis(glm::radians(angle), unit(axis));
 }
 
 glm::vec3 read_scale(const yaml::Context& ctx, const YAML::Node& node) {
@@ -261,7 +271,8 @@ public:
 
     void add_plugin_path(const YAML::Node& value, Scene& scene) {
         const fs::path folder = fs::absolute(resolve(value)).lexically_normal();
-        ensure(fs::is_directory(folder), ctx, value, ErrorCode::file_not_found,
+        std::error_code ec;
+        ensure(fs::is_directory(folder, ec), ctx, value, ErrorCode::file_not_found,
                "plugin folder " + folder.string());
         registry_.add_scene_path(folder);
         scene.plugin_paths.push_back(folder);

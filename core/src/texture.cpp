@@ -118,7 +118,8 @@ glm::vec4 box(Level src, int x, int y) {
 }  // namespace
 
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
-    if (!std::filesystem::is_regular_file(path))
+    std::error_code ec;  // a name too long for the OS is a missing file too, not an exception
+    if (!std::filesystem::is_regular_file(path, ec))
         throw Error(ErrorCode::file_not_found, "", path.string());
     int width = 0, height = 0, channels = 0;
     stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);

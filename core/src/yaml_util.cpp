@@ -70,7 +70,8 @@ Error relocated(const Error& inner, const Context& ctx, const YAML::Node& at) {
 
 YAML::Node load_file(const std::filesystem::path& path) {
     std::ifstream in(path);
-    if (!in || std::filesystem::is_directory(path))
+    std::error_code ec;
+    if (!in || std::filesystem::is_directory(path, ec))
         throw Error(ErrorCode::file_not_found, "", path.string());
     try {
         return YAML::Load(in);
