@@ -26,7 +26,10 @@ double distance(const glm::dvec4& p, int i, double guard) {
 void intersect(const ClipVertex& a, double da, const ClipVertex& b, double db, int floats,
                const uint8_t* interpolation, ClipVertex& out) {
     const double t = da / (da - db);
-    out.position = a.position + t * (b.position - a.position);
+    // From the nearer end: with a far larger than b, t rounds to 1 and
+    // a + t (b - a) lands on b itself, outside the plane.
+    out.position = t <= 0.5 ? a.position + t * (b.position - a.position)
+                            : b.position + (db / (db - da)) * (a.position - b.position);
     // The same point's fraction of the way along the edge on screen.
     const double s = out.position.w > 0.0 ? t * b.position.w / out.position.w : t;
     for (int k = 0; k < floats; ++k) {

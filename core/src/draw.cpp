@@ -16,6 +16,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -48,15 +49,21 @@ CullState cull_state(const PipelineState& s) {
     return {s.cull == CullMode::back, s.cull == CullMode::front, s.front_ccw};
 }
 
-// Sign of the area of a convex clip-space polygon on screen (y down).
+// Sign of the area of a convex clip-space polygon on screen (y down); 0
+// when it is no wider than a step of the sub-pixel grid. Then every point
+// of it lies within a step of its outline, and the fan of its snapped
+// corners can fold over itself and cover samples twice.
 int screen_orientation(const ClipVertex* poly, int n, const Viewport& viewport) {
-    double area = 0.0;
+    double area = 0.0, perimeter = 0.0;  // twice the area, in pixels
     for (int i = 0; i < n; ++i) {
         const glm::dvec2 a = to_window(poly[i].position, viewport);
         const glm::dvec2 b = to_window(poly[(i + 1) % n].position, viewport);
         area += a.x * b.y - b.x * a.y;
+        perimeter += glm::length(b - a);
     }
-    return (area > 0.0) - (area < 0.0);
+    const double step = std::ldexp(1.0, -std::clamp(viewport.subpixel_bits, 1, kSubpixelBits));
+    if (!(std::abs(area) > perimeter * step)) return 0;
+    return area > 0.0 ? 1 : -1;
 }
 
 void count(SetupResult r, FrameStats& stats) {
@@ -126,6 +133,7 @@ private:
         if (chunk.clipped.size() < chunk.clipped_used) chunk.clipped.resize(chunk.clipped_used);
         std::copy(out, out + n, chunk.clipped.begin() + std::ptrdiff_t(first));
         const int orientation = screen_orientation(out, n, viewport_);
+        if (orientation == 0) return SetupResult::degenerate;
         SetupResult result = SetupResult::clipped_away;
         for (int i = 1; i + 1 < n; ++i) {
             const ClipVertex* a = &chunk.clipped[first];

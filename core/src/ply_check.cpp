@@ -2,6 +2,7 @@
 
 #include "facet/error.hpp"
 
+#include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -128,11 +129,13 @@ void walk_binary(std::istream& in, const Header& h, const std::filesystem::path&
     uint64_t pos = uint64_t(in.tellg());
     const bool big = h.format == Format::binary_be;
     for (const Element& e : h.elements)
-        for (uint64_t i = 0; i < e.count; ++i)
+        for (uint64_t i = 0; i < e.count && !e.properties.empty(); ++i)
             for (const Property& p : e.properties) {
                 uint64_t bytes = uint64_t(p.size);
                 if (p.count_size && pos + p.count_size <= size) {
-                    bytes *= read_count(in, pos, p.count_size, big);
+                    const uint64_t count = read_count(in, pos, p.count_size, big);
+                    if (count == 0 && e.name == "face") fail(path, "face " + std::to_string(i) + " has no vertices");
+                    bytes *= count;
                     pos += uint64_t(p.count_size);
                 }
                 pos += bytes;
@@ -145,7 +148,7 @@ void walk_binary(std::istream& in, const Header& h, const std::filesystem::path&
 void walk_ascii(std::istream& in, const Header& h, const std::filesystem::path& path) {
     std::string token;
     for (const Element& e : h.elements)
-        for (uint64_t i = 0; i < e.count; ++i)
+        for (uint64_t i = 0; i < e.count && !e.properties.empty(); ++i)
             for (const Property& p : e.properties) {
                 uint64_t tokens = 1;
                 if (p.count_size) {
@@ -154,6 +157,7 @@ void walk_ascii(std::istream& in, const Header& h, const std::filesystem::path& 
                         std::stoull(token) > kMaxCount)
                         fail(path, "bad list count in element '" + e.name + "' " + std::to_string(i));
                     tokens = std::stoull(token);
+                    if (tokens == 0 && e.name == "face") fail(path, "face " + std::to_string(i) + " has no vertices");
                 }
                 for (uint64_t t = 0; t < tokens; ++t)
                     if (!(in >> token))
@@ -166,9 +170,10 @@ void walk_ascii(std::istream& in, const Header& h, const std::filesystem::path& 
 
 bool looks_like_ply(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
-    char magic[4] = {};
-    in.read(magic, 4);
-    return in && std::memcmp(magic, "ply", 3) == 0 && (magic[3] == '\n' || magic[3] == '\r');
+    char magic[3] = {};
+    in.read(magic, 3);  // what assimp's PLY reader takes: "ply" in any case
+    return in && std::tolower(magic[0]) == 'p' && std::tolower(magic[1]) == 'l' &&
+           std::tolower(magic[2]) == 'y';
 }
 
 void check_ply(const std::filesystem::path& path) {

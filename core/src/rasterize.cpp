@@ -85,11 +85,11 @@ uint32_t cover_block(const TriangleSetup& t, int bx, int by, int samples, Block&
                                           t.edge[k].bias >= 0) << i;
             inside &= edge_mask;
         }
-        // The weight of the vertex opposite the edge, a plane over the block.
-        const double w0 = double(e0[k]) * inv_area, wx = double(step_x[k]) * inv_area,
-                     wy = double(step_y[k]) * inv_area;
+        // The weight of the vertex opposite the edge: the exact edge value
+        // over the exact area, so it is exactly 0 on the edge.
         float* weight = block.bary[(k + 2) % 3];
-        for (int i = 0; i < N; ++i) weight[i] = float(w0 + (i % 4) * wx + (i / 4) * wy);
+        for (int i = 0; i < N; ++i)
+            weight[i] = float(double(e0[k] + (i % 4) * step_x[k] + (i / 4) * step_y[k]) * inv_area);
     }
     if (samples > 1) {
         if (all_in[0] && all_in[1] && all_in[2]) {  // every sample of every lane

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace facet {
 
@@ -69,13 +70,18 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
         return SetupResult::culled_backface;
 
     // Orient so the interior is on the positive side of every edge.
+    // 1/w times a power of two that brings the largest to (0.5, 1], and at
+    // least FLT_MIN: perspective weights need only the ratios, and 1/w alone
+    // overflows float for w < 2^-128 (and underflows past 2^128).
+    const int exponent = std::ilogb(std::min({v[0].clip.w, v[1].clip.w, v[2].clip.w}));
     int order[3] = {0, 1, 2};
     if (area2 < 0) std::swap(order[1], order[2]);
     for (int k = 0; k < 3; ++k) {
         const int a = order[k], b = order[(k + 1) % 3];
         out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
         out.z[k] = float(v[a].clip.z / v[a].clip.w);
-        out.inv_w[k] = float(1.0 / v[a].clip.w);
+        out.inv_w[k] = std::max(float(std::ldexp(1.0 / v[a].clip.w, exponent)),
+                                std::numeric_limits<float>::min());
         out.varyings[k] = v[a].varyings;
     }
     out.area2 = area2 < 0 ? -area2 : area2;

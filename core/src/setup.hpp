@@ -69,7 +69,8 @@ struct TriangleSetup {
     int64_t area2;            // twice the signed area, > 0 after orientation
     int x0, y0, x1, y1;       // inclusive pixel bounding box
     float z[3];               // window depth per vertex, 0..1
-    float inv_w[3];           // 1 / w per vertex
+    float inv_w[3];           // 1 / w per vertex, all scaled by one power of two (only
+                              // their ratios are used, and 1 / w overflows float for tiny w)
     const float* varyings[3]; // varying floats per vertex; flat ones take vertex 0's
     bool front_facing;
 };
