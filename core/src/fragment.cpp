@@ -1,10 +1,13 @@
 #include "fragment.hpp"
 
+#include "simd.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 
 namespace facet {
 
@@ -25,53 +28,69 @@ bool depth_passes(DepthCompare compare, float z, float stored) {
     return false;
 }
 
-void interpolate_depth(const TriangleSetup& t, const Block& b, float* z) {
-    for (int i = 0; i < N; ++i)
-        z[i] = std::clamp(t.z[0] + b.bary[1][i] * (t.z[1] - t.z[0]) +
-                              b.bary[2][i] * (t.z[2] - t.z[0]),
-                          0.0f, 1.0f);
+using simd::f32x16;
+using simd::i32x16;
+
+f32x16 interpolate_depth(const TriangleSetup& t, const Block& b) {
+    const f32x16 z = t.z[0] + simd::load<f32x16>(b.bary[1]) * (t.z[1] - t.z[0]) +
+                     simd::load<f32x16>(b.bary[2]) * (t.z[2] - t.z[0]);
+    const f32x16 zero = {}, one = zero + 1.0f;
+    return z < zero ? zero : z > one ? one : z;  // clamps like std::clamp: NaN stays NaN
 }
 
-uint32_t depth_test(const DrawContext& dc, const Block& b, const float* z, uint32_t mask) {
+// Lanes where z passes the depth test against `stored`.
+uint32_t depth_passes(DepthCompare compare, const f32x16& z, const f32x16& stored) {
+    switch (compare) {
+        case DepthCompare::never: return 0;
+        case DepthCompare::less: return simd::bits(z < stored);
+        case DepthCompare::less_equal: return simd::bits(z <= stored);
+        case DepthCompare::greater: return simd::bits(z > stored);
+        case DepthCompare::greater_equal: return simd::bits(z >= stored);
+        case DepthCompare::equal: return simd::bits(z == stored);
+        case DepthCompare::always: return 0xFFFFu;
+    }
+    return 0;
+}
+
+uint32_t depth_test(const DrawContext& dc, const Block& b, const f32x16& z, uint32_t mask) {
     if (dc.state.depth_compare == DepthCompare::always) return mask;
-    const int width = dc.target->width();
-    const float* depth = dc.target->depth();
-    for (uint32_t m = mask; m; m &= m - 1) {
+    const int width = dc.target->width(), height = dc.target->height();
+    const float* depth = dc.target->depth() + size_t(b.y) * width + b.x;
+    if (b.x + 4 <= width && b.y + 4 <= height)
+        return mask & depth_passes(dc.state.depth_compare, z, simd::load_block(depth, width));
+    for (uint32_t m = mask; m; m &= m - 1) {  // a block over the target's edge
         const int i = std::countr_zero(m);
-        const size_t at = size_t(b.y + i / 4) * width + (b.x + i % 4);
-        if (!depth_passes(dc.state.depth_compare, z[i], depth[at])) mask &= ~(1u << i);
+        if (!depth_passes(dc.state.depth_compare, z[i], depth[size_t(i / 4) * width + i % 4]))
+            mask &= ~(1u << i);
     }
     return mask;
 }
 
 // Perspective-correct weights: bary_k * (1/w_k), normalised per lane.
 void perspective_weights(const TriangleSetup& t, const Block& b, float (*pw)[N]) {
-    for (int i = 0; i < N; ++i) {
-        const float a = b.bary[0][i] * t.inv_w[0];
-        const float c = b.bary[1][i] * t.inv_w[1];
-        const float d = b.bary[2][i] * t.inv_w[2];
-        const float w = 1.0f / (a + c + d);
-        pw[0][i] = a * w;
-        pw[1][i] = c * w;
-        pw[2][i] = d * w;
-    }
+    const f32x16 a = simd::load<f32x16>(b.bary[0]) * t.inv_w[0];
+    const f32x16 c = simd::load<f32x16>(b.bary[1]) * t.inv_w[1];
+    const f32x16 d = simd::load<f32x16>(b.bary[2]) * t.inv_w[2];
+    const f32x16 w = 1.0f / (a + c + d);
+    simd::store(pw[0], a * w);
+    simd::store(pw[1], c * w);
+    simd::store(pw[2], d * w);
 }
 
 void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const Block& b,
                           float* out) {
-    float pw[3][N];
+    alignas(64) float pw[3][N];
     perspective_weights(t, b, pw);
     for (uint32_t k = 0; k < dc.varying_floats; ++k) {
-        float* dst = out + k * N;
         const float v0 = t.varyings[0][k], v1 = t.varyings[1][k], v2 = t.varyings[2][k];
         if (dc.interpolation[k] == FACET_INTERP_FLAT) {
-            std::fill(dst, dst + N, v0);  // vertex 0 is the first vertex
+            simd::store(out + k * N, f32x16{} + v0);  // vertex 0 is the first vertex
             continue;
         }
         const float(*w)[N] = dc.interpolation[k] == FACET_INTERP_PERSPECTIVE ? pw : b.bary;
         // Relative to v0: exact for constant attributes, better conditioned.
-        const float d1 = v1 - v0, d2 = v2 - v0;
-        for (int i = 0; i < N; ++i) dst[i] = v0 + w[1][i] * d1 + w[2][i] * d2;
+        simd::store(out + k * N, v0 + simd::load<f32x16>(w[1]) * (v1 - v0) +
+                                     simd::load<f32x16>(w[2]) * (v2 - v0));
     }
 }
 
@@ -114,17 +133,36 @@ void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
 }
 
 // `color` may be null when the state writes no colour.
-void write_pixels(const DrawContext& dc, const Block& b, const float* z, const float* color,
+void write_pixels(const DrawContext& dc, const Block& b, const f32x16& z, const float* color,
                   uint32_t mask) {
     Framebuffer& fb = *dc.target;
+    const size_t width = size_t(fb.width());
+    if (dc.state.depth_write) simd::store_block(fb.depth() + b.y * width + b.x, width, z, mask);
+    if (!dc.state.color_write) return;
+    glm::vec4* row = &fb.pixel(b.x, b.y);
+    const BlendMode mode = dc.state.blend;
+    if (mode == BlendMode::opaque) {
+        const simd::Rows rows = simd::interleave_rgba(
+            simd::load<f32x16>(color), simd::load<f32x16>(color + N),
+            simd::load<f32x16>(color + 2 * N), simd::load<f32x16>(color + 3 * N));
+        for (int r = 0; r < 4; ++r, row += width) {
+            const uint32_t lanes = mask >> (4 * r) & 0xFu;
+            if (lanes == 0xFu) {
+                simd::store(row, rows.row[r]);
+                continue;
+            }
+            for (uint32_t m = lanes; m; m &= m - 1) {
+                const int i = std::countr_zero(m);
+                std::memcpy(row + i, reinterpret_cast<const float*>(&rows.row[r]) + 4 * i, 16);
+            }
+        }
+        return;
+    }
     for (uint32_t m = mask; m; m &= m - 1) {
         const int i = std::countr_zero(m);
-        const int x = b.x + i % 4, y = b.y + i / 4;
-        if (dc.state.depth_write) fb.depth()[size_t(y) * fb.width() + x] = z[i];
-        if (!dc.state.color_write) continue;
         const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
-        glm::vec4& dst = fb.pixel(x, y);
-        dst = blend(dc.state.blend, src, dst);
+        glm::vec4& dst = row[size_t(i / 4) * width + size_t(i % 4)];
+        dst = blend(mode, src, dst);
     }
 }
 
@@ -239,8 +277,7 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureB
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
                  FrameStats& stats) {
-    alignas(64) float z[N];
-    interpolate_depth(t, b, z);
+    const f32x16 z = interpolate_depth(t, b);
     const bool msaa = dc.target->samples() > 1;
     SampleDepth sd;
     const uint32_t mask =
@@ -263,7 +300,9 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
     if (dc.ao) gather_ao(dc, b, ao);
     else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
 
-    facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, z,
+    alignas(64) float depth[N];
+    simd::store(depth, z);
+    facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, depth,
                                dc.sample_textures ? texels : nullptr,
                                nullptr,  dc.needs_ao ? ao : nullptr, color};
     dc.shader->desc().fragment(dc.abi, &batch);

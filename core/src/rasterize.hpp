@@ -18,6 +18,7 @@
 #pragma once
 
 #include "setup.hpp"
+#include "simd.hpp"
 
 #include <facet/shader_abi.h>
 
@@ -27,15 +28,45 @@
 namespace facet {
 
 struct Block {
-    int x, y;                        // pixel of lane 0 (multiples of 4)
+    int32_t x, y;                    // pixel of lane 0 (multiples of 4), adjacent
     uint32_t mask;                   // covered lanes inside the bounding box
-    float bary[3][FACET_BLOCK_LANES];  // weight of vertex k at lane i
+    alignas(64) float bary[3][FACET_BLOCK_LANES];  // weight of vertex k at lane i
     uint8_t samples[FACET_BLOCK_LANES];  // MSAA only: covered samples of lane i
 };
 
-// Coverage of the block at (bx, by) at `samples` samples per pixel (1, 2,
-// 4 or 8); fills `block` and returns its mask.
-uint32_t cover_block(const TriangleSetup& t, int bx, int by, int samples, Block& block);
+// What covering blocks of one triangle needs, worked out once: each edge
+// function at the centre of pixel (0, 0) and its steps per pixel, the
+// offsets of the 16 lanes, and the corners that decide trivial accept and
+// reject. Edge values stay exact 64-bit integers throughout.
+class BlockCoverage {
+public:
+    // `samples` per pixel: 1, 2, 4 or 8.
+    BlockCoverage(const TriangleSetup& t, int samples);
+
+    // Coverage of the block at (bx, by); fills `block` and returns its mask.
+    uint32_t operator()(int bx, int by, Block& block) const;
+
+private:
+    uint32_t box_mask(int bx, int by) const;
+    uint32_t cover_samples(const int64_t* e0, uint8_t* lane_samples) const;
+    uint32_t covered(int k, int64_t at_lane0) const;  // lanes where edge k holds
+    void weights(int k, int64_t at_lane0, float* out) const;
+
+    const TriangleSetup& t_;
+    int samples_;
+    double inv_area_;
+    int64_t centre_[3];         // edge k at the centre of pixel (0, 0)
+    int64_t step_x_[3], step_y_[3];  // per pixel
+    int64_t threshold_[3];      // covered where edge >= threshold (top-left rule)
+    int64_t best_[3], worst_[3];  // offsets from lane 0 to the block's extreme corners
+    simd::i64x8 lanes_lo_[3], lanes_hi_[3];  // offsets from lane 0 to lanes 0..7, 8..15
+};
+
+// Coverage of the block at (bx, by) at `samples` samples per pixel; fills
+// `block` and returns its mask. One-off form of BlockCoverage.
+inline uint32_t cover_block(const TriangleSetup& t, int bx, int by, int samples, Block& block) {
+    return BlockCoverage(t, samples)(bx, by, block);
+}
 inline uint32_t cover_block(const TriangleSetup& t, int bx, int by, Block& block) {
     return cover_block(t, bx, by, 1, block);
 }
@@ -46,12 +77,13 @@ inline uint32_t cover_block(const TriangleSetup& t, int bx, int by, Block& block
 template <class Visit>
 void rasterize(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples,
                Visit&& visit) {
+    const BlockCoverage cover(t, samples);
     Block block;
     const int bx0 = std::max(t.x0, x0) & ~3, by0 = std::max(t.y0, y0) & ~3;
     const int bx1 = std::min(t.x1, x1), by1 = std::min(t.y1, y1);
     for (int by = by0; by <= by1; by += FACET_BLOCK_SIZE)
         for (int bx = bx0; bx <= bx1; bx += FACET_BLOCK_SIZE)
-            if (cover_block(t, bx, by, samples, block)) visit(block);
+            if (cover(bx, by, block)) visit(block);
 }
 
 // The same over the whole bounding box.
