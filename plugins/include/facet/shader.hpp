@@ -31,7 +31,8 @@
 // Rules: Varyings holds only floats (glm vectors of float), declared in the
 // same order and sizes as `varyings`; Params is a standard-layout struct whose
 // fields the `params` schema points at with offsetof. Shaders are called from
-// several threads at once and must keep no mutable state.
+// several threads at once and must keep no mutable state. fragment() runs
+// only for the covered lanes of a block (those that passed the depth test).
 #pragma once
 
 #include <facet/shader_abi.h>
@@ -39,6 +40,8 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -304,7 +307,9 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
     uint32_t keep = b->mask;
-    for (int i = 0; i < N; ++i) {
+    std::fill(b->color, b->color + 4 * N, 0.0f);  // lanes outside the mask
+    for (uint32_t lanes = b->mask; lanes; lanes &= lanes - 1) {  // covered lanes only
+        const int i = std::countr_zero(lanes);
         V v{};
         if constexpr (has_varyings<S>()) {
             float f[floats];
