@@ -59,10 +59,12 @@ int clip_against(const ClipVertex* in, int n, int plane, double guard, int float
 }  // namespace
 
 uint32_t outcode(const glm::dvec4& p, double guard) {
-    uint32_t code = 0;
-    for (int i = 0; i < kPlaneCount; ++i)
-        if (distance(p, i, guard) < 0.0) code |= 1u << i;
-    return code;
+    // distance() for every plane at once, without its switch: this runs for
+    // every vertex of every triangle.
+    const double gw = guard * p.w;
+    return (p.w - p.z < 0.0 ? kPlaneNear : 0u) | (p.z < 0.0 ? kPlaneFar : 0u) |
+           (p.x + gw < 0.0 ? kPlaneLeft : 0u) | (gw - p.x < 0.0 ? kPlaneRight : 0u) |
+           (p.y + gw < 0.0 ? kPlaneBottom : 0u) | (gw - p.y < 0.0 ? kPlaneTop : 0u);
 }
 
 ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, double guard) {

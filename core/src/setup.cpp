@@ -8,12 +8,16 @@ namespace facet {
 
 namespace {
 
-// Rounds a window coordinate to the nearest multiple of 1 / 2^bits pixel,
-// in units of the kSubpixelBits grid.
+// Rounds a window coordinate to the nearest multiple of 1 / 2^bits pixel
+// (halves away from zero), in units of the kSubpixelBits grid. NaN goes to
+// the limit rather than to an undefined integer.
 int64_t snap(double window, int bits) {
     const double limit = kGuardBandPixels * 2.0;  // never reached after clipping
-    const int coarse = kSubpixelBits - bits;
-    return std::llround(std::ldexp(std::clamp(window, -limit, limit), bits)) * (int64_t(1) << coarse);
+    // Scaling by a power of two is exact; so is v - trunc(v) below 2^52.
+    const double v = std::fmax(-limit, std::fmin(window, limit)) * double(int64_t(1) << bits);
+    double r = std::trunc(v);
+    if (std::abs(v - r) >= 0.5) r += std::copysign(1.0, v);
+    return int64_t(r) * (int64_t(1) << (kSubpixelBits - bits));
 }
 
 int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -73,14 +77,14 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
     // 1/w times a power of two that brings the largest to (0.5, 1], and at
     // least FLT_MIN: perspective weights need only the ratios, and 1/w alone
     // overflows float for w < 2^-128 (and underflows past 2^128).
-    const int exponent = std::ilogb(std::min({v[0].clip.w, v[1].clip.w, v[2].clip.w}));
+    const double scale = std::ldexp(1.0, std::ilogb(std::min({v[0].clip.w, v[1].clip.w, v[2].clip.w})));
     int order[3] = {0, 1, 2};
     if (area2 < 0) std::swap(order[1], order[2]);
     for (int k = 0; k < 3; ++k) {
         const int a = order[k], b = order[(k + 1) % 3];
         out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
         out.z[k] = float(v[a].clip.z / v[a].clip.w);
-        out.inv_w[k] = std::max(float(std::ldexp(1.0 / v[a].clip.w, exponent)),
+        out.inv_w[k] = std::max(float(1.0 / v[a].clip.w * scale),
                                 std::numeric_limits<float>::min());
         out.varyings[k] = v[a].varyings;
     }
