@@ -64,7 +64,7 @@ std::shared_ptr<Mesh> sphere(int triangles) {
         for (int s = 0; s < segments; ++s) {
             const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + 1,
                            c = a + uint32_t(segments + 1), d = c + 1;
-            m->indices.insert(m->indices.end(), {a, c, b, b, c, d});
+            m->indices.insert(m->indices.end(), {a, b, c, b, d, c});  // counter-clockwise outside
         }
     m->bounds = compute_bounds(m->positions);
     return m;
