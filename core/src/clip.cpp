@@ -67,13 +67,6 @@ uint32_t outcode(const glm::dvec4& p, double guard) {
            (p.y + gw < 0.0 ? kPlaneBottom : 0u) | (gw - p.y < 0.0 ? kPlaneTop : 0u);
 }
 
-ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, double guard) {
-    const glm::dvec4 da(a), db(b), dc(c);
-    const uint32_t view = outcode(da, 1.0) & outcode(db, 1.0) & outcode(dc, 1.0);
-    const uint32_t band = outcode(da, guard) | outcode(db, guard) | outcode(dc, guard);
-    return {view, band};
-}
-
 int clip_polygon(const ClipVertex* in, int n, uint32_t planes, double guard, int floats,
                  const uint8_t* interpolation, ClipVertex* out) {
     ClipVertex buffer[2][kMaxClipVertices];

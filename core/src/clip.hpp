@@ -11,8 +11,10 @@
 // visible part. The
 // side planes are the guard band, not the viewport: a triangle is cut there
 // only when it would leave the range where the fixed-point rasterizer is
-// exact, which for normal scenes is never. classify() tells which planes a
-// triangle needs; most need none and skip clip_polygon() entirely.
+// exact, which for normal scenes is never. The vertices' outcodes tell which
+// planes a triangle needs (against the guard band) and whether it lies
+// wholly outside the view (against g = 1); most triangles need no plane and
+// skip clip_polygon() entirely.
 #pragma once
 
 #include <facet/shader_abi.h>
@@ -45,17 +47,8 @@ enum ClipPlane : uint32_t {
 constexpr int kMaxClipVertices = 3 + 6;
 
 // The planes p lies outside of, for side planes at +-g w (g = 1: the view
-// frustum itself).
+// frustum itself; `guard` is the guard-band half-width in NDC units).
 uint32_t outcode(const glm::dvec4& p, double guard);
-
-// Which of a triangle's vertices lie outside which planes.
-struct ClipClass {
-    uint32_t reject;  // planes (depth, or viewport sides) all three are outside: invisible
-    uint32_t clip;    // planes (depth, or guard band) some vertex is outside: must clip
-};
-
-// `guard` is the guard-band half-width in NDC units (g above).
-ClipClass classify(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c, double guard);
 
 // Clips polygon `in` (n vertices, each with `floats` varyings) against the
 // planes in `planes`. `interpolation` gives each varying float's

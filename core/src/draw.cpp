@@ -76,6 +76,31 @@ void count(SetupResult r, FrameStats& stats) {
     }
 }
 
+// What the vertex stage records of each vertex in WindowVertex::user: its
+// outcodes against the viewport (for rejection) and the guard band (for
+// clipping), and whether it is unusable.
+constexpr uint32_t kInvalid = 1u << 16;   // a non-finite clip position
+constexpr uint32_t kNoWindow = 1u << 17;  // w <= 0: not projected
+uint32_t view_code(uint32_t user) { return user & 0xFFu; }
+uint32_t band_code(uint32_t user) { return user >> 8 & 0xFFu; }
+
+// Outcodes of every vertex of [first, first + count), and the window
+// position of those inside the guard band: once per vertex, however many
+// triangles share it.
+void project_vertices(Geometry& g, size_t first, size_t count, const Viewport& viewport) {
+    const double guard = viewport.guard_ndc();
+    for (size_t i = first; i < first + count; ++i) {
+        WindowVertex& w = g.window[i];
+        if (!finite(g.clip[i])) {
+            w.user = kInvalid;
+            continue;
+        }
+        const glm::dvec4 c(g.clip[i]);
+        w.user = outcode(c, 1.0) | outcode(c, guard) << 8;
+        if (band_code(w.user) == 0 && !project_vertex(c, viewport, w)) w.user |= kNoWindow;
+    }
+}
+
 // Assembles, clips and sets up a range of a mesh's triangles into `chunk`.
 class Assembler {
 public:
@@ -86,21 +111,33 @@ public:
     void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
         for (size_t t = 0; t < triangles; ++t, idx += 3) {
             ++chunk.stats.triangles_in;
-            const glm::vec4* c[3] = {&g_.clip[idx[0]], &g_.clip[idx[1]], &g_.clip[idx[2]]};
-            if (!finite(*c[0]) || !finite(*c[1]) || !finite(*c[2])) {
+            const WindowVertex* w[3] = {&g_.window[idx[0]], &g_.window[idx[1]], &g_.window[idx[2]]};
+            const uint32_t any = w[0]->user | w[1]->user | w[2]->user;
+            if (any & kInvalid) {
                 ++chunk.stats.triangles_invalid;
                 continue;
             }
-            const ClipClass cc = classify(*c[0], *c[1], *c[2], guard_);
-            if (cc.reject) {
+            if (view_code(w[0]->user) & view_code(w[1]->user) & view_code(w[2]->user)) {
                 ++chunk.stats.triangles_culled_frustum;
                 continue;
             }
-            SetupVertex v[3];
+            const float* varyings[3];
             for (int i = 0; i < 3; ++i)
-                v[i] = {glm::dvec4(*c[i]), g_.varyings.data() + size_t(idx[i]) * dc_.varying_floats};
-            const SetupResult r = cc.clip ? clipped(v, cc.clip, chunk) : setup(v, 0, chunk);
-            if (r == SetupResult::ok && cc.clip) ++chunk.stats.triangles_clipped;
+                varyings[i] = g_.varyings.data() + size_t(idx[i]) * dc_.varying_floats;
+            SetupResult r;
+            if (const uint32_t planes = band_code(any)) {
+                const SetupVertex v[3] = {{glm::dvec4(g_.clip[idx[0]]), varyings[0]},
+                                          {glm::dvec4(g_.clip[idx[1]]), varyings[1]},
+                                          {glm::dvec4(g_.clip[idx[2]]), varyings[2]}};
+                r = clipped(v, planes, chunk);
+                if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
+            } else if (any & kNoWindow) {
+                r = SetupResult::degenerate;  // a vertex at the origin, w = 0
+            } else {
+                TriangleSetup& s = chunk.setups.emplace_back();
+                r = setup_triangle(w, varyings, viewport_, cull_, s);
+                if (r != SetupResult::ok) chunk.setups.pop_back();
+            }
             count(r, chunk.stats);
         }
     }
@@ -158,10 +195,11 @@ private:
 // Vertex stage: every vertex once, kVertexBatch per plugin call (batches in
 // parallel), with only the inputs the shader asks for.
 void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const facet_draw& abi,
-                    Geometry& g) {
+                    const Viewport& viewport, Geometry& g) {
     const size_t vcount = mesh.vertex_count();
     const uint32_t floats = shader.varying_floats();
     g.clip.resize(vcount);
+    g.window.resize(vcount);
     g.varyings.resize(vcount * floats + 1);
     const int batches = int((vcount + kVertexBatch - 1) / kVertexBatch);
     g.pool.parallel_for(batches, [&](int b, int) {
@@ -177,6 +215,7 @@ void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const facet_dr
             g.varyings.data() + first * floats,
             floats};
         shader.desc().vertex(&abi, &batch);
+        project_vertices(g, first, batch.count, viewport);
     });
 }
 
@@ -239,11 +278,11 @@ void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
     dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
     const facet_draw abi = make_abi_draw(call, target.width(), target.height(), dc);
     dc.abi = &abi;
-    shade_vertices(mesh, shader, abi, g);
-    stats.vertices_shaded += mesh.vertex_count();
-
     const Viewport viewport{target.width(), target.height(), target.samples(),
                             call.state.subpixel_bits};
+    shade_vertices(mesh, shader, abi, viewport, g);
+    stats.vertices_shaded += mesh.vertex_count();
+
     const CullState cull = cull_state(call.state);
     const Assembler assembler(dc, g, viewport, cull);
     g.bins.resize(target.width(), target.height());

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "bin.hpp"
+#include "setup.hpp"
 #include "thread_pool.hpp"
 
 #include <glm/glm.hpp>
@@ -17,6 +18,7 @@ struct Geometry {
 
     ThreadPool pool;
     std::vector<glm::vec4> clip;   // per vertex
+    std::vector<WindowVertex> window;  // per vertex: projected, with its outcodes (draw.cpp)
     std::vector<float> varyings;   // per vertex, varying_floats each
     std::vector<SetupChunk> chunks;
     Bins bins;

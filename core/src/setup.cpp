@@ -1,6 +1,7 @@
 #include "setup.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -32,6 +33,12 @@ EdgeFunction make_edge(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
     return {x0, y0, dx, dy, top_left(dx, dy) ? 0 : -1};
 }
 
+// 2^ilogb(w) for w > 0: w with its mantissa cleared, when w is normal.
+double power_of_two_below(double w) {
+    const uint64_t bits = std::bit_cast<uint64_t>(w) & 0x7FF0000000000000u;
+    return bits ? std::bit_cast<double>(bits) : std::ldexp(1.0, std::ilogb(w));
+}
+
 // Pixels px whose centre px * 256 + 128 lies within [lo, hi] sub-pixels.
 void pixel_range(int64_t lo, int64_t hi, int& first, int& last) {
     const int64_t half = kSubpixelOne / 2;
@@ -53,16 +60,31 @@ glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
             (1.0 - clip.y * inv_w) * 0.5 * viewport.height};
 }
 
+bool project_vertex(const glm::dvec4& clip, const Viewport& viewport, WindowVertex& out) {
+    if (!(clip.w > 0.0)) return false;
+    const int bits = std::clamp(viewport.subpixel_bits, 1, kSubpixelBits);
+    const glm::dvec2 p = to_window(clip, viewport);
+    out.x = int32_t(snap(p.x, bits));
+    out.y = int32_t(snap(p.y, bits));
+    out.z = float(clip.z / clip.w);
+    out.w = clip.w;
+    return true;
+}
+
 SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
                            const CullState& cull, TriangleSetup& out, int orientation) {
-    int64_t X[3], Y[3];
-    const int bits = std::clamp(viewport.subpixel_bits, 1, kSubpixelBits);
-    for (int i = 0; i < 3; ++i) {
-        if (!(v[i].clip.w > 0.0)) return SetupResult::degenerate;
-        const glm::dvec2 p = to_window(v[i].clip, viewport);
-        X[i] = snap(p.x, bits);
-        Y[i] = snap(p.y, bits);
-    }
+    WindowVertex p[3];
+    for (int i = 0; i < 3; ++i)
+        if (!project_vertex(v[i].clip, viewport, p[i])) return SetupResult::degenerate;
+    const WindowVertex* const pv[3] = {&p[0], &p[1], &p[2]};
+    const float* const varyings[3] = {v[0].varyings, v[1].varyings, v[2].varyings};
+    return setup_triangle(pv, varyings, viewport, cull, out, orientation);
+}
+
+SetupResult setup_triangle(const WindowVertex* const v[3], const float* const varyings[3],
+                           const Viewport& viewport, const CullState& cull, TriangleSetup& out,
+                           int orientation) {
+    const int64_t X[3] = {v[0]->x, v[1]->x, v[2]->x}, Y[3] = {v[0]->y, v[1]->y, v[2]->y};
     const int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area2 == 0 || (orientation != 0 && (area2 > 0) != (orientation > 0)))
         return SetupResult::degenerate;
@@ -77,16 +99,15 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
     // 1/w times a power of two that brings the largest to (0.5, 1], and at
     // least FLT_MIN: perspective weights need only the ratios, and 1/w alone
     // overflows float for w < 2^-128 (and underflows past 2^128).
-    const double scale = std::ldexp(1.0, std::ilogb(std::min({v[0].clip.w, v[1].clip.w, v[2].clip.w})));
+    const double scale = power_of_two_below(std::min({v[0]->w, v[1]->w, v[2]->w}));
     int order[3] = {0, 1, 2};
     if (area2 < 0) std::swap(order[1], order[2]);
     for (int k = 0; k < 3; ++k) {
         const int a = order[k], b = order[(k + 1) % 3];
         out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
-        out.z[k] = float(v[a].clip.z / v[a].clip.w);
-        out.inv_w[k] = std::max(float(1.0 / v[a].clip.w * scale),
-                                std::numeric_limits<float>::min());
-        out.varyings[k] = v[a].varyings;
+        out.z[k] = v[a]->z;
+        out.inv_w[k] = std::max(float(1.0 / v[a]->w * scale), std::numeric_limits<float>::min());
+        out.varyings[k] = varyings[a];
     }
     out.area2 = area2 < 0 ? -area2 : area2;
     out.front_facing = front;

@@ -87,6 +87,24 @@ struct CullState {
 SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
                            const CullState& cull, TriangleSetup& out, int orientation = 0);
 
+// A vertex projected and snapped once, for every triangle that shares it
+// (the first half of setup_triangle). Snapping clamps to 2^29 sub-pixels, so
+// the coordinates fit 32 bits.
+struct WindowVertex {
+    int32_t x, y;   // window position on the sub-pixel grid, y down
+    float z;        // window depth z / w
+    uint32_t user;  // free for the caller (draw.cpp keeps clip outcodes here)
+    double w;       // clip w, > 0
+};
+
+// Projects a clip-space vertex inside the guard band; false when w <= 0.
+bool project_vertex(const glm::dvec4& clip, const Viewport& viewport, WindowVertex& out);
+
+// setup_triangle from projected vertices and their varyings.
+SetupResult setup_triangle(const WindowVertex* const v[3], const float* const varyings[3],
+                           const Viewport& viewport, const CullState& cull, TriangleSetup& out,
+                           int orientation = 0);
+
 // Window position of a clip-space point (pixel units, y down), as setup uses.
 glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport);
 
