@@ -67,7 +67,7 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
                  FrameStats& stats) {
     auto start = std::chrono::steady_clock::now();
     if (prepass_.width() != width || prepass_.height() != height) prepass_.resize(width, height);
-    prepass_.clear(glm::vec4(0.0f), reversed_z ? 0.0f : 1.0f);
+    renderer.clear(prepass_, glm::vec4(0.0f), reversed_z ? 0.0f : 1.0f);
     DrawCall call;
     call.shader = &internal::plugin<internal::ViewNormals>();
     call.view = view;

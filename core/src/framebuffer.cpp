@@ -47,18 +47,27 @@ void Framebuffer::resize(int width, int height, bool with_color, int samples) {
     sample_depth_.resize(multi);
 }
 
-void Framebuffer::clear(const glm::vec4& color, float depth) {
-    std::fill(color_.begin(), color_.end(), color);
-    std::fill(depth_.begin(), depth_.end(), depth);
-    std::fill(sample_color_.begin(), sample_color_.end(), color);
-    std::fill(sample_depth_.begin(), sample_depth_.end(), depth);
+void Framebuffer::clear(const glm::vec4& color, float depth) { clear_rows(0, height_, color, depth); }
+
+void Framebuffer::clear_rows(int first, int count, const glm::vec4& color, float depth) {
+    const size_t begin = size_t(first) * width_, end = size_t(first + count) * width_;
+    const size_t n = size_t(samples_);
+    if (!color_.empty()) std::fill(color_.begin() + begin, color_.begin() + end, color);
+    std::fill(depth_.begin() + begin, depth_.begin() + end, depth);
+    if (!sample_color_.empty())
+        std::fill(sample_color_.begin() + begin * n, sample_color_.begin() + end * n, color);
+    if (!sample_depth_.empty())
+        std::fill(sample_depth_.begin() + begin * n, sample_depth_.begin() + end * n, depth);
 }
 
-void Framebuffer::resolve() {
+void Framebuffer::resolve() { resolve_rows(0, height_); }
+
+void Framebuffer::resolve_rows(int first, int count) {
     if (samples_ == 1) return;
     const size_t n = size_t(samples_);
     const float weight = 1.0f / float(samples_);
-    for (size_t p = 0; p < depth_.size(); ++p) {
+    const size_t end = size_t(first + count) * width_;
+    for (size_t p = size_t(first) * width_; p < end; ++p) {
         depth_[p] = sample_depth_[p * n];
         if (color_.empty()) continue;
         glm::vec4 sum(0.0f);

@@ -65,6 +65,30 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 int Renderer::threads() const { return geometry_->pool.size(); }
 
+namespace {
+
+// Calls fn(first_row, rows) for bands of `height` rows, in parallel.
+template <class Fn>
+void for_row_bands(ThreadPool& pool, int height, Fn&& fn) {
+    constexpr int kBand = 32;
+    pool.parallel_for((height + kBand - 1) / kBand, [&](int band, int) {
+        fn(band * kBand, std::min(kBand, height - band * kBand));
+    });
+}
+
+}  // namespace
+
+void Renderer::clear(Framebuffer& target, const glm::vec4& color, float depth) {
+    for_row_bands(geometry_->pool, target.height(),
+                  [&](int first, int rows) { target.clear_rows(first, rows, color, depth); });
+}
+
+void Renderer::resolve(Framebuffer& target) {
+    if (target.samples() == 1) return;
+    for_row_bands(geometry_->pool, target.height(),
+                  [&](int first, int rows) { target.resolve_rows(first, rows); });
+}
+
 FrameStats& FrameStats::operator+=(const FrameStats& o) {
     objects += o.objects;
     objects_culled += o.objects_culled;
@@ -115,7 +139,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     if (target.width() != s.width || target.height() != s.height || target.samples() != s.msaa ||
         !target.has_color())
         target.resize(s.width, s.height, true, s.msaa);
-    target.clear(s.clear_color, s.reversed_z ? 0.0f : 1.0f);
+    clear(target, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
 
     DrawCall call;
     call.view = scene.camera.view();
@@ -162,7 +186,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     }
     draw_main_pass(scene, call, target, stats);
     const auto post = std::chrono::steady_clock::now();
-    target.resolve();
+    resolve(target);
     stats.ms_post += elapsed_ms(post);
     stats.milliseconds = elapsed_ms(start);
     return stats;

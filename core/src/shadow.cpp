@@ -145,7 +145,7 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
         else
             spot(light, maps.corners, size, sm, view, proj);
         if (depth.width() != size) depth.resize(size, size, false);
-        depth.clear(glm::vec4(0.0f), 1.0f);
+        renderer.clear(depth, glm::vec4(0.0f), 1.0f);
         draw_depth(casters, view, proj, renderer, depth);
         sm.light = uint32_t(i);
         sm.width = sm.height = uint32_t(size);

@@ -40,6 +40,10 @@ public:
     // Averages each pixel's samples into color(), sample 0's depth into
     // depth(). Call after drawing; a no-op with one sample.
     void resolve();
+    // The same for `count` rows from row `first` only: bands of rows are
+    // independent, so threads can share the work.
+    void clear_rows(int first, int count, const glm::vec4& color, float depth);
+    void resolve_rows(int first, int count);
 
     int width() const { return width_; }
     int height() const { return height_; }

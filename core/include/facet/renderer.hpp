@@ -117,6 +117,10 @@ public:
     // Draws one mesh into `target` (which must be cleared by the caller).
     void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
 
+    // Framebuffer::clear() and resolve() on all the renderer's threads.
+    void clear(Framebuffer& target, const glm::vec4& color, float depth);
+    void resolve(Framebuffer& target);
+
     int threads() const;
 
 private:
