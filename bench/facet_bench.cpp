@@ -5,8 +5,17 @@
 //                 [--threads N]... [--runs N] [--csv FILE] [--json FILE]
 //     facet-bench --pareto [--size WxH] [--threads N] [--runs N]
 //                 [--reference-grid N] [--csv FILE] [--plot FILE]
+//     facet-bench --llvmpipe [--llvmpipe-target rgba32f|srgb8] [the options above]
 //
 // --pareto measures run time against error instead (pareto.hpp).
+//
+// --llvmpipe (when built with OSMesa) also draws each configuration through
+// Mesa's llvmpipe with a GLSL version of its shader (phong and unlit only;
+// other shaders' rows get no llvmpipe columns), in a child process that
+// sets llvmpipe's thread count (llvmpipe_worker.hpp, llvmpipe.hpp). It adds
+// llvmpipe's median, the ratio llvmpipe ms / facet ms (above 1: facet is
+// faster) and the share of pixels whose coverage differs: which pixels any
+// geometry covers, from an unlit white frame on black drawn by each.
 //
 // Scenes (made here, except the bunny):
 //   small     a sphere of ~1k triangles
@@ -23,6 +32,9 @@
 // the thread count and the peak resident memory while rendering that scene
 // (Linux: VmHWM, reset when the scene starts; it includes the scene itself).
 #include "pareto.hpp"
+#ifdef FACET_HAVE_OSMESA
+#include "llvmpipe_worker.hpp"
+#endif
 
 #include <facet/command_line.hpp>
 #include <facet/material.hpp>
@@ -39,6 +51,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -164,11 +178,19 @@ double peak_rss_mib() {
 // Linux: writing 5 to clear_refs resets VmHWM to the current resident size.
 void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
+// --llvmpipe: the same configuration drawn by llvmpipe.
+struct Versus {
+    int threads;                   // LP_NUM_THREADS (bench::llvmpipe_threads)
+    double median_ms, min_ms;
+    double coverage_diff_percent;  // pixels covered by one renderer only
+};
+
 struct Result {
     std::string scene, note, shader;
     int width, height, threads;
     uint64_t triangles;
     double median_ms, min_ms, peak_rss_mib;
+    std::optional<Versus> llvmpipe;  // --llvmpipe, for shaders it has
 };
 
 Result measure(Scene& scene, const std::string& name, const std::string& note,
@@ -180,19 +202,51 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
     for (int i = 0; i < runs; ++i) ms.push_back(renderer.render(scene, fb).milliseconds);
     std::sort(ms.begin(), ms.end());
     return {name, note, shader, scene.settings.width, scene.settings.height, renderer.threads(),
-            first.triangles_in, ms[ms.size() / 2], ms.front(), peak_rss_mib()};
+            first.triangles_in, ms[ms.size() / 2], ms.front(), peak_rss_mib(), {}};
 }
 
-void write_csv(const std::string& path, const std::vector<Result>& results) {
+// `lp_target`: the llvmpipe colour buffer with --llvmpipe, which adds its
+// columns (empty in rows llvmpipe did not draw); empty otherwise.
+void write_csv(const std::string& path, const std::vector<Result>& results,
+               const std::string& lp_target) {
     std::ofstream out(path);
-    out << "scene,note,shader,width,height,threads,triangles,median_ms,min_ms,peak_rss_mib\n";
-    for (const Result& r : results)
+    out << "scene,note,shader,width,height,threads,triangles,median_ms,min_ms,peak_rss_mib";
+    if (!lp_target.empty())
+        out << ",llvmpipe_target,llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
+               "ratio_llvmpipe_over_facet,coverage_diff_percent";
+    out << '\n';
+    for (const Result& r : results) {
         out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << r.width << ','
             << r.height << ',' << r.threads << ',' << r.triangles << ',' << r.median_ms << ','
-            << r.min_ms << ',' << r.peak_rss_mib << '\n';
+            << r.min_ms << ',' << r.peak_rss_mib;
+        if (!lp_target.empty() && r.llvmpipe)
+            out << ',' << lp_target << ',' << r.llvmpipe->threads << ','
+                << r.llvmpipe->median_ms << ',' << r.llvmpipe->min_ms << ','
+                << r.llvmpipe->median_ms / r.median_ms << ','
+                << r.llvmpipe->coverage_diff_percent;
+        else if (!lp_target.empty())
+            out << ",,,,,,";
+        out << '\n';
+    }
 }
 
-void write_json(const std::string& path, const std::vector<Result>& results) {
+// The JSON fields of --llvmpipe (null where llvmpipe did not draw the row).
+std::string json_llvmpipe(const Result& r, const std::string& lp_target) {
+    if (!r.llvmpipe)
+        return ", \"llvmpipe_target\": null, \"llvmpipe_threads\": null, "
+               "\"llvmpipe_median_ms\": null, \"llvmpipe_min_ms\": null, "
+               "\"ratio_llvmpipe_over_facet\": null, \"coverage_diff_percent\": null";
+    std::ostringstream out;
+    out << ", \"llvmpipe_target\": \"" << lp_target << "\", \"llvmpipe_threads\": "
+        << r.llvmpipe->threads << ", \"llvmpipe_median_ms\": " << r.llvmpipe->median_ms
+        << ", \"llvmpipe_min_ms\": " << r.llvmpipe->min_ms
+        << ", \"ratio_llvmpipe_over_facet\": " << r.llvmpipe->median_ms / r.median_ms
+        << ", \"coverage_diff_percent\": " << r.llvmpipe->coverage_diff_percent;
+    return out.str();
+}
+
+void write_json(const std::string& path, const std::vector<Result>& results,
+                const std::string& lp_target) {
     std::ofstream out(path);
     out << "[\n";
     for (size_t i = 0; i < results.size(); ++i) {
@@ -201,11 +255,153 @@ void write_json(const std::string& path, const std::vector<Result>& results) {
             << "\", \"shader\": \"" << r.shader << "\", \"width\": " << r.width
             << ", \"height\": " << r.height << ", \"threads\": " << r.threads
             << ", \"triangles\": " << r.triangles << ", \"median_ms\": " << r.median_ms
-            << ", \"min_ms\": " << r.min_ms << ", \"peak_rss_mib\": " << r.peak_rss_mib << "}"
+            << ", \"min_ms\": " << r.min_ms << ", \"peak_rss_mib\": " << r.peak_rss_mib
+            << (lp_target.empty() ? "" : json_llvmpipe(r, lp_target)) << "}"
             << (i + 1 < results.size() ? "," : "") << "\n";
     }
     out << "]\n";
 }
+
+#ifdef FACET_HAVE_OSMESA
+// Which pixels facet covers: 1 where an unlit white frame of `scene` on its
+// black clear is not black. The image is the same at any thread count.
+std::vector<uint8_t> facet_coverage(const Scene& scene, PluginRegistry& registry) {
+    Scene white = scene;
+    set_shader(white, registry, "unlit");
+    Renderer renderer;
+    Framebuffer fb;
+    renderer.render(white, fb);
+    std::vector<uint8_t> covered(size_t(fb.width()) * size_t(fb.height()));
+    for (size_t i = 0; i < covered.size(); ++i)
+        covered[i] = glm::vec3(fb.color()[i]) != glm::vec3(0.0f);
+    return covered;
+}
+
+// Percentage of pixels covered in one mask and not in the other.
+double coverage_diff_percent(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    if (a.size() != b.size() || a.empty())
+        throw std::runtime_error("coverage masks of different sizes");
+    size_t differ = 0;
+    for (size_t i = 0; i < a.size(); ++i) differ += (a[i] != 0) != (b[i] != 0);
+    return 100.0 * double(differ) / double(a.size());
+}
+
+// --llvmpipe: configuration `r` (scene, size, shader, threads) drawn by
+// llvmpipe in a child process. Coverage depends on neither the shader nor
+// the thread count, so it is compared once per scene and size: when
+// `coverage_diff` is still empty.
+Versus versus_llvmpipe(const Result& r, const std::string& size, int runs,
+                       bench::LlvmpipeTarget target, const Scene& scene,
+                       PluginRegistry& registry, std::optional<double>& coverage_diff,
+                       std::string& renderer) {
+    const bench::LlvmpipeJob job{r.scene, size,   r.shader,      runs,
+                                 bench::llvmpipe_threads(r.threads), target, !coverage_diff};
+    const bench::LlvmpipeResult lp = bench::measure_llvmpipe(job);
+    if (!coverage_diff)
+        coverage_diff = coverage_diff_percent(facet_coverage(scene, registry), lp.coverage);
+    renderer = lp.renderer;
+    return {job.threads, lp.median_ms, lp.min_ms, *coverage_diff};
+}
+
+// facet-bench --llvmpipe-worker: the child's side of bench::measure_llvmpipe,
+// for the job's one configuration.
+int llvmpipe_worker(const bench::LlvmpipeJob& job, const std::string& result_path,
+                    const std::string& mask_path) {
+    try {
+        std::string note;
+        Scene scene = make_scene(job.scene, note);
+        const auto size = parse_size(job.size);
+        if (!size) throw std::runtime_error("bad size '" + job.size + "'");
+        scene.settings.width = size->x;
+        scene.settings.height = size->y;
+        PluginRegistry registry;
+        bench::LlvmpipeRenderer lp(size->x, size->y, job.target);
+        std::vector<uint8_t> coverage;
+        if (!mask_path.empty()) {  // first, so that the timed frames come last
+            set_shader(scene, registry, "unlit");
+            lp.upload(scene);
+            lp.render(scene);
+            coverage = lp.coverage();
+        }
+        set_shader(scene, registry, job.shader);
+        lp.upload(scene);
+        bench::LlvmpipeResult result = bench::time_frames(lp, scene, job.runs);
+        result.coverage = std::move(coverage);
+        bench::write_result(result, result_path, mask_path);
+        return 0;
+    } catch (const std::exception& e) {
+        spdlog::error("llvmpipe worker: {}", e.what());
+        return 1;
+    }
+}
+#endif
+
+void print_header(bool llvmpipe) {
+    std::printf("%-9s %-10s %-7s %7s %10s %12s %10s", "scene", "size", "shader", "threads",
+                "triangles", "median ms", "peak MiB");
+    if (llvmpipe)
+        std::printf(" %11s %12s %9s %11s", "lp threads", "llvmpipe ms", "lp/facet", "cov diff %");
+    std::printf("\n");
+}
+
+void print_row(const Result& r, const std::string& size, bool llvmpipe) {
+    std::printf("%-9s %-10s %-7s %7d %10llu %12.2f %10.1f", r.scene.c_str(), size.c_str(),
+                r.shader.c_str(), r.threads, (unsigned long long)r.triangles, r.median_ms,
+                r.peak_rss_mib);
+    if (llvmpipe && r.llvmpipe)
+        std::printf(" %11d %12.2f %9.2f %11.4f", r.llvmpipe->threads, r.llvmpipe->median_ms,
+                    r.llvmpipe->median_ms / r.median_ms, r.llvmpipe->coverage_diff_percent);
+    else if (llvmpipe)
+        std::printf(" %11s %12s %9s %11s", "-", "-", "-", "-");
+    std::printf("\n");
+    std::fflush(stdout);
+}
+
+// --llvmpipe: its settings, and the GL renderer once a child has reported it.
+struct LlvmpipeSide {
+    bool on = false;
+    std::string target = "rgba32f";
+    std::string renderer;
+
+    // True when llvmpipe has a GLSL version of `shader`.
+    bool draws(const std::string& shader) const {
+#ifdef FACET_HAVE_OSMESA
+        return bench::LlvmpipeRenderer::supports(shader);
+#else
+        (void)shader;
+        return false;
+#endif
+    }
+
+    // Configuration `r` drawn by llvmpipe (versus_llvmpipe).
+    Versus measure(const Result& r, const std::string& size, int runs, const Scene& scene,
+                   PluginRegistry& registry, std::optional<double>& coverage_diff) {
+#ifdef FACET_HAVE_OSMESA
+        return versus_llvmpipe(r, size, runs, bench::parse_target(target), scene, registry,
+                               coverage_diff, renderer);
+#else
+        (void)r, (void)size, (void)runs, (void)scene, (void)registry, (void)coverage_diff;
+        throw std::logic_error("built without OSMesa");
+#endif
+    }
+
+    void print_skipped(const std::vector<std::string>& shaders) const {
+        std::string skipped;
+        for (const std::string& s : shaders)
+            if (!draws(s)) skipped += (skipped.empty() ? "" : ", ") + s;
+        if (!skipped.empty())
+            std::printf("llvmpipe has no GLSL version of %s: facet only in their rows\n",
+                        skipped.c_str());
+    }
+
+    void print_legend() const {
+        std::printf("llvmpipe: %s, colour buffer %s\n"
+                    "lp threads: LP_NUM_THREADS (0: llvmpipe draws on the calling thread)\n"
+                    "lp/facet: llvmpipe ms / facet ms (median; above 1, facet is faster)\n"
+                    "cov diff %%: pixels covered by only one of the two renderers\n",
+                    renderer.c_str(), target.c_str());
+    }
+};
 
 }  // namespace
 
@@ -219,10 +415,13 @@ int main(int argc, char** argv) {
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
     bool pareto = false;
     bench::ParetoOptions po;
+    LlvmpipeSide lp;
+    std::string worker_result, worker_mask;
     CLI::App app{"facet-bench: facet's frame times over scenes, sizes, shaders and threads"};
-    app.add_flag("--pareto", pareto,
-                 "run time against error for each quality knob, against the reference renderer "
-                 "(writes pareto.csv and pareto.png unless --csv / --plot say otherwise)");
+    CLI::Option* pareto_flag = app.add_flag(
+        "--pareto", pareto,
+        "run time against error for each quality knob, against the reference renderer "
+        "(writes pareto.csv and pareto.png unless --csv / --plot say otherwise)");
     app.add_option("--reference-grid", po.grid, "--pareto: reference samples per pixel side")
         ->capture_default_str();
     app.add_option("--plot", po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
@@ -233,8 +432,34 @@ int main(int argc, char** argv) {
     app.add_option("--runs", runs, "frames per configuration (median)")->capture_default_str();
     app.add_option("--csv", csv, "CSV output")->capture_default_str();
     app.add_option("--json", json, "JSON output")->capture_default_str();
+    app.add_flag("--llvmpipe", lp.on,
+                 "also draw each configuration (phong and unlit) through Mesa's llvmpipe "
+                 "(OSMesa): its time, the ratio to facet's and the coverage difference")
+        ->excludes(pareto_flag);
+    app.add_option("--llvmpipe-target", lp.target,
+                   "--llvmpipe: llvmpipe's colour buffer, rgba32f (linear float, like facet's) "
+                   "or srgb8")
+        ->check(CLI::IsMember({"rgba32f", "srgb8"}))
+        ->capture_default_str();
+    // The child side of --llvmpipe (llvmpipe_worker.hpp); not for users.
+    app.add_option("--llvmpipe-worker", worker_result)->group("");
+    app.add_option("--llvmpipe-coverage", worker_mask)->group("");
     CLI11_PARSE(app, argc, argv);
     spdlog::set_level(spdlog::level::warn);
+#ifdef FACET_HAVE_OSMESA
+    if (!worker_result.empty()) {  // a child of --llvmpipe: the first of each list
+        const bench::LlvmpipeJob job{scenes.front(), sizes.front(),  shaders.front(),
+                                     runs,           0 /* set by the parent's environment */,
+                                     bench::parse_target(lp.target), !worker_mask.empty()};
+        return llvmpipe_worker(job, worker_result, worker_mask);
+    }
+#else
+    if (lp.on || !worker_result.empty()) {
+        spdlog::error("--llvmpipe: this facet-bench was built without OSMesa; install "
+                      "libosmesa6-dev (scripts/install-deps) and run CMake again");
+        return 2;
+    }
+#endif
     if (pareto) {
         if (app.count("--size")) {
             const auto size = parse_size(sizes.front());
@@ -250,8 +475,8 @@ int main(int argc, char** argv) {
 
     PluginRegistry registry;
     std::vector<Result> results;
-    std::printf("%-9s %-10s %-7s %7s %10s %12s %10s\n", "scene", "size", "shader", "threads",
-                "triangles", "median ms", "peak MiB");
+    if (lp.on) lp.print_skipped(shaders);
+    print_header(lp.on);
     for (const std::string& name : scenes) {
         reset_peak_rss();
         std::string note;
@@ -260,21 +485,28 @@ int main(int argc, char** argv) {
             if (std::sscanf(size.c_str(), "%dx%d", &scene.settings.width,
                             &scene.settings.height) != 2)
                 return 2;
+            std::optional<double> coverage_diff;  // --llvmpipe: once per scene and size
             for (const std::string& shader : shaders) {
                 set_shader(scene, registry, shader);
                 for (int t : threads) {
-                    const Result r = measure(scene, name, note, shader, t, std::max(1, runs));
-                    std::printf("%-9s %-10s %-7s %7d %10llu %12.2f %10.1f\n", name.c_str(),
-                                size.c_str(), shader.c_str(), r.threads,
-                                (unsigned long long)r.triangles, r.median_ms, r.peak_rss_mib);
-                    std::fflush(stdout);
+                    Result r = measure(scene, name, note, shader, t, std::max(1, runs));
+                    try {
+                        if (lp.on && lp.draws(shader))
+                            r.llvmpipe = lp.measure(r, size, std::max(1, runs), scene,
+                                                    registry, coverage_diff);
+                    } catch (const std::exception& e) {
+                        spdlog::error("--llvmpipe: {}", e.what());
+                        return 1;
+                    }
+                    print_row(r, size, lp.on);
                     results.push_back(r);
                 }
             }
         }
     }
-    write_csv(csv, results);
-    write_json(json, results);
+    if (lp.on) lp.print_legend();
+    write_csv(csv, results, lp.on ? lp.target : "");
+    write_json(json, results, lp.on ? lp.target : "");
     std::printf("wrote %s and %s\n", csv.c_str(), json.c_str());
     return 0;
 }
