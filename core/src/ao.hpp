@@ -28,6 +28,10 @@ struct AoSettings {
     int samples = 12;     // directions per pixel
 };
 
+// AO radius and sample count from the material's `ao_radius` (float) and
+// `ao_samples` (int) parameters, where its shader declares them; clamped.
+AoSettings ao_settings(const Material& material);
+
 class AoPass {
 public:
     // Runs the pre-pass (timed into stats.ms_prepass) and the AO and blur

@@ -2,7 +2,7 @@
 
 #include "raycast.hpp"
 
-#include "ao.hpp"        // AoSettings: the default radius
+#include "ao.hpp"        // ao_settings: the AO radius facet uses
 #include "fragment.hpp"  // DrawContext, make_abi_draw
 
 #include <facet/renderer.hpp>
@@ -41,7 +41,7 @@ struct Prepared {
     bool has_linear = false;
     bool shadowed = false;          // the shader takes shadow maps, and shadows are on
     bool needs_ao = false;
-    double ao_radius = AoSettings{}.radius;
+    double ao_radius = 0.0;
 };
 
 void check_supported(const Object& o) {
@@ -52,17 +52,6 @@ void check_supported(const Object& o) {
                                  m.source + ", shader " + m.plugin->name() +
                                  ") blends, discards or takes derivatives; only opaque, "
                                  "derivative-free materials have a reference");
-}
-
-double material_ao_radius(const Material& m) {
-    double radius = AoSettings{}.radius;
-    const facet_param_desc* p = m.plugin->find_param("ao_radius");
-    if (p && p->type == FACET_PARAM_FLOAT && m.block) {
-        float r;
-        std::memcpy(&r, m.block->bytes + p->offset, sizeof r);
-        radius = r;
-    }
-    return std::max(radius, 1e-4);
 }
 
 std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
@@ -78,7 +67,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     prepare_context(p->dc, *p->shader, p->textures.data(), int(p->textures.size()));
     p->shadowed = s.shadows && p->shader->needs(FACET_NEED_SHADOW_MAP);
     p->needs_ao = p->shader->needs(FACET_NEED_AO);
-    p->ao_radius = material_ao_radius(m);
+    p->ao_radius = ao_settings(m).radius;
 
     DrawCall call;
     call.mesh = p->mesh;
