@@ -12,8 +12,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <initializer_list>
 #include <map>
 #include <stdexcept>
 
@@ -174,17 +176,41 @@ struct Program {
     bool phong = false;
 };
 
-// The value of `material`'s parameter `name` (count floats), as its
-// shader reads it from the parameter block.
-void read_param(const Material& m, const char* name, float* out, int count) {
-    const facet_param_desc* p = m.plugin->find_param(name);
+// `m`'s parameter `name`, checked against what the GLSL reads: one of
+// `types`, and `bytes` of it inside the parameter block. Throws otherwise.
+const facet_param_desc& checked_param(const Material& m, const char* name,
+                                      std::initializer_list<uint32_t> types, size_t bytes) {
+    const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
     if (!p || !m.block) throw std::runtime_error(m.shader + " has no parameter " + name);
-    std::memcpy(out, m.block->bytes + p->offset, sizeof(float) * size_t(count));
+    if (std::find(types.begin(), types.end(), p->type) == types.end())
+        throw std::runtime_error("llvmpipe: " + m.shader + "'s parameter " + name +
+                                 " has type " + std::to_string(p->type) +
+                                 ", not the one its GLSL version reads");
+    const size_t block = std::min<size_t>(m.plugin->desc().params_size, FACET_MAX_PARAMS_SIZE);
+    if (size_t(p->offset) + bytes > block)
+        throw std::runtime_error("llvmpipe: " + m.shader + "'s parameter " + name +
+                                 " lies outside its parameter block");
+    return *p;
 }
 
+// The value of `m`'s float parameter `name` (count 1: FLOAT; 3: VEC3 or
+// COLOR3; 4: VEC4 or COLOR4), as its shader reads it from the block.
+void read_param(const Material& m, const char* name, float* out, int count) {
+    const size_t bytes = sizeof(float) * size_t(count);
+    if (count != 1 && count != 3 && count != 4) throw std::logic_error("read_param: count");
+    const facet_param_desc& p =
+        count == 1   ? checked_param(m, name, {FACET_PARAM_FLOAT}, bytes)
+        : count == 3 ? checked_param(m, name, {FACET_PARAM_VEC3, FACET_PARAM_COLOR3}, bytes)
+                     : checked_param(m, name, {FACET_PARAM_VEC4, FACET_PARAM_COLOR4}, bytes);
+    std::memcpy(out, m.block->bytes + p.offset, bytes);
+}
+
+// An INT, BOOL or TEXTURE parameter (TEXTURE: 1 when a texture is bound).
 int32_t read_int_param(const Material& m, const char* name) {
+    const facet_param_desc& p = checked_param(
+        m, name, {FACET_PARAM_INT, FACET_PARAM_BOOL, FACET_PARAM_TEXTURE}, sizeof(int32_t));
     int32_t v = 0;
-    read_param(m, name, reinterpret_cast<float*>(&v), 1);
+    std::memcpy(&v, m.block->bytes + p.offset, sizeof v);
     return v;
 }
 
@@ -198,11 +224,65 @@ glm::mat4 clip_from_world(const Scene& scene) {
            scene.camera.view();
 }
 
+// GL's test for facet's depth comparison.
+GLenum gl_compare(DepthCompare c) {
+    switch (c) {
+    case DepthCompare::never: return GL_NEVER;
+    case DepthCompare::less: return GL_LESS;
+    case DepthCompare::less_equal: return GL_LEQUAL;
+    case DepthCompare::greater: return GL_GREATER;
+    case DepthCompare::greater_equal: return GL_GEQUAL;
+    case DepthCompare::equal: return GL_EQUAL;
+    case DepthCompare::always: return GL_ALWAYS;
+    }
+    throw std::logic_error("unknown DepthCompare");
+}
+
+// What of `s` this renderer cannot draw as facet does, or "" when nothing.
+std::string unmodelled(const RenderSettings& s) {
+    if (s.msaa != 1) return "msaa " + std::to_string(s.msaa) + " (it draws one sample)";
+    if (s.subpixel_bits != 8)
+        return "subpixel_bits " + std::to_string(s.subpixel_bits) + " (llvmpipe snaps to 8)";
+    if (s.wireframe) return "wireframe";
+    return "";
+}
+
+void require_modelled(const RenderSettings& s) {
+    if (const std::string what = unmodelled(s); !what.empty())
+        throw std::runtime_error("llvmpipe side cannot model " + what);
+}
+
+const char* gl_error_name(GLenum e) {
+    switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_CONTEXT_LOST: return "GL_CONTEXT_LOST";
+    default: return "an unknown GL error";
+    }
+}
+
+// Owns an OSMesa context: destroyed last, after Impl's GL objects.
+struct Context {
+    OSMesaContext handle = nullptr;
+    Context() = default;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+    ~Context() {
+        if (handle) OSMesaDestroyContext(handle);
+    }
+};
+
 }  // namespace
 
 struct LlvmpipeRenderer::Impl {
+    Context context;  // first member: destroyed after ~Impl has freed the GL objects
     Gl gl;
-    OSMesaContext context = nullptr;
+    bool gl_loaded = false;
     uint8_t window[16 * 16 * 4] = {};  // OSMesa's own buffer; frames go to `fbo`
     int width = 0, height = 0;
     LlvmpipeTarget target = LlvmpipeTarget::rgba32f;
@@ -210,7 +290,14 @@ struct LlvmpipeRenderer::Impl {
     std::map<const Mesh*, MeshBuffers> meshes;
     std::map<std::string, Program> programs;
 
+    Impl() = default;
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+    ~Impl();
+
     void make_context();
+    void make_current();
+    void check_errors(const char* after);
     void make_framebuffer();
     GLuint compile(GLenum stage, const char* source);
     Program& program(const std::string& shader);
@@ -220,6 +307,21 @@ struct LlvmpipeRenderer::Impl {
     void set_lights(GLuint program, const Scene& scene);
     GLint uniform(GLuint program, const char* name) { return gl.GetUniformLocation(program, name); }
 };
+
+// Also runs when the constructor throws half-way: it frees what was made,
+// and `context` then destroys the context.
+LlvmpipeRenderer::Impl::~Impl() {
+    if (!context.handle || !gl_loaded) return;
+    if (!OSMesaMakeCurrent(context.handle, window, GL_UNSIGNED_BYTE, 16, 16)) return;
+    for (auto& [mesh, b] : meshes) {
+        gl.DeleteBuffers(4, b.buffers);
+        gl.DeleteVertexArrays(1, &b.vao);
+    }
+    for (auto& [name, p] : programs) gl.DeleteProgram(p.id);
+    gl.DeleteFramebuffers(1, &fbo);
+    gl.DeleteRenderbuffers(1, &color);
+    gl.DeleteRenderbuffers(1, &depth);
+}
 
 void LlvmpipeRenderer::Impl::make_context() {
     const int attributes[] = {OSMESA_FORMAT,
@@ -233,14 +335,32 @@ void LlvmpipeRenderer::Impl::make_context() {
                               OSMESA_CONTEXT_MINOR_VERSION,
                               5,
                               0};
-    context = OSMesaCreateContextAttribs(attributes, nullptr);
-    if (!context) throw std::runtime_error("OSMesa cannot create an OpenGL 4.5 core context");
-    if (!OSMesaMakeCurrent(context, window, GL_UNSIGNED_BYTE, 16, 16))
-        throw std::runtime_error("OSMesaMakeCurrent failed");
+    context.handle = OSMesaCreateContextAttribs(attributes, nullptr);
+    if (!context.handle)
+        throw std::runtime_error("OSMesa cannot create an OpenGL 4.5 core context");
+    make_current();
     gl.load();
+    gl_loaded = true;
     const std::string name = reinterpret_cast<const char*>(gl.GetString(GL_RENDERER));
     if (name.find("llvmpipe") == std::string::npos)
         throw std::runtime_error("OSMesa renders with " + name + ", not llvmpipe");
+}
+
+// This renderer's context, current on the calling thread.
+void LlvmpipeRenderer::Impl::make_current() {
+    if (!OSMesaMakeCurrent(context.handle, window, GL_UNSIGNED_BYTE, 16, 16))
+        throw std::runtime_error("OSMesaMakeCurrent failed");
+}
+
+// Throws naming every GL error raised since the last check.
+void LlvmpipeRenderer::Impl::check_errors(const char* after) {
+    std::string names;
+    for (int i = 0; i < 8; ++i) {  // GL_CONTEXT_LOST can repeat for ever
+        const GLenum e = gl.GetError();
+        if (e == GL_NO_ERROR) break;
+        names += (names.empty() ? "" : ", ") + std::string(gl_error_name(e));
+    }
+    if (!names.empty()) throw std::runtime_error(std::string("llvmpipe: ") + names + " in " + after);
 }
 
 // Colour and float32 depth renderbuffers of the frame's size, and the
@@ -413,20 +533,10 @@ LlvmpipeRenderer::LlvmpipeRenderer(int width, int height, LlvmpipeTarget target)
     impl_->target = target;
     impl_->make_context();
     impl_->make_framebuffer();
+    impl_->check_errors("making the framebuffer");
 }
 
-LlvmpipeRenderer::~LlvmpipeRenderer() {
-    Gl& gl = impl_->gl;
-    for (auto& [mesh, b] : impl_->meshes) {
-        gl.DeleteBuffers(4, b.buffers);
-        gl.DeleteVertexArrays(1, &b.vao);
-    }
-    for (auto& [name, p] : impl_->programs) gl.DeleteProgram(p.id);
-    gl.DeleteFramebuffers(1, &impl_->fbo);
-    gl.DeleteRenderbuffers(1, &impl_->color);
-    gl.DeleteRenderbuffers(1, &impl_->depth);
-    OSMesaDestroyContext(impl_->context);
-}
+LlvmpipeRenderer::~LlvmpipeRenderer() = default;
 
 bool LlvmpipeRenderer::supports(const std::string& shader) {
     return shader == "phong" || shader == "unlit";
@@ -440,28 +550,34 @@ std::string LlvmpipeRenderer::renderer_name() const {
 }
 
 void LlvmpipeRenderer::upload(const Scene& scene) {
+    require_modelled(scene.settings);
+    impl_->make_current();
     for (const Object& o : scene.objects) {
         if (!o.visible || !o.mesh || !o.material) continue;
         const Material& m = *o.material;
         impl_->program(m.shader);
         if (m.blend != BlendMode::opaque)
             throw std::runtime_error("llvmpipe: only opaque materials are drawn");
-        if (!m.writes_depth()) throw std::runtime_error("llvmpipe: depth writes are always on");
         if (read_int_param(m, "base_texture"))
             throw std::runtime_error("llvmpipe: textures are not drawn");
         impl_->upload_mesh(*o.mesh);
     }
+    impl_->check_errors("upload()");
 }
 
+// Each draw follows facet's PipelineState for it (renderer.cpp's
+// pipeline_state): cull mode, front face, depth test and depth writes.
 double LlvmpipeRenderer::render(const Scene& scene) {
     Gl& gl = impl_->gl;
     const RenderSettings& s = scene.settings;
+    require_modelled(s);
+    impl_->make_current();
     const auto start = std::chrono::steady_clock::now();
     gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
     gl.ClearColor(s.clear_color.r, s.clear_color.g, s.clear_color.b, s.clear_color.a);
-    gl.ClearDepth(s.reversed_z ? 0.0 : 1.0);
-    gl.DepthFunc(s.reversed_z ? GL_GEQUAL : GL_LEQUAL);
-    gl.DepthMask(GL_TRUE);
+    gl.ClearDepth(s.reversed_z ? 0.0 : 1.0);  // as Framebuffer::clear in Renderer::render
+    gl.DepthFunc(gl_compare(s.depth_compare));
+    gl.DepthMask(GL_TRUE);  // glClear honours the depth mask
     gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     // The flip in clip_from_world mirrors every triangle's winding.
     gl.FrontFace(s.front_ccw ? GL_CW : GL_CCW);
@@ -474,6 +590,7 @@ double LlvmpipeRenderer::render(const Scene& scene) {
             gl.Enable(GL_CULL_FACE);
             gl.CullFace(cull == CullMode::back ? GL_BACK : GL_FRONT);
         }
+        gl.DepthMask(o.material->writes_depth() ? GL_TRUE : GL_FALSE);
         const Program& p = impl_->program(o.material->shader);
         gl.UseProgram(p.id);
         impl_->set_uniforms(p, scene, o, view_projection);
@@ -483,18 +600,19 @@ double LlvmpipeRenderer::render(const Scene& scene) {
     }
     gl.Finish();
     const auto end = std::chrono::steady_clock::now();
-    if (const GLenum e = gl.GetError(); e != GL_NO_ERROR)
-        throw std::runtime_error("llvmpipe: GL error " + std::to_string(e));
+    impl_->check_errors("render()");
     return std::chrono::duration<double, std::milli>(end - start).count();
 }
 
 std::vector<glm::vec4> LlvmpipeRenderer::image() const {
     Gl& gl = impl_->gl;
+    impl_->make_current();
     std::vector<glm::vec4> rgba(size_t(impl_->width) * size_t(impl_->height));
     gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
     // GL's row 0 holds the image's top row (clip_from_world).
     gl.ReadPixels(0, 0, impl_->width, impl_->height, GL_RGBA, GL_FLOAT, rgba.data());
+    impl_->check_errors("image()");
     return rgba;
 }
 
