@@ -8,19 +8,24 @@
 //                 --runs N --llvmpipe-target T [--llvmpipe-coverage MASK]
 //
 // with LP_NUM_THREADS and GALLIUM_DRIVER=llvmpipe in its environment, and
-// waits for it. The child builds the same scene as the parent (facet-bench's
-// make_scene), times it with time_frames(), writes the result with
-// write_result() and exits; the parent reads the files and removes them.
-// The parent is idle while the child runs, so the two never compete for
-// the cores.
+// waits for it (at most LlvmpipeJob::timeout; then it kills it). The child
+// builds the same scene as the parent (facet-bench's make_scene), times it
+// with time_frames(), writes the result with write_result() and exits; the
+// parent reads the files. The parent is idle while the child runs, so the
+// two never compete for the cores.
 //
-// Files: RESULT is text, "median_ms min_ms" on the first line and the GL
-// renderer and version on the second; MASK is LlvmpipeRenderer::coverage(),
-// one byte per pixel.
+// Files, in a folder of their own made with mkdtemp and removed with
+// everything in it when measure_llvmpipe returns or throws: RESULT is text,
+// "median_ms min_ms" on the first line and the GL renderer and version on
+// the second; MASK is LlvmpipeRenderer::coverage(), one byte per pixel; the
+// child's stdout and stderr go to a third file, quoted in the parent's
+// error when the child fails (so the child logs its error as the bare
+// message) and passed on to stderr when it succeeds.
 #pragma once
 
 #include "llvmpipe.hpp"
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,6 +39,7 @@ struct LlvmpipeJob {
     int threads = 0;                  // LP_NUM_THREADS; 0: llvmpipe draws on the calling thread
     LlvmpipeTarget target = LlvmpipeTarget::rgba32f;
     bool coverage = false;            // also return the coverage of an unlit frame
+    std::chrono::seconds timeout{600};  // then the child is killed and the job fails
 };
 
 struct LlvmpipeResult {
@@ -49,7 +55,8 @@ struct LlvmpipeResult {
 int llvmpipe_threads(int facet_threads);
 
 // Parent: runs the job in a child process and returns what it measured.
-// Throws std::runtime_error when the child fails (its errors are on stderr).
+// Throws std::runtime_error when the child cannot start, exits non-zero, is
+// killed by a signal or times out, naming which and quoting its stderr.
 LlvmpipeResult measure_llvmpipe(const LlvmpipeJob& job);
 
 // Child: one warm-up frame, then `runs` frames; the median and the fastest.
