@@ -5,8 +5,26 @@
 //                 [--threads N]... [--runs N] [--csv FILE] [--json FILE]
 //     facet-bench --pareto [--size WxH] [--threads N] [--runs N]
 //                 [--reference-grid N] [--csv FILE] [--plot FILE]
+//     facet-bench --llvmpipe [--llvmpipe-target rgba32f|srgb8] [the options above]
 //
 // --pareto measures run time against error instead (pareto.hpp).
+//
+// --llvmpipe (when built with OSMesa) also draws each configuration through
+// Mesa's llvmpipe with a GLSL version of its shader (phong and unlit only;
+// other shaders' rows get no llvmpipe columns), in a child process that
+// sets llvmpipe's thread count (llvmpipe_worker.hpp, llvmpipe.hpp). It adds
+// llvmpipe's median, the ratio llvmpipe ms / facet ms (above 1: facet is
+// faster) and the pixels whose coverage differs (a share in the table; the
+// CSV and JSON also give the count): which pixels any geometry covers, from
+// an unlit white frame on black drawn by each. The GLSL computes the
+// plugins' colours but does a little less work: facet's phong and unlit
+// also interpolate UVs and multiply in their base_texture slot (unbound
+// here, so the host fills it with white). With --llvmpipe-target srgb8,
+// llvmpipe writes 8-bit sRGB (GL encodes on write, 4 bytes a pixel) where
+// facet writes linear rgba32f (16 bytes). When a worker fails (a crash, a
+// timeout, settings llvmpipe cannot model such as MSAA or wireframe), the
+// error is logged, that row's llvmpipe columns stay empty, the run goes on
+// and facet-bench exits with 1 at the end.
 //
 // Scenes (made here, except the bunny):
 //   small     a sphere of ~1k triangles
@@ -21,8 +39,12 @@
 // shadow-casting directional light and one point light. Each configuration
 // renders one warm-up frame, then --runs frames; the median is reported, with
 // the thread count and the peak resident memory while rendering that scene
-// (Linux: VmHWM, reset when the scene starts; it includes the scene itself).
+// (Linux: VmHWM, reset when the scene starts; it includes the scene itself,
+// not --llvmpipe's facet coverage pass).
 #include "pareto.hpp"
+#ifdef FACET_HAVE_OSMESA
+#include "llvmpipe_worker.hpp"
+#endif
 
 #include <facet/command_line.hpp>
 #include <facet/material.hpp>
@@ -36,11 +58,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 using namespace facet;
 
@@ -164,15 +191,51 @@ double peak_rss_mib() {
 // Linux: writing 5 to clear_refs resets VmHWM to the current resident size.
 void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
+// The peak resident memory of one scene's rows, from the scene's start,
+// leaving out facet-bench's own side work (--llvmpipe's facet coverage
+// pass): the peak so far is carried over that work and the kernel's peak
+// reset after it.
+class PeakRss {
+public:
+    PeakRss() { reset_peak_rss(); }
+    double read() const { return std::max(carried_, peak_rss_mib()); }
+
+    template <class Work>
+    auto excluding(Work&& work) {
+        carried_ = read();
+        struct Reset {
+            ~Reset() { reset_peak_rss(); }
+        } reset;
+        return work();
+    }
+
+private:
+    double carried_ = 0.0;
+};
+
+// Pixels covered by one renderer only.
+struct CoverageDiff {
+    double percent = 0.0;
+    size_t pixels = 0;
+};
+
+// --llvmpipe: the same configuration drawn by llvmpipe.
+struct Versus {
+    int threads;                   // LP_NUM_THREADS (bench::llvmpipe_threads)
+    double median_ms, min_ms;
+    CoverageDiff coverage;
+};
+
 struct Result {
     std::string scene, note, shader;
     int width, height, threads;
     uint64_t triangles;
     double median_ms, min_ms, peak_rss_mib;
+    std::optional<Versus> llvmpipe;  // --llvmpipe, for shaders it has, when its worker succeeded
 };
 
 Result measure(Scene& scene, const std::string& name, const std::string& note,
-               const std::string& shader, int threads, int runs) {
+               const std::string& shader, int threads, int runs, const PeakRss& peak) {
     Renderer renderer(threads);
     Framebuffer fb;
     const FrameStats first = renderer.render(scene, fb);  // warm-up
@@ -180,19 +243,53 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
     for (int i = 0; i < runs; ++i) ms.push_back(renderer.render(scene, fb).milliseconds);
     std::sort(ms.begin(), ms.end());
     return {name, note, shader, scene.settings.width, scene.settings.height, renderer.threads(),
-            first.triangles_in, ms[ms.size() / 2], ms.front(), peak_rss_mib()};
+            first.triangles_in, ms[ms.size() / 2], ms.front(), peak.read(), {}};
 }
 
-void write_csv(const std::string& path, const std::vector<Result>& results) {
+// `lp_target`: the llvmpipe colour buffer with --llvmpipe, which adds its
+// columns (empty in rows llvmpipe did not draw); empty otherwise.
+void write_csv(const std::string& path, const std::vector<Result>& results,
+               const std::string& lp_target) {
     std::ofstream out(path);
-    out << "scene,note,shader,width,height,threads,triangles,median_ms,min_ms,peak_rss_mib\n";
-    for (const Result& r : results)
+    out << "scene,note,shader,width,height,threads,triangles,median_ms,min_ms,peak_rss_mib";
+    if (!lp_target.empty())
+        out << ",llvmpipe_target,llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
+               "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels";
+    out << '\n';
+    for (const Result& r : results) {
         out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << r.width << ','
             << r.height << ',' << r.threads << ',' << r.triangles << ',' << r.median_ms << ','
-            << r.min_ms << ',' << r.peak_rss_mib << '\n';
+            << r.min_ms << ',' << r.peak_rss_mib;
+        if (!lp_target.empty() && r.llvmpipe)
+            out << ',' << lp_target << ',' << r.llvmpipe->threads << ','
+                << r.llvmpipe->median_ms << ',' << r.llvmpipe->min_ms << ','
+                << r.llvmpipe->median_ms / r.median_ms << ',' << r.llvmpipe->coverage.percent
+                << ',' << r.llvmpipe->coverage.pixels;
+        else if (!lp_target.empty())
+            out << ",,,,,,,";
+        out << '\n';
+    }
 }
 
-void write_json(const std::string& path, const std::vector<Result>& results) {
+// The JSON fields of --llvmpipe (null where llvmpipe did not draw the row).
+std::string json_llvmpipe(const Result& r, const std::string& lp_target) {
+    if (!r.llvmpipe)
+        return ", \"llvmpipe_target\": null, \"llvmpipe_threads\": null, "
+               "\"llvmpipe_median_ms\": null, \"llvmpipe_min_ms\": null, "
+               "\"ratio_llvmpipe_over_facet\": null, \"coverage_diff_percent\": null, "
+               "\"coverage_diff_pixels\": null";
+    std::ostringstream out;
+    out << ", \"llvmpipe_target\": \"" << lp_target << "\", \"llvmpipe_threads\": "
+        << r.llvmpipe->threads << ", \"llvmpipe_median_ms\": " << r.llvmpipe->median_ms
+        << ", \"llvmpipe_min_ms\": " << r.llvmpipe->min_ms
+        << ", \"ratio_llvmpipe_over_facet\": " << r.llvmpipe->median_ms / r.median_ms
+        << ", \"coverage_diff_percent\": " << r.llvmpipe->coverage.percent
+        << ", \"coverage_diff_pixels\": " << r.llvmpipe->coverage.pixels;
+    return out.str();
+}
+
+void write_json(const std::string& path, const std::vector<Result>& results,
+                const std::string& lp_target) {
     std::ofstream out(path);
     out << "[\n";
     for (size_t i = 0; i < results.size(); ++i) {
@@ -201,80 +298,325 @@ void write_json(const std::string& path, const std::vector<Result>& results) {
             << "\", \"shader\": \"" << r.shader << "\", \"width\": " << r.width
             << ", \"height\": " << r.height << ", \"threads\": " << r.threads
             << ", \"triangles\": " << r.triangles << ", \"median_ms\": " << r.median_ms
-            << ", \"min_ms\": " << r.min_ms << ", \"peak_rss_mib\": " << r.peak_rss_mib << "}"
+            << ", \"min_ms\": " << r.min_ms << ", \"peak_rss_mib\": " << r.peak_rss_mib
+            << (lp_target.empty() ? "" : json_llvmpipe(r, lp_target)) << "}"
             << (i + 1 < results.size() ? "," : "") << "\n";
     }
     out << "]\n";
 }
 
-}  // namespace
+#ifdef FACET_HAVE_OSMESA
+// Which pixels facet covers: 1 where an unlit white frame of `scene` on its
+// black clear is not black. The image is the same at any thread count.
+std::vector<uint8_t> facet_coverage(const Scene& scene, PluginRegistry& registry) {
+    Scene white = scene;
+    set_shader(white, registry, "unlit");
+    Renderer renderer;
+    Framebuffer fb;
+    renderer.render(white, fb);
+    std::vector<uint8_t> covered(size_t(fb.width()) * size_t(fb.height()));
+    for (size_t i = 0; i < covered.size(); ++i)
+        covered[i] = glm::vec3(fb.color()[i]) != glm::vec3(0.0f);
+    return covered;
+}
 
-int main(int argc, char** argv) {
+// The pixels covered in one mask and not in the other.
+CoverageDiff coverage_diff(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    if (a.size() != b.size() || a.empty())
+        throw std::runtime_error("coverage masks of different sizes");
+    CoverageDiff d;
+    for (size_t i = 0; i < a.size(); ++i) d.pixels += (a[i] != 0) != (b[i] != 0);
+    d.percent = 100.0 * double(d.pixels) / double(a.size());
+    return d;
+}
+
+// What one llvmpipe worker measured, as a row's columns, and its GL renderer.
+struct LlvmpipeRun {
+    Versus versus;
+    std::string renderer;
+};
+
+// --llvmpipe: configuration `r` (scene, size, shader, threads) drawn by
+// llvmpipe in a child process. Coverage depends on neither the shader nor
+// the thread count, so it is compared once per scene and size: `known` is
+// that comparison when it has been made. facet's side of it stays out of
+// the rows' peak memory.
+LlvmpipeRun versus_llvmpipe(const Result& r, const std::string& size, int runs,
+                            bench::LlvmpipeTarget target, const Scene& scene,
+                            PluginRegistry& registry, std::optional<CoverageDiff> known,
+                            PeakRss& peak) {
+    const bench::LlvmpipeJob job{.scene = r.scene,
+                                 .size = size,
+                                 .shader = r.shader,
+                                 .runs = runs,
+                                 .threads = bench::llvmpipe_threads(r.threads),
+                                 .target = target,
+                                 .coverage = !known};
+    const bench::LlvmpipeResult lp = bench::measure_llvmpipe(job);
+    const CoverageDiff coverage = known ? *known : peak.excluding([&] {
+        return coverage_diff(facet_coverage(scene, registry), lp.coverage);
+    });
+    return {{job.threads, lp.median_ms, lp.min_ms, coverage}, lp.renderer};
+}
+
+// facet-bench --llvmpipe-worker: the child's side of bench::measure_llvmpipe,
+// for the job's one configuration. It logs an error as the bare message,
+// which the parent quotes (measure_llvmpipe captures its output).
+int llvmpipe_worker(const bench::LlvmpipeJob& job, const std::string& result_path,
+                    const std::string& mask_path) {
+    try {
+        std::string note;
+        Scene scene = make_scene(job.scene, note);
+        const auto size = parse_size(job.size);
+        if (!size) throw std::runtime_error("bad size '" + job.size + "'");
+        scene.settings.width = size->x;
+        scene.settings.height = size->y;
+        PluginRegistry registry;
+        bench::LlvmpipeRenderer lp(size->x, size->y, job.target);
+        std::vector<uint8_t> coverage;
+        if (!mask_path.empty()) {  // first, so that the timed frames come last
+            set_shader(scene, registry, "unlit");
+            lp.upload(scene);
+            lp.render(scene);
+            coverage = lp.coverage();
+        }
+        set_shader(scene, registry, job.shader);
+        lp.upload(scene);
+        bench::LlvmpipeResult result = bench::time_frames(lp, scene, job.runs);
+        result.coverage = std::move(coverage);
+        bench::write_result(result, result_path, mask_path);
+        return 0;
+    } catch (const std::exception& e) {
+        spdlog::set_pattern("%v");
+        spdlog::error("{}", e.what());
+        return 1;
+    }
+}
+#endif
+
+void print_header(bool llvmpipe) {
+    std::printf("%-9s %-10s %-7s %7s %10s %12s %10s", "scene", "size", "shader", "threads",
+                "triangles", "median ms", "peak MiB");
+    if (llvmpipe)
+        std::printf(" %11s %12s %9s %11s", "lp threads", "llvmpipe ms", "lp/facet", "cov diff %");
+    std::printf("\n");
+}
+
+void print_row(const Result& r, const std::string& size, bool llvmpipe) {
+    std::printf("%-9s %-10s %-7s %7d %10llu %12.2f %10.1f", r.scene.c_str(), size.c_str(),
+                r.shader.c_str(), r.threads, (unsigned long long)r.triangles, r.median_ms,
+                r.peak_rss_mib);
+    if (llvmpipe && r.llvmpipe)
+        std::printf(" %11d %12.2f %9.2f %11.4f", r.llvmpipe->threads, r.llvmpipe->median_ms,
+                    r.llvmpipe->median_ms / r.median_ms, r.llvmpipe->coverage.percent);
+    else if (llvmpipe)
+        std::printf(" %11s %12s %9s %11s", "-", "-", "-", "-");
+    std::printf("\n");
+    std::fflush(stdout);
+}
+
+// --llvmpipe: its settings, the GL renderer once a child has reported it,
+// the coverage comparison of the current scene and size, and the failures.
+struct LlvmpipeSide {
+    bool on = false;
+    std::string target = "rgba32f";
+    std::string renderer;
+    std::optional<CoverageDiff> coverage;  // reset for each scene and size
+    int failures = 0;
+
+    // True when llvmpipe has a GLSL version of `shader`.
+    bool draws(const std::string& shader) const {
+#ifdef FACET_HAVE_OSMESA
+        return bench::LlvmpipeRenderer::supports(shader);
+#else
+        (void)shader;
+        return false;
+#endif
+    }
+
+    // Row `r`'s llvmpipe columns (versus_llvmpipe), or none when its worker
+    // fails: that is logged and counted, and the run goes on.
+    std::optional<Versus> measure(const Result& r, const std::string& size, int runs,
+                                  const Scene& scene, PluginRegistry& registry, PeakRss& peak) {
+#ifdef FACET_HAVE_OSMESA
+        try {
+            const LlvmpipeRun run = versus_llvmpipe(r, size, runs, bench::parse_target(target),
+                                                    scene, registry, coverage, peak);
+            coverage = run.versus.coverage;
+            renderer = run.renderer;
+            return run.versus;
+        } catch (const std::exception& e) {
+            ++failures;
+            spdlog::error("--llvmpipe, {} {} {} threads {}: {}", r.scene, size, r.shader,
+                          r.threads, e.what());
+            return std::nullopt;
+        }
+#else
+        (void)r, (void)size, (void)runs, (void)scene, (void)registry, (void)peak;
+        throw std::logic_error("built without OSMesa");
+#endif
+    }
+
+    void print_skipped(const std::vector<std::string>& shaders) const {
+        std::string skipped;
+        for (const std::string& s : shaders)
+            if (!draws(s)) skipped += (skipped.empty() ? "" : ", ") + s;
+        if (!skipped.empty())
+            std::printf("llvmpipe has no GLSL version of %s: facet only in their rows\n",
+                        skipped.c_str());
+    }
+
+    void print_legend() const {
+        std::printf(
+            "llvmpipe: %s, colour buffer %s\n"
+            "lp threads: LP_NUM_THREADS (0: llvmpipe draws on the calling thread)\n"
+            "lp/facet: llvmpipe ms / facet ms (median; above 1, facet is faster)\n"
+            "cov diff %%: pixels covered by only one of the two renderers\n"
+            "work: facet's phong and unlit also interpolate UVs and multiply in their\n"
+            "  base_texture slot (unbound here: white); the GLSL versions do neither\n",
+            renderer.empty() ? "(no worker reported)" : renderer.c_str(), target.c_str());
+        if (target == "srgb8")
+            std::printf("srgb8: llvmpipe encodes each fragment to 8-bit sRGB as it writes it\n"
+                        "  (4 bytes a pixel); facet writes linear rgba32f (16 bytes a pixel)\n");
+        if (failures)
+            std::printf("llvmpipe: %d measurement(s) failed (logged above; their columns "
+                        "are empty)\n",
+                        failures);
+    }
+};
+
+// Everything on facet-bench's command line.
+struct Options {
     std::vector<std::string> scenes = {"small", "medium", "large", "fill", "subpixel", "huge"};
     std::vector<std::string> sizes = {"1280x720", "1920x1080"};
     std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao"};
-    const int all = int(std::max(1u, std::thread::hardware_concurrency()));
-    std::vector<int> threads = {1, all};
+    std::vector<int> threads = {1, int(std::max(1u, std::thread::hardware_concurrency()))};
     int runs = 5;
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
     bool pareto = false;
     bench::ParetoOptions po;
-    CLI::App app{"facet-bench: facet's frame times over scenes, sizes, shaders and threads"};
-    app.add_flag("--pareto", pareto,
-                 "run time against error for each quality knob, against the reference renderer "
-                 "(writes pareto.csv and pareto.png unless --csv / --plot say otherwise)");
-    app.add_option("--reference-grid", po.grid, "--pareto: reference samples per pixel side")
-        ->capture_default_str();
-    app.add_option("--plot", po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
-    app.add_option("--scene", scenes, "small, medium, large, fill, subpixel, huge");
-    app.add_option("--size", sizes, "image size WxH");
-    app.add_option("--shader", shaders, "shader plugin name");
-    app.add_option("--threads", threads, "threads (counting the caller)");
-    app.add_option("--runs", runs, "frames per configuration (median)")->capture_default_str();
-    app.add_option("--csv", csv, "CSV output")->capture_default_str();
-    app.add_option("--json", json, "JSON output")->capture_default_str();
-    CLI11_PARSE(app, argc, argv);
-    spdlog::set_level(spdlog::level::warn);
-    if (pareto) {
-        if (app.count("--size")) {
-            const auto size = parse_size(sizes.front());
-            if (!size) return 2;
-            po.width = size->x;
-            po.height = size->y;
-        }
-        if (app.count("--threads")) po.threads = threads.front();
-        if (app.count("--runs")) po.runs = std::max(1, runs);
-        if (app.count("--csv")) po.csv = csv;
-        return bench::run_pareto(po);
-    }
+    LlvmpipeSide lp;
+    std::string worker_result, worker_mask;  // --llvmpipe-worker, --llvmpipe-coverage
+};
 
-    PluginRegistry registry;
-    std::vector<Result> results;
-    std::printf("%-9s %-10s %-7s %7s %10s %12s %10s\n", "scene", "size", "shader", "threads",
-                "triangles", "median ms", "peak MiB");
-    for (const std::string& name : scenes) {
-        reset_peak_rss();
-        std::string note;
-        Scene scene = make_scene(name, note);
-        for (const std::string& size : sizes) {
-            if (std::sscanf(size.c_str(), "%dx%d", &scene.settings.width,
-                            &scene.settings.height) != 2)
-                return 2;
-            for (const std::string& shader : shaders) {
-                set_shader(scene, registry, shader);
-                for (int t : threads) {
-                    const Result r = measure(scene, name, note, shader, t, std::max(1, runs));
-                    std::printf("%-9s %-10s %-7s %7d %10llu %12.2f %10.1f\n", name.c_str(),
-                                size.c_str(), shader.c_str(), r.threads,
-                                (unsigned long long)r.triangles, r.median_ms, r.peak_rss_mib);
-                    std::fflush(stdout);
-                    results.push_back(r);
-                }
+void add_options(CLI::App& app, Options& o) {
+    CLI::Option* pareto_flag = app.add_flag(
+        "--pareto", o.pareto,
+        "run time against error for each quality knob, against the reference renderer "
+        "(writes pareto.csv and pareto.png unless --csv / --plot say otherwise)");
+    app.add_option("--reference-grid", o.po.grid, "--pareto: reference samples per pixel side")
+        ->capture_default_str();
+    app.add_option("--plot", o.po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
+    app.add_option("--scene", o.scenes, "small, medium, large, fill, subpixel, huge");
+    app.add_option("--size", o.sizes, "image size WxH");
+    app.add_option("--shader", o.shaders, "shader plugin name");
+    app.add_option("--threads", o.threads, "threads (counting the caller)");
+    app.add_option("--runs", o.runs, "frames per configuration (median)")->capture_default_str();
+    app.add_option("--csv", o.csv, "CSV output")->capture_default_str();
+    app.add_option("--json", o.json, "JSON output")->capture_default_str();
+    app.add_flag("--llvmpipe", o.lp.on,
+                 "also draw each configuration (phong and unlit) through Mesa's llvmpipe "
+                 "(OSMesa): its time, the ratio to facet's and the coverage difference")
+        ->excludes(pareto_flag);
+    app.add_option("--llvmpipe-target", o.lp.target,
+                   "--llvmpipe: llvmpipe's colour buffer, rgba32f (linear float, like facet's) "
+                   "or srgb8")
+        ->check(CLI::IsMember({"rgba32f", "srgb8"}))
+        ->capture_default_str();
+    // The child side of --llvmpipe (llvmpipe_worker.hpp); not for users.
+    app.add_option("--llvmpipe-worker", o.worker_result)->group("");
+    app.add_option("--llvmpipe-coverage", o.worker_mask)->group("");
+}
+
+// --llvmpipe-worker, or the error of --llvmpipe without OSMesa; nothing
+// (continue) otherwise.
+std::optional<int> run_llvmpipe_worker(const Options& o) {
+#ifdef FACET_HAVE_OSMESA
+    if (o.worker_result.empty()) return std::nullopt;
+    // A child of --llvmpipe: the first of each list.
+    const bench::LlvmpipeJob job{.scene = o.scenes.front(),
+                                 .size = o.sizes.front(),
+                                 .shader = o.shaders.front(),
+                                 .runs = o.runs,
+                                 .threads = 0,  // set by the parent, in the environment
+                                 .target = bench::parse_target(o.lp.target),
+                                 .coverage = !o.worker_mask.empty()};
+    return llvmpipe_worker(job, o.worker_result, o.worker_mask);
+#else
+    if (!o.lp.on && o.worker_result.empty()) return std::nullopt;
+    spdlog::error("--llvmpipe: this facet-bench was built without OSMesa; install "
+                  "libosmesa6-dev (scripts/install-deps) and run CMake again");
+    return 2;
+#endif
+}
+
+int run_pareto(const CLI::App& app, Options& o) {
+    if (app.count("--size")) {
+        const auto size = parse_size(o.sizes.front());
+        if (!size) return 2;
+        o.po.width = size->x;
+        o.po.height = size->y;
+    }
+    if (app.count("--threads")) o.po.threads = o.threads.front();
+    if (app.count("--runs")) o.po.runs = std::max(1, o.runs);
+    if (app.count("--csv")) o.po.csv = o.csv;
+    return bench::run_pareto(o.po);
+}
+
+// Every row of scene `name`: each size, shader and thread count.
+void bench_scene(const std::string& name, Options& o, PluginRegistry& registry,
+                 std::vector<Result>& results) {
+    PeakRss peak;  // from before the scene is made: its memory counts
+    std::string note;
+    Scene scene = make_scene(name, note);
+    for (const std::string& size : o.sizes) {
+        const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
+        scene.settings.width = wh.x;
+        scene.settings.height = wh.y;
+        o.lp.coverage.reset();
+        for (const std::string& shader : o.shaders) {
+            set_shader(scene, registry, shader);
+            for (int t : o.threads) {
+                Result r = measure(scene, name, note, shader, t, o.runs, peak);
+                if (o.lp.on && o.lp.draws(shader))
+                    r.llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
+                print_row(r, size, o.lp.on);
+                results.push_back(r);
             }
         }
     }
-    write_csv(csv, results);
-    write_json(json, results);
-    std::printf("wrote %s and %s\n", csv.c_str(), json.c_str());
-    return 0;
+}
+
+// The table, CSV and JSON; non-zero when a size is malformed or an llvmpipe
+// measurement failed (the rest still runs and is written).
+int run_table(Options& o) {
+    for (const std::string& size : o.sizes)
+        if (!parse_size(size)) {
+            spdlog::error("bad size '{}' (WxH)", size);
+            return 2;
+        }
+    o.runs = std::max(1, o.runs);
+    PluginRegistry registry;
+    std::vector<Result> results;
+    if (o.lp.on) o.lp.print_skipped(o.shaders);
+    print_header(o.lp.on);
+    for (const std::string& name : o.scenes) bench_scene(name, o, registry, results);
+    if (o.lp.on) o.lp.print_legend();
+    write_csv(o.csv, results, o.lp.on ? o.lp.target : "");
+    write_json(o.json, results, o.lp.on ? o.lp.target : "");
+    std::printf("wrote %s and %s\n", o.csv.c_str(), o.json.c_str());
+    return o.lp.failures ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App app{"facet-bench: facet's frame times over scenes, sizes, shaders and threads"};
+    add_options(app, o);
+    CLI11_PARSE(app, argc, argv);
+    spdlog::set_level(spdlog::level::warn);
+    if (const std::optional<int> status = run_llvmpipe_worker(o)) return *status;
+    if (o.pareto) return run_pareto(app, o);
+    return run_table(o);
 }

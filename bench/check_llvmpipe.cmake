@@ -1,0 +1,59 @@
+# CTest facet-bench.llvmpipe: runs facet-bench --llvmpipe on the small scene
+# and checks what it did, so that the test fails on a non-zero exit (a
+# worker failed), on missing or unexpected llvmpipe columns, and on more
+# than MAX_PIXELS pixels of coverage difference in any row.
+#
+#     cmake -DBENCH=path/to/facet-bench -DMAX_PIXELS=2 -P check_llvmpipe.cmake
+#
+# Writes llvmpipe.csv and llvmpipe.json in the working directory.
+cmake_minimum_required(VERSION 3.25)  # CMP0007: empty CSV fields stay list elements
+
+foreach(var BENCH MAX_PIXELS)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "check_llvmpipe.cmake: -D${var}=... is required")
+  endif()
+endforeach()
+
+file(REMOVE llvmpipe.csv llvmpipe.json)
+execute_process(
+  COMMAND ${BENCH} --llvmpipe --scene small --size 160x90 --shader unlit --shader phong
+          --shader lit --threads 1 --threads 2 --runs 1 --csv llvmpipe.csv --json llvmpipe.json
+  RESULT_VARIABLE status)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "facet-bench --llvmpipe failed: ${status}")
+endif()
+
+file(STRINGS llvmpipe.csv lines)
+list(POP_FRONT lines header)
+string(REPLACE "," ";" header "${header}")
+foreach(column shader threads llvmpipe_median_ms coverage_diff_pixels)
+  list(FIND header ${column} ${column}_at)
+  if(${column}_at LESS 0)
+    message(FATAL_ERROR "llvmpipe.csv has no column ${column}")
+  endif()
+endforeach()
+
+set(rows 0)
+foreach(line IN LISTS lines)
+  string(REPLACE "," ";" fields "${line}")
+  list(GET fields ${shader_at} shader)
+  list(GET fields ${threads_at} threads)
+  list(GET fields ${llvmpipe_median_ms_at} ms)
+  list(GET fields ${coverage_diff_pixels_at} pixels)
+  set(row "${shader} at ${threads} threads")
+  if(shader STREQUAL "lit")
+    if(NOT ms STREQUAL "")
+      message(FATAL_ERROR "${row}: llvmpipe columns where llvmpipe has no shader")
+    endif()
+  elseif(ms STREQUAL "" OR NOT ms GREATER 0)
+    message(FATAL_ERROR "${row}: no llvmpipe time ('${ms}')")
+  elseif(NOT pixels MATCHES "^[0-9]+$" OR pixels GREATER MAX_PIXELS)
+    message(FATAL_ERROR "${row}: ${pixels} pixels of coverage difference "
+                        "(at most ${MAX_PIXELS})")
+  endif()
+  math(EXPR rows "${rows} + 1")
+endforeach()
+if(NOT rows EQUAL 6)
+  message(FATAL_ERROR "llvmpipe.csv has ${rows} rows, not 6 (3 shaders x 2 thread counts)")
+endif()
+message(STATUS "llvmpipe.csv: ${rows} rows as expected")

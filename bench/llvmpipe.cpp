@@ -1,0 +1,626 @@
+// LlvmpipeRenderer: facet's bench scenes through OSMesa and GLSL. See
+// llvmpipe.hpp for what it matches and what it leaves out.
+#include "llvmpipe.hpp"
+
+#include <facet/renderer.hpp>
+
+// Declares every GL entry point, so that decltype can name their types; the
+// functions themselves are looked up with OSMesaGetProcAddress.
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/osmesa.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <initializer_list>
+#include <map>
+#include <stdexcept>
+
+namespace facet::bench {
+
+namespace {
+
+// The GL functions used here, without their "gl" prefix.
+#define FACET_GL_FUNCTIONS(X)                                                                 \
+    X(GetString) X(GetError) X(Enable) X(Disable) X(Viewport) X(ClearColor) X(ClearDepth)    \
+    X(Clear) X(DepthFunc) X(DepthMask) X(CullFace) X(FrontFace) X(ClipControl) X(Finish)     \
+    X(ReadPixels) X(PixelStorei) X(GenFramebuffers) X(BindFramebuffer)                       \
+    X(DeleteFramebuffers) X(FramebufferRenderbuffer) X(CheckFramebufferStatus)               \
+    X(GenRenderbuffers) X(BindRenderbuffer) X(RenderbufferStorage) X(DeleteRenderbuffers)    \
+    X(GenBuffers) X(BindBuffer) X(BufferData) X(DeleteBuffers) X(GenVertexArrays)            \
+    X(BindVertexArray) X(DeleteVertexArrays) X(EnableVertexAttribArray)                      \
+    X(VertexAttribPointer) X(VertexAttrib4f) X(DrawElements) X(CreateShader)                 \
+    X(ShaderSource) X(CompileShader) X(GetShaderiv) X(GetShaderInfoLog) X(DeleteShader)      \
+    X(CreateProgram) X(AttachShader) X(BindAttribLocation) X(LinkProgram) X(GetProgramiv)    \
+    X(GetProgramInfoLog) X(DeleteProgram) X(UseProgram) X(GetUniformLocation) X(Uniform1i)   \
+    X(Uniform1f) X(Uniform3fv) X(Uniform4fv) X(Uniform1iv) X(Uniform1fv)                     \
+    X(UniformMatrix3fv) X(UniformMatrix4fv)
+
+struct Gl {
+#define FACET_GL_MEMBER(name) decltype(&::gl##name) name = nullptr;
+    FACET_GL_FUNCTIONS(FACET_GL_MEMBER)
+#undef FACET_GL_MEMBER
+
+    void load() {
+#define FACET_GL_LOAD(name)                                                          \
+    name = reinterpret_cast<decltype(name)>(OSMesaGetProcAddress("gl" #name));      \
+    if (!name) throw std::runtime_error("OSMesa has no gl" #name);
+        FACET_GL_FUNCTIONS(FACET_GL_LOAD)
+#undef FACET_GL_LOAD
+    }
+};
+
+// Vertex attribute locations, shared by both programs.
+enum Attribute : GLuint { kPosition = 0, kNormal = 1, kColor = 2 };
+
+constexpr int kMaxLights = 16;  // the light arrays of kPhongFragment
+
+// phong.cpp's vertex() and fragment() in GLSL, term for term; the light
+// loop is facet::sdk::incident_light and spot_cone (shader.hpp).
+constexpr const char* kPhongVertex = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+uniform mat4 model_view_projection;
+uniform mat4 model;
+uniform mat3 normal_matrix;
+out vec3 world_position;
+out vec3 world_normal;
+void main() {
+    gl_Position = model_view_projection * vec4(position, 1.0);
+    world_position = vec3(model * vec4(position, 1.0));
+    world_normal = normalize(normal_matrix * normal);
+}
+)";
+
+constexpr const char* kPhongFragment = R"(#version 450 core
+const int kMaxLights = 16;
+const int kDirectional = 0, kSpot = 2;
+uniform vec3 camera_position;
+uniform int light_count;
+uniform int light_type[kMaxLights];
+uniform vec3 light_position[kMaxLights];
+uniform vec3 light_direction[kMaxLights];
+uniform vec3 light_color[kMaxLights];
+uniform float light_intensity[kMaxLights];
+uniform float light_range[kMaxLights];
+uniform vec3 light_attenuation[kMaxLights];
+uniform float light_cos_inner[kMaxLights];
+uniform float light_cos_outer[kMaxLights];
+uniform vec3 ambient, diffuse, specular, emission;
+uniform float shininess;
+uniform bool blinn;
+in vec3 world_position;
+in vec3 world_normal;
+out vec4 frag_color;
+
+float spot_cone(int i, float cos_angle) {
+    if (light_cos_inner[i] <= light_cos_outer[i])
+        return cos_angle >= light_cos_outer[i] ? 1.0 : 0.0;
+    return smoothstep(light_cos_outer[i], light_cos_inner[i], cos_angle);
+}
+
+// Light i arriving at p: unit vector towards it, and its radiance.
+void incident_light(int i, vec3 p, out vec3 to_light, out vec3 radiance) {
+    vec3 color = light_color[i] * light_intensity[i];
+    if (light_type[i] == kDirectional) {
+        to_light = -light_direction[i];
+        radiance = color;
+        return;
+    }
+    vec3 offset = light_position[i] - p;
+    float d = length(offset);
+    if (d <= 0.0 || (light_range[i] > 0.0 && d > light_range[i])) {
+        to_light = vec3(0.0);
+        radiance = vec3(0.0);
+        return;
+    }
+    to_light = offset / d;
+    vec3 a = light_attenuation[i];
+    float scale = 1.0 / (a.x + a.y * d + a.z * d * d);
+    if (light_type[i] == kSpot) scale *= spot_cone(i, dot(-to_light, light_direction[i]));
+    radiance = color * scale;
+}
+
+float lobe(vec3 n, vec3 l, vec3 v) {
+    float c = blinn ? dot(n, normalize(l + v)) : dot(reflect(-l, n), v);
+    return pow(max(c, 0.0), shininess);
+}
+
+void main() {
+    vec3 n = normalize(world_normal);
+    vec3 to_eye = normalize(camera_position - world_position);
+    vec3 kd = diffuse;  // x base_texture, which is never bound here
+    vec3 c = emission + ambient;
+    for (int i = 0; i < light_count; ++i) {
+        vec3 to_light, radiance;
+        incident_light(i, world_position, to_light, radiance);
+        float n_l = dot(n, to_light);
+        if (n_l <= 0.0) continue;
+        c += radiance * (kd * n_l + specular * lobe(n, to_light, to_eye));
+    }
+    frag_color = vec4(c, 1.0);
+}
+)";
+
+// unlit.cpp: vertex colour x base colour (x a texture, never bound here).
+constexpr const char* kUnlitVertex = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 2) in vec4 color;
+uniform mat4 model_view_projection;
+out vec4 vertex_color;
+void main() {
+    gl_Position = model_view_projection * vec4(position, 1.0);
+    vertex_color = color;
+}
+)";
+
+constexpr const char* kUnlitFragment = R"(#version 450 core
+uniform vec4 base_color;
+in vec4 vertex_color;
+out vec4 frag_color;
+void main() { frag_color = vertex_color * base_color; }
+)";
+
+// One object's mesh in GL buffers.
+struct MeshBuffers {
+    GLuint vao = 0;
+    GLuint buffers[4] = {};  // positions, normals, colours, indices
+    GLsizei index_count = 0;
+};
+
+struct Program {
+    GLuint id = 0;
+    bool phong = false;
+};
+
+// `m`'s parameter `name`, checked against what the GLSL reads: one of
+// `types`, and `bytes` of it inside the parameter block. Throws otherwise.
+const facet_param_desc& checked_param(const Material& m, const char* name,
+                                      std::initializer_list<uint32_t> types, size_t bytes) {
+    const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
+    if (!p || !m.block) throw std::runtime_error(m.shader + " has no parameter " + name);
+    if (std::find(types.begin(), types.end(), p->type) == types.end())
+        throw std::runtime_error("llvmpipe: " + m.shader + "'s parameter " + name +
+                                 " has type " + std::to_string(p->type) +
+                                 ", not the one its GLSL version reads");
+    const size_t block = std::min<size_t>(m.plugin->desc().params_size, FACET_MAX_PARAMS_SIZE);
+    if (size_t(p->offset) + bytes > block)
+        throw std::runtime_error("llvmpipe: " + m.shader + "'s parameter " + name +
+                                 " lies outside its parameter block");
+    return *p;
+}
+
+// The value of `m`'s float parameter `name` (count 1: FLOAT; 3: VEC3 or
+// COLOR3; 4: VEC4 or COLOR4), as its shader reads it from the block.
+void read_param(const Material& m, const char* name, float* out, int count) {
+    const size_t bytes = sizeof(float) * size_t(count);
+    if (count != 1 && count != 3 && count != 4) throw std::logic_error("read_param: count");
+    const facet_param_desc& p =
+        count == 1   ? checked_param(m, name, {FACET_PARAM_FLOAT}, bytes)
+        : count == 3 ? checked_param(m, name, {FACET_PARAM_VEC3, FACET_PARAM_COLOR3}, bytes)
+                     : checked_param(m, name, {FACET_PARAM_VEC4, FACET_PARAM_COLOR4}, bytes);
+    std::memcpy(out, m.block->bytes + p.offset, bytes);
+}
+
+// An INT, BOOL or TEXTURE parameter (TEXTURE: 1 when a texture is bound).
+int32_t read_int_param(const Material& m, const char* name) {
+    const facet_param_desc& p = checked_param(
+        m, name, {FACET_PARAM_INT, FACET_PARAM_BOOL, FACET_PARAM_TEXTURE}, sizeof(int32_t));
+    int32_t v = 0;
+    std::memcpy(&v, m.block->bytes + p.offset, sizeof v);
+    return v;
+}
+
+// facet's projection x view, then clip y negated: the image upside down in
+// GL's window coordinates, so that GL's bottom row 0 is facet's top row
+// (see make_framebuffer). Depth and clipping are unchanged.
+glm::mat4 clip_from_world(const Scene& scene) {
+    const RenderSettings& s = scene.settings;
+    const glm::mat4 flip_y = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, -1.0f, 1.0f));
+    return flip_y * scene.camera.projection(float(s.width) / float(s.height), s.reversed_z) *
+           scene.camera.view();
+}
+
+// GL's test for facet's depth comparison.
+GLenum gl_compare(DepthCompare c) {
+    switch (c) {
+    case DepthCompare::never: return GL_NEVER;
+    case DepthCompare::less: return GL_LESS;
+    case DepthCompare::less_equal: return GL_LEQUAL;
+    case DepthCompare::greater: return GL_GREATER;
+    case DepthCompare::greater_equal: return GL_GEQUAL;
+    case DepthCompare::equal: return GL_EQUAL;
+    case DepthCompare::always: return GL_ALWAYS;
+    }
+    throw std::logic_error("unknown DepthCompare");
+}
+
+// What of `s` this renderer cannot draw as facet does, or "" when nothing.
+std::string unmodelled(const RenderSettings& s) {
+    if (s.msaa != 1) return "msaa " + std::to_string(s.msaa) + " (it draws one sample)";
+    if (s.subpixel_bits != 8)
+        return "subpixel_bits " + std::to_string(s.subpixel_bits) + " (llvmpipe snaps to 8)";
+    if (s.wireframe) return "wireframe";
+    return "";
+}
+
+void require_modelled(const RenderSettings& s) {
+    if (const std::string what = unmodelled(s); !what.empty())
+        throw std::runtime_error("llvmpipe side cannot model " + what);
+}
+
+const char* gl_error_name(GLenum e) {
+    switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_CONTEXT_LOST: return "GL_CONTEXT_LOST";
+    default: return "an unknown GL error";
+    }
+}
+
+// Owns an OSMesa context: destroyed last, after Impl's GL objects.
+struct Context {
+    OSMesaContext handle = nullptr;
+    Context() = default;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+    ~Context() {
+        if (handle) OSMesaDestroyContext(handle);
+    }
+};
+
+}  // namespace
+
+struct LlvmpipeRenderer::Impl {
+    Context context;  // first member: destroyed after ~Impl has freed the GL objects
+    Gl gl;
+    bool gl_loaded = false;
+    uint8_t window[16 * 16 * 4] = {};  // OSMesa's own buffer; frames go to `fbo`
+    int width = 0, height = 0;
+    LlvmpipeTarget target = LlvmpipeTarget::rgba32f;
+    GLuint fbo = 0, color = 0, depth = 0;
+    std::map<const Mesh*, MeshBuffers> meshes;
+    std::map<std::string, Program> programs;
+
+    Impl() = default;
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+    ~Impl();
+
+    void make_context();
+    void make_current();
+    void check_errors(const char* after);
+    void make_framebuffer();
+    GLuint compile(GLenum stage, const char* source);
+    Program& program(const std::string& shader);
+    void upload_mesh(const Mesh& mesh);
+    void set_uniforms(const Program& p, const Scene& scene, const Object& o,
+                      const glm::mat4& view_projection);
+    void set_lights(GLuint program, const Scene& scene);
+    GLint uniform(GLuint program, const char* name) { return gl.GetUniformLocation(program, name); }
+};
+
+// Also runs when the constructor throws half-way: it frees what was made,
+// and `context` then destroys the context.
+LlvmpipeRenderer::Impl::~Impl() {
+    if (!context.handle || !gl_loaded) return;
+    if (!OSMesaMakeCurrent(context.handle, window, GL_UNSIGNED_BYTE, 16, 16)) return;
+    for (auto& [mesh, b] : meshes) {
+        gl.DeleteBuffers(4, b.buffers);
+        gl.DeleteVertexArrays(1, &b.vao);
+    }
+    for (auto& [name, p] : programs) gl.DeleteProgram(p.id);
+    gl.DeleteFramebuffers(1, &fbo);
+    gl.DeleteRenderbuffers(1, &color);
+    gl.DeleteRenderbuffers(1, &depth);
+}
+
+void LlvmpipeRenderer::Impl::make_context() {
+    const int attributes[] = {OSMESA_FORMAT,
+                              OSMESA_RGBA,
+                              OSMESA_DEPTH_BITS,
+                              0,
+                              OSMESA_PROFILE,
+                              OSMESA_CORE_PROFILE,
+                              OSMESA_CONTEXT_MAJOR_VERSION,
+                              4,
+                              OSMESA_CONTEXT_MINOR_VERSION,
+                              5,
+                              0};
+    context.handle = OSMesaCreateContextAttribs(attributes, nullptr);
+    if (!context.handle)
+        throw std::runtime_error("OSMesa cannot create an OpenGL 4.5 core context");
+    make_current();
+    gl.load();
+    gl_loaded = true;
+    const std::string name = reinterpret_cast<const char*>(gl.GetString(GL_RENDERER));
+    if (name.find("llvmpipe") == std::string::npos)
+        throw std::runtime_error("OSMesa renders with " + name + ", not llvmpipe");
+}
+
+// This renderer's context, current on the calling thread.
+void LlvmpipeRenderer::Impl::make_current() {
+    if (!OSMesaMakeCurrent(context.handle, window, GL_UNSIGNED_BYTE, 16, 16))
+        throw std::runtime_error("OSMesaMakeCurrent failed");
+}
+
+// Throws naming every GL error raised since the last check.
+void LlvmpipeRenderer::Impl::check_errors(const char* after) {
+    std::string names;
+    for (int i = 0; i < 8; ++i) {  // GL_CONTEXT_LOST can repeat for ever
+        const GLenum e = gl.GetError();
+        if (e == GL_NO_ERROR) break;
+        names += (names.empty() ? "" : ", ") + std::string(gl_error_name(e));
+    }
+    if (!names.empty()) throw std::runtime_error(std::string("llvmpipe: ") + names + " in " + after);
+}
+
+// Colour and float32 depth renderbuffers of the frame's size, and the
+// fixed-function state that matches facet's defaults.
+void LlvmpipeRenderer::Impl::make_framebuffer() {
+    gl.GenRenderbuffers(1, &color);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, color);
+    gl.RenderbufferStorage(GL_RENDERBUFFER,
+                           target == LlvmpipeTarget::rgba32f ? GL_RGBA32F : GL_SRGB8_ALPHA8,
+                           width, height);
+    gl.GenRenderbuffers(1, &depth);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, depth);
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
+    gl.GenFramebuffers(1, &fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("llvmpipe: incomplete framebuffer");
+    if (target == LlvmpipeTarget::srgb8) gl.Enable(GL_FRAMEBUFFER_SRGB);
+
+    // Clip depth 0..w, as facet's projections make it. The image is drawn
+    // upside down (clip_from_world) into GL's bottom-up rows, so that row 0
+    // is the top row, as in facet. This also gives facet's fill rule: Mesa
+    // gives a pixel centre on an edge to the triangle for which it is a left
+    // edge or a bottom edge in GL's window coordinates (y up), and GL's
+    // bottom is the image's top here. (llvmpipe_tests.cpp checks this.)
+    gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.Viewport(0, 0, width, height);
+}
+
+GLuint LlvmpipeRenderer::Impl::compile(GLenum stage, const char* source) {
+    const GLuint s = gl.CreateShader(stage);
+    gl.ShaderSource(s, 1, &source, nullptr);
+    gl.CompileShader(s);
+    GLint ok = 0;
+    gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[4096] = {};
+        gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+        throw std::runtime_error(std::string("llvmpipe: GLSL does not compile: ") + log);
+    }
+    return s;
+}
+
+Program& LlvmpipeRenderer::Impl::program(const std::string& shader) {
+    if (auto it = programs.find(shader); it != programs.end()) return it->second;
+    if (!supports(shader)) throw std::runtime_error("llvmpipe: no GLSL version of " + shader);
+    const bool phong = shader == "phong";
+    const GLuint vs = compile(GL_VERTEX_SHADER, phong ? kPhongVertex : kUnlitVertex);
+    const GLuint fs = compile(GL_FRAGMENT_SHADER, phong ? kPhongFragment : kUnlitFragment);
+    Program p{gl.CreateProgram(), phong};
+    gl.AttachShader(p.id, vs);
+    gl.AttachShader(p.id, fs);
+    gl.LinkProgram(p.id);
+    gl.DeleteShader(vs);
+    gl.DeleteShader(fs);
+    GLint ok = 0;
+    gl.GetProgramiv(p.id, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[4096] = {};
+        gl.GetProgramInfoLog(p.id, sizeof log, nullptr, log);
+        throw std::runtime_error(std::string("llvmpipe: GLSL does not link: ") + log);
+    }
+    return programs[shader] = p;
+}
+
+// Positions, normals and colours in separate buffers, plus 32-bit indices.
+// A mesh without normals or colours gets facet's defaults for the missing
+// input (+Z, white) as a constant attribute.
+void LlvmpipeRenderer::Impl::upload_mesh(const Mesh& mesh) {
+    if (meshes.count(&mesh)) return;
+    MeshBuffers& b = meshes[&mesh];
+    gl.GenVertexArrays(1, &b.vao);
+    gl.BindVertexArray(b.vao);
+    gl.GenBuffers(4, b.buffers);
+    auto attribute = [&](GLuint location, GLuint buffer, const void* data, size_t count,
+                         int components) {
+        gl.BindBuffer(GL_ARRAY_BUFFER, buffer);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(count * components * sizeof(float)), data,
+                      GL_STATIC_DRAW);
+        gl.EnableVertexAttribArray(location);
+        gl.VertexAttribPointer(location, components, GL_FLOAT, GL_FALSE, 0, nullptr);
+    };
+    attribute(kPosition, b.buffers[0], mesh.positions.data(), mesh.positions.size(), 3);
+    if (!mesh.normals.empty())
+        attribute(kNormal, b.buffers[1], mesh.normals.data(), mesh.normals.size(), 3);
+    else
+        gl.VertexAttrib4f(kNormal, 0.0f, 0.0f, 1.0f, 1.0f);
+    if (!mesh.colors.empty())
+        attribute(kColor, b.buffers[2], mesh.colors.data(), mesh.colors.size(), 4);
+    else
+        gl.VertexAttrib4f(kColor, 1.0f, 1.0f, 1.0f, 1.0f);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.buffers[3]);
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)),
+                  mesh.indices.data(), GL_STATIC_DRAW);
+    b.index_count = GLsizei(mesh.indices.size());
+    gl.BindVertexArray(0);
+}
+
+// The lights as facet hands them to a shader (to_abi), one array per field.
+void LlvmpipeRenderer::Impl::set_lights(GLuint p, const Scene& scene) {
+    if (scene.lights.size() > size_t(kMaxLights))
+        throw std::runtime_error("llvmpipe: more than 16 lights");
+    const int n = int(scene.lights.size());
+    int type[kMaxLights];
+    float position[kMaxLights][3], direction[kMaxLights][3], color[kMaxLights][3],
+        attenuation[kMaxLights][3];
+    float intensity[kMaxLights], range[kMaxLights], cos_inner[kMaxLights], cos_outer[kMaxLights];
+    for (int i = 0; i < n; ++i) {
+        const facet_light l = to_abi(scene.lights[size_t(i)]);
+        type[i] = int(l.type);
+        std::memcpy(position[i], l.position, sizeof position[i]);
+        std::memcpy(direction[i], l.direction, sizeof direction[i]);
+        std::memcpy(color[i], l.color, sizeof color[i]);
+        std::memcpy(attenuation[i], l.attenuation, sizeof attenuation[i]);
+        intensity[i] = l.intensity;
+        range[i] = l.range;
+        cos_inner[i] = l.spot_cos_inner;
+        cos_outer[i] = l.spot_cos_outer;
+    }
+    gl.Uniform1i(uniform(p, "light_count"), n);
+    if (n == 0) return;
+    gl.Uniform1iv(uniform(p, "light_type"), n, type);
+    gl.Uniform3fv(uniform(p, "light_position"), n, &position[0][0]);
+    gl.Uniform3fv(uniform(p, "light_direction"), n, &direction[0][0]);
+    gl.Uniform3fv(uniform(p, "light_color"), n, &color[0][0]);
+    gl.Uniform3fv(uniform(p, "light_attenuation"), n, &attenuation[0][0]);
+    gl.Uniform1fv(uniform(p, "light_intensity"), n, intensity);
+    gl.Uniform1fv(uniform(p, "light_range"), n, range);
+    gl.Uniform1fv(uniform(p, "light_cos_inner"), n, cos_inner);
+    gl.Uniform1fv(uniform(p, "light_cos_outer"), n, cos_outer);
+}
+
+// The matrices facet's draw() gives a shader, and the material's values.
+void LlvmpipeRenderer::Impl::set_uniforms(const Program& p, const Scene& scene, const Object& o,
+                                          const glm::mat4& view_projection) {
+    const glm::mat4 model = o.transform.matrix();
+    const glm::mat4 mvp = view_projection * model;
+    gl.UniformMatrix4fv(uniform(p.id, "model_view_projection"), 1, GL_FALSE,
+                        glm::value_ptr(mvp));
+    const Material& m = *o.material;
+    if (!p.phong) {
+        float base_color[4];
+        read_param(m, "base_color", base_color, 4);
+        gl.Uniform4fv(uniform(p.id, "base_color"), 1, base_color);
+        return;
+    }
+    const glm::mat3 normals = normal_matrix(model);
+    gl.UniformMatrix4fv(uniform(p.id, "model"), 1, GL_FALSE, glm::value_ptr(model));
+    gl.UniformMatrix3fv(uniform(p.id, "normal_matrix"), 1, GL_FALSE, glm::value_ptr(normals));
+    gl.Uniform3fv(uniform(p.id, "camera_position"), 1, glm::value_ptr(scene.camera.position));
+    for (const char* name : {"ambient", "diffuse", "specular", "emission"}) {
+        float rgb[3];
+        read_param(m, name, rgb, 3);
+        gl.Uniform3fv(uniform(p.id, name), 1, rgb);
+    }
+    float shininess = 0.0f;
+    read_param(m, "shininess", &shininess, 1);
+    gl.Uniform1f(uniform(p.id, "shininess"), shininess);
+    gl.Uniform1i(uniform(p.id, "blinn"), read_int_param(m, "blinn"));
+    set_lights(p.id, scene);
+}
+
+LlvmpipeRenderer::LlvmpipeRenderer(int width, int height, LlvmpipeTarget target)
+    : impl_(std::make_unique<Impl>()) {
+    impl_->width = width;
+    impl_->height = height;
+    impl_->target = target;
+    impl_->make_context();
+    impl_->make_framebuffer();
+    impl_->check_errors("making the framebuffer");
+}
+
+LlvmpipeRenderer::~LlvmpipeRenderer() = default;
+
+bool LlvmpipeRenderer::supports(const std::string& shader) {
+    return shader == "phong" || shader == "unlit";
+}
+
+std::string LlvmpipeRenderer::renderer_name() const {
+    auto text = [&](GLenum name) {
+        return std::string(reinterpret_cast<const char*>(impl_->gl.GetString(name)));
+    };
+    return text(GL_RENDERER) + ", OpenGL " + text(GL_VERSION);
+}
+
+void LlvmpipeRenderer::upload(const Scene& scene) {
+    require_modelled(scene.settings);
+    impl_->make_current();
+    for (const Object& o : scene.objects) {
+        if (!o.visible || !o.mesh || !o.material) continue;
+        const Material& m = *o.material;
+        impl_->program(m.shader);
+        if (m.blend != BlendMode::opaque)
+            throw std::runtime_error("llvmpipe: only opaque materials are drawn");
+        if (read_int_param(m, "base_texture"))
+            throw std::runtime_error("llvmpipe: textures are not drawn");
+        impl_->upload_mesh(*o.mesh);
+    }
+    impl_->check_errors("upload()");
+}
+
+// Each draw follows facet's PipelineState for it (renderer.cpp's
+// pipeline_state): cull mode, front face, depth test and depth writes.
+double LlvmpipeRenderer::render(const Scene& scene) {
+    Gl& gl = impl_->gl;
+    const RenderSettings& s = scene.settings;
+    require_modelled(s);
+    impl_->make_current();
+    const auto start = std::chrono::steady_clock::now();
+    gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
+    gl.ClearColor(s.clear_color.r, s.clear_color.g, s.clear_color.b, s.clear_color.a);
+    gl.ClearDepth(s.reversed_z ? 0.0 : 1.0);  // as Framebuffer::clear in Renderer::render
+    gl.DepthFunc(gl_compare(s.depth_compare));
+    gl.DepthMask(GL_TRUE);  // glClear honours the depth mask
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    // The flip in clip_from_world mirrors every triangle's winding.
+    gl.FrontFace(s.front_ccw ? GL_CW : GL_CCW);
+    const glm::mat4 view_projection = clip_from_world(scene);
+    for (const Object& o : scene.objects) {
+        if (!o.visible || !o.mesh || !o.material) continue;
+        const CullMode cull = o.material->cull.value_or(s.cull);
+        if (cull == CullMode::none) gl.Disable(GL_CULL_FACE);
+        else {
+            gl.Enable(GL_CULL_FACE);
+            gl.CullFace(cull == CullMode::back ? GL_BACK : GL_FRONT);
+        }
+        gl.DepthMask(o.material->writes_depth() ? GL_TRUE : GL_FALSE);
+        const Program& p = impl_->program(o.material->shader);
+        gl.UseProgram(p.id);
+        impl_->set_uniforms(p, scene, o, view_projection);
+        const MeshBuffers& b = impl_->meshes.at(o.mesh.get());
+        gl.BindVertexArray(b.vao);
+        gl.DrawElements(GL_TRIANGLES, b.index_count, GL_UNSIGNED_INT, nullptr);
+    }
+    gl.Finish();
+    const auto end = std::chrono::steady_clock::now();
+    impl_->check_errors("render()");
+    return std::chrono::duration<double, std::milli>(end - start).count();
+}
+
+std::vector<glm::vec4> LlvmpipeRenderer::image() const {
+    Gl& gl = impl_->gl;
+    impl_->make_current();
+    std::vector<glm::vec4> rgba(size_t(impl_->width) * size_t(impl_->height));
+    gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    // GL's row 0 holds the image's top row (clip_from_world).
+    gl.ReadPixels(0, 0, impl_->width, impl_->height, GL_RGBA, GL_FLOAT, rgba.data());
+    impl_->check_errors("image()");
+    return rgba;
+}
+
+std::vector<uint8_t> LlvmpipeRenderer::coverage() const {
+    const std::vector<glm::vec4> rgba = image();
+    std::vector<uint8_t> covered(rgba.size());
+    for (size_t i = 0; i < rgba.size(); ++i) covered[i] = glm::vec3(rgba[i]) != glm::vec3(0.0f);
+    return covered;
+}
+
+}  // namespace facet::bench

@@ -1,0 +1,318 @@
+// facet-bench --llvmpipe compares like with like only if llvmpipe draws what
+// facet draws. These tests check that on small images: the same pixels
+// covered, as many as expected (fill rule, culling, and each depth_compare
+// included), phong (default and Blinn with other parameters) and unlit
+// colours within a small tolerance of facet's, and the settings llvmpipe
+// cannot model refused. Built with OSMesa only. Every test name contains
+// "llvmpipe", so that `ctest -R llvmpipe` runs them all.
+#include "llvmpipe.hpp"
+
+#include <facet/renderer.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace facet;
+using facet::bench::LlvmpipeRenderer;
+using facet::bench::LlvmpipeTarget;
+
+namespace {
+
+constexpr int kWidth = 64, kHeight = 48;
+
+MaterialParam vector_param(const std::string& name, std::vector<double> numbers) {
+    MaterialParam p;
+    p.name = name;
+    p.kind = MaterialParam::Kind::vector;
+    p.numbers = std::move(numbers);
+    return p;
+}
+
+// `shader` with `params` and its defaults for the rest.
+std::shared_ptr<Material> material(const std::string& shader,
+                                   std::vector<MaterialParam> params = {}) {
+    static PluginRegistry registry;
+    auto m = std::make_shared<Material>();
+    m->source = "llvmpipe_tests";
+    m->shader = shader;
+    m->params = std::move(params);
+    TextureCache cache;
+    bind(*m, registry.get(shader), cache);
+    return m;
+}
+
+// unlit with `base_color`.
+std::shared_ptr<Material> unlit(glm::vec4 c) {
+    return material("unlit", {vector_param("base_color", {c.r, c.g, c.b, c.a})});
+}
+
+// Triangles given by their corners in pixels (x right, y down), at world
+// depth z, for a camera whose orthographic view maps one unit to a pixel.
+std::shared_ptr<Mesh> pixel_triangles(const std::vector<glm::vec2>& corners, float z = 0.0f) {
+    auto m = std::make_shared<Mesh>();
+    for (glm::vec2 p : corners) {
+        m->positions.push_back({p.x - kWidth / 2.0f, kHeight / 2.0f - p.y, z});
+        m->indices.push_back(uint32_t(m->indices.size()));
+    }
+    m->bounds = compute_bounds(m->positions);
+    return m;
+}
+
+Scene pixel_scene() {
+    Scene s;
+    s.settings.width = kWidth;
+    s.settings.height = kHeight;
+    s.camera.orthographic = true;
+    s.camera.ortho_height = float(kHeight);
+    s.camera.position = {0.0f, 0.0f, 5.0f};
+    return s;
+}
+
+Framebuffer render_facet(const Scene& scene) {
+    Renderer renderer(1);
+    Framebuffer fb;
+    renderer.render(scene, fb);
+    return fb;
+}
+
+std::vector<glm::vec4> render_llvmpipe(const Scene& scene) {
+    LlvmpipeRenderer lp(scene.settings.width, scene.settings.height, LlvmpipeTarget::rgba32f);
+    lp.upload(scene);
+    lp.render(scene);
+    return lp.image();
+}
+
+// Pixels whose RGB is `rgb`.
+int count(const std::vector<glm::vec4>& image, glm::vec3 rgb) {
+    return int(std::count_if(image.begin(), image.end(),
+                             [&](const glm::vec4& c) { return glm::vec3(c) == rgb; }));
+}
+
+int covered(const std::vector<glm::vec4>& image) {
+    return int(image.size()) - count(image, glm::vec3(0.0f));
+}
+
+std::vector<glm::vec4> pixels(const Framebuffer& fb) {
+    return {fb.color(), fb.color() + size_t(fb.width()) * size_t(fb.height())};
+}
+
+// Pixels where one image is background (black) and the other is not.
+int coverage_differences(const Framebuffer& facet, const std::vector<glm::vec4>& llvmpipe) {
+    int n = 0;
+    for (size_t i = 0; i < llvmpipe.size(); ++i)
+        n += (glm::vec3(facet.color()[i]) != glm::vec3(0.0f)) !=
+             (glm::vec3(llvmpipe[i]) != glm::vec3(0.0f));
+    return n;
+}
+
+// The largest difference of a channel, over the pixels both cover.
+float max_difference(const Framebuffer& facet, const std::vector<glm::vec4>& llvmpipe) {
+    float worst = 0.0f;
+    for (size_t i = 0; i < llvmpipe.size(); ++i) {
+        const bool both = glm::vec3(facet.color()[i]) != glm::vec3(0.0f) &&
+                          glm::vec3(llvmpipe[i]) != glm::vec3(0.0f);
+        if (!both) continue;
+        const glm::vec4 d = glm::abs(facet.color()[i] - llvmpipe[i]);
+        worst = std::max({worst, d.r, d.g, d.b, d.a});
+    }
+    return worst;
+}
+
+// A UV sphere of radius 1 (the bench's, smaller).
+std::shared_ptr<Mesh> sphere(int rings) {
+    auto m = std::make_shared<Mesh>();
+    const int segments = 2 * rings;
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s <= segments; ++s) {
+            const float theta = float(M_PI) * r / rings, phi = 2.0f * float(M_PI) * s / segments;
+            const glm::vec3 p(std::sin(theta) * std::cos(phi), std::cos(theta),
+                              std::sin(theta) * std::sin(phi));
+            m->positions.push_back(p);
+            m->normals.push_back(p);
+        }
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + 1,
+                           c = a + uint32_t(segments + 1), d = c + 1;
+            m->indices.insert(m->indices.end(), {a, b, c, b, d, c});
+        }
+    m->bounds = compute_bounds(m->positions);
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("llvmpipe owns the edges through pixel centres that facet owns", "[llvmpipe]") {
+    // Every corner on a pixel centre, so every edge runs through centres:
+    // only the top-left rule decides those pixels. `pixels` counts the
+    // centres inside plus those on top and left edges (a right triangle
+    // with legs of 10: 55 with its diagonal a left edge, 45 without).
+    struct Case {
+        std::vector<glm::vec2> corners;
+        int pixels;
+    };
+    const std::vector<Case> cases = {
+        {{{10.5f, 10.5f}, {10.5f, 20.5f}, {20.5f, 20.5f},  // a square of two triangles:
+          {10.5f, 10.5f}, {20.5f, 20.5f}, {20.5f, 10.5f}}, // the diagonal once
+         100},
+        {{{30.5f, 5.5f}, {30.5f, 15.5f}, {40.5f, 15.5f}}, 45},   // left, bottom, diagonal
+        {{{30.5f, 25.5f}, {40.5f, 35.5f}, {40.5f, 25.5f}}, 55},  // left diagonal, right, top
+        {{{45.5f, 30.5f}, {50.5f, 40.5f}, {60.5f, 30.5f}}, 80},  // flat top
+        {{{5.5f, 40.5f}, {15.5f, 40.5f}, {10.5f, 30.5f}}, 45},   // flat bottom
+        {{{5.5f, 5.5f}, {15.5f, 5.5f}, {5.5f, 15.5f}}, 0},       // clockwise: culled
+    };
+    for (const Case& c : cases) {
+        INFO("expected pixels " << c.pixels);
+        Scene s = pixel_scene();
+        s.objects.push_back({"t", pixel_triangles(c.corners), {}, unlit({1, 1, 1, 1}), true});
+        const Framebuffer facet = render_facet(s);
+        const std::vector<glm::vec4> llvmpipe = render_llvmpipe(s);
+        CHECK(covered(pixels(facet)) == c.pixels);
+        CHECK(covered(llvmpipe) == c.pixels);
+        CHECK(coverage_differences(facet, llvmpipe) == 0);
+    }
+}
+
+TEST_CASE("llvmpipe follows facet's depth_compare", "[llvmpipe]") {
+    // A red quad (32 x 22 pixels) near the camera, drawn first, and a blue
+    // one (36 x 24) behind it; they overlap on 20 x 14 pixels.
+    const std::vector<glm::vec2> quad = {{8.5f, 8.5f},   {8.5f, 30.5f}, {40.5f, 30.5f},
+                                         {8.5f, 8.5f},   {40.5f, 30.5f}, {40.5f, 8.5f}};
+    const std::vector<glm::vec2> shifted = {{20.5f, 16.5f}, {20.5f, 40.5f}, {56.5f, 40.5f},
+                                            {20.5f, 16.5f}, {56.5f, 40.5f}, {56.5f, 16.5f}};
+    struct Case {
+        const char* name;
+        bool reversed_z;
+        DepthCompare compare;
+        int red, blue;
+    };
+    const int overlap = 20 * 14;
+    const std::vector<Case> cases = {
+        {"reversed-Z, greater_equal", true, DepthCompare::greater_equal, 704, 864 - overlap},
+        {"reversed-Z, greater", true, DepthCompare::greater, 704, 864 - overlap},
+        {"standard Z, less_equal", false, DepthCompare::less_equal, 704, 864 - overlap},
+        {"always: the far quad, drawn last, wins", true, DepthCompare::always, 704 - overlap,
+         864},
+        {"never", true, DepthCompare::never, 0, 0},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        Scene s = pixel_scene();
+        s.settings.reversed_z = c.reversed_z;
+        s.settings.depth_compare = c.compare;
+        s.objects.push_back({"near", pixel_triangles(quad, 1.0f), {}, unlit({1, 0, 0, 1}), true});
+        s.objects.push_back(
+            {"far", pixel_triangles(shifted, -1.0f), {}, unlit({0, 0, 1, 1}), true});
+        const Framebuffer facet = render_facet(s);
+        const std::vector<glm::vec4> llvmpipe = render_llvmpipe(s);
+        CHECK(count(pixels(facet), {1, 0, 0}) == c.red);
+        CHECK(count(pixels(facet), {0, 0, 1}) == c.blue);
+        CHECK(count(llvmpipe, {1, 0, 0}) == c.red);
+        CHECK(count(llvmpipe, {0, 0, 1}) == c.blue);
+        CHECK(max_difference(facet, llvmpipe) == 0.0f);
+    }
+}
+
+namespace {
+
+// A sphere lit by every kind of light facet has.
+Scene lit_sphere_scene() {
+    Scene s;
+    s.settings.width = 160;
+    s.settings.height = 90;
+    s.camera.position = {0.0f, 0.35f, 2.6f};
+    Light sun;
+    sun.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, -0.4f));
+    Light point;
+    point.type = LightType::point;
+    point.position = {1.5f, 1.5f, 2.0f};
+    point.attenuation = {1.0f, 0.0f, 0.2f};
+    Light spot;
+    spot.type = LightType::spot;
+    spot.position = {-1.0f, 0.5f, 2.0f};
+    spot.direction = glm::normalize(glm::vec3(1.0f, -0.3f, -2.0f));
+    spot.color = {1.0f, 0.5f, 0.2f};
+    spot.intensity = 3.0f;
+    spot.spot_inner = 10.0f;
+    Light ranged;
+    ranged.type = LightType::point;
+    ranged.position = {0.0f, -1.2f, 1.0f};
+    ranged.range = 1.6f;
+    ranged.color = {0.2f, 0.4f, 1.0f};
+    s.lights = {sun, point, spot, ranged};
+    return s;
+}
+
+// The sphere of lit_sphere_scene covers about pi * 42^2 pixels of 160 x 90.
+constexpr int kSpherePixels = 5000;
+
+// facet and llvmpipe draw `m` on the sphere alike: the same pixels (but for
+// snapping, see below) and the same colours; when `shaded`, not one flat
+// colour either.
+void check_sphere(const std::shared_ptr<Material>& m, bool shaded) {
+    Scene s = lit_sphere_scene();
+    s.objects = {{"sphere", sphere(40), {}, m, true}};
+    const Framebuffer facet = render_facet(s);
+    const std::vector<glm::vec4> llvmpipe = render_llvmpipe(s);
+    CHECK(covered(pixels(facet)) > kSpherePixels);
+    CHECK(covered(llvmpipe) > kSpherePixels);
+    if (shaded) {
+        const glm::vec3 centre(llvmpipe[size_t(45 * 160 + 80)]);
+        CHECK(centre != glm::vec3(0.0f));
+        CHECK(count(llvmpipe, centre) < kSpherePixels / 10);
+    }
+    // facet snaps vertices from double window coordinates, llvmpipe from
+    // float ones: a pixel centre within ~1/10000 pixel of an edge can
+    // fall either way (one pixel here, at 0.015/256 pixel).
+    CHECK(coverage_differences(facet, llvmpipe) <= 2);
+    CHECK(max_difference(facet, llvmpipe) < 0.01f);  // linear light; float rounding only
+}
+
+}  // namespace
+
+TEST_CASE("llvmpipe's phong and unlit match facet's", "[llvmpipe]") {
+    SECTION("phong") { check_sphere(material("phong"), true); }
+    SECTION("unlit") { check_sphere(material("unlit"), false); }
+}
+
+TEST_CASE("llvmpipe's phong matches facet's in Blinn mode with other parameters",
+          "[llvmpipe]") {
+    MaterialParam blinn;
+    blinn.name = "blinn";
+    blinn.kind = MaterialParam::Kind::boolean;
+    blinn.flag = true;
+    MaterialParam shininess;
+    shininess.name = "shininess";
+    shininess.numbers = {8.0};
+    check_sphere(material("phong", {blinn, shininess, vector_param("ambient", {0.05, 0.0, 0.1}),
+                                    vector_param("diffuse", {0.2, 0.7, 0.4}),
+                                    vector_param("specular", {0.9, 0.8, 0.3}),
+                                    vector_param("emission", {0.02, 0.01, 0.0})}),
+                 true);
+}
+
+TEST_CASE("llvmpipe refuses the settings it cannot model", "[llvmpipe]") {
+    Scene s = pixel_scene();
+    s.objects.push_back({"t", pixel_triangles({{10.5f, 10.5f}, {10.5f, 20.5f}, {20.5f, 20.5f}}),
+                         {}, unlit({1, 1, 1, 1}), true});
+    LlvmpipeRenderer lp(kWidth, kHeight, LlvmpipeTarget::rgba32f);
+    SECTION("msaa") {
+        s.settings.msaa = 4;
+        CHECK_THROWS_WITH(lp.upload(s), Catch::Contains("msaa 4"));
+    }
+    SECTION("subpixel_bits") {
+        s.settings.subpixel_bits = 4;
+        CHECK_THROWS_WITH(lp.upload(s), Catch::Contains("subpixel_bits 4"));
+    }
+    SECTION("wireframe") {
+        s.settings.wireframe = true;
+        CHECK_THROWS_WITH(lp.upload(s), Catch::Contains("wireframe"));
+    }
+    SECTION("in render() too, when the settings change after upload()") {
+        lp.upload(s);
+        s.settings.msaa = 2;
+        CHECK_THROWS_WITH(lp.render(s), Catch::Contains("msaa 2"));
+    }
+}
