@@ -592,6 +592,52 @@ TEST_CASE("phong.so matches Phong and Blinn-Phong with directional, point and sp
     CHECK(max_difference(image(true, 24), image(true, 400)) > 10);
 }
 
+// Largest difference between two images, over every pixel and channel.
+float max_abs_difference(const Framebuffer& a, const Framebuffer& b) {
+    float worst = 0.0f;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x)
+            for (int c = 0; c < 4; ++c)
+                worst = std::max(worst, std::abs(a.pixel(x, y)[c] - b.pixel(x, y)[c]));
+    return worst;
+}
+
+TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit)",
+          "[shader][wide]") {
+    PluginRegistry registry;
+    const Setup s = quad_setup();
+    const TextureBinding texture = checker_texture();
+    struct Case {
+        std::string shader;
+        Values values;
+        bool textured;
+    };
+    const Case cases[] = {
+        {"phong", phong_values(false, 24, false), false},
+        {"phong", phong_values(true, 400, false), false},
+        {"phong", phong_values(false, 1, true), true},
+        {"phong", phong_values(true, 6000, true), true},
+        {"unlit", {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {0.0}}}, false},
+        {"unlit", {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {1.0}}}, true}};
+    for (const Case& c : cases) {
+        INFO(c.shader << ", textured " << c.textured);
+        const auto wide = registry.get(c.shader);
+        const auto scalar = ShaderPlugin::load(
+            std::string(FACET_TEST_PLUGIN_DIR) + "/" + c.shader + "_scalar.so", c.shader);
+        const TextureBinding* tex = c.textured ? &texture : nullptr;
+        const Framebuffer a = draw(s, *wide, make_block(*wide, c.values), tex);
+        const Framebuffer b = draw(s, *scalar, make_block(*scalar, c.values), tex);
+        // Not a blank image on both sides.
+        float brightest = 0.0f;
+        for (int y = 0; y < b.height(); ++y)
+            for (int x = 0; x < b.width(); ++x) brightest = std::max(brightest, b.pixel(x, y).g);
+        CHECK(brightest > 0.2f);
+        // wide::pow is within 1e-6 relative of std::pow where it matters;
+        // the rest differs by rounding.
+        CHECK(max_abs_difference(a, b) < 2e-5f);
+    }
+}
+
 TEST_CASE("toon.so matches its formula away from band and threshold edges", "[shader][toon]") {
     PluginRegistry registry;
     const auto toon = registry.get("toon");

@@ -36,6 +36,7 @@
 #pragma once
 
 #include <facet/shader_abi.h>
+#include <facet/wide.hpp>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -141,6 +142,39 @@ inline Incident incident_light(const facet_light& l, glm::vec3 p) {
     return {to_light, color * scale, d};
 }
 
+// The same for 16 points at once (fragment_wide).
+struct WideIncident {
+    wide::Vec3 to_light;
+    wide::Vec3 radiance;
+    wide::Float distance;
+};
+
+inline wide::Float spot_cone(const facet_light& l, const wide::Float& cos_angle) {
+    using namespace wide;
+    if (l.spot_cos_inner <= l.spot_cos_outer)
+        return select(cos_angle >= l.spot_cos_outer, splat(1.0f), splat(0.0f));
+    const Float t = clamp((cos_angle - l.spot_cos_outer) / (l.spot_cos_inner - l.spot_cos_outer),
+                          0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+inline WideIncident incident_light(const facet_light& l, const wide::Vec3& p) {
+    using namespace wide;
+    const glm::vec3 color = glm::make_vec3(l.color) * l.intensity;
+    const glm::vec3 direction = glm::make_vec3(l.direction);
+    if (l.type == FACET_LIGHT_DIRECTIONAL)
+        return {Vec3(-direction), Vec3(color), splat(std::numeric_limits<float>::infinity())};
+    const Vec3 offset = glm::make_vec3(l.position) - p;
+    const Float d = length(offset);
+    Mask dark = d <= 0.0f;
+    if (l.range > 0.0f) dark |= d > l.range;
+    const Vec3 to_light = offset / d;
+    Float scale = 1.0f / (l.attenuation[0] + l.attenuation[1] * d + l.attenuation[2] * d * d);
+    if (l.type == FACET_LIGHT_SPOT) scale *= spot_cone(l, dot(-to_light, Vec3(direction)));
+    return {select(dark, Vec3(splat(0.0f)), to_light), Vec3(color) * select(dark, splat(0.0f), scale),
+            d};
+}
+
 // ---- shadow maps (ABI 1.1) ----------------------------------------------------
 
 // Distance from the light (along its axis) of window depth z in `sm`.
@@ -242,6 +276,32 @@ struct Fragment {
     int lane_ = 0;
 };
 
+// Built-ins of a block of 16 fragments (fragment_wide).
+struct WideFragment {
+    wide::Vec2 coord;    // pixel centres, window coordinates
+    wide::Float depth;   // window depth, 0..1
+    bool front_facing;   // the same for every lane: one triangle
+    wide::Float shadow;  // 1 (reserved, as Fragment::shadow)
+    wide::Float ao;      // ambient visibility (1 when no AO was asked for)
+    wide::Mask discarded{};
+
+    // Texels of texture parameter `slot` at every lane; white when the
+    // material binds none or the shader declares no such slot.
+    wide::Vec4 texture(int slot) const {
+        if (!texels_ || slot < 0 || slot >= texture_count_) return wide::Vec4(glm::vec4(1.0f));
+        wide::Vec4 t;
+        std::memcpy(&t, texels_ + slot * 4 * FACET_BLOCK_LANES, sizeof t);
+        return t;
+    }
+    // Discards the lanes set in `m`.
+    void discard(const wide::Mask& m) { discarded |= m; }
+
+    const float* texels_ = nullptr;
+    int texture_count_ = 0;
+};
+
+inline wide::Vec3 rgb(const wide::Vec4& v) { return {v.x, v.y, v.z}; }
+
 // ---- generated glue ----------------------------------------------------------
 
 namespace detail {
@@ -300,7 +360,47 @@ void vertex_batch(const facet_draw* draw, const facet_vertex_batch* b) {
 }
 
 template <class S>
+constexpr bool has_wide() {
+    return requires { typename S::WideVaryings; &S::fragment_wide; };
+}
+
+// All 16 lanes in one call of S::fragment_wide.
+template <class S>
+void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
+    using W = typename S::WideVaryings;
+    constexpr int N = FACET_BLOCK_LANES;
+    static_assert(sizeof(W) == sizeof(float) * N * varying_floats<S>(),
+                  "WideVaryings must hold a wide::Float for every float of Varyings, in order");
+    const Draw d{draw};
+    const auto& params = *static_cast<const typename S::Params*>(draw->params);
+    W v;
+    std::memcpy(&v, b->varyings, sizeof v);
+    const auto load = [](const float* p, float otherwise) {
+        wide::Float f = wide::splat(otherwise);
+        if (p) std::memcpy(&f, p, sizeof f);
+        return f;
+    };
+    WideFragment frag;
+    for (int i = 0; i < N; ++i) {
+        frag.coord.x[i] = float(b->x + i % 4) + 0.5f;
+        frag.coord.y[i] = float(b->y + i / 4) + 0.5f;
+    }
+    frag.depth = load(b->depth, 0.0f);
+    frag.front_facing = b->front_facing != 0;
+    frag.shadow = load(b->shadow, 1.0f);
+    frag.ao = load(b->ao, 1.0f);
+    frag.texels_ = b->texels;
+    frag.texture_count_ = texture_count<S>();
+    const wide::Vec4 c = S::fragment_wide(v, frag, d, params);
+    std::memcpy(b->color, &c, sizeof c);  // [4][16], as the ABI lays it out
+    b->mask &= ~wide::bits(frag.discarded);
+}
+
+template <class S>
 void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
+#ifndef FACET_SDK_SCALAR
+    if constexpr (has_wide<S>()) return fragment_batch_wide<S>(draw, b);
+#endif
     using V = typename S::Varyings;
     constexpr int N = FACET_BLOCK_LANES;
     constexpr uint32_t floats = varying_floats<S>();

@@ -1,0 +1,178 @@
+// facet shader authoring layer: 16-lane math for fragment shaders (C++20,
+// header-only; GCC or Clang).
+//
+// A fragment shader may give, beside its scalar `fragment`, a
+// `fragment_wide` that shades all 16 lanes of a block at once with the types
+// below. It reads like the scalar one - Vec3 for glm::vec3, select() for a
+// branch - and compiles to one AVX-512 register per value (two with AVX2,
+// four with SSE), where the scalar loop runs lane after lane. When a shader
+// has both, facet::sdk uses the wide one; define FACET_SDK_SCALAR before
+// including <facet/shader.hpp> to use the scalar one (tests compare them).
+//
+// Float is 16 floats. Arithmetic and comparisons work lane by lane, mixed
+// freely with plain floats; a comparison gives a Mask (all ones or zero per
+// lane). The functions here are as accurate as their scalar counterparts
+// within a few units in the last place, except pow (see there).
+#pragma once
+
+#include <facet/shader_abi.h>
+
+#include <glm/glm.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#if defined(__AVX512F__) || defined(__AVX__) || defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
+namespace facet::sdk::wide {
+
+static_assert(FACET_BLOCK_LANES == 16);
+using Float = float __attribute__((vector_size(64)));
+using Mask = int32_t __attribute__((vector_size(64)));
+
+inline Float splat(float v) { return Float{} + v; }
+inline Float select(const Mask& m, const Float& a, const Float& b) { return m ? a : b; }
+inline Float min(const Float& a, const Float& b) { return a < b ? a : b; }
+inline Float max(const Float& a, const Float& b) { return a > b ? a : b; }
+inline Float clamp(const Float& x, float lo, float hi) { return min(max(x, splat(lo)), splat(hi)); }
+
+// Correctly rounded, as std::sqrt.
+inline Float sqrt(const Float& x) {
+    Float r;
+#if defined(__AVX512F__)
+    // The zero-masking form: GCC 12 warns about _mm512_sqrt_ps's undefined source.
+    const __m512 v = _mm512_maskz_sqrt_ps(0xFFFF, std::bit_cast<__m512>(x));
+    std::memcpy(&r, &v, sizeof r);
+#elif defined(__AVX__)
+    for (int h = 0; h < 2; ++h) {
+        __m256 v;
+        std::memcpy(&v, reinterpret_cast<const float*>(&x) + 8 * h, sizeof v);
+        v = _mm256_sqrt_ps(v);
+        std::memcpy(reinterpret_cast<float*>(&r) + 8 * h, &v, sizeof v);
+    }
+#elif defined(__SSE2__)
+    for (int q = 0; q < 4; ++q) {
+        __m128 v = _mm_loadu_ps(reinterpret_cast<const float*>(&x) + 4 * q);
+        _mm_storeu_ps(reinterpret_cast<float*>(&r) + 4 * q, _mm_sqrt_ps(v));
+    }
+#else
+    for (int i = 0; i < 16; ++i) r[i] = std::sqrt(x[i]);
+#endif
+    return r;
+}
+
+// log2(x) for x >= FLT_MIN: x = m 2^e with m in [sqrt(1/2), sqrt(2)), and
+// ln m = 2 atanh(t), t = (m - 1) / (m + 1), from its series to t^9
+// (|t| < 0.172, so the first term left out is below 2^-32 of the sum).
+inline Float log2(const Float& x) {
+    const Mask bits = std::bit_cast<Mask>(x);
+    Float e = __builtin_convertvector(((bits >> 23) & 0xFF) - 127, Float);
+    Float m = std::bit_cast<Float>((bits & 0x7FFFFF) | 0x3F800000);  // [1, 2)
+    const Mask high = m > 1.41421356f;
+    m = select(high, m * 0.5f, m);
+    e = select(high, e + 1.0f, e);
+    const Float t = (m - 1.0f) / (m + 1.0f), t2 = t * t;
+    const Float series = 1.0f + t2 * (1.0f / 3 + t2 * (1.0f / 5 + t2 * (1.0f / 7 + t2 * (1.0f / 9))));
+    return e + (2.0f * 1.44269504f) * t * series;  // 1 / ln 2
+}
+
+// 2^y: y = n + f with n an integer and |f| <= 1/2, and 2^f from the Taylor
+// series of e^(f ln 2) to the 7th power (error below 2^-27). 0 below
+// 2^-126 (no subnormals), infinity from 2^128.
+inline Float exp2(const Float& y) {
+    const Float c = clamp(y, -127.0f, 128.0f);
+    Float n = __builtin_convertvector(__builtin_convertvector(c, Mask), Float);  // truncated
+    n = select(n > c, n - 1.0f, n);                                              // floored
+    n = select(c - n > 0.5f, n + 1.0f, n);                                       // nearest
+    const Float x = (c - n) * 0.693147181f;
+    const Float p =
+        1.0f + x * (1.0f + x * (1.0f / 2 + x * (1.0f / 6 + x * (1.0f / 24 + x * (1.0f / 120 +
+                                                          x * (1.0f / 720 + x * (1.0f / 5040)))))));
+    const Mask ni = __builtin_convertvector(n, Mask);
+    // 2^n with n in [-126, 127]; the ends are handled after.
+    const Mask lowest = Mask{} - 126, highest = Mask{} + 127;
+    const Mask k = ni < lowest ? lowest : ni > highest ? highest : ni;
+    const Float scale = std::bit_cast<Float>((k + 127) << 23);
+    Float r = p * scale;
+    r = select(ni < -126, splat(0.0f), r);
+    return select(ni > 127, splat(INFINITY), r);
+}
+
+// x^y for x >= 0, as exp2(y log2 x). The product's rounding dominates the
+// error: relative error about |y log2 x| 2^-24, so below 1e-6 wherever the
+// result is above 1e-7, against std::pow's correctly rounded result. x below
+// FLT_MIN counts as 0: 0^y is 0, and 1 for y = 0.
+inline Float pow(const Float& x, const Float& y) {
+    const Float r = exp2(y * log2(max(x, splat(1.17549435e-38f))));
+    return select(x < 1.17549435e-38f, select(y == 0.0f, splat(1.0f), splat(0.0f)), r);
+}
+inline Float pow(const Float& x, float y) { return pow(x, splat(y)); }
+
+struct Vec2 {
+    Float x, y;
+};
+
+struct Vec3 {
+    Float x, y, z;
+    Vec3() = default;
+    Vec3(const Float& x_, const Float& y_, const Float& z_) : x(x_), y(y_), z(z_) {}
+    explicit Vec3(const glm::vec3& v) : x(splat(v.x)), y(splat(v.y)), z(splat(v.z)) {}
+    explicit Vec3(const Float& s) : x(s), y(s), z(s) {}
+};
+
+struct Vec4 {
+    Float x, y, z, w;
+    Vec4() = default;
+    Vec4(const Vec3& v, const Float& w_) : x(v.x), y(v.y), z(v.z), w(w_) {}
+    Vec4(const Float& x_, const Float& y_, const Float& z_, const Float& w_)
+        : x(x_), y(y_), z(z_), w(w_) {}
+    explicit Vec4(const glm::vec4& v) : x(splat(v.x)), y(splat(v.y)), z(splat(v.z)), w(splat(v.w)) {}
+};
+
+// Vec3 arithmetic, lane by lane, with Vec3, Float or float operands.
+inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator*(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+inline Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
+inline Vec3 operator*(const Vec3& a, const Float& s) { return {a.x * s, a.y * s, a.z * s}; }
+inline Vec3 operator*(const Float& s, const Vec3& a) { return a * s; }
+inline Vec3 operator/(const Vec3& a, const Float& s) { return {a.x / s, a.y / s, a.z / s}; }
+inline Vec3 operator+(const Vec3& a, const glm::vec3& b) { return a + Vec3(b); }
+inline Vec3 operator-(const glm::vec3& a, const Vec3& b) { return Vec3(a) - b; }
+inline Vec3 operator*(const Vec3& a, const glm::vec3& b) { return a * Vec3(b); }
+inline Vec3 operator*(const glm::vec3& a, const Vec3& b) { return Vec3(a) * b; }
+inline Vec3 operator*(const glm::vec3& a, const Float& s) { return Vec3(a) * s; }
+inline Vec3 operator*(const Float& s, const glm::vec3& a) { return Vec3(a) * s; }
+inline Vec3& operator+=(Vec3& a, const Vec3& b) { return a = a + b; }
+
+inline Vec4 operator+(const Vec4& a, const Vec4& b) {
+    return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w};
+}
+inline Vec4 operator*(const Vec4& a, const Vec4& b) {
+    return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w};
+}
+inline Vec4 operator*(const Vec4& a, const glm::vec4& b) { return a * Vec4(b); }
+
+inline Vec3 select(const Mask& m, const Vec3& a, const Vec3& b) {
+    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
+
+inline Float dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Float length(const Vec3& v) { return sqrt(dot(v, v)); }
+// As glm::normalize: v times 1 / |v|.
+inline Vec3 normalize(const Vec3& v) { return v * (1.0f / sqrt(dot(v, v))); }
+// As glm::reflect: i - 2 dot(n, i) n.
+inline Vec3 reflect(const Vec3& i, const Vec3& n) { return i - n * (2.0f * dot(n, i)); }
+
+// Lanes of the block as a bit mask (bit i for lane i), from a Mask.
+inline uint32_t bits(const Mask& m) {
+    uint32_t r = 0;
+    for (int i = 0; i < 16; ++i) r |= uint32_t(m[i] != 0) << i;
+    return r;
+}
+
+}  // namespace facet::sdk::wide
