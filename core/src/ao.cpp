@@ -78,8 +78,9 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     for (const Object* o : objects) {
         call.mesh = o->mesh.get();
         call.model = o->transform.matrix();
-        renderer.draw(call, prepass_, pass);
+        renderer.queue(call, prepass_, pass);
     }
+    renderer.flush(pass);
     stats.prepasses += 1;
     stats.ms_prepass += elapsed_ms(start);
 

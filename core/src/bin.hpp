@@ -30,6 +30,7 @@ struct SetupChunk {
     // for reuse, so a steady frame allocates nothing.
     std::deque<ClipVertex> clipped;
     size_t clipped_used = 0;
+    int draw = 0;                    // the queued draw (Geometry::draws) they belong to
     FrameStats stats;                // triangle counters
 };
 

@@ -26,11 +26,14 @@ namespace {
 
 constexpr uint32_t kVertexBatch = 256;
 constexpr size_t kSetupChunk = 1024;                   // triangles per setup task
-constexpr size_t kTriangleBatch = 16 * kSetupChunk;   // triangles binned at once
+constexpr size_t kTriangleBatch = 16 * kSetupChunk;   // triangles binned at once, at most
+constexpr int kMaxQueuedDraws = 256;                   // draws binned at once, at most
+// Every queued draw's last chunk may be partly full.
+constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;
 // Bins hold chunk << 16 | index: both must fit in 16 bits (a clipped
 // triangle becomes at most kMaxClipVertices - 2 setups).
 static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
-static_assert(kTriangleBatch / kSetupChunk < (1u << 16));
+static_assert(kMaxChunks < (1 << 16));
 
 void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_ptr(m), 64); }
 
@@ -87,15 +90,15 @@ uint32_t band_code(uint32_t user) { return user >> 8 & 0xFFu; }
 // Outcodes of every vertex of [first, first + count), and the window
 // position of those inside the guard band: once per vertex, however many
 // triangles share it.
-void project_vertices(Geometry& g, size_t first, size_t count, const Viewport& viewport) {
+void project_vertices(QueuedDraw& d, size_t first, size_t count, const Viewport& viewport) {
     const double guard = viewport.guard_ndc();
     for (size_t i = first; i < first + count; ++i) {
-        WindowVertex& w = g.window[i];
-        if (!finite(g.clip[i])) {
+        WindowVertex& w = d.window[i];
+        if (!finite(d.clip[i])) {
             w.user = kInvalid;
             continue;
         }
-        const glm::dvec4 c(g.clip[i]);
+        const glm::dvec4 c(d.clip[i]);
         w.user = outcode(c, 1.0) | outcode(c, guard) << 8;
         if (band_code(w.user) == 0 && !project_vertex(c, viewport, w)) w.user |= kNoWindow;
     }
@@ -104,9 +107,8 @@ void project_vertices(Geometry& g, size_t first, size_t count, const Viewport& v
 // Assembles, clips and sets up a range of a mesh's triangles into `chunk`.
 class Assembler {
 public:
-    Assembler(const DrawContext& dc, const Geometry& g, const Viewport& viewport,
-              const CullState& cull)
-        : dc_(dc), g_(g), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()) {}
+    Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull)
+        : dc_(d.dc), g_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()) {}
 
     void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
         for (size_t t = 0; t < triangles; ++t, idx += 3) {
@@ -186,7 +188,7 @@ private:
     }
 
     const DrawContext& dc_;
-    const Geometry& g_;
+    const QueuedDraw& g_;  // its vertices
     const Viewport& viewport_;
     const CullState& cull_;
     const double guard_;  // guard-band half-width, NDC
@@ -194,15 +196,15 @@ private:
 
 // Vertex stage: every vertex once, kVertexBatch per plugin call (batches in
 // parallel), with only the inputs the shader asks for.
-void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const facet_draw& abi,
-                    const Viewport& viewport, Geometry& g) {
+void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport& viewport,
+                    ThreadPool& pool, QueuedDraw& g) {
     const size_t vcount = mesh.vertex_count();
     const uint32_t floats = shader.varying_floats();
     g.clip.resize(vcount);
     g.window.resize(vcount);
     g.varyings.resize(vcount * floats + 1);
     const int batches = int((vcount + kVertexBatch - 1) / kVertexBatch);
-    g.pool.parallel_for(batches, [&](int b, int) {
+    pool.parallel_for(batches, [&](int b, int) {
         const size_t first = size_t(b) * kVertexBatch;
         const facet_vertex_batch batch{
             uint32_t(std::min<size_t>(kVertexBatch, vcount - first)),
@@ -214,21 +216,40 @@ void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const facet_dr
             glm::value_ptr(g.clip[first]),
             g.varyings.data() + first * floats,
             floats};
-        shader.desc().vertex(&abi, &batch);
+        shader.desc().vertex(&g.abi, &batch);
         project_vertices(g, first, batch.count, viewport);
     });
 }
 
 // Rasterizes and shades one tile's triangles, in submission order.
-void draw_tile(const DrawContext& dc, Geometry& g, int tile, int worker) {
+void draw_tile(Geometry& g, int tile, int worker) {
     int x0, y0, x1, y1;
     g.bins.rect(tile, x0, y0, x1, y1);
     FrameStats& stats = g.worker_stats[size_t(worker)];
+    const int samples = g.target->samples();
     for (const uint32_t entry : g.bins.entries(tile)) {
-        const TriangleSetup& t = g.chunks[entry >> 16].setups[entry & 0xFFFFu];
-        rasterize(t, x0, y0, x1, y1, dc.target->samples(),
-                  [&](const Block& b) { shade_block(dc, t, b, stats); });
+        const SetupChunk& chunk = g.chunks[entry >> 16];
+        const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
+        const TriangleSetup& t = chunk.setups[entry & 0xFFFFu];
+        rasterize(t, x0, y0, x1, y1, samples, [&](const Block& b) { shade_block(dc, t, b, stats); });
     }
+}
+
+// Bins every queued triangle and rasterizes the tiles in parallel, adding
+// the triangle and fragment counts to `stats`. The queued draws stay (a
+// draw may have more triangles to come).
+void rasterize_queued(Geometry& g, FrameStats& stats) {
+    if (g.chunks_used == 0) return;
+    g.bins.resize(g.target->width(), g.target->height());
+    for (FrameStats& w : g.worker_stats) w = {};
+    g.bins.bin(g.chunks, g.chunks_used);
+    const std::vector<int>& busy = g.bins.busy();
+    g.pool.parallel_for(int(busy.size()), [&](int i, int worker) { draw_tile(g, busy[size_t(i)], worker); });
+    g.bins.clear();
+    for (int c = 0; c < g.chunks_used; ++c) stats += g.chunks[size_t(c)].stats;
+    for (const FrameStats& w : g.worker_stats) stats += w;
+    g.chunks_used = 0;
+    g.triangles_queued = 0;
 }
 
 }  // namespace
@@ -264,51 +285,65 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
 }
 
 void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
+    queue(call, target, stats);
+    flush(stats);
+}
+
+void Renderer::queue(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
     if (!call.mesh || !call.shader)
         throw Error(ErrorCode::config_invalid, "draw call without a mesh or a shader");
     const Mesh& mesh = *call.mesh;
     const ShaderPlugin& shader = *call.shader;
     Geometry& g = *geometry_;
+    if (g.chunks_used > 0 && (g.target != &target || g.draws_used == kMaxQueuedDraws))
+        rasterize_queued(g, stats);
+    if (g.chunks_used == 0) g.draws_used = 0;  // every earlier draw is done
+    if (g.draws.size() == size_t(g.draws_used)) g.draws.push_back(std::make_unique<QueuedDraw>());
+    const int index = g.draws_used++;
+    QueuedDraw& d = *g.draws[size_t(index)];
+    g.target = &target;
     ++stats.draws;
 
-    DrawContext dc;
-    prepare_context(dc, shader, call.textures, call.texture_count);
-    dc.state = call.state;
-    dc.target = &target;
-    dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
-    const facet_draw abi = make_abi_draw(call, target.width(), target.height(), dc);
-    dc.abi = &abi;
+    d.dc = {};
+    prepare_context(d.dc, shader, call.textures, call.texture_count);
+    d.dc.state = call.state;
+    d.dc.target = &target;
+    d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
+    d.abi = make_abi_draw(call, target.width(), target.height(), d.dc);
+    d.dc.abi = &d.abi;
     const Viewport viewport{target.width(), target.height(), target.samples(),
                             call.state.subpixel_bits};
-    shade_vertices(mesh, shader, abi, viewport, g);
+    shade_vertices(mesh, shader, viewport, g.pool, d);
     stats.vertices_shaded += mesh.vertex_count();
 
     const CullState cull = cull_state(call.state);
-    const Assembler assembler(dc, g, viewport, cull);
-    g.bins.resize(target.width(), target.height());
-    for (FrameStats& w : g.worker_stats) w = {};
+    const Assembler assembler(d, viewport, cull);
     const size_t triangles = mesh.triangle_count();
     for (size_t first = 0; first < triangles; first += kTriangleBatch) {
         const size_t count = std::min(kTriangleBatch, triangles - first);
         const int chunks = int((count + kSetupChunk - 1) / kSetupChunk);
-        if (g.chunks.size() < size_t(chunks)) g.chunks.resize(size_t(chunks));
+        if (g.triangles_queued + count > kTriangleBatch || g.chunks_used + chunks > kMaxChunks)
+            rasterize_queued(g, stats);
+        if (g.chunks.size() < size_t(g.chunks_used + chunks))
+            g.chunks.resize(size_t(g.chunks_used + chunks));
         g.pool.parallel_for(chunks, [&](int c, int) {
-            SetupChunk& chunk = g.chunks[size_t(c)];
+            SetupChunk& chunk = g.chunks[size_t(g.chunks_used + c)];
             chunk.setups.clear();
             chunk.clipped_used = 0;
+            chunk.draw = index;
             chunk.stats = {};
             const size_t begin = first + size_t(c) * kSetupChunk;
             assembler.run(mesh.indices.data() + 3 * begin,
                           std::min(kSetupChunk, first + count - begin), chunk);
         });
-        g.bins.bin(g.chunks, chunks);
-        const std::vector<int>& busy = g.bins.busy();
-        g.pool.parallel_for(int(busy.size()),
-                            [&](int i, int worker) { draw_tile(dc, g, busy[size_t(i)], worker); });
-        g.bins.clear();
-        for (int c = 0; c < chunks; ++c) stats += g.chunks[size_t(c)].stats;
+        g.chunks_used += chunks;
+        g.triangles_queued += count;
     }
-    for (const FrameStats& w : g.worker_stats) stats += w;
+}
+
+void Renderer::flush(FrameStats& stats) {
+    rasterize_queued(*geometry_, stats);
+    geometry_->draws_used = 0;
 }
 
 }  // namespace facet

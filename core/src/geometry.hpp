@@ -1,26 +1,46 @@
-// What Renderer::draw keeps between draws (private to the core): the thread
-// pool, the vertex stage's outputs, the setup chunks, the tile bins and
-// per-thread statistics. Reused, so a steady frame allocates nothing.
+// What Renderer::draw and Renderer::queue keep (private to the core): the
+// thread pool, the queued draws with their vertex stage's outputs, the setup
+// chunks, the tile bins and per-thread statistics. Reused, so a steady frame
+// allocates nothing.
+//
+// Draws queue up until flush() (or until the queue is full): their triangles
+// are binned together, so each tile is rasterized once for all of them while
+// its pixels stay in cache, rather than once per draw.
 #pragma once
 
 #include "bin.hpp"
+#include "fragment.hpp"
 #include "setup.hpp"
 #include "thread_pool.hpp"
 
 #include <glm/glm.hpp>
 
+#include <memory>
 #include <vector>
 
 namespace facet {
+
+// One queued draw: its constant state and its vertices' results, kept until
+// its triangles are rasterized. Not movable: abi.host_data points at dc and
+// dc.abi at abi.
+struct QueuedDraw {
+    DrawContext dc;
+    facet_draw abi{};
+    std::vector<glm::vec4> clip;       // per vertex
+    std::vector<WindowVertex> window;  // per vertex: projected, with its outcodes (draw.cpp)
+    std::vector<float> varyings;       // per vertex, varying_floats each
+};
 
 struct Geometry {
     explicit Geometry(int threads) : pool(threads), worker_stats(size_t(pool.size())) {}
 
     ThreadPool pool;
-    std::vector<glm::vec4> clip;   // per vertex
-    std::vector<WindowVertex> window;  // per vertex: projected, with its outcodes (draw.cpp)
-    std::vector<float> varyings;   // per vertex, varying_floats each
-    std::vector<SetupChunk> chunks;
+    std::vector<std::unique_ptr<QueuedDraw>> draws;  // the first draws_used are queued
+    int draws_used = 0;
+    std::vector<SetupChunk> chunks;  // the first chunks_used hold setups not yet rasterized
+    int chunks_used = 0;
+    size_t triangles_queued = 0;     // in those chunks, before clipping and culling
+    Framebuffer* target = nullptr;   // of the queued draws
     Bins bins;
     std::vector<FrameStats> worker_stats;
 };

@@ -198,9 +198,10 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
 void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                               FrameStats& stats) {
     const auto start = std::chrono::steady_clock::now();
+    // Queued, and rasterized together at the end: the scene (and so each
+    // material's plugin, block and textures) outlives the pass.
     auto draw_object = [&](const Object& o) {
         const Material& m = *o.material;
-        const std::shared_ptr<ShaderPlugin> keep = m.plugin;  // loaded for the whole draw
         call.mesh = o.mesh.get();
         call.shader = m.plugin.get();
         call.params = m.block ? m.block->bytes : nullptr;
@@ -208,7 +209,7 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         call.texture_count = int(m.textures.size());
         call.model = o.transform.matrix();
         call.state = pipeline_state(m, scene.settings);
-        draw(call, target, stats);
+        queue(call, target, stats);
     };
     for (const Object* o : scratch_.opaque) draw_object(*o);
     for (BlendedObject& b : scratch_.blended) b.depth = view_depth(*b.object, call.view);
@@ -217,6 +218,7 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
                   return a.depth < b.depth || (a.depth == b.depth && a.order < b.order);
               });
     for (const BlendedObject& b : scratch_.blended) draw_object(*b.object);
+    flush(stats);
     stats.ms_main += elapsed_ms(start);
 }
 

@@ -121,8 +121,9 @@ void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view
     for (const Object* o : casters) {
         call.mesh = o->mesh.get();
         call.model = o->transform.matrix();
-        renderer.draw(call, target, stats);
+        renderer.queue(call, target, stats);
     }
+    renderer.flush(stats);
 }
 
 }  // namespace

@@ -80,9 +80,14 @@ inline f32x16 load_block(const float* p, size_t stride) {
 }
 
 inline void store_block(float* p, size_t stride, const f32x16& v, uint32_t mask) {
-    for (uint32_t m = mask; m; m &= m - 1) {
-        const int i = __builtin_ctz(m);
-        p[size_t(i / 4) * stride + size_t(i % 4)] = v[i];
+    const float* lanes = reinterpret_cast<const float*>(&v);
+    for (int r = 0; r < 4; ++r, p += stride) {
+        const uint32_t row = mask >> (4 * r) & 0xFu;
+        if (row == 0xFu) {
+            std::memcpy(p, lanes + 4 * r, 16);
+            continue;
+        }
+        for (uint32_t m = row; m; m &= m - 1) p[__builtin_ctz(m)] = lanes[4 * r + __builtin_ctz(m)];
     }
 }
 

@@ -117,6 +117,16 @@ public:
     // Draws one mesh into `target` (which must be cleared by the caller).
     void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
 
+    // The same, but rasterization may wait for flush(): queued draws into
+    // one target are binned together, so each tile is rasterized once for
+    // all of them, in submission order (the image is the same as with
+    // draw()). Everything `call` points at (mesh, shader, parameters,
+    // textures, lights, shadow maps, AO) must live until flush(), which also
+    // adds the triangle and fragment counts to its `stats`. Queuing into
+    // another target first rasterizes what was queued.
+    void queue(const DrawCall& call, Framebuffer& target, FrameStats& stats);
+    void flush(FrameStats& stats);
+
     // Framebuffer::clear() and resolve() on all the renderer's threads.
     void clear(Framebuffer& target, const glm::vec4& color, float depth);
     void resolve(Framebuffer& target);
