@@ -119,6 +119,51 @@ TEST_CASE("a triangle soup with clipping renders the same at any thread count", 
     for (int threads : {2, 5}) CHECK(same_bits(one, draw(threads)));
 }
 
+TEST_CASE("queued draws render what one draw() at a time renders", "[parallel][queue]") {
+    // 400 blended meshes of three triangles (more than the renderer queues
+    // at once), alternating between two targets part of the way through.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> xy(-2.0f, 2.0f), z(-4.0f, -0.5f), c(0.0f, 1.0f);
+    std::vector<Mesh> meshes;
+    for (int m = 0; m < 400; ++m) {
+        std::vector<glm::vec3> pos;
+        std::vector<glm::vec4> colors;
+        for (int i = 0; i < 9; ++i) {
+            pos.push_back({xy(rng), xy(rng), z(rng)});
+            colors.push_back({c(rng), c(rng), c(rng), 0.5f});
+        }
+        meshes.push_back(test::make_mesh(pos, {0, 1, 2, 3, 4, 5, 6, 7, 8}, colors));
+    }
+    auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    auto render = [&](bool queued, Framebuffer (&fb)[2], FrameStats& stats) {
+        Renderer renderer(2);
+        for (Framebuffer& f : fb) {
+            f.resize(157, 93);
+            f.clear(glm::vec4(0.0f), 0.0f);
+        }
+        for (size_t m = 0; m < meshes.size(); ++m) {
+            DrawCall call = test::clip_space_call(meshes[m], *shader);
+            call.projection = perspective(glm::radians(60.0f), 157.0f / 93.0f, 0.2f, 50.0f, true);
+            // Each draw's own state must reach its triangles.
+            call.state.blend = m % 3 ? BlendMode::alpha : BlendMode::additive;
+            Framebuffer& target = fb[m >= 300 && m % 2 ? 1 : 0];
+            if (queued) renderer.queue(call, target, stats);
+            else renderer.draw(call, target, stats);
+        }
+        renderer.flush(stats);
+    };
+    Framebuffer one[2], many[2];
+    FrameStats one_stats, many_stats;
+    render(false, one, one_stats);
+    render(true, many, many_stats);
+    CHECK(same_bits(one[0], many[0]));
+    CHECK(same_bits(one[1], many[1]));
+    CHECK(many_stats.draws == 400);
+    CHECK(many_stats.triangles_rasterized == one_stats.triangles_rasterized);
+    CHECK(many_stats.fragments_shaded == one_stats.fragments_shaded);
+    CHECK(many_stats.fragments_shaded > 10000);
+}
+
 #if FACET_COUNT_ALLOCATIONS
 TEST_CASE("a steady frame allocates nothing on the heap", "[parallel][memory]") {
     PluginRegistry registry;
