@@ -16,8 +16,8 @@ int64_t snap(double window, int bits) {
     const double limit = kGuardBandPixels * 2.0;  // never reached after clipping
     // Scaling by a power of two is exact; so is v - trunc(v) below 2^52.
     const double v = std::fmax(-limit, std::fmin(window, limit)) * double(int64_t(1) << bits);
-    double r = std::trunc(v);
-    if (std::abs(v - r) >= 0.5) r += std::copysign(1.0, v);
+    // Without a branch: which way a coordinate rounds is a coin toss.
+    const double r = std::trunc(v) + std::copysign(double(std::abs(v - std::trunc(v)) >= 0.5), v);
     return int64_t(r) * (int64_t(1) << (kSubpixelBits - bits));
 }
 
