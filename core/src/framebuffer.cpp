@@ -4,7 +4,12 @@
 
 #include <stb/stb_image_write.h>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 
 namespace facet {
@@ -49,15 +54,35 @@ void Framebuffer::resize(int width, int height, bool with_color, int samples) {
 
 void Framebuffer::clear(const glm::vec4& color, float depth) { clear_rows(0, height_, color, depth); }
 
+namespace {
+
+// Fills [p, p + count) with copies of the `period` floats at `value`
+// (period divides 4), streaming past the caches where the target has
+// SSE: a clear's data is not read back soon, and streaming stores skip
+// reading each line in before overwriting it.
+void fill_streaming(float* p, size_t count, const float* value, size_t period) {
+    size_t i = 0;
+#if defined(__SSE2__)
+    for (; i < count && reinterpret_cast<uintptr_t>(p + i) % 16 != 0; ++i) p[i] = value[i % period];
+    alignas(16) float quad[4];
+    for (int k = 0; k < 4; ++k) quad[k] = value[(i + size_t(k)) % period];
+    const __m128 v = _mm_load_ps(quad);
+    for (; i + 4 <= count; i += 4) _mm_stream_ps(p + i, v);
+    _mm_sfence();
+#endif
+    for (; i < count; ++i) p[i] = value[i % period];
+}
+
+}  // namespace
+
 void Framebuffer::clear_rows(int first, int count, const glm::vec4& color, float depth) {
-    const size_t begin = size_t(first) * width_, end = size_t(first + count) * width_;
+    const size_t begin = size_t(first) * width_, pixels = size_t(count) * width_;
     const size_t n = size_t(samples_);
-    if (!color_.empty()) std::fill(color_.begin() + begin, color_.begin() + end, color);
-    std::fill(depth_.begin() + begin, depth_.begin() + end, depth);
+    if (!color_.empty()) fill_streaming(&color_[begin].x, 4 * pixels, &color.x, 4);
+    fill_streaming(depth_.data() + begin, pixels, &depth, 1);
     if (!sample_color_.empty())
-        std::fill(sample_color_.begin() + begin * n, sample_color_.begin() + end * n, color);
-    if (!sample_depth_.empty())
-        std::fill(sample_depth_.begin() + begin * n, sample_depth_.begin() + end * n, depth);
+        fill_streaming(&sample_color_[begin * n].x, 4 * pixels * n, &color.x, 4);
+    if (!sample_depth_.empty()) fill_streaming(sample_depth_.data() + begin * n, pixels * n, &depth, 1);
 }
 
 void Framebuffer::resolve() { resolve_rows(0, height_); }
