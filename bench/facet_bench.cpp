@@ -41,6 +41,7 @@
 // the thread count and the peak resident memory while rendering that scene
 // (Linux: VmHWM, reset when the scene starts; it includes the scene itself,
 // not --llvmpipe's facet coverage pass).
+#include "meshes.hpp"
 #include "pareto.hpp"
 #ifdef FACET_HAVE_OSMESA
 #include "llvmpipe_worker.hpp"
@@ -75,26 +76,7 @@ namespace {
 
 // A UV sphere of radius 1 with about `triangles` triangles.
 std::shared_ptr<Mesh> sphere(int triangles) {
-    const int rings = std::max(4, int(std::sqrt(triangles / 4.0)));
-    const int segments = 2 * rings;
-    auto m = std::make_shared<Mesh>();
-    for (int r = 0; r <= rings; ++r)
-        for (int s = 0; s <= segments; ++s) {
-            const float theta = float(M_PI) * r / rings, phi = 2.0f * float(M_PI) * s / segments;
-            const glm::vec3 p(std::sin(theta) * std::cos(phi), std::cos(theta),
-                              std::sin(theta) * std::sin(phi));
-            m->positions.push_back(p);
-            m->normals.push_back(p);
-            m->uvs.push_back({float(s) / segments, float(r) / rings});
-        }
-    for (int r = 0; r < rings; ++r)
-        for (int s = 0; s < segments; ++s) {
-            const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + 1,
-                           c = a + uint32_t(segments + 1), d = c + 1;
-            m->indices.insert(m->indices.end(), {a, b, c, b, d, c});  // counter-clockwise outside
-        }
-    m->bounds = compute_bounds(m->positions);
-    return m;
+    return bench::uv_sphere(std::max(4, int(std::sqrt(triangles / 4.0))));
 }
 
 // An n x n grid of quads in the z = 0 plane over [-w, w] x [-h, h], facing +Z.

@@ -6,6 +6,7 @@
 // cannot model refused. Built with OSMesa only. Every test name contains
 // "llvmpipe", so that `ctest -R llvmpipe` runs them all.
 #include "llvmpipe.hpp"
+#include "meshes.hpp"
 
 #include <facet/renderer.hpp>
 
@@ -120,28 +121,6 @@ float max_difference(const Framebuffer& facet, const std::vector<glm::vec4>& llv
     return worst;
 }
 
-// A UV sphere of radius 1 (the bench's, smaller).
-std::shared_ptr<Mesh> sphere(int rings) {
-    auto m = std::make_shared<Mesh>();
-    const int segments = 2 * rings;
-    for (int r = 0; r <= rings; ++r)
-        for (int s = 0; s <= segments; ++s) {
-            const float theta = float(M_PI) * r / rings, phi = 2.0f * float(M_PI) * s / segments;
-            const glm::vec3 p(std::sin(theta) * std::cos(phi), std::cos(theta),
-                              std::sin(theta) * std::sin(phi));
-            m->positions.push_back(p);
-            m->normals.push_back(p);
-        }
-    for (int r = 0; r < rings; ++r)
-        for (int s = 0; s < segments; ++s) {
-            const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + 1,
-                           c = a + uint32_t(segments + 1), d = c + 1;
-            m->indices.insert(m->indices.end(), {a, b, c, b, d, c});
-        }
-    m->bounds = compute_bounds(m->positions);
-    return m;
-}
-
 }  // namespace
 
 TEST_CASE("llvmpipe owns the edges through pixel centres that facet owns", "[llvmpipe]") {
@@ -253,7 +232,7 @@ constexpr int kSpherePixels = 5000;
 // colour either.
 void check_sphere(const std::shared_ptr<Material>& m, bool shaded) {
     Scene s = lit_sphere_scene();
-    s.objects = {{"sphere", sphere(40), {}, m, true}};
+    s.objects = {{"sphere", bench::uv_sphere(40), {}, m, true}};
     const Framebuffer facet = render_facet(s);
     const std::vector<glm::vec4> llvmpipe = render_llvmpipe(s);
     CHECK(covered(pixels(facet)) > kSpherePixels);
