@@ -32,7 +32,7 @@ void Bins::resize(int width, int height) {
     if (tiles_.size() < size_t(columns_) * rows_) tiles_.resize(size_t(columns_) * rows_);
 }
 
-void Bins::bin(const std::vector<SetupChunk>& chunks, int count) {
+void Bins::bin(const std::deque<SetupChunk>& chunks, int count) {
     for (int c = 0; c < count; ++c) {
         const std::vector<TriangleSetup>& setups = chunks[size_t(c)].setups;
         for (size_t i = 0; i < setups.size(); ++i) {

@@ -1,6 +1,6 @@
 // Binning.
 //
-// Takes: the triangles a batch of a draw set up, in submission order (chunk
+// Takes: the triangles the queued draws set up, in submission order (chunk
 // by chunk).
 // Gives: for each 64x64 screen tile, the list of those triangles whose
 // bounding box touches it, in the same order. Tiles are then rasterized
@@ -39,7 +39,7 @@ public:
     // Sizes the tile grid for a width x height target.
     void resize(int width, int height);
     // Appends every setup of chunks [0, count) to the tiles it touches.
-    void bin(const std::vector<SetupChunk>& chunks, int count);
+    void bin(const std::deque<SetupChunk>& chunks, int count);
     // Tiles with work, and clearing them for the next batch.
     const std::vector<int>& busy() const { return busy_; }
     void clear();

@@ -1,8 +1,8 @@
-// Geometry for one draw: vertex stage, primitive assembly, clipping and
-// setup (in parallel chunks), binning into tiles (bin.cpp), then the tiles
-// rasterized and shaded in parallel (rasterize.hpp, fragment.cpp). The
-// triangles go through in batches of kTriangleBatch, which bounds memory
-// however large the mesh.
+// Geometry for queued draws: vertex stage, primitive assembly, clipping and
+// setup (in parallel chunks), then, for all queued draws together, binning
+// into tiles (bin.cpp) and the tiles rasterized and shaded in parallel
+// (rasterize.hpp, fragment.cpp). Triangles go through in batches of at most
+// kTriangleBatch, which bounds memory however large the mesh.
 #include "bin.hpp"
 #include "clip.hpp"
 #include "fragment.hpp"
@@ -299,7 +299,7 @@ void Renderer::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
         rasterize_queued(g, stats);
     if (g.chunks_used == 0) g.draws_used = 0;  // every earlier draw is done
     if (g.draws.size() == size_t(g.draws_used)) g.draws.push_back(std::make_unique<QueuedDraw>());
-    const int index = g.draws_used++;
+    int index = g.draws_used++;
     QueuedDraw& d = *g.draws[size_t(index)];
     g.target = &target;
     ++stats.draws;
@@ -322,8 +322,14 @@ void Renderer::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     for (size_t first = 0; first < triangles; first += kTriangleBatch) {
         const size_t count = std::min(kTriangleBatch, triangles - first);
         const int chunks = int((count + kSetupChunk - 1) / kSetupChunk);
-        if (g.triangles_queued + count > kTriangleBatch || g.chunks_used + chunks > kMaxChunks)
+        if (g.triangles_queued + count > kTriangleBatch || g.chunks_used + chunks > kMaxChunks) {
             rasterize_queued(g, stats);
+            // Only this draw is left: it moves to the first slot, freeing the
+            // others (and their vertex storage) for the draws that follow.
+            std::swap(g.draws[0], g.draws[size_t(index)]);
+            index = 0;
+            g.draws_used = 1;
+        }
         if (g.chunks.size() < size_t(g.chunks_used + chunks))
             g.chunks.resize(size_t(g.chunks_used + chunks));
         g.pool.parallel_for(chunks, [&](int c, int) {

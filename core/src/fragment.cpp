@@ -29,7 +29,6 @@ bool depth_passes(DepthCompare compare, float z, float stored) {
 }
 
 using simd::f32x16;
-using simd::i32x16;
 
 f32x16 interpolate_depth(const TriangleSetup& t, const Block& b) {
     const f32x16 z = t.z[0] + simd::load<f32x16>(b.bary[1]) * (t.z[1] - t.z[0]) +
@@ -139,14 +138,15 @@ void write_pixels(const DrawContext& dc, const Block& b, const f32x16& z, const 
     const size_t width = size_t(fb.width());
     if (dc.state.depth_write) simd::store_block(fb.depth() + b.y * width + b.x, width, z, mask);
     if (!dc.state.color_write) return;
-    glm::vec4* row = &fb.pixel(b.x, b.y);
     const BlendMode mode = dc.state.blend;
     if (mode == BlendMode::opaque) {
         const simd::Rows rows = simd::interleave_rgba(
             simd::load<f32x16>(color), simd::load<f32x16>(color + N),
             simd::load<f32x16>(color + 2 * N), simd::load<f32x16>(color + 3 * N));
-        for (int r = 0; r < 4; ++r, row += width) {
+        for (int r = 0; r < 4; ++r) {
             const uint32_t lanes = mask >> (4 * r) & 0xFu;
+            if (!lanes) continue;  // also keeps rows past the target's bottom unaddressed
+            glm::vec4* row = &fb.pixel(b.x, b.y + r);
             if (lanes == 0xFu) {
                 simd::store(row, rows.row[r]);
                 continue;
@@ -161,7 +161,7 @@ void write_pixels(const DrawContext& dc, const Block& b, const f32x16& z, const 
     for (uint32_t m = mask; m; m &= m - 1) {
         const int i = std::countr_zero(m);
         const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
-        glm::vec4& dst = row[size_t(i / 4) * width + size_t(i % 4)];
+        glm::vec4& dst = fb.pixel(b.x + i % 4, b.y + i / 4);
         dst = blend(mode, src, dst);
     }
 }

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,10 @@ namespace facet {
 // its triangles are rasterized. Not movable: abi.host_data points at dc and
 // dc.abi at abi.
 struct QueuedDraw {
+    QueuedDraw() = default;
+    QueuedDraw(const QueuedDraw&) = delete;
+    QueuedDraw& operator=(const QueuedDraw&) = delete;
+
     DrawContext dc;
     facet_draw abi{};
     std::vector<glm::vec4> clip;       // per vertex
@@ -37,7 +42,9 @@ struct Geometry {
     ThreadPool pool;
     std::vector<std::unique_ptr<QueuedDraw>> draws;  // the first draws_used are queued
     int draws_used = 0;
-    std::vector<SetupChunk> chunks;  // the first chunks_used hold setups not yet rasterized
+    // The first chunks_used hold setups not yet rasterized. A deque: growing
+    // it never moves the queued chunks, whose clipped vertices setups point at.
+    std::deque<SetupChunk> chunks;
     int chunks_used = 0;
     size_t triangles_queued = 0;     // in those chunks, before clipping and culling
     Framebuffer* target = nullptr;   // of the queued draws

@@ -5,6 +5,7 @@
 #include "facet/framebuffer.hpp"
 
 #include <bit>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
 
@@ -79,7 +80,8 @@ uint32_t BlockCoverage::cover_samples(const int64_t* e0, uint8_t* lane_samples) 
         const glm::ivec2 o = sample_offset(samples_, s);
         uint32_t in = ~0u;
         for (int k = 0; k < 3; ++k) {
-            // Sample offsets are in 1/16 pixel.
+            // Sample offsets are in 1/16 pixel; the steps are whole pixels.
+            static_assert(kSubpixelOne % 16 == 0);
             const int64_t at = e0[k] + (o.x * step_x_[k] + o.y * step_y_[k]) / 16;
             in &= covered(k, at);
         }
@@ -92,6 +94,7 @@ uint32_t BlockCoverage::cover_samples(const int64_t* e0, uint8_t* lane_samples) 
 uint32_t BlockCoverage::operator()(int bx, int by, Block& block) const {
     // x and y in one store, so a later 8-byte load of both is forwarded
     // from it rather than stalling.
+    static_assert(offsetof(Block, y) == offsetof(Block, x) + sizeof(int32_t));
     const int32_t xy[2] = {bx, by};
     std::memcpy(&block.x, xy, sizeof xy);
     block.mask = 0;

@@ -62,15 +62,6 @@ private:
     simd::i64x8 lanes_lo_[3], lanes_hi_[3];  // offsets from lane 0 to lanes 0..7, 8..15
 };
 
-// Coverage of the block at (bx, by) at `samples` samples per pixel; fills
-// `block` and returns its mask. One-off form of BlockCoverage.
-inline uint32_t cover_block(const TriangleSetup& t, int bx, int by, int samples, Block& block) {
-    return BlockCoverage(t, samples)(bx, by, block);
-}
-inline uint32_t cover_block(const TriangleSetup& t, int bx, int by, Block& block) {
-    return cover_block(t, bx, by, 1, block);
-}
-
 // Calls visit(const Block&) for every block of t's bounding box, within the
 // rectangle [x0, x1] x [y0, y1] (a tile, whose corners are multiples of 4),
 // that the triangle covers at least partly.

@@ -1,5 +1,6 @@
 // Scene-level rendering: the frame plan (which objects, in which order, with
-// which state), then one Renderer::draw() per object (draw.cpp).
+// which state), then every object queued and rasterized together
+// (Renderer::queue and flush, draw.cpp).
 #include "facet/renderer.hpp"
 
 #include "ao.hpp"
@@ -7,6 +8,8 @@
 #include "geometry.hpp"
 #include "shadow.hpp"
 #include "timing.hpp"
+
+#include "facet/error.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -78,12 +81,20 @@ void for_row_bands(ThreadPool& pool, int height, Fn&& fn) {
 
 }  // namespace
 
+void Renderer::require_flushed(const Framebuffer& target, const char* what) const {
+    if (geometry_->chunks_used > 0 && geometry_->target == &target)
+        throw Error(ErrorCode::out_of_range,
+                    std::string(what) + ": draws queued for the target wait; flush() first");
+}
+
 void Renderer::clear(Framebuffer& target, const glm::vec4& color, float depth) {
+    require_flushed(target, "Renderer::clear");
     for_row_bands(geometry_->pool, target.height(),
                   [&](int first, int rows) { target.clear_rows(first, rows, color, depth); });
 }
 
 void Renderer::resolve(Framebuffer& target) {
+    require_flushed(target, "Renderer::resolve");
     if (target.samples() == 1) return;
     for_row_bands(geometry_->pool, target.height(),
                   [&](int first, int rows) { target.resolve_rows(first, rows); });
@@ -136,6 +147,7 @@ facet_light to_abi(const Light& l) {
 FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
+    require_flushed(target, "Renderer::render");  // it may resize the target
     if (target.width() != s.width || target.height() != s.height || target.samples() != s.msaa ||
         !target.has_color())
         target.resize(s.width, s.height, true, s.msaa);

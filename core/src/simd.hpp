@@ -81,13 +81,15 @@ inline f32x16 load_block(const float* p, size_t stride) {
 
 inline void store_block(float* p, size_t stride, const f32x16& v, uint32_t mask) {
     const float* lanes = reinterpret_cast<const float*>(&v);
-    for (int r = 0; r < 4; ++r, p += stride) {
+    for (int r = 0; r < 4; ++r) {
         const uint32_t row = mask >> (4 * r) & 0xFu;
+        if (!row) continue;  // rows past the image's bottom are never addressed
+        float* out = p + size_t(r) * stride;
         if (row == 0xFu) {
-            std::memcpy(p, lanes + 4 * r, 16);
+            std::memcpy(out, lanes + 4 * r, 16);
             continue;
         }
-        for (uint32_t m = row; m; m &= m - 1) p[__builtin_ctz(m)] = lanes[4 * r + __builtin_ctz(m)];
+        for (uint32_t m = row; m; m &= m - 1) out[__builtin_ctz(m)] = lanes[4 * r + __builtin_ctz(m)];
     }
 }
 

@@ -8,10 +8,10 @@
 // docs/ARCHITECTURE.md names the file for each stage.
 //
 // Renderer::render() draws a whole Scene: opaque objects first, then blended
-// ones back to front. Renderer::draw() draws one mesh and is what render()
-// uses; tests and embedders call it directly. A Renderer keeps scratch
-// buffers between draws, so a steady frame allocates nothing; use one
-// Renderer per thread.
+// ones back to front. Renderer::draw() draws one mesh; Renderer::queue() and
+// flush() draw several together, which is what render() does; tests and
+// embedders call them directly. A Renderer keeps scratch buffers between
+// draws, so a steady frame allocates nothing; use one Renderer per thread.
 #pragma once
 
 #include "facet/framebuffer.hpp"
@@ -121,19 +121,24 @@ public:
     // one target are binned together, so each tile is rasterized once for
     // all of them, in submission order (the image is the same as with
     // draw()). Everything `call` points at (mesh, shader, parameters,
-    // textures, lights, shadow maps, AO) must live until flush(), which also
-    // adds the triangle and fragment counts to its `stats`. Queuing into
-    // another target first rasterizes what was queued.
+    // textures, lights, shadow maps, AO) must live, and the target keep its
+    // size, until flush(), which adds the triangle and fragment counts to
+    // its `stats`. When the queue is full, or `call` is for another target,
+    // queue() rasterizes what waits first, counting it in its own `stats`.
+    // clear(), resolve() and render() of a target with queued draws throw
+    // Error(out_of_range).
     void queue(const DrawCall& call, Framebuffer& target, FrameStats& stats);
     void flush(FrameStats& stats);
 
     // Framebuffer::clear() and resolve() on all the renderer's threads.
+    // Both throw Error(out_of_range) while draws queued for `target` wait.
     void clear(Framebuffer& target, const glm::vec4& color, float depth);
     void resolve(Framebuffer& target);
 
     int threads() const;
 
 private:
+    void require_flushed(const Framebuffer& target, const char* what) const;
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                         FrameStats& stats);
 

@@ -3,7 +3,9 @@
 // Write a shader as a struct with plain per-vertex and per-fragment functions;
 // FACET_SHADER(YourShader) generates the batch loops and the C descriptor of
 // <facet/shader_abi.h> inside your plugin, so your functions inline into the
-// loops and your compiler can vectorise them. A whole shader:
+// loops. The fragment loop visits a block's covered pixels one at a time; a
+// shader that also gives fragment_wide (facet/wide.hpp) shades the whole
+// block in one SIMD call instead. A whole shader:
 //
 //     struct Tint {
 //         struct Params { glm::vec4 color; };
@@ -36,7 +38,10 @@
 #pragma once
 
 #include <facet/shader_abi.h>
+#if defined(__GNUC__) || defined(__clang__)  // vector extensions: fragment_wide
 #include <facet/wide.hpp>
+#define FACET_SDK_WIDE 1
+#endif
 
 #include <glm/glm.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -142,6 +147,7 @@ inline Incident incident_light(const facet_light& l, glm::vec3 p) {
     return {to_light, color * scale, d};
 }
 
+#if FACET_SDK_WIDE
 // The same for 16 points at once (fragment_wide).
 struct WideIncident {
     wide::Vec3 to_light;
@@ -174,6 +180,7 @@ inline WideIncident incident_light(const facet_light& l, const wide::Vec3& p) {
     return {select(dark, Vec3(splat(0.0f)), to_light), Vec3(color) * select(dark, splat(0.0f), scale),
             d};
 }
+#endif
 
 // ---- shadow maps (ABI 1.1) ----------------------------------------------------
 
@@ -276,6 +283,7 @@ struct Fragment {
     int lane_ = 0;
 };
 
+#if FACET_SDK_WIDE
 // Built-ins of a block of 16 fragments (fragment_wide).
 struct WideFragment {
     wide::Vec2 coord;    // pixel centres, window coordinates
@@ -301,6 +309,7 @@ struct WideFragment {
 };
 
 inline wide::Vec3 rgb(const wide::Vec4& v) { return {v.x, v.y, v.z}; }
+#endif
 
 // ---- generated glue ----------------------------------------------------------
 
@@ -359,6 +368,7 @@ void vertex_batch(const facet_draw* draw, const facet_vertex_batch* b) {
     }
 }
 
+#if FACET_SDK_WIDE
 template <class S>
 constexpr bool has_wide() {
     return requires { typename S::WideVaryings; &S::fragment_wide; };
@@ -380,11 +390,10 @@ void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
         if (p) std::memcpy(&f, p, sizeof f);
         return f;
     };
+    constexpr wide::Float column = {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3};
+    constexpr wide::Float row = {0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3};
     WideFragment frag;
-    for (int i = 0; i < N; ++i) {
-        frag.coord.x[i] = float(b->x + i % 4) + 0.5f;
-        frag.coord.y[i] = float(b->y + i / 4) + 0.5f;
-    }
+    frag.coord = {column + (float(b->x) + 0.5f), row + (float(b->y) + 0.5f)};
     frag.depth = load(b->depth, 0.0f);
     frag.front_facing = b->front_facing != 0;
     frag.shadow = load(b->shadow, 1.0f);
@@ -395,10 +404,11 @@ void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
     std::memcpy(b->color, &c, sizeof c);  // [4][16], as the ABI lays it out
     b->mask &= ~wide::bits(frag.discarded);
 }
+#endif
 
 template <class S>
 void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
-#ifndef FACET_SDK_SCALAR
+#if FACET_SDK_WIDE && !defined(FACET_SDK_SCALAR)
     if constexpr (has_wide<S>()) return fragment_batch_wide<S>(draw, b);
 #endif
     using V = typename S::Varyings;

@@ -36,8 +36,9 @@ using Mask = int32_t __attribute__((vector_size(64)));
 
 inline Float splat(float v) { return Float{} + v; }
 inline Float select(const Mask& m, const Float& a, const Float& b) { return m ? a : b; }
-inline Float min(const Float& a, const Float& b) { return a < b ? a : b; }
-inline Float max(const Float& a, const Float& b) { return a > b ? a : b; }
+// As std::min and std::max: a when the two are unordered (a NaN a stays).
+inline Float min(const Float& a, const Float& b) { return b < a ? b : a; }
+inline Float max(const Float& a, const Float& b) { return a < b ? b : a; }
 inline Float clamp(const Float& x, float lo, float hi) { return min(max(x, splat(lo)), splat(hi)); }
 
 // Correctly rounded, as std::sqrt.
@@ -65,9 +66,10 @@ inline Float sqrt(const Float& x) {
     return r;
 }
 
-// log2(x) for x >= FLT_MIN: x = m 2^e with m in [sqrt(1/2), sqrt(2)), and
-// ln m = 2 atanh(t), t = (m - 1) / (m + 1), from its series to t^9
-// (|t| < 0.172, so the first term left out is below 2^-32 of the sum).
+// log2(x) for finite x >= FLT_MIN (other x give meaningless values; pow
+// handles them): x = m 2^e with m in [sqrt(1/2), sqrt(2)), and ln m =
+// 2 atanh(t), t = (m - 1) / (m + 1), from its series to t^9 (|t| < 0.172, so
+// the first term left out, t^10 / 11 of the sum, is below 2^-29).
 inline Float log2(const Float& x) {
     const Mask bits = std::bit_cast<Mask>(x);
     Float e = __builtin_convertvector(((bits >> 23) & 0xFF) - 127, Float);
@@ -81,10 +83,12 @@ inline Float log2(const Float& x) {
 }
 
 // 2^y: y = n + f with n an integer and |f| <= 1/2, and 2^f from the Taylor
-// series of e^(f ln 2) to the 7th power (error below 2^-27). 0 below
-// 2^-126 (no subnormals), infinity from 2^128.
+// series of e^(f ln 2) to the 7th power (error below 2^-27), scaled by 2^n
+// in two normal factors, so the result rounds to subnormals and 0 below
+// 2^-126 and overflows to infinity above FLT_MAX as a float would. NaN
+// stays NaN.
 inline Float exp2(const Float& y) {
-    const Float c = clamp(y, -127.0f, 128.0f);
+    const Float c = clamp(y, -160.0f, 160.0f);
     Float n = __builtin_convertvector(__builtin_convertvector(c, Mask), Float);  // truncated
     n = select(n > c, n - 1.0f, n);                                              // floored
     n = select(c - n > 0.5f, n + 1.0f, n);                                       // nearest
@@ -92,23 +96,20 @@ inline Float exp2(const Float& y) {
     const Float p =
         1.0f + x * (1.0f + x * (1.0f / 2 + x * (1.0f / 6 + x * (1.0f / 24 + x * (1.0f / 120 +
                                                           x * (1.0f / 720 + x * (1.0f / 5040)))))));
-    const Mask ni = __builtin_convertvector(n, Mask);
-    // 2^n with n in [-126, 127]; the ends are handled after.
-    const Mask lowest = Mask{} - 126, highest = Mask{} + 127;
-    const Mask k = ni < lowest ? lowest : ni > highest ? highest : ni;
-    const Float scale = std::bit_cast<Float>((k + 127) << 23);
-    Float r = p * scale;
-    r = select(ni < -126, splat(0.0f), r);
-    return select(ni > 127, splat(INFINITY), r);
+    const Mask ni = __builtin_convertvector(n, Mask), half = ni >> 1;  // both in [-80, 80]
+    const Float r = p * std::bit_cast<Float>((half + 127) << 23) *
+                    std::bit_cast<Float>((ni - half + 127) << 23);
+    return select(y != y, y, r);
 }
 
 // x^y for x >= 0, as exp2(y log2 x). The product's rounding dominates the
-// error: relative error about |y log2 x| 2^-24, so below 1e-6 wherever the
-// result is above 1e-7, against std::pow's correctly rounded result. x below
-// FLT_MIN counts as 0: 0^y is 0, and 1 for y = 0.
+// error, a relative error of a few |y log2 x| 2^-24: below 4e-6 wherever the
+// result is above 1e-7, against std::pow (tests/test_wide.cpp). x below
+// FLT_MIN counts as 0: 0^y is 0, and 1 for y = 0. NaN stays NaN.
 inline Float pow(const Float& x, const Float& y) {
     const Float r = exp2(y * log2(max(x, splat(1.17549435e-38f))));
-    return select(x < 1.17549435e-38f, select(y == 0.0f, splat(1.0f), splat(0.0f)), r);
+    const Float zero = select(y == 0.0f, splat(1.0f), splat(0.0f));
+    return select(x != x, x, select(x < 1.17549435e-38f, zero, r));  // NaN stays NaN
 }
 inline Float pow(const Float& x, float y) { return pow(x, splat(y)); }
 
