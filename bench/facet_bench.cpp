@@ -2,7 +2,7 @@
 // and thread counts.
 //
 //     facet-bench [--scene NAME]... [--size WxH]... [--shader NAME]...
-//                 [--threads N]... [--runs N] [--csv FILE] [--json FILE]
+//                 [--threads N]... [--runs N] [--depth-prepass] [--csv FILE] [--json FILE]
 //     facet-bench --pareto [--size WxH] [--threads N] [--runs N]
 //                 [--reference-grid N] [--csv FILE] [--plot FILE]
 //     facet-bench --llvmpipe [--llvmpipe-target rgba32f|srgb8] [the options above]
@@ -474,6 +474,7 @@ struct Options {
     std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao"};
     std::vector<int> threads = {1, int(std::max(1u, std::thread::hardware_concurrency()))};
     int runs = 5;
+    bool depth_prepass = false;
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
     bool pareto = false;
     bench::ParetoOptions po;
@@ -494,6 +495,8 @@ void add_options(CLI::App& app, Options& o) {
     app.add_option("--shader", o.shaders, "shader plugin name");
     app.add_option("--threads", o.threads, "threads (counting the caller)");
     app.add_option("--runs", o.runs, "frames per configuration (median)")->capture_default_str();
+    app.add_flag("--depth-prepass", o.depth_prepass,
+                 "render with the depth pre-pass (render: depth_prepass), noted in each row");
     app.add_option("--csv", o.csv, "CSV output")->capture_default_str();
     app.add_option("--json", o.json, "JSON output")->capture_default_str();
     app.add_flag("--llvmpipe", o.lp.on,
@@ -551,6 +554,8 @@ void bench_scene(const std::string& name, Options& o, PluginRegistry& registry,
     PeakRss peak;  // from before the scene is made: its memory counts
     std::string note;
     Scene scene = make_scene(name, note);
+    scene.settings.depth_prepass = o.depth_prepass;
+    if (o.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
         scene.settings.width = wh.x;

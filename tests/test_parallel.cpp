@@ -71,6 +71,45 @@ TEST_CASE("every demo scene renders bit for bit the same at any thread count", "
     }
 }
 
+TEST_CASE("a depth pre-pass renders the same image, shading each pixel once", "[parallel][depth]") {
+    PluginRegistry registry;
+    // The demo scenes (shadows, AO, blending, toon), with and without MSAA.
+    for (const char* name : kScenes)
+        for (int msaa : {1, 4}) {
+            INFO(name << ", msaa " << msaa);
+            Scene scene = small_scene(registry, name);
+            scene.settings.msaa = msaa;
+            Framebuffer plain, prepassed;
+            const FrameStats a = Renderer(2).render(scene, plain);
+            scene.settings.depth_prepass = true;
+            const FrameStats b = Renderer(2).render(scene, prepassed);
+            CHECK(same_bits(plain, prepassed));
+            CHECK(b.depth_prepasses == 1);
+            CHECK(a.depth_prepasses == 0);
+            CHECK(b.fragments_shaded <= a.fragments_shaded);
+        }
+    // Four screen-filling quads drawn far to near: every layer passes the
+    // depth test without the pre-pass, only the nearest with it.
+    Scene scene = small_scene(registry, "scenes/phong.yaml");
+    std::vector<Object> layers;
+    for (int k = 0; k < 4; ++k) {
+        const float z = -1.5f + 0.5f * float(k);
+        auto quad = std::make_shared<Mesh>(test::make_mesh(
+            {{-9, -9, z}, {9, -9, z}, {9, 9, z}, {-9, 9, z}}, {0, 1, 2, 0, 2, 3}));
+        quad->normals.assign(4, glm::vec3(0, 0, 1));
+        layers.push_back({"layer", quad, {}, scene.objects.front().material, true});
+    }
+    scene.objects = layers;
+    const int pixels = scene.settings.width * scene.settings.height;
+    Framebuffer plain, prepassed;
+    const FrameStats a = Renderer(2).render(scene, plain);
+    scene.settings.depth_prepass = true;
+    const FrameStats b = Renderer(2).render(scene, prepassed);
+    CHECK(same_bits(plain, prepassed));
+    CHECK(a.fragments_shaded == uint64_t(4 * pixels));
+    CHECK(b.fragments_shaded == uint64_t(pixels));
+}
+
 TEST_CASE("MSAA and wireframe render bit for bit the same at any thread count", "[parallel][msaa]") {
     PluginRegistry registry;
     for (const char* name : {"default.yaml", "scenes/shadow.yaml"}) {

@@ -49,6 +49,14 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     return p;
 }
 
+// With a depth pre-pass, an object takes part when it writes depth with a
+// non-strict compare: then the last fragment drawn at the nearest depth wins
+// with the pre-pass (compare equal) as without it, and the image is the same.
+bool in_depth_prepass(const PipelineState& p) {
+    return p.depth_write && (p.depth_compare == DepthCompare::less_equal ||
+                             p.depth_compare == DepthCompare::greater_equal);
+}
+
 bool drawable(const Object& o) {
     return o.visible && o.mesh && o.material && o.material->plugin;
 }
@@ -117,6 +125,7 @@ FrameStats& FrameStats::operator+=(const FrameStats& o) {
     fragments_depth_rejected += o.fragments_depth_rejected;
     shadow_passes += o.shadow_passes;
     prepasses += o.prepasses;
+    depth_prepasses += o.depth_prepasses;
     ao_passes += o.ao_passes;
     milliseconds += o.milliseconds;
     ms_shadow += o.ms_shadow;
@@ -209,10 +218,9 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
 // ties keep scene order.
 void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                               FrameStats& stats) {
-    const auto start = std::chrono::steady_clock::now();
     // Queued, and rasterized together at the end: the scene (and so each
     // material's plugin, block and textures) outlives the pass.
-    auto draw_object = [&](const Object& o) {
+    auto draw_object = [&](const Object& o, bool prepass, FrameStats& counts) {
         const Material& m = *o.material;
         call.mesh = o.mesh.get();
         call.shader = m.plugin.get();
@@ -221,15 +229,34 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         call.texture_count = int(m.textures.size());
         call.model = o.transform.matrix();
         call.state = pipeline_state(m, scene.settings);
-        queue(call, target, stats);
+        if (scene.settings.depth_prepass && in_depth_prepass(call.state)) {
+            if (prepass) {
+                call.state.color_write = false;  // depth only: no shader runs
+            } else {
+                call.state.depth_compare = DepthCompare::equal;  // the nearest, once
+                call.state.depth_write = false;
+            }
+        } else if (prepass) {
+            return;
+        }
+        queue(call, target, counts);
     };
-    for (const Object* o : scratch_.opaque) draw_object(*o);
+    if (scene.settings.depth_prepass) {
+        const auto start = std::chrono::steady_clock::now();
+        FrameStats prepass;  // the main pass's statistics count the main pass only
+        for (const Object* o : scratch_.opaque) draw_object(*o, true, prepass);
+        flush(prepass);
+        stats.depth_prepasses += 1;
+        stats.ms_prepass += elapsed_ms(start);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    for (const Object* o : scratch_.opaque) draw_object(*o, false, stats);
     for (BlendedObject& b : scratch_.blended) b.depth = view_depth(*b.object, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
               [](const BlendedObject& a, const BlendedObject& b) {
                   return a.depth < b.depth || (a.depth == b.depth && a.order < b.order);
               });
-    for (const BlendedObject& b : scratch_.blended) draw_object(*b.object);
+    for (const BlendedObject& b : scratch_.blended) draw_object(*b.object, false, stats);
     flush(stats);
     stats.ms_main += elapsed_ms(start);
 }

@@ -51,10 +51,11 @@ struct FrameStats {
     // Passes run. Each runs only when a visible material needs it.
     uint64_t shadow_passes = 0;                // one per shadow-casting light
     uint64_t prepasses = 0;                    // depth-and-normal pre-pass, for AO
+    uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
     uint64_t ao_passes = 0;                    // SSAO and its blur
     double milliseconds = 0.0;                 // render() wall time
     double ms_shadow = 0.0;                    // ... spent in shadow passes
-    double ms_prepass = 0.0;
+    double ms_prepass = 0.0;                   // ... in both kinds of pre-pass
     double ms_ao = 0.0;
     double ms_main = 0.0;
     double ms_post = 0.0;                      // MSAA resolve
