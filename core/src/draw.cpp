@@ -108,12 +108,13 @@ void project_vertices(QueuedDraw& d, size_t first, size_t count, const Viewport&
 class Assembler {
 public:
     Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull)
-        : dc_(d.dc), g_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()) {}
+        : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()) {}
 
     void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
         for (size_t t = 0; t < triangles; ++t, idx += 3) {
             ++chunk.stats.triangles_in;
-            const WindowVertex* w[3] = {&g_.window[idx[0]], &g_.window[idx[1]], &g_.window[idx[2]]};
+            const WindowVertex* w[3] = {&draw_.window[idx[0]], &draw_.window[idx[1]],
+                                        &draw_.window[idx[2]]};
             const uint32_t any = w[0]->user | w[1]->user | w[2]->user;
             if (any & kInvalid) {
                 ++chunk.stats.triangles_invalid;
@@ -125,12 +126,12 @@ public:
             }
             const float* varyings[3];
             for (int i = 0; i < 3; ++i)
-                varyings[i] = g_.varyings.data() + size_t(idx[i]) * dc_.varying_floats;
+                varyings[i] = draw_.varyings.data() + size_t(idx[i]) * dc_.varying_floats;
             SetupResult r;
             if (const uint32_t planes = band_code(any)) {
-                const SetupVertex v[3] = {{glm::dvec4(g_.clip[idx[0]]), varyings[0]},
-                                          {glm::dvec4(g_.clip[idx[1]]), varyings[1]},
-                                          {glm::dvec4(g_.clip[idx[2]]), varyings[2]}};
+                const SetupVertex v[3] = {{glm::dvec4(draw_.clip[idx[0]]), varyings[0]},
+                                          {glm::dvec4(draw_.clip[idx[1]]), varyings[1]},
+                                          {glm::dvec4(draw_.clip[idx[2]]), varyings[2]}};
                 r = clipped(v, planes, chunk);
                 if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
             } else if (any & kNoWindow) {
@@ -188,7 +189,7 @@ private:
     }
 
     const DrawContext& dc_;
-    const QueuedDraw& g_;  // its vertices
+    const QueuedDraw& draw_;  // its vertices
     const Viewport& viewport_;
     const CullState& cull_;
     const double guard_;  // guard-band half-width, NDC
@@ -197,12 +198,12 @@ private:
 // Vertex stage: every vertex once, kVertexBatch per plugin call (batches in
 // parallel), with only the inputs the shader asks for.
 void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport& viewport,
-                    ThreadPool& pool, QueuedDraw& g) {
+                    ThreadPool& pool, QueuedDraw& d) {
     const size_t vcount = mesh.vertex_count();
     const uint32_t floats = shader.varying_floats();
-    g.clip.resize(vcount);
-    g.window.resize(vcount);
-    g.varyings.resize(vcount * floats + 1);
+    d.clip.resize(vcount);
+    d.window.resize(vcount);
+    d.varyings.resize(vcount * floats + 1);
     const int batches = int((vcount + kVertexBatch - 1) / kVertexBatch);
     pool.parallel_for(batches, [&](int b, int) {
         const size_t first = size_t(b) * kVertexBatch;
@@ -213,11 +214,11 @@ void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport
             input(shader, FACET_NEED_UVS, mesh.uvs, first),
             input(shader, FACET_NEED_COLORS, mesh.colors, first),
             nullptr,  // tangents: no shader may ask for them yet (plugin.cpp refuses it)
-            glm::value_ptr(g.clip[first]),
-            g.varyings.data() + first * floats,
+            glm::value_ptr(d.clip[first]),
+            d.varyings.data() + first * floats,
             floats};
-        shader.desc().vertex(&g.abi, &batch);
-        project_vertices(g, first, batch.count, viewport);
+        shader.desc().vertex(&d.abi, &batch);
+        project_vertices(d, first, batch.count, viewport);
     });
 }
 
