@@ -296,9 +296,9 @@ std::vector<uint8_t> facet_coverage(const Scene& scene, PluginRegistry& registry
     Renderer renderer;
     Framebuffer fb;
     renderer.render(white, fb);
-    std::vector<uint8_t> covered(size_t(fb.width()) * size_t(fb.height()));
-    for (size_t i = 0; i < covered.size(); ++i)
-        covered[i] = glm::vec3(fb.color()[i]) != glm::vec3(0.0f);
+    const std::vector<glm::vec4> px = fb.linear();
+    std::vector<uint8_t> covered(px.size());
+    for (size_t i = 0; i < covered.size(); ++i) covered[i] = glm::vec3(px[i]) != glm::vec3(0.0f);
     return covered;
 }
 

@@ -68,6 +68,7 @@ Scene pixel_scene() {
     s.camera.orthographic = true;
     s.camera.ortho_height = float(kHeight);
     s.camera.position = {0.0f, 0.0f, 5.0f};
+    s.settings.color_format = ColorFormat::rgba32f;  // as llvmpipe's rgba32f target
     return s;
 }
 
@@ -95,27 +96,26 @@ int covered(const std::vector<glm::vec4>& image) {
     return int(image.size()) - count(image, glm::vec3(0.0f));
 }
 
-std::vector<glm::vec4> pixels(const Framebuffer& fb) {
-    return {fb.color(), fb.color() + size_t(fb.width()) * size_t(fb.height())};
-}
+std::vector<glm::vec4> pixels(const Framebuffer& fb) { return fb.linear(); }
 
 // Pixels where one image is background (black) and the other is not.
-int coverage_differences(const Framebuffer& facet, const std::vector<glm::vec4>& llvmpipe) {
+int coverage_differences(const Framebuffer& fb, const std::vector<glm::vec4>& llvmpipe) {
+    const std::vector<glm::vec4> facet = fb.linear();
     int n = 0;
     for (size_t i = 0; i < llvmpipe.size(); ++i)
-        n += (glm::vec3(facet.color()[i]) != glm::vec3(0.0f)) !=
-             (glm::vec3(llvmpipe[i]) != glm::vec3(0.0f));
+        n += (glm::vec3(facet[i]) != glm::vec3(0.0f)) != (glm::vec3(llvmpipe[i]) != glm::vec3(0.0f));
     return n;
 }
 
 // The largest difference of a channel, over the pixels both cover.
-float max_difference(const Framebuffer& facet, const std::vector<glm::vec4>& llvmpipe) {
+float max_difference(const Framebuffer& fb, const std::vector<glm::vec4>& llvmpipe) {
+    const std::vector<glm::vec4> facet = fb.linear();
     float worst = 0.0f;
     for (size_t i = 0; i < llvmpipe.size(); ++i) {
-        const bool both = glm::vec3(facet.color()[i]) != glm::vec3(0.0f) &&
-                          glm::vec3(llvmpipe[i]) != glm::vec3(0.0f);
+        const bool both =
+            glm::vec3(facet[i]) != glm::vec3(0.0f) && glm::vec3(llvmpipe[i]) != glm::vec3(0.0f);
         if (!both) continue;
-        const glm::vec4 d = glm::abs(facet.color()[i] - llvmpipe[i]);
+        const glm::vec4 d = glm::abs(facet[i] - llvmpipe[i]);
         worst = std::max({worst, d.r, d.g, d.b, d.a});
     }
     return worst;
@@ -201,6 +201,7 @@ Scene lit_sphere_scene() {
     Scene s;
     s.settings.width = 160;
     s.settings.height = 90;
+    s.settings.color_format = ColorFormat::rgba32f;
     s.camera.position = {0.0f, 0.35f, 2.6f};
     Light sun;
     sun.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, -0.4f));

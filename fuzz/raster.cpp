@@ -303,9 +303,11 @@ FrameStats draw(Renderer& renderer, const Mesh& mesh, const Config& c, Framebuff
 // The colour of every sample point: sample s of pixel (x, y) is at
 // (y * width + x) * samples + s (with one sample, the pixels).
 std::vector<glm::vec4> read_samples(Framebuffer& fb) {
-    const size_t n = size_t(fb.width()) * size_t(fb.height()) * size_t(fb.samples());
-    const glm::vec4* first = fb.samples() == 1 ? fb.color() : fb.sample_color();
-    return {first, first + n};
+    std::vector<glm::vec4> out;
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x)
+            for (int s = 0; s < fb.samples(); ++s) out.push_back(fb.sample(x, y, s));
+    return out;
 }
 
 uint64_t outcomes(const FrameStats& s) {
@@ -431,7 +433,7 @@ void raster(const uint8_t* data, size_t size) {
     if (triangles.empty()) return;
 
     Renderer renderer(1);
-    Framebuffer fb(c.width, c.height, true, c.samples);
+    Framebuffer fb(c.width, c.height, ColorFormat::rgba32f, c.samples);
     std::vector<float> counts(size_t(c.width) * size_t(c.height) * size_t(c.samples), 0.0f);
     FrameStats sum;
     for (const Triangle& t : triangles) {

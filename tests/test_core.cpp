@@ -94,7 +94,7 @@ TEST_CASE("sRGB resolve matches the transfer function, and PNGs round-trip", "[f
 
     Framebuffer fb(5, 3);
     fb.clear({0.2f, 0.5f, 1.0f, 0.5f}, 0.0f);
-    fb.pixel(4, 2) = {1.0f, 0.0f, 0.0f, 1.0f};
+    fb.set_pixel(4, 2, {1.0f, 0.0f, 0.0f, 1.0f});
     const auto dir = temp_dir("png");
     fb.write_png(dir / "out.png");
     int w = 0, h = 0, n = 0;
@@ -125,7 +125,8 @@ TEST_CASE("triangles beyond the guard band are clipped to it, others are not",
         call.state.blend = BlendMode::additive;
         FrameStats stats;
         Renderer().draw(call, fb, stats);
-        for (int i = 0; i < W * H; ++i) REQUIRE(fb.color()[i].r == 1.0f);
+        const std::vector<glm::vec4> px = fb.linear();
+        for (int i = 0; i < W * H; ++i) REQUIRE(px[size_t(i)].r == 1.0f);
         return stats;
     };
     CHECK(draw(3.0f).triangles_clipped == 0);       // off screen, inside the guard band
@@ -167,7 +168,7 @@ TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
     const facet_varying_desc uv = {"uv", 2, FACET_INTERP_PERSPECTIVE};
     facet_shader_desc desc = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_shader_desc),
                               "probe", "test", 0, 0, nullptr, 0, nullptr, 0,
-                              probe_vertex, probe_fragment};
+                              probe_vertex, probe_fragment, nullptr, nullptr};
     Mesh mesh = make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {0, 1, 0.5f}}, {0, 1, 2},
                           std::vector<glm::vec4>(3, glm::vec4(1.0f)));
     mesh.normals.assign(3, {0, 0, 1});

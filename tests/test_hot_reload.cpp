@@ -44,7 +44,7 @@ struct Fixture {
     ~Fixture() { fs::remove_all(dir); }
 
     static std::string scene_text(const std::string& material) {
-        return "render: {size: [16, 16]}\nplugin_paths: [plugins]\n"
+        return "render: {size: [16, 16], color_format: rgba32f}\nplugin_paths: [plugins]\n"
                "objects:\n  - {mesh: quad.obj, material: " + material + "}\n";
     }
 };

@@ -23,7 +23,7 @@ constexpr int W = 64, H = 48;
 // to black and far depth (reversed-Z).
 Framebuffer draw_msaa(const Mesh& mesh, const ShaderPlugin& shader, int samples,
                       BlendMode blend = BlendMode::opaque, bool wireframe = false) {
-    Framebuffer fb(W, H, true, samples);
+    Framebuffer fb(W, H, ColorFormat::rgba32f, samples);
     fb.clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), 0.0f);
     DrawCall call = clip_space_call(mesh, shader);  // no culling, no depth test
     call.state.blend = blend;
@@ -58,7 +58,7 @@ TEST_CASE("MSAA: shared edges cover every sample exactly once", "[msaa][watertig
             for (int y = 0; y < H; ++y)
                 for (int x = 0; x < W; ++x)
                     for (int s = 0; s < n; ++s) {
-                        const float count = fb.sample_color()[(size_t(y) * W + x) * n + s].r;
+                        const float count = fb.sample(x, y, s).r;
                         REQUIRE(count <= 1.0f);
                         const glm::dvec2 ndc = to_ndc(sample_position(x, y, n, s));
                         if (glm::length(ndc - glm::dvec2(centre)) < inner) REQUIRE(count == 1.0f);
@@ -109,7 +109,7 @@ TEST_CASE("MSAA: depth is tested per sample on the exact depth plane", "[msaa][d
     const Mesh red = plane(depth_a, {1, 0, 0, 1}), green = plane(depth_b, {0, 1, 0, 1});
     static auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
     for (int n : {4, 8}) {
-        Framebuffer fb(W, H, true, n);
+        Framebuffer fb(W, H, ColorFormat::rgba32f, n);
         fb.clear(glm::vec4(0.0f), 0.0f);
         FrameStats stats;
         Renderer renderer(1);
@@ -125,10 +125,10 @@ TEST_CASE("MSAA: depth is tested per sample on the exact depth plane", "[msaa][d
                 for (int s = 0; s < n; ++s) {
                     const glm::dvec2 p = sample_position(x, y, n, s);
                     const double za = depth_a(p), zb = depth_b(p);
-                    const size_t at = (size_t(y) * W + x) * n + s;
-                    max_error = std::max(max_error, std::abs(fb.sample_depth()[at] - std::max(za, zb)));
+                    max_error = std::max(max_error,
+                                         std::abs(fb.sample_depth_at(x, y, s) - std::max(za, zb)));
                     if (std::abs(za - zb) < 1e-5) continue;  // too close to call in float
-                    REQUIRE(fb.sample_color()[at].r == (za > zb ? 1.0f : 0.0f));
+                    REQUIRE(fb.sample(x, y, s).r == (za > zb ? 1.0f : 0.0f));
                     ++checked;
                 }
         INFO("max per-sample depth error " << max_error);

@@ -36,9 +36,9 @@ using namespace facet;
 namespace {
 
 bool same_bits(const Framebuffer& a, const Framebuffer& b) {
-    const size_t n = size_t(a.width()) * a.height();
-    return a.width() == b.width() && a.height() == b.height() &&
-           std::memcmp(a.color(), b.color(), n * sizeof(glm::vec4)) == 0 &&
+    const size_t n = size_t(a.stride()) * size_t(a.rows());
+    return a.width() == b.width() && a.height() == b.height() && a.format() == b.format() &&
+           std::memcmp(a.color_data(), b.color_data(), n * size_t(bytes_per_pixel(a.format()))) == 0 &&
            std::memcmp(a.depth(), b.depth(), n * sizeof(float)) == 0;
 }
 

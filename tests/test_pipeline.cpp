@@ -41,7 +41,8 @@ std::vector<int> coverage(const Mesh& mesh, const glm::mat4& view, const glm::ma
     const Framebuffer fb =
         draw_fresh(mesh, *shader, proj, glm::vec4(0.0f), stats, view, BlendMode::additive);
     std::vector<int> counts(W * H);
-    for (int i = 0; i < W * H; ++i) counts[i] = int(fb.color()[i].r);
+    const std::vector<glm::vec4> px = fb.linear();
+    for (int i = 0; i < W * H; ++i) counts[i] = int(px[size_t(i)].r);
     return counts;
 }
 
@@ -205,8 +206,9 @@ TEST_CASE("perspective-correct interpolation matches a double-precision referenc
     const glm::dmat4 inv = glm::inverse(glm::dmat4(proj));
     double max_err = 0, max_affine_err = 0;
     int checked = 0;
+    const std::vector<glm::vec4> persp_px = persp.linear(), affine_px = affine.linear();
     for (int i = 0; i < W * H; ++i) {
-        const glm::vec4 c = persp.color()[i];
+        const glm::vec4 c = persp_px[size_t(i)];
         if (c.a < 0) continue;  // not covered
         const glm::dvec2 ndc(pixel_centre(i).x / W * 2 - 1, 1 - pixel_centre(i).y / H * 2);
         const glm::dvec4 far = inv * glm::dvec4(ndc, 0.0, 1.0);
@@ -217,7 +219,7 @@ TEST_CASE("perspective-correct interpolation matches a double-precision referenc
         const double u = (hit.x + 1) / 2, v = (hit.y + 1) / 2;
         if (u < 0.01 || u > 0.99 || v < 0.01 || v > 0.99) continue;  // edge pixels
         max_err = std::max({max_err, std::abs(c.r - u), std::abs(c.g - v)});
-        max_affine_err = std::max(max_affine_err, std::abs(double(affine.color()[i].g) - v));
+        max_affine_err = std::max(max_affine_err, std::abs(double(affine_px[size_t(i)].g) - v));
         ++checked;
     }
     CHECK(checked > 500);
@@ -364,7 +366,7 @@ TEST_CASE("NaN and Inf in matrices drop the draw's triangles and count them",
         CHECK(stats.triangles_in == 12);
         CHECK(stats.triangles_invalid + stats.triangles_culled_frustum == 12);
         CHECK(stats.triangles_rasterized == 0);
-        for (int i = 0; i < W * H; ++i) REQUIRE(fb.color()[i].r == 0.0f);
+        for (const glm::vec4& c : fb.linear()) REQUIRE(c.r == 0.0f);
     }
 }
 
@@ -393,12 +395,13 @@ TEST_CASE("screen-linear varyings stay screen-linear through near-plane clipping
     const double area = cross(win[0], win[1], win[2]);
     double max_err = 0;
     int checked = 0;
+    const std::vector<glm::vec4> px = fb.linear();
     for (int i = 0; i < W * H; ++i) {
-        if (fb.color()[i].a < 0) continue;
+        const glm::vec4 c = px[size_t(i)];
+        if (c.a < 0) continue;
         const glm::dvec2 p = pixel_centre(i);
         const double l1 = cross(win[2], win[0], p) / area, l2 = cross(win[0], win[1], p) / area;
-        max_err = std::max({max_err, std::abs(fb.color()[i].r - l1),
-                            std::abs(fb.color()[i].g - l2)});
+        max_err = std::max({max_err, std::abs(c.r - l1), std::abs(c.g - l2)});
         ++checked;
     }
     CHECK(checked > 200);
@@ -419,5 +422,5 @@ TEST_CASE("a vertex at the clip-space origin drops its triangle cleanly", "[pipe
     CHECK(stats.triangles_in == 2);
     CHECK(stats.triangles_rasterized == 1);  // the other triangle is unaffected
     CHECK(stats.triangles_culled_degenerate == 1);
-    for (int i = 0; i < W * H; ++i) REQUIRE(fb.color()[i].r <= 1.0f);
+    for (const glm::vec4& c : fb.linear()) REQUIRE(c.r <= 1.0f);
 }

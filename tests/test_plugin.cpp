@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstring>
+
 #include <cstddef>
 #include <fstream>
 
@@ -47,12 +49,14 @@ TEST_CASE("the ABI header compiles as C with the same layout", "[abi]") {
     CHECK(facet_c_sizeof_draw() == sizeof(facet_draw));
     CHECK(facet_c_sizeof_param_desc() == sizeof(facet_param_desc));
     CHECK(facet_c_sizeof_light() == sizeof(facet_light));
-    CHECK(facet_c_desc_v1_0_size() == sizeof(facet_shader_desc));  // v1.0 is all there is
+    // v1.2 appended the per-path fragment functions to the v1.0 descriptor.
+    CHECK(facet_c_desc_v1_0_size() + 2 * sizeof(facet_fragment_fn) == sizeof(facet_shader_desc));
     const size_t cpp[] = {
         offsetof(facet_shader_desc, struct_size), offsetof(facet_shader_desc, name),
         offsetof(facet_shader_desc, needs),       offsetof(facet_shader_desc, varyings),
         offsetof(facet_shader_desc, params),      offsetof(facet_shader_desc, params_size),
         offsetof(facet_shader_desc, vertex),      offsetof(facet_shader_desc, fragment),
+        offsetof(facet_shader_desc, fragment_avx2), offsetof(facet_shader_desc, fragment_avx512),
         offsetof(facet_draw, params),             offsetof(facet_draw, model_view_projection),
         offsetof(facet_draw, lights),             offsetof(facet_draw, time),
         offsetof(facet_vertex_batch, clip_position), offsetof(facet_vertex_batch, varying_floats),
@@ -168,7 +172,10 @@ TEST_CASE("the default scene renders through the unlit plugin .so", "[plugin][sc
     CHECK(stats.triangles_rasterized > 1000);
     // The cow is there: many pixels differ from the clear colour.
     int drawn = 0;
+    const std::vector<uint8_t> px = fb.resolve_srgb8();
+    uint8_t clear[4];
+    encode_pixel(ColorFormat::srgb8, scene.settings.clear_color, clear);
     for (int i = 0; i < fb.width() * fb.height(); ++i)
-        drawn += fb.color()[i] != scene.settings.clear_color;
+        drawn += std::memcmp(&px[4 * size_t(i)], clear, 4) != 0;
     CHECK(drawn > fb.width() * fb.height() / 20);
 }

@@ -5,10 +5,15 @@
 // edge is exactly horizontal and above the other edges; a left edge is not
 // horizontal and on the left side of the triangle"), independently of
 // setup.cpp's edge-normal form.
-#include "rasterize.hpp"
+//
+// Every triangle is rasterized by the kernels of every instruction-set path
+// this CPU has, each with 32-bit lanes where the triangle allows them and
+// with 64-bit lanes always, and all of them must agree (cover() below).
+#include "kernels.hpp"
 #include "setup.hpp"
 
 #include <facet/framebuffer.hpp>
+#include <facet/isa.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -59,6 +64,33 @@ glm::dvec4 clip_of(P p) {
 
 using PixelSet = std::set<std::pair<int, int>>;
 
+// The blocks of t's coverage, the same from every path and lane width.
+std::vector<Block> cover(const TriangleSetup& t, int samples) {
+    std::vector<Block> first;
+    bool have_first = false;
+    for (Isa isa : supported_isas())
+        for (EdgeWidth width : {EdgeWidth::automatic, EdgeWidth::wide}) {
+            std::vector<Block> blocks;
+            kernels(isa).cover(t, 0, 0, 1 << 20, 1 << 20, samples, width, blocks);
+            if (!have_first) {
+                first = std::move(blocks);
+                have_first = true;
+                continue;
+            }
+            INFO("path " << isa_name(isa) << (width == EdgeWidth::wide ? ", 64-bit lanes" : ""));
+            REQUIRE(blocks.size() == first.size());
+            for (size_t i = 0; i < blocks.size(); ++i) {
+                REQUIRE(blocks[i].x == first[i].x);
+                REQUIRE(blocks[i].y == first[i].y);
+                REQUIRE(blocks[i].mask == first[i].mask);
+                for (int lane = 0; lane < FACET_BLOCK_LANES; ++lane)
+                    if (samples > 1 && (blocks[i].mask >> lane & 1))
+                        REQUIRE(blocks[i].samples[lane] == first[i].samples[lane]);
+            }
+        }
+    return first;
+}
+
 PixelSet raster(const P v[3], bool* drawn = nullptr, int subpixel_bits = 8) {
     const float none = 0.0f;
     const SetupVertex sv[3] = {{clip_of(v[0]), &none}, {clip_of(v[1]), &none},
@@ -71,10 +103,9 @@ PixelSet raster(const P v[3], bool* drawn = nullptr, int subpixel_bits = 8) {
                     SetupResult::ok;
     if (drawn) *drawn = ok;
     if (!ok) return out;
-    rasterize(t, [&](const Block& b) {
+    for (const Block& b : cover(t, 1))
         for (int i = 0; i < FACET_BLOCK_LANES; ++i)
             if (b.mask & (1u << i)) out.insert({b.x + i % 4, b.y + i / 4});
-    });
     return out;
 }
 
@@ -110,13 +141,12 @@ SampleSet raster_samples(const P v[3], int n) {
     if (setup_triangle(sv, Viewport{kSize, kSize, n}, CullState{false, false, true}, t) !=
         SetupResult::ok)
         return out;
-    rasterize(t, n, [&](const Block& b) {
+    for (const Block& b : cover(t, n))
         for (int i = 0; i < FACET_BLOCK_LANES; ++i) {
             if (!(b.mask & (1u << i))) continue;
             for (int s = 0; s < n; ++s)
                 if (b.samples[i] & (1u << s)) out.insert({b.x + i % 4, b.y + i / 4, s});
         }
-    });
     return out;
 }
 
@@ -245,19 +275,23 @@ TEST_CASE("barycentric weights reproduce pixel centres", "[raster]") {
             SetupResult::ok);
     // Weights are for setup's (possibly reordered) vertices, whose positions
     // the edge functions hold.
-    rasterize(t, [&](const Block& b) {
-        for (int i = 0; i < FACET_BLOCK_LANES; ++i) {
-            double x = 0, y = 0, sum = 0;
-            for (int k = 0; k < 3; ++k) {
-                x += b.bary[k][i] * double(t.edge[k].x0) / 256.0;
-                y += b.bary[k][i] * double(t.edge[k].y0) / 256.0;
-                sum += b.bary[k][i];
+    for (Isa isa : supported_isas()) {
+        INFO("path " << isa_name(isa));
+        std::vector<Block> blocks;
+        kernels(isa).cover(t, 0, 0, kSize, kSize, 1, EdgeWidth::automatic, blocks);
+        for (const Block& b : blocks)
+            for (int i = 0; i < FACET_BLOCK_LANES; ++i) {
+                double x = 0, y = 0, sum = 0;
+                for (int k = 0; k < 3; ++k) {
+                    x += b.bary[k][i] * double(t.edge[k].x0) / 256.0;
+                    y += b.bary[k][i] * double(t.edge[k].y0) / 256.0;
+                    sum += b.bary[k][i];
+                }
+                CHECK(sum == Approx(1.0).margin(1e-5));
+                CHECK(x == Approx(b.x + i % 4 + 0.5).margin(1e-3));
+                CHECK(y == Approx(b.y + i / 4 + 0.5).margin(1e-3));
             }
-            CHECK(sum == Approx(1.0).margin(1e-5));
-            CHECK(x == Approx(b.x + i % 4 + 0.5).margin(1e-3));
-            CHECK(y == Approx(b.y + i / 4 + 0.5).margin(1e-3));
-        }
-    });
+    }
 }
 
 TEST_CASE("MSAA: every sample's coverage matches the oracle at the standard positions",

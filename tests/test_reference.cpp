@@ -81,7 +81,7 @@ TEST_CASE("reference: a pixel's value is the triangle's exact area in it", "[ref
     test::write(sd.dir / "tri.obj", "v -0.9 -0.4 0\nv 0.8 -0.7 0.3\nv 0.1 0.9 -0.2\nf 1 2 3\n");
     const Scene scene = sd.load(
         "camera: {position: [0.2, 0.3, 3], target: [0, 0, 0], fov_y: 40}\n"
-        "render: {size: [48, 36], cull: none}\n"
+        "render: {color_format: rgba32f, size: [48, 36], cull: none}\n"
         "objects:\n  - {mesh: tri.obj, material: " + std::string(kUnlitWhite) + "}\n");
     const std::vector<glm::dvec4> image = reference::render(scene);
 
@@ -115,8 +115,8 @@ TEST_CASE("reference: a perspective texture ramp matches ray-plane intersection"
     // Black and white texels: with clamping and bilinear filtering the
     // texture is clamp(2u - 0.5, 0, 1) in linear light.
     Framebuffer ramp(2, 1);
-    ramp.pixel(0, 0) = {0, 0, 0, 1};
-    ramp.pixel(1, 0) = {1, 1, 1, 1};
+    ramp.set_pixel(0, 0, {0, 0, 0, 1});
+    ramp.set_pixel(1, 0, {1, 1, 1, 1});
     ramp.write_png(sd.dir / "ramp.png");
     // A floor quad from z = -3 to z = 1 with u = (z + 3) / 4: u varies with
     // depth, where perspective matters.
@@ -126,7 +126,7 @@ TEST_CASE("reference: a perspective texture ramp matches ray-plane intersection"
                 "f 1/1 3/2 2/1\nf 1/1 4/2 3/2\n");
     const Scene scene = sd.load(
         "camera: {position: [0.3, 1.2, 2.5], target: [0, 0, -1], fov_y: 50}\n"
-        "render: {size: [40, 30], cull: none}\n"
+        "render: {color_format: rgba32f, size: [40, 30], cull: none}\n"
         "objects:\n  - {mesh: floor.obj, material: {shader: unlit, params: {base_texture: "
         "{file: ramp.png, filter: bilinear, wrap: clamp}}}}\n");
     reference::RenderOptions options;
@@ -162,7 +162,7 @@ TEST_CASE("reference: hard shadows and open-sky AO come out exactly", "[referenc
     fs::copy_file(fs::path(FACET_SOURCE_DIR) / "plugins/template/cube.obj", sd.dir / "cube.obj");
     const std::string camera =
         "camera: {position: [3, 3.5, 4.5], target: [0, 0.2, 0], fov_y: 45}\n"
-        "render: {size: [48, 36]}\n";
+        "render: {color_format: rgba32f, size: [48, 36]}\n";
 
     SECTION("a directional light blocked by a cube: the ground is n.l or 0") {
         const Scene scene = sd.load(
@@ -231,7 +231,7 @@ TEST_CASE("facet converges to the reference: more MSAA samples, less error", "[r
     auto scene_with = [&](int msaa) {
         return sd.load(
             "camera: {position: [2.2, 1.6, 3.1], target: [0, 0, 0], fov_y: 40}\n"
-            "render: {size: [64, 48], msaa: " + std::to_string(msaa) + "}\n"
+            "render: {color_format: rgba32f, size: [64, 48], msaa: " + std::to_string(msaa) + "}\n"
             "lights: [{type: directional, direction: [-0.4, -1, -0.6], intensity: 1}]\n"
             "objects:\n  - {mesh: cube.obj, rotation: [10, 25, 0], material: {shader: lit}}\n");
     };

@@ -45,7 +45,7 @@ const char* kAoOnly =
 std::string camera(int w, int h) {
     return "camera: {position: [3, 3.5, 4.5], target: [0, 0.2, 0], fov_y: 45}\n"
            "render: {size: [" + std::to_string(w) + ", " + std::to_string(h) +
-           "], shadow_map_size: 1024}\n";
+           "], shadow_map_size: 1024, color_format: rgba32f}\n";
 }
 
 
@@ -121,11 +121,12 @@ TEST_CASE("a plane facing the light shows no acne, at any angle and kernel", "[s
             Renderer().render(scene, fb);
             const float expected = float(std::cos(a));  // n.l, fully lit
             int checked = 0;
-            for (int i = 0; i < fb.width() * fb.height(); ++i) {
-                if (fb.depth()[i] == 0.0f) continue;  // sky
-                REQUIRE(fb.color()[i].r == Approx(expected).epsilon(1e-4));
-                ++checked;
-            }
+            for (int y = 0; y < fb.height(); ++y)
+                for (int x = 0; x < fb.width(); ++x) {
+                    if (fb.depth_at(x, y) == 0.0f) continue;  // sky
+                    REQUIRE(fb.pixel(x, y).r == Approx(expected).epsilon(1e-4));
+                    ++checked;
+                }
             CHECK(checked > 3000);
         }
 }
@@ -140,12 +141,13 @@ TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
     CHECK(stats.ao_passes == 1);
     double sum = 0, low = 1;
     int n = 0;
-    for (int i = 0; i < fb.width() * fb.height(); ++i) {
-        if (fb.depth()[i] == 0.0f) continue;
-        sum += fb.color()[i].r;
-        low = std::min(low, double(fb.color()[i].r));
-        ++n;
-    }
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            if (fb.depth_at(x, y) == 0.0f) continue;
+            sum += fb.pixel(x, y).r;
+            low = std::min(low, double(fb.pixel(x, y).r));
+            ++n;
+        }
     CHECK(n > 5000);
     CHECK(sum / n > 0.995);
     CHECK(low > 0.95);
@@ -159,7 +161,7 @@ TEST_CASE("ambient occlusion: the inside corner of a box is darker than its face
     const std::string wall = std::string(", material: ") + kAoOnly + "}\n";
     const Scene scene = sd.load(
         "camera: {position: [2.6, 1.9, 2.6], target: [0, 0.4, 0], fov_y: 50}\n"
-        "render: {size: [192, 144]}\nobjects:\n"
+        "render: {size: [192, 144], color_format: rgba32f}\nobjects:\n"
         "  - {mesh: ground.obj" + wall +
         "  - {mesh: cube.obj, position: [-0.05, 1.5, 1.5], scale: [0.1, 3, 3]" + wall +
         "  - {mesh: cube.obj, position: [1.5, 1.5, -0.05], scale: [3, 3, 0.1]" + wall);

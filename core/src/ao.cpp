@@ -66,7 +66,8 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
                  const AoSettings& settings, Renderer& renderer, ThreadPool& pool,
                  FrameStats& stats) {
     auto start = std::chrono::steady_clock::now();
-    if (prepass_.width() != width || prepass_.height() != height) prepass_.resize(width, height);
+    if (prepass_.width() != width || prepass_.height() != height)
+        prepass_.resize(width, height, ColorFormat::rgba32f);
     renderer.clear(prepass_, glm::vec4(0.0f), reversed_z ? 0.0f : 1.0f);
     DrawCall call;
     call.shader = &internal::plugin<internal::ViewNormals>();

@@ -1,13 +1,13 @@
 // Geometry for queued draws: vertex stage, primitive assembly, clipping and
 // setup (in parallel chunks), then, for all queued draws together, binning
-// into tiles (bin.cpp) and the tiles rasterized and shaded in parallel
-// (rasterize.hpp, fragment.cpp). Triangles go through in batches of at most
-// kTriangleBatch, which bounds memory however large the mesh.
+// into tiles (bin.cpp) and the tiles rasterized and shaded in parallel by
+// the renderer's kernels (kernels.hpp: rasterize.cpp, fragment.cpp).
+// Triangles go through in batches of at most kTriangleBatch, which bounds
+// memory however large the mesh.
 #include "bin.hpp"
 #include "clip.hpp"
-#include "fragment.hpp"
+#include "draw_context.hpp"
 #include "geometry.hpp"
-#include "rasterize.hpp"
 #include "setup.hpp"
 
 #include "facet/error.hpp"
@@ -34,8 +34,6 @@ constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;
 // triangle becomes at most kMaxClipVertices - 2 setups).
 static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
 static_assert(kMaxChunks < (1 << 16));
-
-void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_ptr(m), 64); }
 
 template <class T>
 const float* input(const ShaderPlugin& shader, facet_need need, const std::vector<T>& data,
@@ -222,20 +220,6 @@ void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport
     });
 }
 
-// Rasterizes and shades one tile's triangles, in submission order.
-void draw_tile(Geometry& g, int tile, int worker) {
-    int x0, y0, x1, y1;
-    g.bins.rect(tile, x0, y0, x1, y1);
-    FrameStats& stats = g.worker_stats[size_t(worker)];
-    const int samples = g.target->samples();
-    for (const uint32_t entry : g.bins.entries(tile)) {
-        const SetupChunk& chunk = g.chunks[entry >> 16];
-        const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
-        const TriangleSetup& t = chunk.setups[entry & 0xFFFFu];
-        rasterize(t, x0, y0, x1, y1, samples, [&](const Block& b) { shade_block(dc, t, b, stats); });
-    }
-}
-
 // Bins every queued triangle and rasterizes the tiles in parallel, adding
 // the triangle and fragment counts to `stats`. The queued draws stay (a
 // draw may have more triangles to come).
@@ -245,7 +229,9 @@ void rasterize_queued(Geometry& g, FrameStats& stats) {
     for (FrameStats& w : g.worker_stats) w = {};
     g.bins.bin(g.chunks, g.chunks_used);
     const std::vector<int>& busy = g.bins.busy();
-    g.pool.parallel_for(int(busy.size()), [&](int i, int worker) { draw_tile(g, busy[size_t(i)], worker); });
+    g.pool.parallel_for(int(busy.size()), [&](int i, int worker) {
+        g.kernels->draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)]);
+    });
     g.bins.clear();
     for (int c = 0; c < g.chunks_used; ++c) stats += g.chunks[size_t(c)].stats;
     for (const FrameStats& w : g.worker_stats) stats += w;
@@ -254,36 +240,6 @@ void rasterize_queued(Geometry& g, FrameStats& stats) {
 }
 
 }  // namespace
-
-facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc) {
-    facet_draw d{};
-    static const ParamBlock kNoParams{};
-    d.host = host_services();
-    d.params = call.params ? call.params : kNoParams.bytes;  // never NULL
-    d.host_data = &dc;
-    copy_matrix(d.model, call.model);
-    copy_matrix(d.view, call.view);
-    copy_matrix(d.projection, call.projection);
-    copy_matrix(d.view_projection, call.projection * call.view);
-    copy_matrix(d.model_view_projection, call.projection * call.view * call.model);
-    copy_matrix(d.normal_matrix, glm::mat4(normal_matrix(call.model)));
-    d.camera_position[0] = call.camera_position.x;
-    d.camera_position[1] = call.camera_position.y;
-    d.camera_position[2] = call.camera_position.z;
-    d.camera_position[3] = 1.0f;
-    if (call.shader->needs(FACET_NEED_LIGHTS)) {
-        d.light_count = call.light_count;
-        d.lights = call.lights;
-    }
-    if (call.shader->needs(FACET_NEED_SHADOW_MAP)) {
-        d.shadow_map_count = call.shadow_map_count;
-        d.shadow_maps = call.shadow_maps;
-    }
-    d.viewport_width = uint32_t(width);
-    d.viewport_height = uint32_t(height);
-    d.time = call.time;
-    return d;
-}
 
 void Renderer::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
     queue(call, target, stats);
@@ -306,7 +262,7 @@ void Renderer::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     ++stats.draws;
 
     d.dc = {};
-    prepare_context(d.dc, shader, call.textures, call.texture_count);
+    prepare_context(d.dc, shader, g.kernels->isa, call.textures, call.texture_count);
     d.dc.state = call.state;
     d.dc.target = &target;
     d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;

@@ -1,19 +1,22 @@
 #include "fragment.hpp"
 
+#include "pixels.hpp"
 #include "simd.hpp"
-
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
 
-namespace facet {
+namespace facet::FACET_KERNEL_NS {
 
 namespace {
 
 constexpr int N = FACET_BLOCK_LANES;
+
+using simd::Float;
+using simd::kParts;
+using simd::kWidth;
 
 bool depth_passes(DepthCompare compare, float z, float stored) {
     switch (compare) {
@@ -28,17 +31,8 @@ bool depth_passes(DepthCompare compare, float z, float stored) {
     return false;
 }
 
-using simd::f32x16;
-
-f32x16 interpolate_depth(const TriangleSetup& t, const Block& b) {
-    const f32x16 z = t.z[0] + simd::load<f32x16>(b.bary[1]) * (t.z[1] - t.z[0]) +
-                     simd::load<f32x16>(b.bary[2]) * (t.z[2] - t.z[0]);
-    const f32x16 zero = {}, one = zero + 1.0f;
-    return z < zero ? zero : z > one ? one : z;  // clamps like std::clamp: NaN stays NaN
-}
-
 // Lanes where z passes the depth test against `stored`.
-uint32_t depth_passes(DepthCompare compare, const f32x16& z, const f32x16& stored) {
+uint32_t depth_passes(DepthCompare compare, const Float& z, const Float& stored) {
     switch (compare) {
         case DepthCompare::never: return 0;
         case DepthCompare::less: return simd::bits(z < stored);
@@ -46,55 +40,84 @@ uint32_t depth_passes(DepthCompare compare, const f32x16& z, const f32x16& store
         case DepthCompare::greater: return simd::bits(z > stored);
         case DepthCompare::greater_equal: return simd::bits(z >= stored);
         case DepthCompare::equal: return simd::bits(z == stored);
-        case DepthCompare::always: return 0xFFFFu;
+        case DepthCompare::always: return simd::kPartMask;
     }
     return 0;
 }
 
-uint32_t depth_test(const DrawContext& dc, const Block& b, const f32x16& z, uint32_t mask) {
-    if (dc.state.depth_compare == DepthCompare::always) return mask;
-    const int width = dc.target->width(), height = dc.target->height();
-    const float* depth = dc.target->depth() + size_t(b.y) * width + b.x;
-    if (b.x + 4 <= width && b.y + 4 <= height)
-        return mask & depth_passes(dc.state.depth_compare, z, simd::load_block(depth, width));
-    for (uint32_t m = mask; m; m &= m - 1) {  // a block over the target's edge
-        const int i = std::countr_zero(m);
-        if (!depth_passes(dc.state.depth_compare, z[i], depth[size_t(i / 4) * width + i % 4]))
-            mask &= ~(1u << i);
+// Window depth of part p, from the exact weights, clamped like std::clamp
+// (NaN stays NaN).
+Float interpolate_depth(const TriangleSetup& t, const Block& b, int p) {
+    const Float z = t.z[0] + simd::load<Float>(b.bary[1] + p * kWidth) * (t.z[1] - t.z[0]) +
+                    simd::load<Float>(b.bary[2] + p * kWidth) * (t.z[2] - t.z[0]);
+    return z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
+}
+
+size_t pixel_index(const Framebuffer& fb, int x, int y) {
+    return size_t(y) * size_t(fb.stride()) + size_t(x);
+}
+
+// The early depth test, part by part; `z` gets each part's depth. The
+// framebuffer is padded to whole blocks, so a block never reads or writes
+// past its storage.
+uint32_t depth_test(const DrawContext& dc, const TriangleSetup& t, const Block& b, Float* z) {
+    const Framebuffer& fb = *dc.target;
+    const float* depth = fb.depth() + pixel_index(fb, b.x, b.y);
+    uint32_t mask = 0;
+    for (int p = 0; p < kParts; ++p) {
+        const uint32_t lanes = simd::part_mask(b.mask, p);
+        if (!lanes) continue;
+        z[p] = interpolate_depth(t, b, p);
+        const uint32_t pass = dc.state.depth_compare == DepthCompare::always
+                                  ? lanes
+                                  : lanes & depth_passes(dc.state.depth_compare, z[p],
+                                                         simd::load_part(depth, fb.stride(), p));
+        mask |= pass << (p * kWidth);
     }
     return mask;
 }
 
-// Perspective-correct weights: bary_k * (1/w_k), normalised per lane.
-void perspective_weights(const TriangleSetup& t, const Block& b, float (*pw)[N]) {
-    const f32x16 a = simd::load<f32x16>(b.bary[0]) * t.inv_w[0];
-    const f32x16 c = simd::load<f32x16>(b.bary[1]) * t.inv_w[1];
-    const f32x16 d = simd::load<f32x16>(b.bary[2]) * t.inv_w[2];
-    const f32x16 w = 1.0f / (a + c + d);
-    simd::store(pw[0], a * w);
-    simd::store(pw[1], c * w);
-    simd::store(pw[2], d * w);
+// The lanes the shader gets values for: each half of the block (two rows,
+// whole 2x2 quads) with a lane in `mask`, or all of it when the shader takes
+// derivatives (every lane interpolated, as the ABI promises).
+uint32_t interpolated_lanes(const DrawContext& dc, uint32_t mask) {
+    if (dc.shader->needs(FACET_NEED_DERIVATIVES)) return 0xFFFFu;
+    return (mask & 0x00FFu ? 0x00FFu : 0u) | (mask & 0xFF00u ? 0xFF00u : 0u);
 }
 
 void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const Block& b,
-                          float* out) {
-    alignas(64) float pw[3][N];
-    perspective_weights(t, b, pw);
-    for (uint32_t k = 0; k < dc.varying_floats; ++k) {
-        const float v0 = t.varyings[0][k], v1 = t.varyings[1][k], v2 = t.varyings[2][k];
-        if (dc.interpolation[k] == FACET_INTERP_FLAT) {
-            simd::store(out + k * N, f32x16{} + v0);  // vertex 0 is the first vertex
+                          uint32_t lanes, float* out) {
+    for (int p = 0; p < kParts; ++p) {
+        const int first = p * kWidth;
+        if (!simd::part_mask(lanes, p)) {  // values no shader call reads: zeros, not garbage
+            for (uint32_t k = 0; k < dc.varying_floats; ++k)
+                simd::store(out + k * N + first, Float{});
             continue;
         }
-        const float(*w)[N] = dc.interpolation[k] == FACET_INTERP_PERSPECTIVE ? pw : b.bary;
-        // Relative to v0: exact for constant attributes, better conditioned.
-        simd::store(out + k * N, v0 + simd::load<f32x16>(w[1]) * (v1 - v0) +
-                                     simd::load<f32x16>(w[2]) * (v2 - v0));
+        // Perspective-correct weights: bary_k * (1/w_k), normalised per lane.
+        const Float l1 = simd::load<Float>(b.bary[1] + first);
+        const Float l2 = simd::load<Float>(b.bary[2] + first);
+        const Float a = simd::load<Float>(b.bary[0] + first) * t.inv_w[0];
+        const Float c = l1 * t.inv_w[1], d = l2 * t.inv_w[2];
+        const Float w = 1.0f / (a + c + d);
+        const Float p1 = c * w, p2 = d * w;
+        for (uint32_t k = 0; k < dc.varying_floats; ++k) {
+            const float v0 = t.varyings[0][k], v1 = t.varyings[1][k], v2 = t.varyings[2][k];
+            Float v;
+            switch (dc.interpolation[k]) {
+                case FACET_INTERP_FLAT: v = simd::splat(v0); break;  // vertex 0 is the first
+                case FACET_INTERP_LINEAR: v = v0 + l1 * (v1 - v0) + l2 * (v2 - v0); break;
+                default: v = v0 + p1 * (v1 - v0) + p2 * (v2 - v0); break;
+            }
+            // Relative to v0: exact for constant attributes, better conditioned.
+            simd::store(out + k * N + first, v);
+        }
     }
 }
 
-// Texels of every texture slot the shader declares; unbound slots are white.
-void sample_textures(const DrawContext& dc, const float* varyings, float* texels) {
+// Texels of every texture slot the shader declares, at the lanes of `mask`
+// (others read 0); unbound slots are white.
+void sample_textures(const DrawContext& dc, const float* varyings, uint32_t mask, float* texels) {
     for (int s = 0; s < dc.shader->texture_count(); ++s) {
         float* out = texels + s * 4 * N;
         if (s >= dc.texture_count || !dc.textures[s].texture) {
@@ -102,7 +125,7 @@ void sample_textures(const DrawContext& dc, const float* varyings, float* texels
             continue;
         }
         const float* u = varyings + dc.shader->texture_uv_float(s) * N;
-        sample_block(dc.textures[s], u, u + N, out);
+        sample_block(dc.textures[s], u, u + N, mask, out);
     }
 }
 
@@ -111,6 +134,21 @@ void sample_textures(const DrawContext& dc, const float* varyings, float* texels
 // Alpha:   alpha    = a + dst.a * (1 - a)       (coverage accumulates)
 //          additive keeps dst.a.
 // The factor a is the source alpha clamped to 0..1.
+Rgba blend(BlendMode mode, const Rgba& src, const Rgba& dst) {
+    const Float a = src.a < 0.0f ? 0.0f : src.a > 1.0f ? 1.0f : src.a;
+    switch (mode) {
+        case BlendMode::opaque: return src;
+        case BlendMode::alpha: {
+            const Float keep = 1.0f - a;
+            return {src.r * a + dst.r * keep, src.g * a + dst.g * keep, src.b * a + dst.b * keep,
+                    a + dst.a * keep};
+        }
+        case BlendMode::additive:
+            return {dst.r + src.r * a, dst.g + src.g * a, dst.b + src.b * a, dst.a};
+    }
+    return src;
+}
+
 glm::vec4 blend(BlendMode mode, const glm::vec4& src, const glm::vec4& dst) {
     const float a = std::clamp(src.a, 0.0f, 1.0f);
     switch (mode) {
@@ -122,6 +160,13 @@ glm::vec4 blend(BlendMode mode, const glm::vec4& src, const glm::vec4& dst) {
     return src;
 }
 
+// Part p of the shader's colour output ([4][16] floats).
+Rgba shaded(const float* color, int p) {
+    const int first = p * kWidth;
+    return {simd::load<Float>(color + first), simd::load<Float>(color + N + first),
+            simd::load<Float>(color + 2 * N + first), simd::load<Float>(color + 3 * N + first)};
+}
+
 // Ambient visibility of each lane; lanes off the target read 1.
 void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
     const int w = dc.target->width(), h = dc.target->height();
@@ -131,38 +176,29 @@ void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
     }
 }
 
-// `color` may be null when the state writes no colour.
-void write_pixels(const DrawContext& dc, const Block& b, const f32x16& z, const float* color,
+// Depth and (unless `color` is null) colour of the lanes of `mask`, blended
+// and encoded in the target's format, part by part.
+void write_pixels(const DrawContext& dc, const Block& b, const Float* z, const float* color,
                   uint32_t mask) {
     Framebuffer& fb = *dc.target;
-    const size_t width = size_t(fb.width());
-    if (dc.state.depth_write) simd::store_block(fb.depth() + b.y * width + b.x, width, z, mask);
-    if (!dc.state.color_write) return;
-    const BlendMode mode = dc.state.blend;
-    if (mode == BlendMode::opaque) {
-        const simd::Rows rows = simd::interleave_rgba(
-            simd::load<f32x16>(color), simd::load<f32x16>(color + N),
-            simd::load<f32x16>(color + 2 * N), simd::load<f32x16>(color + 3 * N));
-        for (int r = 0; r < 4; ++r) {
-            const uint32_t lanes = mask >> (4 * r) & 0xFu;
-            if (!lanes) continue;  // also keeps rows past the target's bottom unaddressed
-            glm::vec4* row = &fb.pixel(b.x, b.y + r);
-            if (lanes == 0xFu) {
-                simd::store(row, rows.row[r]);
-                continue;
-            }
-            for (uint32_t m = lanes; m; m &= m - 1) {
-                const int i = std::countr_zero(m);
-                std::memcpy(row + i, reinterpret_cast<const float*>(&rows.row[r]) + 4 * i, 16);
-            }
-        }
-        return;
-    }
-    for (uint32_t m = mask; m; m &= m - 1) {
-        const int i = std::countr_zero(m);
-        const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
-        glm::vec4& dst = fb.pixel(b.x + i % 4, b.y + i / 4);
-        dst = blend(mode, src, dst);
+    const size_t at = pixel_index(fb, b.x, b.y);
+    const ColorFormat format = fb.format();
+    const size_t bytes = size_t(bytes_per_pixel(format)), row_bytes = size_t(fb.stride()) * bytes;
+    uint8_t* block = fb.color_data() + at * bytes;
+    const bool write_color = color && dc.state.color_write;
+    for (int p = 0; p < kParts; ++p) {
+        const uint32_t lanes = simd::part_mask(mask, p);
+        if (!lanes) continue;
+        if (dc.state.depth_write)
+            simd::store_part<4>(reinterpret_cast<uint8_t*>(fb.depth() + at),
+                                size_t(fb.stride()) * 4, p, &z[p], lanes);
+        if (!write_color) continue;
+        Rgba src = shaded(color, p);
+        if (dc.state.blend != BlendMode::opaque)
+            src = blend(dc.state.blend, src, load_color(format, block, row_bytes, p));
+        Packed packed;
+        pack(format, src, packed);
+        store_packed(format, block, row_bytes, p, packed, lanes);
     }
 }
 
@@ -185,15 +221,16 @@ struct SampleDepth {
 
 uint32_t sample_depth_test(const DrawContext& dc, const TriangleSetup& t, const Block& b,
                            uint32_t mask, SampleDepth& out) {
-    const int n = dc.target->samples(), width = dc.target->width();
-    const float* depth = dc.target->sample_depth();
+    const Framebuffer& fb = *dc.target;
+    const int n = fb.samples();
+    const float* depth = fb.sample_depth();
     const glm::vec2 dz = depth_gradient(t);
     uint32_t lanes = 0;
     for (uint32_t m = mask; m; m &= m - 1) {
         const int i = std::countr_zero(m);
         const float centre = t.z[0] + b.bary[1][i] * (t.z[1] - t.z[0]) +
                              b.bary[2][i] * (t.z[2] - t.z[0]);
-        const size_t at = (size_t(b.y + i / 4) * width + (b.x + i % 4)) * size_t(n);
+        const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
         out.passed[i] = 0;
         for (uint32_t bits = b.samples[i]; bits; bits &= bits - 1) {
             const int s = std::countr_zero(bits);
@@ -212,16 +249,30 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
                    const float* color, uint32_t mask) {
     Framebuffer& fb = *dc.target;
     const int n = fb.samples();
-    for (uint32_t m = mask; m; m &= m - 1) {
-        const int i = std::countr_zero(m);
-        const size_t at = (size_t(b.y + i / 4) * fb.width() + (b.x + i % 4)) * size_t(n);
-        for (uint32_t bits = sd.passed[i]; bits; bits &= bits - 1) {
-            const int s = std::countr_zero(bits);
-            if (dc.state.depth_write) fb.sample_depth()[at + size_t(s)] = sd.z[s][i];
-            if (!dc.state.color_write) continue;
-            const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
-            glm::vec4& dst = fb.sample_color()[at + size_t(s)];
-            dst = blend(dc.state.blend, src, dst);
+    const ColorFormat format = fb.format();
+    const size_t bytes = size_t(bytes_per_pixel(format));
+    const bool write_color = color && dc.state.color_write;
+    const bool opaque = dc.state.blend == BlendMode::opaque;
+    for (int p = 0; p < kParts; ++p) {
+        const uint32_t lanes = simd::part_mask(mask, p);
+        if (!lanes) continue;
+        Packed packed;  // opaque: each lane's encoded colour, the same for all its samples
+        if (write_color && opaque) pack(format, shaded(color, p), packed);
+        for (uint32_t m = lanes; m; m &= m - 1) {
+            const int j = std::countr_zero(m), i = p * kWidth + j;
+            const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
+            for (uint32_t bits = sd.passed[i]; bits; bits &= bits - 1) {
+                const int s = std::countr_zero(bits);
+                if (dc.state.depth_write) fb.sample_depth()[at + size_t(s)] = sd.z[s][i];
+                if (!write_color) continue;
+                uint8_t* dst = fb.sample_color_data() + (at + size_t(s)) * bytes;
+                if (opaque) {
+                    std::memcpy(dst, packed.bytes + size_t(j) * bytes, bytes);
+                    continue;
+                }
+                const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
+                encode_pixel(format, blend(dc.state.blend, src, decode_pixel(format, dst)), dst);
+            }
         }
     }
 }
@@ -245,67 +296,41 @@ void blend_wire(const DrawContext& dc, const TriangleSetup& t, const Block& b, f
     }
 }
 
-void host_log(int level, const char* shader, const char* message) {
-    const spdlog::level::level_enum levels[] = {spdlog::level::debug, spdlog::level::info,
-                                                spdlog::level::warn, spdlog::level::err};
-    spdlog::log(levels[std::clamp(level, 0, 3)], "[{}] {}", shader ? shader : "?",
-                message ? message : "");
-}
-
-void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
-                 uint32_t count, float* rgba) {
-    const auto* dc = static_cast<const DrawContext*>(draw->host_data);
-    if (slot >= uint32_t(dc->texture_count) || !dc->textures[slot].texture) {  // unbound: white
-        std::fill(rgba, rgba + 4 * count, 1.0f);
-        return;
-    }
-    sample_many(dc->textures[slot], u, v, int(count), rgba);
-}
-
 }  // namespace
-
-void prepare_context(DrawContext& dc, const ShaderPlugin& shader, const TextureBinding* textures,
-                     int texture_count) {
-    dc.shader = &shader;
-    dc.varying_floats = shader.varying_floats();
-    dc.interpolation = shader.float_interpolation();
-    dc.textures = textures;
-    dc.texture_count = textures ? std::min(texture_count, shader.texture_count()) : 0;
-    dc.sample_textures = shader.needs(FACET_NEED_TEXTURES) && shader.texture_count() > 0;
-    dc.needs_ao = shader.needs(FACET_NEED_AO);
-}
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
                  FrameStats& stats) {
-    const f32x16 z = interpolate_depth(t, b);
     const bool msaa = dc.target->samples() > 1;
+    Float z[kParts];
     SampleDepth sd;
-    const uint32_t mask =
-        msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, b, z, b.mask);
+    const uint32_t mask = msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, t, b, z);
     stats.fragments_depth_rejected += std::popcount(b.mask) - std::popcount(mask);
     if (!mask) return;
     if (!dc.state.color_write && !dc.shader->needs(FACET_NEED_DISCARD)) {
-        // Depth only (shadow maps): the shader's colour would go nowhere.
+        // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
         else write_pixels(dc, b, z, nullptr, mask);
         return;
     }
 
     alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
-    interpolate_varyings(dc, t, b, varyings);
+    interpolate_varyings(dc, t, b, interpolated_lanes(dc, mask), varyings);
     alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
-    if (dc.sample_textures) sample_textures(dc, varyings, texels);
+    if (dc.sample_textures) sample_textures(dc, varyings, mask, texels);
     alignas(64) float color[4 * N];
     alignas(64) float ao[N];
     if (dc.ao) gather_ao(dc, b, ao);
     else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
 
     alignas(64) float depth[N];
-    simd::store(depth, z);
+    for (int p = 0; p < kParts; ++p)
+        simd::store(depth + p * kWidth, msaa || !simd::part_mask(mask, p)
+                                            ? interpolate_depth(t, b, p)
+                                            : z[p]);
     facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, depth,
                                dc.sample_textures ? texels : nullptr,
                                nullptr,  dc.needs_ao ? ao : nullptr, color};
-    dc.shader->desc().fragment(dc.abi, &batch);
+    dc.fragment(dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += std::popcount(mask);
     if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);
@@ -313,10 +338,4 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
     else write_pixels(dc, b, z, color, batch.mask & mask);
 }
 
-const facet_host* host_services() {
-    static const facet_host host = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host),
-                                    &host_log, &host_sample};
-    return &host;
-}
-
-}  // namespace facet
+}  // namespace facet::FACET_KERNEL_NS

@@ -1,24 +1,163 @@
 #include "facet/framebuffer.hpp"
 
+#include "color_tables.hpp"
+#include "kernels.hpp"
+
 #include "facet/error.hpp"
 
 #include <stb/stb_image_write.h>
 
-#if defined(__SSE2__)
-#include <immintrin.h>
-#endif
-
 #include <algorithm>
-#include <cstdint>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 
 namespace facet {
 
+// ---- formats and codecs ----------------------------------------------------
+
+std::string_view color_format_name(ColorFormat format) {
+    switch (format) {
+        case ColorFormat::none: return "none";
+        case ColorFormat::srgb8: return "srgb8";
+        case ColorFormat::rgba16f: return "rgba16f";
+        case ColorFormat::rgba32f: return "rgba32f";
+    }
+    return "?";
+}
+
+std::optional<ColorFormat> parse_color_format(std::string_view name) {
+    for (ColorFormat f : {ColorFormat::none, ColorFormat::srgb8, ColorFormat::rgba16f,
+                          ColorFormat::rgba32f})
+        if (name == color_format_name(f)) return f;
+    return std::nullopt;
+}
+
 namespace {
 
-bool valid_samples(int n) { return n == 1 || n == 2 || n == 4 || n == 8; }
+// The exact curve, in double precision.
+double srgb_decode(double e) { return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4); }
+
+float bucket_first(int b) {
+    return std::bit_cast<float>(uint32_t(b + Srgb8Tables::kFirstBucket) << 16);
+}
 
 }  // namespace
+
+Srgb8Tables::Srgb8Tables() {
+    threshold[0] = 0.0f;
+    for (int c = 1; c < 256; ++c) {
+        const double x = srgb_decode((c - 0.5) / 255.0);
+        float t = float(x);
+        if (double(t) < x) t = std::nextafter(t, 2.0f);
+        threshold[c] = t;
+    }
+    threshold[256] = std::numeric_limits<float>::infinity();
+    for (int c = 0; c < 256; ++c) decode[c] = float(srgb_decode(c / 255.0));
+    int c = 0;
+    for (int b = 0; b < kBuckets; ++b) {
+        const float first = bucket_first(b), last = std::nextafter(bucket_first(b + 1), 0.0f);
+        while (first >= threshold[c + 1]) ++c;
+        base[b] = c;
+        next[b] = threshold[c + 1];
+        // The bucket must hold at most one threshold (see color_tables.hpp).
+        if (last >= threshold[std::min(c + 2, 256)]) std::abort();
+    }
+}
+
+const Srgb8Tables kSrgb8;
+
+float linear_to_srgb(float linear) {
+    const float c = std::clamp(linear, 0.0f, 1.0f);
+    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_to_linear(float encoded) {
+    const float c = std::clamp(encoded, 0.0f, 1.0f);
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+uint8_t linear_to_srgb8(float linear) {
+    if (!(linear > 0.0f)) return 0;  // also maps NaN to 0
+    if (linear >= 1.0f) return 255;
+    const int32_t b = int32_t(std::bit_cast<uint32_t>(linear) >> 16) - Srgb8Tables::kFirstBucket;
+    if (b < 0) return 0;
+    return uint8_t(kSrgb8.base[b] + (linear >= kSrgb8.next[b]));
+}
+
+float srgb8_to_linear(uint8_t code) { return kSrgb8.decode[code]; }
+
+uint8_t unorm8(float value) {
+    const float v = std::clamp(std::isnan(value) ? 0.0f : value, 0.0f, 1.0f);
+    return static_cast<uint8_t>(std::lround(v * 255.0f));
+}
+
+uint16_t float_to_half(float value) {
+    const uint32_t u = std::bit_cast<uint32_t>(value);
+    const uint16_t sign = uint16_t(u >> 16 & 0x8000u);
+    const uint32_t a = u & 0x7FFFFFFFu;
+    if (a > 0x7F800000u) return uint16_t(sign | 0x7E00u | (a >> 13 & 0x3FFu));  // NaN, quiet
+    if (a >= 0x477FF000u) return uint16_t(sign | 0x7C00u);  // rounds to 65520 or more: infinity
+    if (a >= 0x38800000u)  // normal: rebias, round to nearest even on the 13 dropped bits
+        return uint16_t(sign | ((a - 0x38000000u + 0xFFFu + (a >> 13 & 1u)) >> 13));
+    // Subnormal (or zero): a multiple of 2^-24, rounded to nearest even by
+    // the float addition itself.
+    const float scaled = std::bit_cast<float>(a) * 16777216.0f;  // 2^24, exact
+    return uint16_t(sign | uint32_t((scaled + 8388608.0f) - 8388608.0f));
+}
+
+float half_to_float(uint16_t half) {
+    const uint32_t sign = uint32_t(half & 0x8000u) << 16;
+    const uint32_t exponent = half >> 10 & 0x1Fu, mantissa = half & 0x3FFu;
+    if (exponent == 0)  // zero or subnormal: mantissa * 2^-24, exact
+        return std::bit_cast<float>(sign | std::bit_cast<uint32_t>(float(mantissa) * 5.9604645e-8f));
+    if (exponent == 31) return std::bit_cast<float>(sign | 0x7F800000u | mantissa << 13);
+    return std::bit_cast<float>(sign | (exponent + 112) << 23 | mantissa << 13);
+}
+
+void encode_pixel(ColorFormat format, const glm::vec4& v, uint8_t* out) {
+    switch (format) {
+        case ColorFormat::srgb8: {
+            const uint8_t c[4] = {linear_to_srgb8(v.r), linear_to_srgb8(v.g), linear_to_srgb8(v.b),
+                                  unorm8(v.a)};
+            std::memcpy(out, c, 4);
+            return;
+        }
+        case ColorFormat::rgba16f: {
+            const uint16_t h[4] = {float_to_half(v.r), float_to_half(v.g), float_to_half(v.b),
+                                   float_to_half(v.a)};
+            std::memcpy(out, h, 8);
+            return;
+        }
+        case ColorFormat::rgba32f: std::memcpy(out, &v, 16); return;
+        case ColorFormat::none: return;
+    }
+}
+
+glm::vec4 decode_pixel(ColorFormat format, const uint8_t* in) {
+    switch (format) {
+        case ColorFormat::srgb8:
+            return {srgb8_to_linear(in[0]), srgb8_to_linear(in[1]), srgb8_to_linear(in[2]),
+                    float(in[3]) / 255.0f};
+        case ColorFormat::rgba16f: {
+            uint16_t h[4];
+            std::memcpy(h, in, 8);
+            return {half_to_float(h[0]), half_to_float(h[1]), half_to_float(h[2]),
+                    half_to_float(h[3])};
+        }
+        case ColorFormat::rgba32f: {
+            glm::vec4 v;
+            std::memcpy(&v, in, 16);
+            return v;
+        }
+        case ColorFormat::none: break;
+    }
+    return glm::vec4(0.0f);
+}
+
+// ---- Framebuffer -------------------------------------------------------------
 
 glm::ivec2 sample_offset(int n, int s) {
     static constexpr int kTwo[2][2] = {{4, 4}, {-4, -4}};
@@ -33,125 +172,59 @@ glm::ivec2 sample_offset(int n, int s) {
     }
 }
 
-void Framebuffer::resize(int width, int height, bool with_color, int samples) {
+void Framebuffer::resize(int width, int height, ColorFormat format, int samples) {
     if (width <= 0 || height <= 0 || width > kMaxSize || height > kMaxSize)
         throw Error(ErrorCode::out_of_range,
                     "framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                         " (each side must be 1.." + std::to_string(kMaxSize) + ")");
-    if (!valid_samples(samples))
+    if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
         throw Error(ErrorCode::out_of_range,
                     "MSAA sample count " + std::to_string(samples) + " (must be 1, 2, 4 or 8)");
     width_ = width;
     height_ = height;
+    stride_ = (width + 3) & ~3;
+    rows_ = (height + 3) & ~3;
     samples_ = samples;
-    const size_t pixels = size_t(width) * height;
+    format_ = format;
+    const size_t pixels = size_t(stride_) * size_t(rows_);
+    const size_t bytes = size_t(bytes_per_pixel(format));
     const size_t multi = samples > 1 ? pixels * size_t(samples) : 0;
-    color_.resize(with_color ? pixels : 0);
+    color_.resize(pixels * bytes);
     depth_.resize(pixels);
-    sample_color_.resize(with_color ? multi : 0);
+    sample_color_.resize(multi * bytes);
     sample_depth_.resize(multi);
 }
 
-void Framebuffer::clear(const glm::vec4& color, float depth) { clear_rows(0, height_, color, depth); }
-
-namespace {
-
-// Fills [p, p + count) with copies of the `period` floats at `value`
-// (period divides 4), streaming past the caches where the target has
-// SSE: a clear's data is not read back soon, and streaming stores skip
-// reading each line in before overwriting it.
-void fill_streaming(float* p, size_t count, const float* value, size_t period) {
-    size_t i = 0;
-#if defined(__SSE2__)
-    for (; i < count && reinterpret_cast<uintptr_t>(p + i) % 16 != 0; ++i) p[i] = value[i % period];
-    alignas(16) float quad[4];
-    for (int k = 0; k < 4; ++k) quad[k] = value[(i + size_t(k)) % period];
-    const __m128 v = _mm_load_ps(quad);
-    for (; i + 4 <= count; i += 4) _mm_stream_ps(p + i, v);
-    _mm_sfence();
-#endif
-    for (; i < count; ++i) p[i] = value[i % period];
+void Framebuffer::clear(const glm::vec4& color, float depth) {
+    kernels(default_isa()).clear_rows(*this, 0, height_, color, depth);
 }
 
-}  // namespace
-
-void Framebuffer::clear_rows(int first, int count, const glm::vec4& color, float depth) {
-    const size_t begin = size_t(first) * width_, pixels = size_t(count) * width_;
-    const size_t n = size_t(samples_);
-    if (!color_.empty()) fill_streaming(&color_[begin].x, 4 * pixels, &color.x, 4);
-    fill_streaming(depth_.data() + begin, pixels, &depth, 1);
-    if (!sample_color_.empty())
-        fill_streaming(&sample_color_[begin * n].x, 4 * pixels * n, &color.x, 4);
-    if (!sample_depth_.empty()) fill_streaming(sample_depth_.data() + begin * n, pixels * n, &depth, 1);
+void Framebuffer::resolve() {
+    if (samples_ > 1) kernels(default_isa()).resolve_rows(*this, 0, height_);
 }
 
-void Framebuffer::resolve() { resolve_rows(0, height_); }
-
-void Framebuffer::resolve_rows(int first, int count) {
-    if (samples_ == 1) return;
-    const size_t n = size_t(samples_);
-    const float weight = 1.0f / float(samples_);
-    const size_t end = size_t(first + count) * width_;
-    for (size_t p = size_t(first) * width_; p < end; ++p) {
-        depth_[p] = sample_depth_[p * n];
-        if (color_.empty()) continue;
-        glm::vec4 sum(0.0f);
-        for (size_t s = 0; s < n; ++s) sum += sample_color_[p * n + s];
-        color_[p] = sum * weight;
-    }
+glm::vec4 Framebuffer::pixel(int x, int y) const {
+    const size_t at = size_t(y) * size_t(stride_) + size_t(x);
+    return decode_pixel(format_, color_.data() + at * size_t(bytes_per_pixel(format_)));
 }
 
-float linear_to_srgb(float linear) {
-    const float c = std::clamp(linear, 0.0f, 1.0f);
-    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+glm::vec4 Framebuffer::sample(int x, int y, int s) const {
+    if (samples_ == 1) return pixel(x, y);
+    const size_t at = (size_t(y) * size_t(stride_) + size_t(x)) * size_t(samples_) + size_t(s);
+    return decode_pixel(format_, sample_color_.data() + at * size_t(bytes_per_pixel(format_)));
 }
 
-float srgb_to_linear(float encoded) {
-    const float c = std::clamp(encoded, 0.0f, 1.0f);
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+void Framebuffer::set_pixel(int x, int y, const glm::vec4& linear) {
+    const size_t at = size_t(y) * size_t(stride_) + size_t(x);
+    encode_pixel(format_, linear, color_.data() + at * size_t(bytes_per_pixel(format_)));
 }
 
-namespace {
-
-// linear_to_srgb8 without a pow per value, and exact: code c starts at the
-// linear value whose encoding is (c - 0.5) / 255, found in double precision
-// and rounded up to the next float, so `linear >= threshold[c]` holds
-// exactly when the double-precision encoding of `linear` rounds to c or
-// more. A coarse table of buckets gives the starting code; at most a step
-// or two remains.
-struct Srgb8Table {
-    static constexpr int kBuckets = 4096;
-    float threshold[256];
-    uint8_t start[kBuckets + 1];
-
-    Srgb8Table() {
-        threshold[0] = 0.0f;
-        for (int c = 1; c < 256; ++c) {
-            const double e = (c - 0.5) / 255.0;
-            const double x = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
-            float t = float(x);
-            if (double(t) < x) t = std::nextafter(t, 2.0f);
-            threshold[c] = t;
-        }
-        int c = 0;
-        for (int i = 0; i <= kBuckets; ++i) {
-            const float v = float(i) / kBuckets;
-            while (c < 255 && v >= threshold[c + 1]) ++c;
-            start[i] = uint8_t(c);
-        }
-    }
-};
-
-const Srgb8Table kSrgb8;
-
-}  // namespace
-
-uint8_t linear_to_srgb8(float linear) {
-    if (!(linear > 0.0f)) return 0;  // also maps NaN to 0
-    if (linear >= 1.0f) return 255;
-    int c = kSrgb8.start[int(linear * Srgb8Table::kBuckets)];
-    while (c < 255 && linear >= kSrgb8.threshold[c + 1]) ++c;
-    return uint8_t(c);
+std::vector<glm::vec4> Framebuffer::linear() const {
+    std::vector<glm::vec4> out;
+    out.reserve(size_t(width_) * size_t(height_));
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x) out.push_back(pixel(x, y));
+    return out;
 }
 
 std::vector<uint8_t> Framebuffer::resolve_srgb8() const {
@@ -161,18 +234,26 @@ std::vector<uint8_t> Framebuffer::resolve_srgb8() const {
 }
 
 void Framebuffer::resolve_srgb8(std::vector<uint8_t>& out) const {
-    out.resize(color_.size() * 4);
-    for (size_t i = 0; i < color_.size(); ++i) {
-        const glm::vec4& c = color_[i];
-        out[4 * i + 0] = linear_to_srgb8(c.r);
-        out[4 * i + 1] = linear_to_srgb8(c.g);
-        out[4 * i + 2] = linear_to_srgb8(c.b);
-        const float a = std::clamp(std::isnan(c.a) ? 0.0f : c.a, 0.0f, 1.0f);
-        out[4 * i + 3] = static_cast<uint8_t>(std::lround(a * 255.0f));
+    out.resize(size_t(width_) * size_t(height_) * 4);
+    if (format_ == ColorFormat::srgb8) {
+        for (int y = 0; y < height_; ++y)
+            std::memcpy(&out[size_t(y) * width_ * 4], &color_[size_t(y) * stride_ * 4],
+                        size_t(width_) * 4);
+        return;
     }
+    if (format_ == ColorFormat::none) {
+        std::fill(out.begin(), out.end(), uint8_t(0));
+        return;
+    }
+    kernels(default_isa()).srgb8_rows(*this, 0, height_, out.data());
 }
 
 void Framebuffer::write_png(const std::filesystem::path& path) const {
+    if (format_ == ColorFormat::srgb8) {  // straight from storage, padding skipped
+        if (!stbi_write_png(path.string().c_str(), width_, height_, 4, color_.data(), stride_ * 4))
+            throw Error(ErrorCode::output_failed, "cannot write PNG", path.string());
+        return;
+    }
     const std::vector<uint8_t> pixels = resolve_srgb8();
     if (!stbi_write_png(path.string().c_str(), width_, height_, 4, pixels.data(), width_ * 4))
         throw Error(ErrorCode::output_failed, "cannot write PNG", path.string());

@@ -9,7 +9,8 @@
 #pragma once
 
 #include "bin.hpp"
-#include "fragment.hpp"
+#include "draw_context.hpp"
+#include "kernels.hpp"
 #include "setup.hpp"
 #include "thread_pool.hpp"
 
@@ -37,9 +38,11 @@ struct QueuedDraw {
 };
 
 struct Geometry {
-    explicit Geometry(int threads) : pool(threads), worker_stats(size_t(pool.size())) {}
+    Geometry(int threads, Isa isa)
+        : pool(threads), kernels(&facet::kernels(isa)), worker_stats(size_t(pool.size())) {}
 
     ThreadPool pool;
+    const Kernels* kernels;  // of the renderer's instruction-set path
     std::vector<std::unique_ptr<QueuedDraw>> draws;  // the first draws_used are queued
     int draws_used = 0;
     // The first chunks_used hold setups not yet rasterized. A deque: growing

@@ -68,13 +68,15 @@ struct Renderer::Passes {
     AoPass ao;
 };
 
-Renderer::Renderer(int threads)
-    : passes_(std::make_unique<Passes>()), geometry_(std::make_unique<Geometry>(threads)) {}
+Renderer::Renderer(int threads, std::optional<Isa> isa)
+    : passes_(std::make_unique<Passes>()),
+      geometry_(std::make_unique<Geometry>(threads, isa ? checked_isa(*isa) : default_isa())) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 int Renderer::threads() const { return geometry_->pool.size(); }
+Isa Renderer::isa() const { return geometry_->kernels->isa; }
 
 namespace {
 
@@ -97,15 +99,29 @@ void Renderer::require_flushed(const Framebuffer& target, const char* what) cons
 
 void Renderer::clear(Framebuffer& target, const glm::vec4& color, float depth) {
     require_flushed(target, "Renderer::clear");
+    const Kernels& k = *geometry_->kernels;
     for_row_bands(geometry_->pool, target.height(),
-                  [&](int first, int rows) { target.clear_rows(first, rows, color, depth); });
+                  [&](int first, int rows) { k.clear_rows(target, first, rows, color, depth); });
 }
 
 void Renderer::resolve(Framebuffer& target) {
     require_flushed(target, "Renderer::resolve");
     if (target.samples() == 1) return;
+    const Kernels& k = *geometry_->kernels;
     for_row_bands(geometry_->pool, target.height(),
-                  [&](int first, int rows) { target.resolve_rows(first, rows); });
+                  [&](int first, int rows) { k.resolve_rows(target, first, rows); });
+}
+
+void Renderer::resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out) {
+    require_flushed(target, "Renderer::resolve_srgb8");
+    if (target.format() != ColorFormat::rgba16f && target.format() != ColorFormat::rgba32f) {
+        target.resolve_srgb8(out);  // a copy (srgb8), or black (no colour)
+        return;
+    }
+    out.resize(size_t(target.width()) * size_t(target.height()) * 4);
+    const Kernels& k = *geometry_->kernels;
+    for_row_bands(geometry_->pool, target.height(),
+                  [&](int first, int rows) { k.srgb8_rows(target, first, rows, out.data()); });
 }
 
 FrameStats& FrameStats::operator+=(const FrameStats& o) {
@@ -158,8 +174,8 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     const RenderSettings& s = scene.settings;
     require_flushed(target, "Renderer::render");  // it may resize the target
     if (target.width() != s.width || target.height() != s.height || target.samples() != s.msaa ||
-        !target.has_color())
-        target.resize(s.width, s.height, true, s.msaa);
+        target.format() != s.color_format)
+        target.resize(s.width, s.height, s.color_format, s.msaa);
     clear(target, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
 
     DrawCall call;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace facet {
@@ -111,6 +112,16 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
     }
     out.area2 = area2 < 0 ? -area2 : area2;
     out.front_facing = front;
+    out.inv_area2 = 1.0 / double(out.area2);
+    out.narrow = true;
+    for (int k = 0; k < 3; ++k) {
+        const EdgeFunction& e = out.edge[k];
+        out.narrow &= std::abs(e.dx) + std::abs(e.dy) < kNarrowEdgeSpan;
+        // Edge k gives the weight of vertex k + 2; it grows by -dy per
+        // sub-pixel in x and by dx in y.
+        out.bary_dx[(k + 2) % 3] = float(double(-e.dy * kSubpixelOne) * out.inv_area2);
+        out.bary_dy[(k + 2) % 3] = float(double(e.dx * kSubpixelOne) * out.inv_area2);
+    }
 
     // Samples lie less than half a pixel from the centre.
     const int64_t reach = viewport.samples > 1 ? kSubpixelOne / 2 : 0;

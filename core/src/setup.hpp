@@ -13,6 +13,10 @@
 // Exactness: snapped coordinates are below 2^28 in magnitude anywhere in the
 // guard band (|x|, |y| < 2^20 pixels), so an edge function, a difference of
 // two products of 29-bit numbers, stays below 2^59 and int64 never overflows.
+// Inside one 4x4 block the values are smaller: relative to the block's
+// corner they change by at most 4 (|dx| + |dy|) sub-pixels a pixel, so a
+// triangle whose edges span less than kNarrowEdgeSpan sub-pixels has every
+// lane of a partly covered block within 32 bits (rasterize.hpp), exactly.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -30,6 +34,10 @@ constexpr int64_t kSubpixelOne = int64_t(1) << kSubpixelBits;
 // Half-width of the guard band in pixels: window coordinates stay within
 // +-kGuardBandPixels, which is what keeps the edge functions exact.
 constexpr double kGuardBandPixels = double(1 << 20);
+// Triangles whose every edge has |dx| + |dy| below this (4096 pixels) are
+// rasterized with 32-bit lanes: a partly covered block's edge values, MSAA
+// samples included, then lie within 1024 (|dx| + |dy|) < 2^30 of zero.
+constexpr int64_t kNarrowEdgeSpan = int64_t(1) << 20;
 
 struct Viewport {
     int width = 0;
@@ -68,6 +76,12 @@ struct TriangleSetup {
     EdgeFunction edge[3];
     int64_t area2;            // twice the signed area, > 0 after orientation
     int x0, y0, x1, y1;       // inclusive pixel bounding box
+    bool narrow;              // every edge spans less than kNarrowEdgeSpan
+    // The weights as planes: vertex k's weight changes by bary_dx[k] from
+    // one pixel to the next in x (bary_dy[k] in y), and is edge[k + 1]'s
+    // value times inv_area2 (both rasterize.hpp).
+    double inv_area2;
+    float bary_dx[3], bary_dy[3];
     float z[3];               // window depth per vertex, 0..1
     float inv_w[3];           // 1 / w per vertex, all scaled by one power of two (only
                               // their ratios are used, and 1 / w overflows float for tiny w)

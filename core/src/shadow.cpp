@@ -131,7 +131,9 @@ void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view
 void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
                         Renderer& renderer, ShadowMaps& maps) {
     caster_corners(casters, maps.corners);
-    const int size = scene.settings.shadow_map_size;
+    // A multiple of 4, so that the map's rows are exactly `size` floats
+    // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
+    const int size = (scene.settings.shadow_map_size + 3) & ~3;
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
     maps.abi.clear();
     for (size_t i = 0; i < scene.lights.size(); ++i) {
@@ -145,7 +147,7 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
             directional(scene, light, maps.corners, aspect, size, sm, view, proj);
         else
             spot(light, maps.corners, size, sm, view, proj);
-        if (depth.width() != size) depth.resize(size, size, false);
+        if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
         renderer.clear(depth, glm::vec4(0.0f), 1.0f);
         draw_depth(casters, view, proj, renderer, depth);
         sm.light = uint32_t(i);

@@ -1,31 +1,60 @@
-// 16-lane vectors for the 4x4 blocks the raster and fragment stages work on.
+// Vectors of the path's register width, for the 4x4 blocks the kernels
+// work on (kernels.hpp).
 //
-// The arithmetic is written once, with GCC/Clang vector extensions, and the
-// compiler maps it to whatever the target has: one AVX-512 register per
-// 16 floats, two AVX2 registers, or four SSE ones (the portable fallback).
-// Only turning a lane-wise comparison into a bit mask differs by instruction
-// set, so that alone is written per target below.
+// Included only by the kernel sources, which are compiled once per
+// instruction-set path, each into its own namespace FACET_KERNEL_NS. A
+// Float holds kWidth lanes, as many as one register of the path: 16 with
+// AVX-512, 8 with AVX2, 4 with SSE2 or NEON. A block's 16 lanes are then
+// kParts parts of kWidth lanes each (whole rows: part p is lanes
+// p * kWidth ..), which the kernels visit in turn, skipping parts with no
+// covered lane. Nothing is wider than a register, so nothing is split into
+// pieces behind the code's back, and little is live at a time: even SSE's
+// 16 registers hold it without spills.
+//
+// The arithmetic is written once with GCC/Clang vector extensions. The few
+// operations they cannot say (a comparison to a bit mask, a table gather,
+// a half-float conversion) use the path's intrinsics where it has them and
+// a plain loop otherwise, so the portable path needs no x86 intrinsics and
+// builds for AArch64.
 //
 // Lane i of a block is pixel (x + i % 4, y + i / 4), as in the plugin ABI.
 #pragma once
 
+#ifndef FACET_KERNEL_NS
+#error "simd.hpp belongs to the per-ISA kernel sources (core/CMakeLists.txt)"
+#endif
+
+#include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if defined(__SSE2__)
 #include <immintrin.h>
 #endif
 
-namespace facet::simd {
+namespace facet::FACET_KERNEL_NS::simd {
 
-using f32x16 = float __attribute__((vector_size(64)));
-using i32x16 = int32_t __attribute__((vector_size(64)));
-using i64x8 = int64_t __attribute__((vector_size(64)));
-using f64x8 = double __attribute__((vector_size(64)));
-using f32x8 = float __attribute__((vector_size(32)));
-using f32x4 = float __attribute__((vector_size(16)));
+#if defined(__AVX512F__)
+#define FACET_SIMD_WIDTH 16
+#elif defined(__AVX2__)
+#define FACET_SIMD_WIDTH 8
+#else
+#define FACET_SIMD_WIDTH 4
+#endif
+constexpr int kWidth = FACET_SIMD_WIDTH;
+constexpr int kParts = 16 / kWidth;
+constexpr int kRowsPerPart = kWidth / 4;
+constexpr uint32_t kPartMask = (1u << kWidth) - 1u;
 
-// Loads and stores of unaligned memory.
+using Float = float __attribute__((vector_size(4 * kWidth)));
+using Int = int32_t __attribute__((vector_size(4 * kWidth)));
+using Long = int64_t __attribute__((vector_size(4 * kWidth)));  // kWidth / 2 lanes
+using Row = float __attribute__((vector_size(16)));             // 4 floats
+
+inline Float splat(float v) { return Float{} + v; }
+inline Int splat(int32_t v) { return Int{} + v; }
+
 template <class V>
 inline V load(const void* p) {
     V v;
@@ -37,78 +66,156 @@ inline void store(void* p, const V& v) {
     std::memcpy(p, &v, sizeof v);
 }
 
+inline Float to_float(const Int& v) { return __builtin_convertvector(v, Float); }
+
+// The column (i % 4) and the row (i / 4) in the block of each lane of part p.
+inline Int column() {
+    Int c;
+    for (int j = 0; j < kWidth; ++j) c[j] = j % 4;
+    return c;
+}
+inline Int row(int part) {
+    Int r;
+    for (int j = 0; j < kWidth; ++j) r[j] = part * kRowsPerPart + j / 4;
+    return r;
+}
+
+// The lanes of part p in a 16-bit block mask, and back.
+inline uint32_t part_mask(uint32_t mask, int part) { return mask >> (part * kWidth) & kPartMask; }
+
 // Bit i set where lane i of a comparison result (all ones or zero) is set.
-inline uint32_t bits(const i32x16& m) {
+inline uint32_t bits(const Int& m) {
 #if defined(__AVX512F__)
-    return _mm512_cmpneq_epi32_mask(__m512i(m), _mm512_setzero_si512());
+    __m512i v;
+    std::memcpy(&v, &m, sizeof v);
+    return _mm512_movepi32_mask(v);
 #elif defined(__AVX2__)
-    const __m256i* h = reinterpret_cast<const __m256i*>(&m);
-    return uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(h[0]))) |
-           uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(h[1]))) << 8;
+    __m256 v;
+    std::memcpy(&v, &m, sizeof v);
+    return uint32_t(_mm256_movemask_ps(v));
+#elif defined(__SSE2__)
+    __m128 v;
+    std::memcpy(&v, &m, sizeof v);
+    return uint32_t(_mm_movemask_ps(v));
 #else
     uint32_t r = 0;
-    for (int i = 0; i < 16; ++i) r |= uint32_t(m[i] != 0) << i;
+    for (int i = 0; i < kWidth; ++i) r |= uint32_t(m[i] != 0) << i;
     return r;
 #endif
 }
 
-inline uint32_t bits(const i64x8& m) {
+inline uint32_t bits(const Long& m) {
 #if defined(__AVX512F__)
-    return _mm512_cmpneq_epi64_mask(__m512i(m), _mm512_setzero_si512());
+    __m512i v;
+    std::memcpy(&v, &m, sizeof v);
+    return _mm512_movepi64_mask(v);
 #elif defined(__AVX2__)
-    const __m256i* h = reinterpret_cast<const __m256i*>(&m);
-    return uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(h[0]))) |
-           uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(h[1]))) << 4;
+    __m256d v;
+    std::memcpy(&v, &m, sizeof v);
+    return uint32_t(_mm256_movemask_pd(v));
+#elif defined(__SSE2__)
+    __m128d v;
+    std::memcpy(&v, &m, sizeof v);
+    return uint32_t(_mm_movemask_pd(v));
 #else
     uint32_t r = 0;
-    for (int i = 0; i < 8; ++i) r |= uint32_t(m[i] != 0) << i;
+    for (int i = 0; i < kWidth / 2; ++i) r |= uint32_t(m[i] != 0) << i;
     return r;
 #endif
 }
 
-// The 16 lanes of a 4x4 block of a row-major float image whose rows are
-// `stride` floats apart, and back (only the lanes in `mask`).
-// Built in registers: a 16-lane load of four 4-lane stores through memory
-// would miss store-to-load forwarding and stall.
-inline f32x16 load_block(const float* p, size_t stride) {
-    const f32x4 r0 = load<f32x4>(p), r1 = load<f32x4>(p + stride);
-    const f32x4 r2 = load<f32x4>(p + 2 * stride), r3 = load<f32x4>(p + 3 * stride);
-    const f32x8 top = __builtin_shufflevector(r0, r1, 0, 1, 2, 3, 4, 5, 6, 7);
-    const f32x8 bottom = __builtin_shufflevector(r2, r3, 0, 1, 2, 3, 4, 5, 6, 7);
-    return __builtin_shufflevector(top, bottom, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13,
-                                   14, 15);
+// Lanes set in the low kWidth bits of `mask`, as a comparison result.
+inline Int lanes(uint32_t mask) {
+    Int bit;
+    for (int j = 0; j < kWidth; ++j) bit[j] = 1 << j;
+    return (splat(int32_t(mask)) & bit) != 0;
 }
 
-inline void store_block(float* p, size_t stride, const f32x16& v, uint32_t mask) {
-    const float* lanes = reinterpret_cast<const float*>(&v);
-    for (int r = 0; r < 4; ++r) {
+// table[index[i]] for each lane; every index must lie inside the table.
+inline Float gather(const float* table, const Int& index) {
+#if defined(__AVX512F__)
+    __m512i i;
+    std::memcpy(&i, &index, sizeof i);
+    // The masked form: GCC 12 warns that the plain one's source is undefined.
+    const __m512 r = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xFFFF, i, table, 4);
+    return std::bit_cast<Float>(r);
+#elif defined(__AVX2__)
+    __m256i i;
+    std::memcpy(&i, &index, sizeof i);
+    return std::bit_cast<Float>(_mm256_i32gather_ps(table, i, 4));
+#else
+    Float out;
+    for (int k = 0; k < kWidth; ++k) out[k] = table[index[k]];
+    return out;
+#endif
+}
+
+inline Int gather(const int32_t* table, const Int& index) {
+#if defined(__AVX512F__)
+    __m512i i;
+    std::memcpy(&i, &index, sizeof i);
+    const __m512i r = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), 0xFFFF, i, table, 4);
+    return std::bit_cast<Int>(r);
+#elif defined(__AVX2__)
+    __m256i i;
+    std::memcpy(&i, &index, sizeof i);
+    return std::bit_cast<Int>(_mm256_i32gather_epi32(table, i, 4));
+#else
+    Int out;
+    for (int k = 0; k < kWidth; ++k) out[k] = table[index[k]];
+    return out;
+#endif
+}
+
+// Part p of a 4x4 block of a row-major float image whose rows are `stride`
+// floats apart: its rows, one after the other.
+inline Float load_part(const float* p, size_t stride, int part) {
+    const float* first = p + size_t(part * kRowsPerPart) * stride;
+#if FACET_SIMD_WIDTH == 4
+    (void)stride;
+    return load<Float>(first);
+#elif FACET_SIMD_WIDTH == 8
+    const Row r0 = load<Row>(first), r1 = load<Row>(first + stride);
+    return __builtin_shufflevector(r0, r1, 0, 1, 2, 3, 4, 5, 6, 7);
+#else
+    using Half = float __attribute__((vector_size(32)));
+    const Row r0 = load<Row>(first), r1 = load<Row>(first + stride);
+    const Row r2 = load<Row>(first + 2 * stride), r3 = load<Row>(first + 3 * stride);
+    const Half top = __builtin_shufflevector(r0, r1, 0, 1, 2, 3, 4, 5, 6, 7);
+    const Half bottom = __builtin_shufflevector(r2, r3, 0, 1, 2, 3, 4, 5, 6, 7);
+    return __builtin_shufflevector(top, bottom, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14,
+                                   15);
+#endif
+}
+
+// Copies the pixels of `mask` (kWidth bits) from part p of a block, packed
+// in lane order (lane j at packed + j * Bytes), to an image whose rows are
+// `row_bytes` apart and whose block starts at `p`. A full row is one copy;
+// rows without a lane are not touched.
+template <size_t Bytes>
+inline void store_part(uint8_t* p, size_t row_bytes, int part, const void* packed, uint32_t mask) {
+    const auto* src = static_cast<const uint8_t*>(packed);
+    for (int r = 0; r < kRowsPerPart; ++r) {
         const uint32_t row = mask >> (4 * r) & 0xFu;
-        if (!row) continue;  // rows past the image's bottom are never addressed
-        float* out = p + size_t(r) * stride;
+        uint8_t* out = p + size_t(part * kRowsPerPart + r) * row_bytes;
+        const uint8_t* in = src + 4 * r * Bytes;
         if (row == 0xFu) {
-            std::memcpy(out, lanes + 4 * r, 16);
-            continue;
+            std::memcpy(out, in, 4 * Bytes);
+        } else {
+            for (uint32_t m = row; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                std::memcpy(out + i * Bytes, in + i * Bytes, Bytes);
+            }
         }
-        for (uint32_t m = row; m; m &= m - 1) out[__builtin_ctz(m)] = lanes[4 * r + __builtin_ctz(m)];
     }
 }
 
-// Row r (lanes 4r..4r+3) of a block held as four channel vectors, as four
-// interleaved RGBA pixels.
-struct Rows {
-    f32x16 row[4];
-};
-
-inline Rows interleave_rgba(const f32x16& r, const f32x16& g, const f32x16& b, const f32x16& a) {
-    // rg_lo = r0 g0 r1 g1 .. r7 g7, rg_hi the same for lanes 8..15; ba alike.
-    const f32x16 rg_lo = __builtin_shufflevector(r, g, 0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
-    const f32x16 rg_hi = __builtin_shufflevector(r, g, 8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31);
-    const f32x16 ba_lo = __builtin_shufflevector(b, a, 0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
-    const f32x16 ba_hi = __builtin_shufflevector(b, a, 8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31);
-    return {{__builtin_shufflevector(rg_lo, ba_lo, 0, 1, 16, 17, 2, 3, 18, 19, 4, 5, 20, 21, 6, 7, 22, 23),
-             __builtin_shufflevector(rg_lo, ba_lo, 8, 9, 24, 25, 10, 11, 26, 27, 12, 13, 28, 29, 14, 15, 30, 31),
-             __builtin_shufflevector(rg_hi, ba_hi, 0, 1, 16, 17, 2, 3, 18, 19, 4, 5, 20, 21, 6, 7, 22, 23),
-             __builtin_shufflevector(rg_hi, ba_hi, 8, 9, 24, 25, 10, 11, 26, 27, 12, 13, 28, 29, 14, 15, 30, 31)}};
+// The pixels of part p of the block at `p`, packed in lane order.
+template <size_t Bytes>
+inline void load_part(const uint8_t* p, size_t row_bytes, int part, void* packed) {
+    auto* dst = static_cast<uint8_t*>(packed);
+    for (int r = 0; r < kRowsPerPart; ++r)
+        std::memcpy(dst + 4 * r * Bytes, p + size_t(part * kRowsPerPart + r) * row_bytes, 4 * Bytes);
 }
 
-}  // namespace facet::simd
+}  // namespace facet::FACET_KERNEL_NS::simd

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 namespace facet {
@@ -181,19 +182,25 @@ glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv) {
     return binding.filter == Filter::nearest ? sampler.nearest(uv) : sampler.bilinear(uv);
 }
 
-void sample_block(const TextureBinding& binding, const float* u, const float* v, float* rgba) {
+void sample_block(const TextureBinding& binding, const float* u, const float* v, uint32_t mask,
+                  float* rgba) {
     constexpr int N = 16;
-    if (binding.filter != Filter::trilinear || !binding.texture) {
-        sample_many(binding, u, v, N, rgba);
-        return;
-    }
-    const Texture& t = *binding.texture;
+    std::fill(rgba, rgba + 4 * N, 0.0f);
+    const bool mipmapped = binding.filter == Filter::trilinear && binding.texture;
     for (int quad : {0, 2, 8, 10}) {  // top-left lane of each 2x2 quad
-        const glm::vec2 o(u[quad], v[quad]);
-        const float lod = level_of_detail(t, glm::vec2(u[quad + 1], v[quad + 1]) - o,
-                                          glm::vec2(u[quad + 4], v[quad + 4]) - o);
-        for (int lane : {quad, quad + 1, quad + 4, quad + 5}) {
-            const glm::vec4 c = trilinear(t, binding.wrap, {u[lane], v[lane]}, lod);
+        const uint32_t lanes = mask & (0x33u << quad);
+        if (!lanes) continue;
+        float lod = 0.0f;
+        if (mipmapped) {
+            const glm::vec2 o(u[quad], v[quad]);
+            lod = level_of_detail(*binding.texture, glm::vec2(u[quad + 1], v[quad + 1]) - o,
+                                  glm::vec2(u[quad + 4], v[quad + 4]) - o);
+        }
+        for (uint32_t m = lanes; m; m &= m - 1) {
+            const int lane = std::countr_zero(m);
+            const glm::vec4 c = mipmapped ? trilinear(*binding.texture, binding.wrap,
+                                                             {u[lane], v[lane]}, lod)
+                                          : sample(binding, {u[lane], v[lane]});
             for (int k = 0; k < 4; ++k) rgba[k * N + lane] = c[k];
         }
     }

@@ -3,7 +3,7 @@
 #include "raycast.hpp"
 
 #include "ao.hpp"        // ao_settings: the AO radius facet uses
-#include "fragment.hpp"  // DrawContext, make_abi_draw
+#include "draw_context.hpp"  // DrawContext, make_abi_draw
 
 #include <facet/renderer.hpp>
 
@@ -64,7 +64,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     p->mesh = o.mesh.get();
     p->textures = m.textures;
     for (TextureBinding& t : p->textures) t.filter = Filter::bilinear;
-    prepare_context(p->dc, *p->shader, p->textures.data(), int(p->textures.size()));
+    prepare_context(p->dc, *p->shader, Isa::portable, p->textures.data(), int(p->textures.size()));
     p->shadowed = s.shadows && p->shader->needs(FACET_NEED_SHADOW_MAP);
     p->needs_ao = p->shader->needs(FACET_NEED_AO);
     p->ao_radius = ao_settings(m).radius;

@@ -33,7 +33,8 @@ namespace facet {
     X(mesh_invalid, "mesh is invalid")                                       \
     X(texture_load_failed, "texture failed to load")                         \
     X(output_failed, "could not write output")                               \
-    X(display_failed, "could not open a window")
+    X(display_failed, "could not open a window")                             \
+    X(isa_unavailable, "instruction set not available on this CPU")
 
 enum class ErrorCode {
 #define FACET_ERROR_ENUM(id, text) id,

@@ -1,25 +1,58 @@
-// The framebuffer: linear-light float RGBA colour plus float32 depth.
+// The framebuffer: a colour buffer in one of several formats, plus float32
+// depth.
 //
-// Colour is stored in linear light and resolved to 8-bit sRGB only for
-// output (PNG, or a viewer's texture). Storage is row-major, top row first.
+// Shading and blending happen in linear light; a colour buffer stores it as
+//   srgb8    8-bit sRGB-encoded RGB and linear 8-bit alpha, 4 bytes a pixel:
+//            what a display and a PNG take, and what scenes render to by
+//            default. Each write encodes exactly (the nearest code to the
+//            exact sRGB curve, as linear_to_srgb8()); blending decodes the
+//            stored value exactly, blends in linear light and encodes again.
+//   rgba16f  half floats, 8 bytes a pixel: HDR at half the bandwidth.
+//   rgba32f  floats, 16 bytes a pixel: HDR and accuracy work, exact.
+//   none     depth only (shadow maps, pre-passes).
+// Storage is row-major, top row first. Rows are stride() pixels apart and
+// both sides are padded to a multiple of 4, so that the rasterizer's 4x4
+// blocks never cross the end of the storage; the padding is never shown.
 //
 // Multisampling: a framebuffer made with samples > 1 (2, 4 or 8) also holds
 // a colour and a depth per sample, at the D3D standard sample positions
-// (sample_offset()). The rasterizer tests coverage and depth per sample and
-// the shader runs once per pixel; resolve() then averages each pixel's
-// samples into the per-pixel colour that pixel(), color() and PNG output
-// read, and copies sample 0's depth into depth(). With one sample the
-// rasterizer writes the per-pixel buffers directly and resolve() does
-// nothing.
+// (sample_offset()), in the same format. The rasterizer tests coverage and
+// depth per sample and the shader runs once per pixel; resolve() then
+// averages each pixel's samples in linear light into the per-pixel colour
+// that pixel() and PNG output read, and copies sample 0's depth into the
+// pixel's. With one sample the rasterizer writes the per-pixel buffers
+// directly and resolve() does nothing.
+//
+// clear(), resolve() and the 8-bit output run on FACET_ISA's path (isa.hpp)
+// on the calling thread; Renderer::clear() and resolve() share the rows out
+// to the renderer's threads.
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace facet {
+
+enum class ColorFormat { none, srgb8, rgba16f, rgba32f };
+
+// "none", "srgb8", "rgba16f", "rgba32f"; and back.
+std::string_view color_format_name(ColorFormat format);
+std::optional<ColorFormat> parse_color_format(std::string_view name);
+// Bytes a pixel (or sample) takes: 0, 4, 8 or 16.
+constexpr int bytes_per_pixel(ColorFormat format) {
+    switch (format) {
+        case ColorFormat::none: return 0;
+        case ColorFormat::srgb8: return 4;
+        case ColorFormat::rgba16f: return 8;
+        case ColorFormat::rgba32f: return 16;
+    }
+    return 0;
+}
 
 class Framebuffer {
 public:
@@ -27,42 +60,60 @@ public:
     static constexpr int kMaxSamples = 8;
 
     Framebuffer() = default;
-    Framebuffer(int width, int height, bool with_color = true, int samples = 1) {
-        resize(width, height, with_color, samples);
+    Framebuffer(int width, int height, ColorFormat format = ColorFormat::rgba32f,
+                int samples = 1) {
+        resize(width, height, format, samples);
     }
 
-    // Reallocates; contents are undefined until the next clear(). A
-    // framebuffer without colour (shadow maps, pre-passes) holds depth only.
-    // `samples` is 1, 2, 4 or 8; anything else throws Error(out_of_range).
-    void resize(int width, int height, bool with_color = true, int samples = 1);
-    bool has_color() const { return !color_.empty(); }
+    // Reallocates; contents are undefined until the next clear(). `samples`
+    // is 1, 2, 4 or 8; a size or sample count outside the limits throws
+    // Error(out_of_range).
+    void resize(int width, int height, ColorFormat format = ColorFormat::rgba32f,
+                int samples = 1);
     void clear(const glm::vec4& color, float depth);
-    // Averages each pixel's samples into color(), sample 0's depth into
-    // depth(). Call after drawing; a no-op with one sample.
+    // Averages each pixel's samples into its colour (in linear light), and
+    // copies sample 0's depth into its depth. Call after drawing; a no-op
+    // with one sample.
     void resolve();
-    // The same for `count` rows from row `first` only: bands of rows are
-    // independent, so threads can share the work.
-    void clear_rows(int first, int count, const glm::vec4& color, float depth);
-    void resolve_rows(int first, int count);
 
     int width() const { return width_; }
     int height() const { return height_; }
     int samples() const { return samples_; }
-    // Per-sample storage (samples() > 1): sample s of pixel (x, y) is at
-    // (y * width + x) * samples + s.
-    glm::vec4* sample_color() { return sample_color_.data(); }
+    ColorFormat format() const { return format_; }
+    bool has_color() const { return format_ != ColorFormat::none; }
+    // Pixels from one row to the next (width() rounded up to 4), and the
+    // number of rows stored (height() rounded up to 4).
+    int stride() const { return stride_; }
+    int rows() const { return rows_; }
+
+    // Linear RGBA of pixel (x, y), or of its sample s, decoded from the
+    // format; and writing one (encoded). One pixel at a time: for tests and
+    // tools, not for loops over the image (see linear()).
+    glm::vec4 pixel(int x, int y) const;
+    glm::vec4 sample(int x, int y, int s) const;
+    void set_pixel(int x, int y, const glm::vec4& linear);
+    float depth_at(int x, int y) const { return depth_[size_t(y) * stride_ + x]; }
+    float sample_depth_at(int x, int y, int s) const {
+        return sample_depth_[(size_t(y) * stride_ + x) * samples_ + s];
+    }
+    // Every pixel's linear RGBA (width x height, no padding).
+    std::vector<glm::vec4> linear() const;
+
+    // The storage: pixel (x, y) at color_data() + (y * stride() + x) *
+    // bytes_per_pixel(format()); with MSAA, its sample s at
+    // sample_color_data() + ((y * stride() + x) * samples() + s) * bytes.
+    // Depth likewise, in floats.
+    uint8_t* color_data() { return color_.data(); }
+    const uint8_t* color_data() const { return color_.data(); }
+    uint8_t* sample_color_data() { return sample_color_.data(); }
+    const uint8_t* sample_color_data() const { return sample_color_.data(); }
+    float* depth() { return depth_.data(); }
+    const float* depth() const { return depth_.data(); }
     float* sample_depth() { return sample_depth_.data(); }
     const float* sample_depth() const { return sample_depth_.data(); }
 
-    glm::vec4* color() { return color_.data(); }
-    const glm::vec4* color() const { return color_.data(); }
-    float* depth() { return depth_.data(); }
-    const float* depth() const { return depth_.data(); }
-    glm::vec4& pixel(int x, int y) { return color_[size_t(y) * width_ + x]; }
-    const glm::vec4& pixel(int x, int y) const { return color_[size_t(y) * width_ + x]; }
-    float depth_at(int x, int y) const { return depth_[size_t(y) * width_ + x]; }
-
-    // 8-bit sRGB RGBA, row-major. Alpha is stored linearly.
+    // 8-bit sRGB RGBA, row-major, width * 4 bytes a row. Alpha is stored
+    // linearly. From an srgb8 target this is a copy.
     std::vector<uint8_t> resolve_srgb8() const;
     // The same into `out`, reusing its memory (a viewer's steady frames).
     void resolve_srgb8(std::vector<uint8_t>& out) const;
@@ -72,10 +123,13 @@ public:
 private:
     int width_ = 0;
     int height_ = 0;
+    int stride_ = 0;
+    int rows_ = 0;
     int samples_ = 1;
-    std::vector<glm::vec4> color_;
+    ColorFormat format_ = ColorFormat::none;
+    std::vector<uint8_t> color_;
     std::vector<float> depth_;
-    std::vector<glm::vec4> sample_color_;  // empty with one sample
+    std::vector<uint8_t> sample_color_;  // empty with one sample
     std::vector<float> sample_depth_;
 };
 
@@ -88,7 +142,21 @@ glm::ivec2 sample_offset(int n, int s);
 float linear_to_srgb(float linear);
 // sRGB-encoded value -> linear light.
 float srgb_to_linear(float encoded);
-// Linear light -> 8-bit sRGB code, rounded to nearest.
+// Linear light -> 8-bit sRGB code: the code whose value on the exact sRGB
+// curve is nearest (NaN and below 0 give 0, 1 and above 255).
 uint8_t linear_to_srgb8(float linear);
+// 8-bit sRGB code -> linear light, correctly rounded.
+float srgb8_to_linear(uint8_t code);
+// A linear value in 0..1 -> 8 bits: round(255 v), halves away from zero
+// (NaN gives 0). Alpha in srgb8 targets.
+uint8_t unorm8(float value);
+// IEEE half precision, rounded to nearest even (overflow to infinity, NaN
+// kept); and back, exactly.
+uint16_t float_to_half(float value);
+float half_to_float(uint16_t half);
+
+// Encodes and decodes one pixel in `format` (not none).
+void encode_pixel(ColorFormat format, const glm::vec4& linear, uint8_t* out);
+glm::vec4 decode_pixel(ColorFormat format, const uint8_t* in);
 
 }  // namespace facet

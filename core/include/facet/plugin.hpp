@@ -14,6 +14,8 @@
 // reload gets a new handle rather than the one dlopen() cached.
 #pragma once
 
+#include "facet/isa.hpp"
+
 #include <facet/shader_abi.h>
 
 #include <filesystem>
@@ -47,6 +49,13 @@ public:
     const facet_shader_desc& desc() const { return desc_; }
     const std::string& name() const { return name_; }
     const std::string& origin() const { return origin_; }  // file it came from
+    // The fragment function to call on instruction-set path `isa`: the
+    // widest one the plugin has that the path allows (shader_abi.h, v1.2).
+    facet_fragment_fn fragment_for(Isa isa) const {
+        if (isa == Isa::avx512 && desc_.fragment_avx512) return desc_.fragment_avx512;
+        if (isa != Isa::portable && desc_.fragment_avx2) return desc_.fragment_avx2;
+        return desc_.fragment;
+    }
     uint32_t needs() const { return desc_.needs; }
     bool needs(facet_need need) const { return (desc_.needs & need) != 0; }
     uint32_t varying_floats() const { return varying_floats_; }

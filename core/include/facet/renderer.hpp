@@ -15,6 +15,7 @@
 #pragma once
 
 #include "facet/framebuffer.hpp"
+#include "facet/isa.hpp"
 #include "facet/material.hpp"
 #include "facet/mesh.hpp"
 #include "facet/plugin.hpp"
@@ -26,6 +27,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace facet {
@@ -101,13 +103,16 @@ struct Geometry;  // core/src/geometry.hpp
 class Renderer {
 public:
     // Renders with `threads` threads (counting the caller); 0: one per
-    // hardware thread. The image does not depend on the thread count.
-    explicit Renderer(int threads = 0);
+    // hardware thread. Its kernels are those of `isa` (isa.hpp), by default
+    // default_isa(): FACET_ISA or the best the CPU has; a path the CPU lacks
+    // throws Error(isa_unavailable). The image depends on neither.
+    explicit Renderer(int threads = 0, std::optional<Isa> isa = std::nullopt);
     ~Renderer();
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
 
-    // Resizes `target` to the scene's size and MSAA sample count if needed,
+    // Resizes `target` to the scene's size, colour format and MSAA sample
+    // count if needed,
     // clears it, draws every visible object and resolves the samples. Shadow
     // maps are rendered first only if a visible material needs them (and
     // settings.shadows allows), and the AO pre-pass and AO pass only if one
@@ -135,8 +140,13 @@ public:
     // Both throw Error(out_of_range) while draws queued for `target` wait.
     void clear(Framebuffer& target, const glm::vec4& color, float depth);
     void resolve(Framebuffer& target);
+    // Framebuffer::resolve_srgb8() on all the renderer's threads: the 8-bit
+    // sRGB image of a float target, for a PNG or a window, at the cost of a
+    // clear (from an srgb8 target it is a copy).
+    void resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out);
 
     int threads() const;
+    Isa isa() const;
 
 private:
     void require_flushed(const Framebuffer& target, const char* what) const;

@@ -3,7 +3,7 @@
 //     camera: {position: [0, 1, 3], target: [0, 0.5, 0], fov_y: 45, near: 0.1, far: 100}
 //     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back,
 //              shadow_map_size: 2048, shadow_distance: 20, msaa: 4, subpixel_bits: 8,
-//              wireframe: false, shadows: true, ao: true}
+//              wireframe: false, shadows: true, ao: true, color_format: srgb8}
 //     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
 //     lights:
 //       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
@@ -20,6 +20,7 @@
 // typo never passes silently.
 #pragma once
 
+#include "facet/framebuffer.hpp"
 #include "facet/material.hpp"
 #include "facet/math.hpp"
 #include "facet/mesh.hpp"
@@ -76,6 +77,10 @@ struct RenderSettings {
     int shadow_map_size = 2048;    // texels per side of each shadow map
     float shadow_distance = 0.0f;  // directional shadows cover the view up to here; 0: far
     int msaa = 1;                  // samples per pixel: 1, 2, 4 or 8
+    // The colour target (framebuffer.hpp): 8-bit sRGB, as a display or a
+    // PNG takes it, or float (rgba16f, rgba32f) for HDR and accuracy work.
+    // Shading and blending are in linear light either way.
+    ColorFormat color_format = ColorFormat::srgb8;
     int subpixel_bits = 8;         // vertex snapping precision, 1..8 bits below the pixel
     bool wireframe = false;        // draw each triangle's edges over its shading
     bool shadows = true;           // false: no shadow passes; shaders see no shadow maps

@@ -73,8 +73,10 @@ void sample_many(const TextureBinding& binding, const float* u, const float* v, 
 // as trilinear filtering uses it: log2 of the longer footprint axis in texels.
 float level_of_detail(const Texture& texture, glm::vec2 duv_dx, glm::vec2 duv_dy);
 
-// Sample one 4x4 fragment block (lane i at pixel (i % 4, i / 4)), taking
-// each 2x2 quad's UV differences as its derivatives; writes rgba[c * 16 + i].
-void sample_block(const TextureBinding& binding, const float* u, const float* v, float* rgba);
+// Sample one 4x4 fragment block (lane i at pixel (i % 4, i / 4)) at the
+// lanes of `mask`, taking each 2x2 quad's UV differences as its derivatives
+// (all 16 UVs must be there); writes rgba[c * 16 + i], 0 at other lanes.
+void sample_block(const TextureBinding& binding, const float* u, const float* v, uint32_t mask,
+                  float* rgba);
 
 }  // namespace facet

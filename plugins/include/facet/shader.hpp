@@ -284,7 +284,7 @@ struct Fragment {
 };
 
 #if FACET_SDK_WIDE
-// Built-ins of a block of 16 fragments (fragment_wide).
+// Built-ins of wide::kLanes fragments of a block (fragment_wide).
 struct WideFragment {
     wide::Vec2 coord;    // pixel centres, window coordinates
     wide::Float depth;   // window depth, 0..1
@@ -297,14 +297,18 @@ struct WideFragment {
     // material binds none or the shader declares no such slot.
     wide::Vec4 texture(int slot) const {
         if (!texels_ || slot < 0 || slot >= texture_count_) return wide::Vec4(glm::vec4(1.0f));
-        wide::Vec4 t;
-        std::memcpy(&t, texels_ + slot * 4 * FACET_BLOCK_LANES, sizeof t);
-        return t;
+        const float* t = texels_ + slot * 4 * FACET_BLOCK_LANES;
+        wide::Vec4 c;
+        std::memcpy(&c.x, t, sizeof c.x);
+        std::memcpy(&c.y, t + FACET_BLOCK_LANES, sizeof c.y);
+        std::memcpy(&c.z, t + 2 * FACET_BLOCK_LANES, sizeof c.z);
+        std::memcpy(&c.w, t + 3 * FACET_BLOCK_LANES, sizeof c.w);
+        return c;
     }
     // Discards the lanes set in `m`.
     void discard(const wide::Mask& m) { discarded |= m; }
 
-    const float* texels_ = nullptr;
+    const float* texels_ = nullptr;  // at this call's first lane
     int texture_count_ = 0;
 };
 
@@ -374,35 +378,58 @@ constexpr bool has_wide() {
     return requires { typename S::WideVaryings; &S::fragment_wide; };
 }
 
-// All 16 lanes in one call of S::fragment_wide.
+// The block in calls of S::fragment_wide, wide::kLanes lanes each; a call
+// whose lanes have no fragment is skipped (its colour left 0).
 template <class S>
 void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
     using W = typename S::WideVaryings;
-    constexpr int N = FACET_BLOCK_LANES;
-    static_assert(sizeof(W) == sizeof(float) * N * varying_floats<S>(),
+    constexpr int N = FACET_BLOCK_LANES, L = wide::kLanes;
+    constexpr uint32_t floats = varying_floats<S>();
+    static_assert(sizeof(W) == sizeof(wide::Float) * floats,
                   "WideVaryings must hold a wide::Float for every float of Varyings, in order");
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
-    W v;
-    std::memcpy(&v, b->varyings, sizeof v);
     const auto load = [](const float* p, float otherwise) {
         wide::Float f = wide::splat(otherwise);
         if (p) std::memcpy(&f, p, sizeof f);
         return f;
     };
-    constexpr wide::Float column = {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3};
-    constexpr wide::Float row = {0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3};
-    WideFragment frag;
-    frag.coord = {column + (float(b->x) + 0.5f), row + (float(b->y) + 0.5f)};
-    frag.depth = load(b->depth, 0.0f);
-    frag.front_facing = b->front_facing != 0;
-    frag.shadow = load(b->shadow, 1.0f);
-    frag.ao = load(b->ao, 1.0f);
-    frag.texels_ = b->texels;
-    frag.texture_count_ = texture_count<S>();
-    const wide::Vec4 c = S::fragment_wide(v, frag, d, params);
-    std::memcpy(b->color, &c, sizeof c);  // [4][16], as the ABI lays it out
-    b->mask &= ~wide::bits(frag.discarded);
+    wide::Float column, row;
+    for (int i = 0; i < L; ++i) column[i] = float(i % 4), row[i] = float(i / 4);
+    for (int first = 0; first < N; first += L) {
+        const uint32_t lanes = b->mask >> first & ((1u << L) - 1u);
+        if (!lanes) {
+            for (int c = 0; c < 4; ++c) std::fill_n(b->color + c * N + first, L, 0.0f);
+            continue;
+        }
+        W v;
+        for (uint32_t k = 0; k < floats; ++k)
+            std::memcpy(reinterpret_cast<char*>(&v) + k * sizeof(wide::Float),
+                        b->varyings + k * N + first, sizeof(wide::Float));
+        WideFragment frag;
+        frag.coord = {column + (float(b->x) + 0.5f), row + (float(b->y + first / 4) + 0.5f)};
+        frag.depth = load(b->depth + first, 0.0f);
+        frag.front_facing = b->front_facing != 0;
+        frag.shadow = load(b->shadow ? b->shadow + first : nullptr, 1.0f);
+        frag.ao = load(b->ao ? b->ao + first : nullptr, 1.0f);
+        frag.texels_ = b->texels ? b->texels + first : nullptr;
+        frag.texture_count_ = texture_count<S>();
+        const wide::Vec4 c = S::fragment_wide(v, frag, d, params);
+        std::memcpy(b->color + first, &c.x, sizeof c.x);  // [4][16], as the ABI lays it out
+        std::memcpy(b->color + N + first, &c.y, sizeof c.y);
+        std::memcpy(b->color + 2 * N + first, &c.z, sizeof c.z);
+        std::memcpy(b->color + 3 * N + first, &c.w, sizeof c.w);
+        b->mask &= ~(wide::bits(frag.discarded) << first);
+    }
+}
+
+// The loop a per-path build (FACET_SDK_ISA_*) gives: the wide one, or none.
+template <class S>
+constexpr facet_fragment_fn wide_loop() {
+#if !defined(FACET_SDK_SCALAR)
+    if constexpr (has_wide<S>()) return &fragment_batch_wide<S>;
+#endif
+    return nullptr;
 }
 #endif
 
@@ -456,6 +483,21 @@ constexpr const facet_param_desc* param_table() {
 
 }  // namespace detail
 
+}  // namespace facet::sdk
+
+// The plugin's per-path fragment loops, defined by the builds
+// facet_add_shader() adds (FACET_SHADER below). Weak and hidden: a plugin
+// built without them (another build system, or a host compiling a shader
+// into itself) links anyway, and they read as null.
+#if !defined(FACET_SDK_ISA_avx2) && !defined(FACET_SDK_ISA_avx512)
+extern "C" {
+__attribute__((weak, visibility("hidden"))) extern const facet_fragment_fn facet_sdk_fragment_avx2;
+__attribute__((weak, visibility("hidden"))) extern const facet_fragment_fn facet_sdk_fragment_avx512;
+}
+#endif
+
+namespace facet::sdk {
+
 template <class S>
 const facet_shader_desc* describe() {
     using V = typename S::Varyings;
@@ -474,14 +516,33 @@ const facet_shader_desc* describe() {
         detail::param_count<S>(), detail::param_table<S>(),
         std::is_empty_v<typename S::Params> ? 0u : static_cast<uint32_t>(sizeof(typename S::Params)),
         &detail::vertex_batch<S>, &detail::fragment_batch<S>,
+#if defined(FACET_SDK_ISA_avx2) || defined(FACET_SDK_ISA_avx512)
+        nullptr, nullptr,
+#else
+        &facet_sdk_fragment_avx2 ? facet_sdk_fragment_avx2 : nullptr,
+        &facet_sdk_fragment_avx512 ? facet_sdk_fragment_avx512 : nullptr,
+#endif
     };
     return &desc;
 }
 
 }  // namespace facet::sdk
 
-// Export shader struct S as this plugin's entry point. One per plugin.
+// Export shader struct S as this plugin's entry point. One per plugin. In a
+// per-path build (facet_add_shader() defines FACET_SDK_ISA_avx2 or _avx512)
+// it gives that path's fragment loop instead, which the entry point's
+// descriptor then points at.
+#if defined(FACET_SDK_ISA_avx2)
+#define FACET_SHADER(S)                                                                \
+    extern "C" const facet_fragment_fn facet_sdk_fragment_avx2 =                       \
+        ::facet::sdk::detail::wide_loop<S>();
+#elif defined(FACET_SDK_ISA_avx512)
+#define FACET_SHADER(S)                                                                \
+    extern "C" const facet_fragment_fn facet_sdk_fragment_avx512 =                     \
+        ::facet::sdk::detail::wide_loop<S>();
+#else
 #define FACET_SHADER(S)                                                        \
     extern "C" FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) { \
         return ::facet::sdk::describe<S>();                                    \
     }
+#endif

@@ -54,7 +54,7 @@ extern "C" {
 #endif
 
 #define FACET_ABI_MAJOR 1
-#define FACET_ABI_MINOR 1
+#define FACET_ABI_MINOR 2
 
 /* The one symbol a plugin exports. */
 #define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
@@ -291,6 +291,15 @@ typedef struct facet_shader_desc {
     uint32_t params_size;            /* bytes of the parameter block              */
     facet_vertex_fn vertex;
     facet_fragment_fn fragment;
+    /* v1.2: the same fragment function compiled for wider instruction sets
+     * (facet_add_shader() builds them from the same source; see
+     * <facet/shader.hpp>), or NULL. The host calls the widest its own path
+     * allows: fragment_avx512 on the avx512 path, else fragment_avx2 on the
+     * avx2 or avx512 path, else `fragment`. Each computes what `fragment`
+     * computes. The host only takes one of these paths on a CPU that has
+     * its instruction set (facet/isa.hpp in the core). */
+    facet_fragment_fn fragment_avx2;   /* x86-64-v3: AVX2, FMA, BMI1/2, F16C   */
+    facet_fragment_fn fragment_avx512; /* x86-64-v4: AVX-512 F, BW, CD, DQ, VL */
 } facet_shader_desc;
 
 /* Size of the v1.0 descriptor: the least a host accepts. */

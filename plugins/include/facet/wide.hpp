@@ -1,18 +1,27 @@
-// facet shader authoring layer: 16-lane math for fragment shaders (C++20,
+// facet shader authoring layer: vector math for fragment shaders (C++20,
 // header-only; GCC or Clang).
 //
 // A fragment shader may give, beside its scalar `fragment`, a
-// `fragment_wide` that shades all 16 lanes of a block at once with the types
-// below. It reads like the scalar one - Vec3 for glm::vec3, select() for a
-// branch - and compiles to one AVX-512 register per value (two with AVX2,
-// four with SSE), where the scalar loop runs lane after lane. When a shader
-// has both, facet::sdk uses the wide one; define FACET_SDK_SCALAR before
-// including <facet/shader.hpp> to use the scalar one (tests compare them).
+// `fragment_wide` that shades several lanes of a block at once with the
+// types below. It reads like the scalar one - Vec3 for glm::vec3, select()
+// for a branch - and each value is one vector register, where the scalar
+// loop runs lane after lane. When a shader has both, facet::sdk uses the
+// wide one; define FACET_SDK_SCALAR before including <facet/shader.hpp> to
+// use the scalar one (tests compare them).
 //
-// Float is 16 floats. Arithmetic and comparisons work lane by lane, mixed
-// freely with plain floats; a comparison gives a Mask (all ones or zero per
-// lane). The functions here are as accurate as their scalar counterparts
-// within a few units in the last place, except pow (see there).
+// Float holds kLanes floats, as many as the widest register of the target
+// the code is compiled for: 16 with AVX-512, 8 with AVX2, 4 with SSE2 or
+// NEON. facet_add_shader() compiles a plugin once for each x86-64 path, so
+// the same fragment_wide runs 4, 8 or 16 lanes at a time and never holds
+// more values than the registers can; the batch loop calls it once per
+// kLanes lanes of the 16-lane block and skips lanes with no fragment.
+// Write it for any kLanes: lane i of a call is pixel
+// (i % 4, first_row + i / 4) of the block (WideFragment::coord has it).
+//
+// Arithmetic and comparisons work lane by lane, mixed freely with plain
+// floats; a comparison gives a Mask (all ones or zero per lane). The
+// functions here are as accurate as their scalar counterparts within a few
+// units in the last place, except pow (see there).
 #pragma once
 
 #include <facet/shader_abi.h>
@@ -24,15 +33,32 @@
 #include <cstdint>
 #include <cstring>
 
-#if defined(__AVX512F__) || defined(__AVX__) || defined(__SSE2__)
+#if defined(__SSE2__)
 #include <immintrin.h>
+#elif defined(__ARM_NEON) && defined(__aarch64__)
+#include <arm_neon.h>
+#endif
+
+#if defined(__AVX512F__)
+#define FACET_WIDE_LANES 16
+#define FACET_WIDE_NAMESPACE lanes16
+#elif defined(__AVX__)
+#define FACET_WIDE_LANES 8
+#define FACET_WIDE_NAMESPACE lanes8
+#else
+#define FACET_WIDE_LANES 4
+#define FACET_WIDE_NAMESPACE lanes4
 #endif
 
 namespace facet::sdk::wide {
+// Each lane count in a namespace of its own, so that a plugin's builds for
+// several paths never share a symbol of different widths.
+inline namespace FACET_WIDE_NAMESPACE {
 
-static_assert(FACET_BLOCK_LANES == 16);
-using Float = float __attribute__((vector_size(64)));
-using Mask = int32_t __attribute__((vector_size(64)));
+static_assert(FACET_BLOCK_LANES % FACET_WIDE_LANES == 0);
+constexpr int kLanes = FACET_WIDE_LANES;
+using Float = float __attribute__((vector_size(4 * kLanes)));
+using Mask = int32_t __attribute__((vector_size(4 * kLanes)));
 
 inline Float splat(float v) { return Float{} + v; }
 inline Float select(const Mask& m, const Float& a, const Float& b) { return m ? a : b; }
@@ -43,27 +69,19 @@ inline Float clamp(const Float& x, float lo, float hi) { return min(max(x, splat
 
 // Correctly rounded, as std::sqrt.
 inline Float sqrt(const Float& x) {
-    Float r;
 #if defined(__AVX512F__)
-    // The zero-masking form: GCC 12 warns about _mm512_sqrt_ps's undefined source.
-    const __m512 v = _mm512_maskz_sqrt_ps(0xFFFF, std::bit_cast<__m512>(x));
-    std::memcpy(&r, &v, sizeof r);
+    return std::bit_cast<Float>(_mm512_maskz_sqrt_ps(0xFFFF, std::bit_cast<__m512>(x)));
 #elif defined(__AVX__)
-    for (int h = 0; h < 2; ++h) {
-        __m256 v;
-        std::memcpy(&v, reinterpret_cast<const float*>(&x) + 8 * h, sizeof v);
-        v = _mm256_sqrt_ps(v);
-        std::memcpy(reinterpret_cast<float*>(&r) + 8 * h, &v, sizeof v);
-    }
+    return std::bit_cast<Float>(_mm256_sqrt_ps(std::bit_cast<__m256>(x)));
 #elif defined(__SSE2__)
-    for (int q = 0; q < 4; ++q) {
-        __m128 v = _mm_loadu_ps(reinterpret_cast<const float*>(&x) + 4 * q);
-        _mm_storeu_ps(reinterpret_cast<float*>(&r) + 4 * q, _mm_sqrt_ps(v));
-    }
+    return std::bit_cast<Float>(_mm_sqrt_ps(std::bit_cast<__m128>(x)));
+#elif defined(__ARM_NEON) && defined(__aarch64__)
+    return std::bit_cast<Float>(vsqrtq_f32(std::bit_cast<float32x4_t>(x)));
 #else
-    for (int i = 0; i < 16; ++i) r[i] = std::sqrt(x[i]);
-#endif
+    Float r;
+    for (int i = 0; i < kLanes; ++i) r[i] = std::sqrt(x[i]);
     return r;
+#endif
 }
 
 // log2(x) for finite x >= FLT_MIN (other x give meaningless values; pow
@@ -169,11 +187,20 @@ inline Vec3 normalize(const Vec3& v) { return v * (1.0f / sqrt(dot(v, v))); }
 // As glm::reflect: i - 2 dot(n, i) n.
 inline Vec3 reflect(const Vec3& i, const Vec3& n) { return i - n * (2.0f * dot(n, i)); }
 
-// Lanes of the block as a bit mask (bit i for lane i), from a Mask.
+// The lanes of a call as a bit mask (bit i for lane i), from a Mask.
 inline uint32_t bits(const Mask& m) {
+#if defined(__AVX512F__)
+    return _mm512_cmplt_epi32_mask(std::bit_cast<__m512i>(m), _mm512_setzero_si512());
+#elif defined(__AVX__)
+    return uint32_t(_mm256_movemask_ps(std::bit_cast<__m256>(m)));
+#elif defined(__SSE2__)
+    return uint32_t(_mm_movemask_ps(std::bit_cast<__m128>(m)));
+#else
     uint32_t r = 0;
-    for (int i = 0; i < 16; ++i) r |= uint32_t(m[i] != 0) << i;
+    for (int i = 0; i < kLanes; ++i) r |= uint32_t(m[i] != 0) << i;
     return r;
+#endif
 }
 
+}  // namespace FACET_WIDE_NAMESPACE
 }  // namespace facet::sdk::wide

@@ -1,0 +1,47 @@
+// The Kernels table of one instruction-set path (kernels.hpp), and the tile
+// loop that joins rasterization to the fragment stage.
+#include "kernels.hpp"
+
+#include "fragment.hpp"
+#include "geometry.hpp"
+#include "pixels.hpp"
+#include "rasterize.hpp"
+
+namespace facet::FACET_KERNEL_NS {
+
+namespace {
+
+// Rasterizes and shades one tile's triangles, in submission order.
+void draw_tile(const Geometry& g, int tile, FrameStats& stats) {
+    int x0, y0, x1, y1;
+    g.bins.rect(tile, x0, y0, x1, y1);
+    const int samples = g.target->samples();
+    for (const uint32_t entry : g.bins.entries(tile)) {
+        const SetupChunk& chunk = g.chunks[entry >> 16];
+        const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
+        const TriangleSetup& t = chunk.setups[entry & 0xFFFFu];
+        const BlockCoverage cover(t, samples);
+        rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) { shade_block(dc, t, b, stats); });
+    }
+}
+
+void cover(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples, EdgeWidth width,
+           std::vector<Block>& out) {
+    const BlockCoverage coverage(t, samples, width);
+    rasterize(coverage, t, x0, y0, x1, y1, [&](const Block& b) { out.push_back(b); });
+}
+
+}  // namespace
+
+}  // namespace facet::FACET_KERNEL_NS
+
+extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
+    facet::Isa::FACET_KERNEL_ISA,
+    &facet::FACET_KERNEL_NS::draw_tile,
+    &facet::FACET_KERNEL_NS::cover,
+    &facet::FACET_KERNEL_NS::clear_rows,
+    &facet::FACET_KERNEL_NS::resolve_rows,
+    &facet::FACET_KERNEL_NS::srgb8_rows,
+    &facet::FACET_KERNEL_NS::encode_pixels,
+    &facet::FACET_KERNEL_NS::decode_pixels,
+};
