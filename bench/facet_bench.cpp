@@ -26,10 +26,12 @@
 // error is logged, that row's llvmpipe columns stay empty, the run goes on
 // and facet-bench exits with 1 at the end.
 //
-// Scenes (made here, except the bunny):
+// Scenes (made here, except the bunny and the dragon):
 //   small     a sphere of ~1k triangles
 //   medium    the Stanford bunny (69,451 triangles) from ../shared/assets,
 //             or a ~70k-triangle sphere where that file is absent
+//   dragon    the Stanford dragon (202,520 triangles) from ../shared/assets,
+//             or a ~200k-triangle sphere where that file is absent
 //   large     a sphere of ~1M triangles
 //   fill      six screen-covering quads drawn far to near: 6x overdraw
 //   subpixel  a grid of ~1M triangles of about half a pixel each
@@ -108,21 +110,29 @@ Transform fit(const Mesh& m) {
     return t;
 }
 
+// A model from ../shared/assets/models, fitted to the unit sphere; a UV
+// sphere of about as many triangles where the file is absent, which the
+// note says.
+std::vector<Object> shared_model(const std::string& file, const std::string& what,
+                                 int triangles, std::string& note) {
+    const std::filesystem::path path =
+        std::filesystem::path(FACET_SOURCE_DIR) / "../shared/assets/models" / file;
+    if (std::filesystem::exists(path)) {
+        auto mesh = load_mesh(path);
+        note = what;
+        return {{file, mesh, fit(*mesh), nullptr, true}};
+    }
+    note = std::to_string(triangles / 1000) + "k-triangle sphere (" + file + " not found)";
+    return {{"sphere", sphere(triangles), {}, nullptr, true}};
+}
+
 std::vector<Object> scene_objects(const std::string& name, std::string& note) {
     if (name == "small") return {{"sphere", sphere(1000), {}, nullptr, true}};
     if (name == "large") return {{"sphere", sphere(1000000), {}, nullptr, true}};
     if (name == "huge") return {{"sphere", sphere(5000000), {}, nullptr, true}};
-    if (name == "medium") {
-        const std::filesystem::path bunny =
-            std::filesystem::path(FACET_SOURCE_DIR) / "../shared/assets/models/stanford-bunny.obj";
-        if (std::filesystem::exists(bunny)) {
-            auto mesh = load_mesh(bunny);
-            note = "Stanford bunny";
-            return {{"bunny", mesh, fit(*mesh), nullptr, true}};
-        }
-        note = "70k-triangle sphere (bunny not found)";
-        return {{"sphere", sphere(70000), {}, nullptr, true}};
-    }
+    if (name == "medium") return shared_model("stanford-bunny.obj", "Stanford bunny", 70000, note);
+    if (name == "dragon")
+        return shared_model("stanford-dragon-202k.obj", "Stanford dragon", 202520, note);
     if (name == "fill") {
         std::vector<Object> quads;
         for (int k = 0; k < 6; ++k)  // far to near: every layer passes the depth test
@@ -490,7 +500,7 @@ void add_options(CLI::App& app, Options& o) {
     app.add_option("--reference-grid", o.po.grid, "--pareto: reference samples per pixel side")
         ->capture_default_str();
     app.add_option("--plot", o.po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
-    app.add_option("--scene", o.scenes, "small, medium, large, fill, subpixel, huge");
+    app.add_option("--scene", o.scenes, "small, medium, dragon, large, fill, subpixel, huge");
     app.add_option("--size", o.sizes, "image size WxH");
     app.add_option("--shader", o.shaders, "shader plugin name");
     app.add_option("--threads", o.threads, "threads (counting the caller)");

@@ -46,11 +46,12 @@ std::atomic<bool> g_stop{false};
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
     spdlog::info("rendered {}x{} in {:.2f} ms: {} objects ({} culled), {} triangles in, "
                  "{} rasterized, {} clipped, {} back-facing, {} outside, {} degenerate, "
-                 "{} invalid; {} fragments shaded",
+                 "{} invalid; {} fragments shaded in {} blocks",
                  scene.settings.width, scene.settings.height, s.milliseconds, s.objects,
                  s.objects_culled, s.triangles_in, s.triangles_rasterized, s.triangles_clipped,
                  s.triangles_culled_backface, s.triangles_culled_frustum,
-                 s.triangles_culled_degenerate, s.triangles_invalid, s.fragments_shaded);
+                 s.triangles_culled_degenerate, s.triangles_invalid, s.fragments_shaded,
+                 s.blocks_shaded);
 }
 
 // Renders `scene` to the output PNG, with what the command line overrides.

@@ -85,13 +85,13 @@ uint32_t interpolated_lanes(const DrawContext& dc, uint32_t mask) {
     return (mask & 0x00FFu ? 0x00FFu : 0u) | (mask & 0xFF00u ? 0xFF00u : 0u);
 }
 
-void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const Block& b,
-                          uint32_t lanes, float* out) {
+void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t,
+                          const TriangleVaryings& tv, const Block& b, uint32_t lanes, float* out) {
+    const uint32_t floats = dc.varying_floats;
     for (int p = 0; p < kParts; ++p) {
         const int first = p * kWidth;
         if (!simd::part_mask(lanes, p)) {  // values no shader call reads: zeros, not garbage
-            for (uint32_t k = 0; k < dc.varying_floats; ++k)
-                simd::store(out + k * N + first, Float{});
+            for (uint32_t k = 0; k < floats; ++k) simd::store(out + k * N + first, Float{});
             continue;
         }
         // Perspective-correct weights: bary_k * (1/w_k), normalised per lane.
@@ -101,16 +101,16 @@ void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t, const B
         const Float c = l1 * t.inv_w[1], d = l2 * t.inv_w[2];
         const Float w = 1.0f / (a + c + d);
         const Float p1 = c * w, p2 = d * w;
-        for (uint32_t k = 0; k < dc.varying_floats; ++k) {
-            const float v0 = t.varyings[0][k], v1 = t.varyings[1][k], v2 = t.varyings[2][k];
-            Float v;
-            switch (dc.interpolation[k]) {
-                case FACET_INTERP_FLAT: v = simd::splat(v0); break;  // vertex 0 is the first
-                case FACET_INTERP_LINEAR: v = v0 + l1 * (v1 - v0) + l2 * (v2 - v0); break;
-                default: v = v0 + p1 * (v1 - v0) + p2 * (v2 - v0); break;
-            }
-            // Relative to v0: exact for constant attributes, better conditioned.
-            simd::store(out + k * N + first, v);
+        // Relative to v0: exact for constant attributes, better conditioned.
+        if (dc.perspective_only) {
+            for (uint32_t k = 0; k < floats; ++k)
+                simd::store(out + k * N + first, tv.v0[k] + p1 * tv.d1[k] + p2 * tv.d2[k]);
+            continue;
+        }
+        for (uint32_t k = 0; k < floats; ++k) {
+            const bool linear = dc.interpolation[k] == FACET_INTERP_LINEAR;
+            simd::store(out + k * N + first,
+                        tv.v0[k] + (linear ? l1 : p1) * tv.d1[k] + (linear ? l2 : p2) * tv.d2[k]);
         }
     }
 }
@@ -298,8 +298,18 @@ void blend_wire(const DrawContext& dc, const TriangleSetup& t, const Block& b, f
 
 }  // namespace
 
-void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
-                 FrameStats& stats) {
+void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out) {
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) {
+        const float v0 = t.varyings[0][k];
+        const bool flat = dc.interpolation[k] == FACET_INTERP_FLAT;  // vertex 0 is the first
+        out.v0[k] = v0;
+        out.d1[k] = flat ? 0.0f : t.varyings[1][k] - v0;
+        out.d2[k] = flat ? 0.0f : t.varyings[2][k] - v0;
+    }
+}
+
+void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
+                 const Block& b, FrameStats& stats) {
     const bool msaa = dc.target->samples() > 1;
     Float z[kParts];
     SampleDepth sd;
@@ -314,7 +324,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
     }
 
     alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
-    interpolate_varyings(dc, t, b, interpolated_lanes(dc, mask), varyings);
+    interpolate_varyings(dc, t, tv, b, interpolated_lanes(dc, mask), varyings);
     alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
     if (dc.sample_textures) sample_textures(dc, varyings, mask, texels);
     alignas(64) float color[4 * N];

@@ -18,7 +18,19 @@
 
 namespace facet::FACET_KERNEL_NS {
 
-void shade_block(const DrawContext& dc, const TriangleSetup& t, const Block& b,
-                 FrameStats& stats);
+// What the fragment stage needs of one triangle, worked out once for all of
+// its blocks: varying float k is v0[k] + w1 d1[k] + w2 d2[k], with the
+// perspective-correct or the screen-linear weights of vertices 1 and 2
+// (flat ones have d1 = d2 = 0: vertex 0's value).
+struct TriangleVaryings {
+    float v0[FACET_MAX_VARYING_FLOATS];
+    float d1[FACET_MAX_VARYING_FLOATS];
+    float d2[FACET_MAX_VARYING_FLOATS];
+};
+
+void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out);
+
+void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
+                 const Block& b, FrameStats& stats);
 
 }  // namespace facet::FACET_KERNEL_NS

@@ -60,10 +60,11 @@ Srgb8Tables::Srgb8Tables() {
     for (int b = 0; b < kBuckets; ++b) {
         const float first = bucket_first(b), last = std::nextafter(bucket_first(b + 1), 0.0f);
         while (first >= threshold[c + 1]) ++c;
-        base[b] = c;
-        next[b] = threshold[c + 1];
         // The bucket must hold at most one threshold (see color_tables.hpp).
         if (last >= threshold[std::min(c + 2, 256)]) std::abort();
+        const uint32_t next = std::bit_cast<uint32_t>(threshold[c + 1]);
+        const bool inside = threshold[c + 1] <= last;
+        bucket[b] = int32_t(c) << 17 | int32_t(inside ? next & 0xFFFFu : 0x10000u);
     }
 }
 
@@ -82,9 +83,9 @@ float srgb_to_linear(float encoded) {
 uint8_t linear_to_srgb8(float linear) {
     if (!(linear > 0.0f)) return 0;  // also maps NaN to 0
     if (linear >= 1.0f) return 255;
-    const int32_t b = int32_t(std::bit_cast<uint32_t>(linear) >> 16) - Srgb8Tables::kFirstBucket;
+    const int32_t bits = std::bit_cast<int32_t>(linear), b = (bits >> 16) - Srgb8Tables::kFirstBucket;
     if (b < 0) return 0;
-    return uint8_t(kSrgb8.base[b] + (linear >= kSrgb8.next[b]));
+    return uint8_t(srgb8_from_bucket(kSrgb8.bucket[b], bits));
 }
 
 float srgb8_to_linear(uint8_t code) { return kSrgb8.decode[code]; }

@@ -42,9 +42,15 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
     dc.fragment = shader.fragment_for(isa);
     dc.varying_floats = shader.varying_floats();
     dc.interpolation = shader.float_interpolation();
+    dc.perspective_only = true;
+    for (uint32_t k = 0; k < dc.varying_floats; ++k)
+        dc.perspective_only &= dc.interpolation[k] != FACET_INTERP_LINEAR;
     dc.textures = textures;
     dc.texture_count = textures ? std::min(texture_count, shader.texture_count()) : 0;
-    dc.sample_textures = shader.needs(FACET_NEED_TEXTURES) && shader.texture_count() > 0;
+    // With no texture bound, the shader gets no texels and reads white.
+    dc.sample_textures = false;
+    if (shader.needs(FACET_NEED_TEXTURES))
+        for (int s = 0; s < dc.texture_count; ++s) dc.sample_textures |= bool(textures[s].texture);
     dc.needs_ao = shader.needs(FACET_NEED_AO);
 }
 

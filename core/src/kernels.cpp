@@ -21,7 +21,13 @@ void draw_tile(const Geometry& g, int tile, FrameStats& stats) {
         const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
         const TriangleSetup& t = chunk.setups[entry & 0xFFFFu];
         const BlockCoverage cover(t, samples);
-        rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) { shade_block(dc, t, b, stats); });
+        TriangleVaryings tv;
+        bool prepared = false;  // many triangles cover nothing in a tile
+        rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
+            if (!prepared) prepare_varyings(dc, t, tv);
+            prepared = true;
+            shade_block(dc, t, tv, b, stats);
+        });
     }
 }
 

@@ -25,12 +25,12 @@ struct Rgba {
 
 // linear_to_srgb8 of each lane (color_tables.hpp).
 inline Int srgb8_encode(const Float& x) {
-    const Int bits = std::bit_cast<Int>(x);
-    Int b = (bits >> 16) - Srgb8Tables::kFirstBucket;
-    b = b < 0 ? 0 : b;  // below 2^-13 (and negative): the first bucket, whose base is 0
-    b = b > Srgb8Tables::kBuckets - 1 ? Srgb8Tables::kBuckets - 1 : b;
-    const Int code = simd::gather(kSrgb8.base, b) - (x >= simd::gather(kSrgb8.next, b));
-    return x >= 1.0f ? 255 : x > 0.0f ? code : 0;  // NaN fails both: 0
+    const Float c = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f;  // NaN fails: 0
+    const Int bits = std::bit_cast<Int>(c);
+    Int b = (bits >> 16) - Srgb8Tables::kFirstBucket;  // 1.0 is the last bucket
+    b = b < 0 ? 0 : b;  // below 2^-13: the first bucket, which holds no threshold
+    const Int entry = simd::gather(kSrgb8.bucket, b);
+    return (entry >> 17) - ((bits & 0xFFFF) >= (entry & 0x1FFFF));
 }
 
 inline Float srgb8_decode(const Int& code) { return simd::gather(kSrgb8.decode, code); }

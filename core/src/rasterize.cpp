@@ -27,7 +27,7 @@ BlockCoverage::BlockCoverage(const TriangleSetup& t, int samples, EdgeWidth widt
         const int64_t reach = samples > 1 ? (std::abs(step_x_[k]) + std::abs(step_y_[k])) / 2 : 0;
         best_[k] = std::max<int64_t>(0, 3 * step_x_[k]) + std::max<int64_t>(0, 3 * step_y_[k]) + reach;
         worst_[k] = std::min<int64_t>(0, 3 * step_x_[k]) + std::min<int64_t>(0, 3 * step_y_[k]) - reach;
-        for (int s = 0; s < samples; ++s) {
+        for (int s = 0; s < samples && samples > 1; ++s) {
             // Sample offsets are in 1/16 pixel; the steps are whole pixels.
             static_assert(kSubpixelOne % 16 == 0);
             const glm::ivec2 o = sample_offset(samples, s);
@@ -67,20 +67,6 @@ uint32_t BlockCoverage::covered(int k, int64_t at_lane0) const {
     return mask;
 }
 
-// Lanes of the block at (bx, by) inside the inclusive box [x0, x1] x [y0, y1].
-uint32_t BlockCoverage::box_mask(int bx, int by) const {
-    if (bx >= t_.x0 && bx + 3 <= t_.x1 && by >= t_.y0 && by + 3 <= t_.y1) return 0xFFFFu;
-    const auto span = [](int first, int lo, int hi) {  // bits of first..first+3 in [lo, hi]
-        const int skip = std::clamp(lo - first, 0, 4), keep = std::clamp(hi - first + 1, 0, 4);
-        return skip >= keep ? 0u : ((1u << keep) - 1u) & ~((1u << skip) - 1u);
-    };
-    const uint32_t row = span(bx, t_.x0, t_.x1), rows = span(by, t_.y0, t_.y1);
-    uint32_t mask = 0;
-    for (int j = 0; j < 4; ++j)
-        if (rows >> j & 1u) mask |= row << (4 * j);
-    return mask;
-}
-
 // Per-lane sample coverage: bit s of lane_samples[i] is set when every edge
 // covers lane i's sample s; edges not in `partial` cover every sample.
 // Returns the lanes with any sample covered.
@@ -100,7 +86,7 @@ uint32_t BlockCoverage::cover_samples(const int64_t* e0, uint32_t partial,
     return any;
 }
 
-uint32_t BlockCoverage::operator()(int bx, int by, Block& block) const {
+uint32_t BlockCoverage::operator()(int bx, int by, uint32_t inside, Block& block) const {
     block.x = bx;
     block.y = by;
     block.mask = 0;
@@ -115,7 +101,6 @@ uint32_t BlockCoverage::operator()(int bx, int by, Block& block) const {
         if (e0[k] + best_[k] < threshold_[k]) return 0;
         if (e0[k] + worst_[k] < threshold_[k]) partial |= 1u << k;
     }
-    uint32_t inside = box_mask(bx, by);
     if (samples_ == 1) {
         for (uint32_t p = partial; p; p &= p - 1) {
             const int k = std::countr_zero(p);

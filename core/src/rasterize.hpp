@@ -48,11 +48,11 @@ public:
     // `samples` per pixel: 1, 2, 4 or 8.
     BlockCoverage(const TriangleSetup& t, int samples, EdgeWidth width = EdgeWidth::automatic);
 
-    // Coverage of the block at (bx, by); fills `block` and returns its mask.
-    uint32_t operator()(int bx, int by, Block& block) const;
+    // Coverage of the block at (bx, by), within the lanes of `inside`;
+    // fills `block` and returns its mask.
+    uint32_t operator()(int bx, int by, uint32_t inside, Block& block) const;
 
 private:
-    uint32_t box_mask(int bx, int by) const;
     uint32_t covered(int k, int64_t at_lane0) const;  // lanes where edge k holds
     uint32_t cover_samples(const int64_t* e0, uint32_t partial, uint8_t* lane_samples) const;
 
@@ -72,9 +72,17 @@ private:
     simd::Float weight_lanes_[3][simd::kParts];
 };
 
+// The lanes of the block at (bx, by) at most at column x1 and row y1.
+inline uint32_t lanes_within(int bx, int by, int x1, int y1) {
+    const int columns = std::clamp(x1 - bx + 1, 0, 4), rows = std::clamp(y1 - by + 1, 0, 4);
+    return (0x1111u * ((1u << columns) - 1u)) & ((1u << 4 * rows) - 1u);
+}
+
 // Calls visit(const Block&) for every block of t's bounding box, within the
 // rectangle [x0, x1] x [y0, y1] (a tile, whose corners are multiples of 4),
-// that the triangle covers at least partly.
+// that the triangle covers at least partly. The bounding box holds every
+// covered sample, so only where it was clipped to the viewport (x1, y1:
+// its last column and row) must lanes past it be masked.
 template <class Visit>
 void rasterize(const BlockCoverage& cover, const TriangleSetup& t, int x0, int y0, int x1,
                int y1, Visit&& visit) {
@@ -82,8 +90,12 @@ void rasterize(const BlockCoverage& cover, const TriangleSetup& t, int x0, int y
     const int bx0 = std::max(t.x0, x0) & ~3, by0 = std::max(t.y0, y0) & ~3;
     const int bx1 = std::min(t.x1, x1), by1 = std::min(t.y1, y1);
     for (int by = by0; by <= by1; by += FACET_BLOCK_SIZE)
-        for (int bx = bx0; bx <= bx1; bx += FACET_BLOCK_SIZE)
-            if (cover(bx, by, block)) visit(block);
+        for (int bx = bx0; bx <= bx1; bx += FACET_BLOCK_SIZE) {
+            const uint32_t inside = bx + 3 <= t.x1 && by + 3 <= t.y1
+                                        ? 0xFFFFu
+                                        : lanes_within(bx, by, t.x1, t.y1);
+            if (cover(bx, by, inside, block)) visit(block);
+        }
 }
 
 }  // namespace facet::FACET_KERNEL_NS

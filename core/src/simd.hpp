@@ -188,18 +188,41 @@ inline Float load_part(const float* p, size_t stride, int part) {
 #endif
 }
 
+// The row of 4 pixels of 4 bytes at `out`, with the pixels of `row` (4
+// bits) replaced by those of `in`: one store, and no read where all four
+// change.
+inline void store_row(uint8_t* out, const uint8_t* in, uint32_t row) {
+    using Row32 = int32_t __attribute__((vector_size(16)));
+    Row32 v = load<Row32>(in);
+#if defined(__AVX512VL__)
+    if (row != 0xFu) {
+        _mm_mask_storeu_epi32(out, __mmask8(row), std::bit_cast<__m128i>(v));
+        return;
+    }
+#else
+    if (row != 0xFu) {
+        const Row32 lanes = ((Row32{} + int32_t(row)) & Row32{1, 2, 4, 8}) != 0;
+        v = lanes ? v : load<Row32>(out);
+    }
+#endif
+    store(out, v);
+}
+
 // Copies the pixels of `mask` (kWidth bits) from part p of a block, packed
 // in lane order (lane j at packed + j * Bytes), to an image whose rows are
-// `row_bytes` apart and whose block starts at `p`. A full row is one copy;
-// rows without a lane are not touched.
+// `row_bytes` apart and whose block starts at `p`. Rows without a lane are
+// not touched.
 template <size_t Bytes>
 inline void store_part(uint8_t* p, size_t row_bytes, int part, const void* packed, uint32_t mask) {
     const auto* src = static_cast<const uint8_t*>(packed);
     for (int r = 0; r < kRowsPerPart; ++r) {
         const uint32_t row = mask >> (4 * r) & 0xFu;
+        if (!row) continue;
         uint8_t* out = p + size_t(part * kRowsPerPart + r) * row_bytes;
         const uint8_t* in = src + 4 * r * Bytes;
-        if (row == 0xFu) {
+        if constexpr (Bytes == 4) {
+            store_row(out, in, row);
+        } else if (row == 0xFu) {
             std::memcpy(out, in, 4 * Bytes);
         } else {
             for (uint32_t m = row; m; m &= m - 1) {

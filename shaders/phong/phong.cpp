@@ -87,8 +87,9 @@ struct Phong {
         return {c, 1.0f};
     }
 
-    // The same for 16 fragments at once, which facet runs (the tests hold it
-    // to the reference above): lanes facing away from a light select 0.
+    // The same for wide::kLanes fragments at once, which facet runs (the
+    // tests hold it to the reference above): lanes facing away from a light
+    // select 0, and a light no lane faces is skipped.
     struct WideVaryings {
         wide::Vec3 position;
         wide::Vec3 normal;
@@ -99,6 +100,7 @@ struct Phong {
                             const Params& p) {
         using namespace wide;
         const Float c = p.blinn ? dot(n, normalize(l + v)) : dot(reflect(-l, n), v);
+        if (!any(c > 0.0f)) return splat(0.0f);  // pow(0, shininess >= 1): no highlight here
         return pow(max(c, splat(0.0f)), p.shininess);
     }
 
@@ -112,8 +114,10 @@ struct Phong {
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const WideIncident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);
+            const Mask facing = n_l > 0.0f;
+            if (!any(facing)) continue;
             const Vec3 lit = in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p));
-            c += select(n_l > 0.0f, lit, Vec3(splat(0.0f)));
+            c += select(facing, lit, Vec3(splat(0.0f)));
         }
         return {c, splat(1.0f)};
     }
