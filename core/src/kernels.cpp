@@ -16,6 +16,7 @@ void draw_tile(const Geometry& g, int tile, FrameStats& stats) {
     int x0, y0, x1, y1;
     g.bins.rect(tile, x0, y0, x1, y1);
     const int samples = g.target->samples();
+    PackedBatch packed;
     for (const uint32_t entry : g.bins.entries(tile)) {
         const SetupChunk& chunk = g.chunks[entry >> 16];
         const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
@@ -26,9 +27,10 @@ void draw_tile(const Geometry& g, int tile, FrameStats& stats) {
         rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
             if (!prepared) prepare_varyings(dc, t, tv);
             prepared = true;
-            shade_block(dc, t, tv, b, stats);
+            shade_block(dc, t, tv, b, packed, stats);
         });
     }
+    packed.flush(stats);
 }
 
 void cover(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples, EdgeWidth width,

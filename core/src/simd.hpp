@@ -167,6 +167,71 @@ inline Int gather(const int32_t* table, const Int& index) {
 #endif
 }
 
+#if FACET_SIMD_WIDTH == 8
+// For each 8-bit mask, the lanes it selects, first to last (then zeros):
+// the permutation that packs them at the front of an AVX2 register.
+struct CompressTable {
+    alignas(32) int32_t index[256][8];
+    constexpr CompressTable() : index{} {
+        for (int m = 0; m < 256; ++m)
+            for (int lane = 0, n = 0; lane < 8; ++lane)
+                if (m >> lane & 1) index[m][n++] = lane;
+    }
+};
+inline constexpr CompressTable kCompress{};
+#endif
+
+// Moves the lanes of a 16-bit mask to the front of any number of rows of
+// 16 32-bit values (floats or ints), in lane order; worked out once per
+// mask. A row written to dst needs room for 16 + kWidth values: what lies
+// past the packed values may be overwritten.
+class Compressor {
+public:
+    explicit Compressor(uint32_t mask) : count_(__builtin_popcount(mask)) {
+#if FACET_SIMD_WIDTH == 16
+        mask_ = __mmask16(mask);
+#elif FACET_SIMD_WIDTH == 8
+        std::memcpy(&index_[0], kCompress.index[mask & 0xFFu], sizeof index_[0]);
+        std::memcpy(&index_[1], kCompress.index[mask >> 8], sizeof index_[1]);
+        first_ = __builtin_popcount(mask & 0xFFu);
+#else
+        for (uint32_t m = mask, n = 0; m; m &= m - 1) lane_[n++] = uint8_t(__builtin_ctz(m));
+#endif
+    }
+
+    int count() const { return count_; }
+
+    void operator()(const void* src, void* dst) const {
+#if FACET_SIMD_WIDTH == 16
+        // The register form, then a store: Zen 4 runs the memory form slowly.
+        const __m512i v = _mm512_maskz_compress_epi32(mask_, _mm512_loadu_si512(src));
+        _mm512_storeu_si512(dst, v);
+#elif FACET_SIMD_WIDTH == 8
+        const auto* in = static_cast<const __m256i*>(src);
+        auto* out = static_cast<uint32_t*>(dst);
+        const __m256i lo = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(in), index_[0]);
+        const __m256i hi = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(in + 1), index_[1]);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), lo);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + first_), hi);
+#else
+        const auto* in = static_cast<const uint32_t*>(src);
+        auto* out = static_cast<uint32_t*>(dst);
+        for (int n = 0; n < count_; ++n) out[n] = in[lane_[n]];
+#endif
+    }
+
+private:
+    int count_;
+#if FACET_SIMD_WIDTH == 16
+    __mmask16 mask_;
+#elif FACET_SIMD_WIDTH == 8
+    __m256i index_[2];
+    int first_;
+#else
+    uint8_t lane_[16];
+#endif
+};
+
 // Part p of a 4x4 block of a row-major float image whose rows are `stride`
 // floats apart: its rows, one after the other.
 inline Float load_part(const float* p, size_t stride, int part) {

@@ -66,7 +66,8 @@ static const facet_shader_desc desc = {
 #else
     sizeof(facet_shader_desc),
 #endif
-    PLUGIN_NAME, "1.0", 0, 0, NULL, PARAM_COUNT, PARAMS, PARAMS_SIZE, vertex, fragment};
+    PLUGIN_NAME, "1.0", 0, 0, NULL, PARAM_COUNT, PARAMS, PARAMS_SIZE, vertex, fragment,
+    NULL, NULL, 0}; /* v1.2: no per-path loops; blocks only (not FACET_SHADER_PACKABLE) */
 
 #ifdef NO_ENTRY
 FACET_EXPORT const facet_shader_desc* some_other_symbol(void) { return &desc; }

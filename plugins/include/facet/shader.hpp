@@ -394,6 +394,8 @@ void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
         if (p) std::memcpy(&f, p, sizeof f);
         return f;
     };
+    // Pixel centres: the host's, when it packs batches (ABI 1.2), or a block's.
+    const float* coord = draw->host->abi_minor >= 2 ? b->coord : nullptr;
     wide::Float column, row;
     for (int i = 0; i < L; ++i) column[i] = float(i % 4), row[i] = float(i / 4);
     for (int first = 0; first < N; first += L) {
@@ -407,7 +409,10 @@ void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
             std::memcpy(reinterpret_cast<char*>(&v) + k * sizeof(wide::Float),
                         b->varyings + k * N + first, sizeof(wide::Float));
         WideFragment frag;
-        frag.coord = {column + (float(b->x) + 0.5f), row + (float(b->y + first / 4) + 0.5f)};
+        if (coord)
+            frag.coord = {load(coord + first, 0.0f), load(coord + N + first, 0.0f)};
+        else
+            frag.coord = {column + (float(b->x) + 0.5f), row + (float(b->y + first / 4) + 0.5f)};
         frag.depth = load(b->depth + first, 0.0f);
         frag.front_facing = b->front_facing != 0;
         frag.shadow = load(b->shadow ? b->shadow + first : nullptr, 1.0f);
@@ -443,6 +448,8 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
     constexpr uint32_t floats = varying_floats<S>();
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
+    // Pixel centres: the host's, when it packs batches (ABI 1.2), or a block's.
+    const float* coord = draw->host->abi_minor >= 2 ? b->coord : nullptr;
     uint32_t keep = b->mask;
     std::fill(b->color, b->color + 4 * N, 0.0f);  // lanes outside the mask
     for (uint32_t lanes = b->mask; lanes; lanes &= lanes - 1) {  // covered lanes only
@@ -453,7 +460,10 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
             for (uint32_t k = 0; k < floats; ++k) f[k] = b->varyings[k * N + i];
             std::memcpy(&v, f, sizeof v);
         }
-        Fragment frag{glm::vec2(float(b->x + i % 4) + 0.5f, float(b->y + i / 4) + 0.5f),
+        const glm::vec2 centre = coord ? glm::vec2(coord[i], coord[N + i])
+                                       : glm::vec2(float(b->x + i % 4) + 0.5f,
+                                                   float(b->y + i / 4) + 0.5f);
+        Fragment frag{centre,
                       b->depth[i], b->front_facing != 0,
                       b->shadow ? b->shadow[i] : 1.0f, b->ao ? b->ao[i] : 1.0f};
         frag.texels_ = b->texels;
@@ -467,6 +477,16 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
         if (frag.discarded) keep &= ~(1u << i);
     }
     b->mask = keep;
+}
+
+// Every loop here works lane by lane, so the host may pack fragments from
+// anywhere into a batch - unless the shader asks for derivatives, or says
+// `static constexpr bool packable = false;` (its own code mixes lanes).
+template <class S>
+constexpr uint32_t flags() {
+    bool packable = !(S::needs & FACET_NEED_DERIVATIVES);
+    if constexpr (requires { S::packable; }) packable &= S::packable;
+    return packable ? uint32_t(FACET_SHADER_PACKABLE) : 0u;
 }
 
 template <class S>
@@ -522,6 +542,7 @@ const facet_shader_desc* describe() {
         &facet_sdk_fragment_avx2 ? facet_sdk_fragment_avx2 : nullptr,
         &facet_sdk_fragment_avx512 ? facet_sdk_fragment_avx512 : nullptr,
 #endif
+        detail::flags<S>(),
     };
     return &desc;
 }

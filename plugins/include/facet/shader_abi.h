@@ -101,6 +101,17 @@ enum facet_need {
     FACET_NEED_DISCARD = 1u << 10     /* the fragment function clears mask bits   */
 };
 
+/* v1.2: how a shader's fragment function may be called (facet_shader_desc.flags). */
+enum facet_shader_flag {
+    /* Lanes of one fragment batch may come from different blocks and
+     * triangles of one draw (all front-facing or all back-facing): the host
+     * then shades only covered pixels, packed into as few batches as it
+     * can. Each lane's pixel is in facet_fragment_batch.coord; x and y say
+     * nothing. For shaders that compute nothing across lanes (no
+     * derivatives). <facet/shader.hpp> sets it. */
+    FACET_SHADER_PACKABLE = 1u << 0
+};
+
 /* How a varying is interpolated across a triangle. */
 enum facet_interpolation {
     FACET_INTERP_PERSPECTIVE = 0, /* perspective-correct, through 1/w          */
@@ -254,7 +265,10 @@ typedef struct facet_vertex_batch {
 /* A 4x4 block of fragments, in structure-of-arrays layout: the value of float
  * k of the varyings for lane i is varyings[k * FACET_BLOCK_LANES + i]. Every
  * lane holds interpolated values, covered or not, so a shader may take
- * derivatives across quads. */
+ * derivatives across quads. For a shader with FACET_SHADER_PACKABLE the
+ * host may instead pack covered pixels of several blocks into one batch
+ * (lane i at coord[i], coord[16 + i]); then only lanes in the mask hold
+ * values. */
 typedef struct facet_fragment_batch {
     int32_t x, y;           /* pixel of lane 0                               */
     uint32_t mask;          /* in: lanes covered and passing depth; out: a   */
@@ -268,6 +282,10 @@ typedef struct facet_fragment_batch {
     const float* ao;        /* [16] ambient visibility 0..1 (screen-space AO, */
                             /*   blurred) if FACET_NEED_AO, else NULL          */
     float* color;           /* out: [4][16] linear RGBA                      */
+    /* v1.2 */
+    const float* coord;     /* [2][16] window x, y of each lane's pixel      */
+                            /*   centre in a packed batch; NULL in a block   */
+                            /*   (there x + i % 4 + 0.5, y + i / 4 + 0.5)    */
 } facet_fragment_batch;
 
 typedef void (*facet_vertex_fn)(const facet_draw* draw, const facet_vertex_batch* batch);
@@ -300,6 +318,7 @@ typedef struct facet_shader_desc {
      * its instruction set (facet/isa.hpp in the core). */
     facet_fragment_fn fragment_avx2;   /* x86-64-v3: AVX2, FMA, BMI1/2, F16C   */
     facet_fragment_fn fragment_avx512; /* x86-64-v4: AVX-512 F, BW, CD, DQ, VL */
+    uint32_t flags;                    /* enum facet_shader_flag bits           */
 } facet_shader_desc;
 
 /* Size of the v1.0 descriptor: the least a host accepts. */
