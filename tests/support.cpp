@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 
 namespace facet::test {
@@ -43,6 +44,26 @@ DrawCall clip_space_call(const Mesh& mesh, const ShaderPlugin& shader) {
 
 glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height) {
     return {float(window.x / width * 2.0 - 1.0), float(1.0 - window.y / height * 2.0), 0.5f};
+}
+
+bool same_image(const Framebuffer& a, const Framebuffer& b) {
+    const size_t n = size_t(a.stride()) * size_t(a.rows());
+    const size_t bytes = size_t(bytes_per_pixel(a.format()));
+    return a.width() == b.width() && a.height() == b.height() && a.format() == b.format() &&
+           a.samples() == b.samples() &&
+           std::memcmp(a.color_data(), b.color_data(), n * bytes) == 0 &&
+           std::memcmp(a.depth(), b.depth(), n * sizeof(float)) == 0;
+}
+
+const char* const kDemoScenes[6] = {"default.yaml",     "scenes/lit.yaml",
+                                    "scenes/phong.yaml", "scenes/toon.yaml",
+                                    "scenes/shadow.yaml", "scenes/ao.yaml"};
+
+Scene small_demo_scene(PluginRegistry& registry, const std::string& name) {
+    Scene s = load_scene(std::string(FACET_SOURCE_DIR) + "/configs/" + name, registry);
+    s.settings.width = 197;
+    s.settings.height = 111;
+    return s;
 }
 
 std::filesystem::path temp_dir(const std::string& tag) {

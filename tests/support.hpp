@@ -3,6 +3,7 @@
 #pragma once
 
 #include <facet/renderer.hpp>
+#include <facet/scene.hpp>
 #include <facet/shader.hpp>
 
 #include <filesystem>
@@ -69,6 +70,15 @@ DrawCall clip_space_call(const Mesh& mesh, const ShaderPlugin& shader);
 
 // Clip coordinates (w = 1) of a window position in a width x height target.
 glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height);
+
+// The same size, format and stored bits, colour and depth (padding too).
+bool same_image(const Framebuffer& a, const Framebuffer& b);
+
+// The demo scenes in configs/, each as small_demo_scene() loads it.
+extern const char* const kDemoScenes[6];
+// configs/<name>, at 197 x 111 (several tiles, and no multiple of the tile
+// or block size).
+Scene small_demo_scene(PluginRegistry& registry, const std::string& name);
 
 // A fresh, empty temporary folder.
 std::filesystem::path temp_dir(const std::string& tag);

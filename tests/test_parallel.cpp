@@ -33,32 +33,11 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace facet;
 
-namespace {
-
-bool same_bits(const Framebuffer& a, const Framebuffer& b) {
-    const size_t n = size_t(a.stride()) * size_t(a.rows());
-    return a.width() == b.width() && a.height() == b.height() && a.format() == b.format() &&
-           std::memcmp(a.color_data(), b.color_data(), n * size_t(bytes_per_pixel(a.format()))) == 0 &&
-           std::memcmp(a.depth(), b.depth(), n * sizeof(float)) == 0;
-}
-
-const char* kScenes[] = {"default.yaml",       "scenes/lit.yaml",    "scenes/phong.yaml",
-                         "scenes/toon.yaml",   "scenes/shadow.yaml", "scenes/ao.yaml"};
-
-Scene small_scene(PluginRegistry& registry, const std::string& name) {
-    Scene s = load_scene(std::string(FACET_SOURCE_DIR) + "/configs/" + name, registry);
-    s.settings.width = 197;  // several tiles; not a multiple of the tile or block size
-    s.settings.height = 111;
-    return s;
-}
-
-}  // namespace
-
 TEST_CASE("every demo scene renders bit for bit the same at any thread count", "[parallel]") {
     PluginRegistry registry;
-    for (const char* name : kScenes) {
+    for (const char* name : test::kDemoScenes) {
         INFO(name);
-        const Scene scene = small_scene(registry, name);
+        const Scene scene = test::small_demo_scene(registry, name);
         Framebuffer one;
         Renderer(1).render(scene, one);
         for (int threads : {2, 3, 5}) {
@@ -66,7 +45,7 @@ TEST_CASE("every demo scene renders bit for bit the same at any thread count", "
             Renderer renderer(threads);
             REQUIRE(renderer.threads() == threads);
             renderer.render(scene, many);
-            CHECK(same_bits(one, many));
+            CHECK(test::same_image(one, many));
         }
     }
 }
@@ -74,23 +53,23 @@ TEST_CASE("every demo scene renders bit for bit the same at any thread count", "
 TEST_CASE("a depth pre-pass renders the same image, shading each pixel once", "[parallel][depth]") {
     PluginRegistry registry;
     // The demo scenes (shadows, AO, blending, toon), with and without MSAA.
-    for (const char* name : kScenes)
+    for (const char* name : test::kDemoScenes)
         for (int msaa : {1, 4}) {
             INFO(name << ", msaa " << msaa);
-            Scene scene = small_scene(registry, name);
+            Scene scene = test::small_demo_scene(registry, name);
             scene.settings.msaa = msaa;
             Framebuffer plain, prepassed;
             const FrameStats a = Renderer(2).render(scene, plain);
             scene.settings.depth_prepass = true;
             const FrameStats b = Renderer(2).render(scene, prepassed);
-            CHECK(same_bits(plain, prepassed));
+            CHECK(test::same_image(plain, prepassed));
             CHECK(b.depth_prepasses == 1);
             CHECK(a.depth_prepasses == 0);
             CHECK(b.fragments_shaded <= a.fragments_shaded);
         }
     // Four screen-filling quads drawn far to near: every layer passes the
     // depth test without the pre-pass, only the nearest with it.
-    Scene scene = small_scene(registry, "scenes/phong.yaml");
+    Scene scene = test::small_demo_scene(registry, "scenes/phong.yaml");
     std::vector<Object> layers;
     for (int k = 0; k < 4; ++k) {
         const float z = -1.5f + 0.5f * float(k);
@@ -105,7 +84,7 @@ TEST_CASE("a depth pre-pass renders the same image, shading each pixel once", "[
     const FrameStats a = Renderer(2).render(scene, plain);
     scene.settings.depth_prepass = true;
     const FrameStats b = Renderer(2).render(scene, prepassed);
-    CHECK(same_bits(plain, prepassed));
+    CHECK(test::same_image(plain, prepassed));
     CHECK(a.fragments_shaded == uint64_t(4 * pixels));
     CHECK(b.fragments_shaded == uint64_t(pixels));
 }
@@ -114,7 +93,7 @@ TEST_CASE("MSAA and wireframe render bit for bit the same at any thread count", 
     PluginRegistry registry;
     for (const char* name : {"default.yaml", "scenes/shadow.yaml"}) {
         INFO(name);
-        Scene scene = small_scene(registry, name);
+        Scene scene = test::small_demo_scene(registry, name);
         scene.settings.msaa = 4;
         scene.settings.wireframe = true;
         Framebuffer one;
@@ -123,7 +102,7 @@ TEST_CASE("MSAA and wireframe render bit for bit the same at any thread count", 
         for (int threads : {2, 3}) {
             Framebuffer many;
             Renderer(threads).render(scene, many);
-            CHECK(same_bits(one, many));
+            CHECK(test::same_image(one, many));
         }
     }
 }
@@ -155,7 +134,7 @@ TEST_CASE("a triangle soup with clipping renders the same at any thread count", 
         return fb;
     };
     const Framebuffer one = draw(1);
-    for (int threads : {2, 5}) CHECK(same_bits(one, draw(threads)));
+    for (int threads : {2, 5}) CHECK(test::same_image(one, draw(threads)));
 }
 
 TEST_CASE("queued draws render what one draw() at a time renders", "[parallel][queue]") {
@@ -196,8 +175,8 @@ TEST_CASE("queued draws render what one draw() at a time renders", "[parallel][q
     FrameStats one_stats, many_stats;
     render(false, one, one_stats);
     render(true, many, many_stats);
-    CHECK(same_bits(one[0], many[0]));
-    CHECK(same_bits(one[1], many[1]));
+    CHECK(test::same_image(one[0], many[0]));
+    CHECK(test::same_image(one[1], many[1]));
     CHECK(many_stats.draws == 400);
     CHECK(many_stats.triangles_clipped > 50);  // clipped vertices live in the queued chunks
     CHECK(many_stats.triangles_rasterized == one_stats.triangles_rasterized);
@@ -210,7 +189,7 @@ TEST_CASE("a steady frame allocates nothing on the heap", "[parallel][memory]") 
     PluginRegistry registry;
     for (const char* name : {"scenes/shadow.yaml", "scenes/ao.yaml", "scenes/phong.yaml"}) {
         INFO(name);
-        const Scene scene = small_scene(registry, name);
+        const Scene scene = test::small_demo_scene(registry, name);
         Renderer renderer(2);
         Framebuffer fb;
         renderer.render(scene, fb);  // the first frames size the buffers

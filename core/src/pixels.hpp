@@ -163,7 +163,7 @@ inline Rgba unpack(ColorFormat format, const Packed& in) {
             const Int p = simd::load<Int>(in.bytes);
             return {srgb8_decode(p & 0xFF), srgb8_decode((p >> 8) & 0xFF),
                     srgb8_decode((p >> 16) & 0xFF),
-                    simd::to_float((p >> 24) & 0xFF) * (1.0f / 255.0f)};
+                    simd::to_float((p >> 24) & 0xFF) / 255.0f};
         }
         case ColorFormat::rgba16f: {
             Int p[2], rg, ba;

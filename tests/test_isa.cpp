@@ -1,0 +1,196 @@
+// Instruction-set paths (facet/isa.hpp): choosing one, and every path
+// drawing the same image as the others, bit for bit; and packed fragment
+// batches (core/src/fragment.hpp) drawing what block batches draw.
+//
+// CTest also runs the raster, pipeline, MSAA and shader tests once per path
+// with FACET_ISA set (tests/CMakeLists.txt); this file compares the paths
+// with one another within one run.
+#include "support.hpp"
+
+#include <facet/error.hpp>
+#include <facet/isa.hpp>
+#include <facet/math.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <functional>
+#include <optional>
+#include <random>
+#include <string>
+
+using namespace facet;
+
+namespace {
+
+// Sets FACET_ISA for one scope, and restores what was there.
+class ForcedIsa {
+public:
+    explicit ForcedIsa(const char* value) {
+        if (const char* old = std::getenv("FACET_ISA")) old_ = old;
+        if (value) setenv("FACET_ISA", value, 1);
+        else unsetenv("FACET_ISA");
+    }
+    ~ForcedIsa() {
+        if (old_) setenv("FACET_ISA", old_->c_str(), 1);
+        else unsetenv("FACET_ISA");
+    }
+
+private:
+    std::optional<std::string> old_;
+};
+
+ErrorCode error_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.code();
+    }
+    FAIL("no error");
+    return ErrorCode::config_invalid;
+}
+
+}  // namespace
+
+TEST_CASE("paths: FACET_ISA chooses one, a name that is none is an error", "[isa]") {
+    const std::vector<Isa> paths = supported_isas();
+    REQUIRE_FALSE(paths.empty());
+    CHECK(paths.front() == Isa::portable);
+    CHECK(best_isa() == paths.back());
+    for (Isa isa : {Isa::portable, Isa::avx2, Isa::avx512}) {
+        CHECK(parse_isa(isa_name(isa)) == isa);
+        if (isa_supported(isa)) CHECK(Renderer(1, isa).isa() == isa);
+        else CHECK(error_of([&] { Renderer(1, isa); }) == ErrorCode::isa_unavailable);
+    }
+    CHECK(parse_isa("portable") == Isa::portable);
+    CHECK_FALSE(parse_isa("avx3"));
+    {
+        const ForcedIsa forced(nullptr);
+        CHECK(default_isa() == best_isa());
+        CHECK(Renderer(1).isa() == best_isa());
+    }
+    {
+        const ForcedIsa forced(std::string(isa_name(Isa::portable)).c_str());
+        CHECK(default_isa() == Isa::portable);
+        CHECK(Renderer(1).isa() == Isa::portable);
+    }
+    {
+        const ForcedIsa forced("avx3");
+        CHECK(error_of([] { default_isa(); }) == ErrorCode::config_invalid);
+        CHECK(error_of([] { Renderer(1); }) == ErrorCode::config_invalid);
+    }
+    CHECK_FALSE(cpu_name().empty());
+}
+
+TEST_CASE("every demo scene renders bit for bit the same on every path", "[isa]") {
+    PluginRegistry registry;
+    for (const char* name : test::kDemoScenes)
+        for (int variant = 0; variant < 3; ++variant) {
+            Scene scene = test::small_demo_scene(registry, name);
+            if (variant == 1) {  // MSAA with the wireframe over it, half floats
+                scene.settings.msaa = 4;
+                scene.settings.wireframe = true;
+                scene.settings.color_format = ColorFormat::rgba16f;
+            } else if (variant == 2) {
+                scene.settings.color_format = ColorFormat::rgba32f;
+            }
+            INFO(name << ", variant " << variant);
+            Framebuffer first;
+            Renderer(2, Isa::portable).render(scene, first);
+            for (Isa isa : supported_isas()) {
+                INFO("path " << isa_name(isa));
+                Framebuffer other;
+                const FrameStats stats = Renderer(2, isa).render(scene, other);
+                CHECK(stats.fragments_shaded > 1000);
+                CHECK(test::same_image(first, other));
+            }
+        }
+}
+
+namespace {
+
+// Colour from the interpolated normal and depth: a smooth function of the
+// varyings, so a fragment shaded with another fragment's inputs shows.
+struct Shade {
+    struct Params {};
+    struct Varyings {
+        glm::vec3 normal;
+        glm::vec4 color;
+    };
+    static constexpr const char* name = "test_shade";
+    static constexpr const char* version = "test";
+    static constexpr uint32_t needs = FACET_NEED_COLORS;
+    static constexpr facet_varying_desc varyings[] = {sdk::varying("normal", 3),
+                                                      sdk::varying("color", 4)};
+    static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
+                           glm::vec4& clip) {
+        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+        return {in.position * 0.3f, in.color};
+    }
+    static glm::vec4 fragment(const Varyings& v, sdk::Fragment& f, const sdk::Draw&,
+                              const Params&) {
+        const float facing = f.front_facing ? 1.0f : 0.25f;
+        return {v.color.r * facing, 0.5f + 0.5f * v.normal.y, f.depth, 1.0f};
+    }
+};
+
+// The same shader, shaded a block at a time.
+struct ShadeBlocks : Shade {
+    static constexpr const char* name = "test_shade_blocks";
+    static constexpr bool packable = false;
+};
+
+}  // namespace
+
+TEST_CASE("packed fragment batches draw what block batches draw", "[isa][packing]") {
+    // Many small triangles of both facings, overlapping in depth, in three
+    // draws: the middle one's shader cannot be packed, so the packed
+    // fragments of the first must be written before it writes its own.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> centre(-1.0f, 1.0f), z(0.05f, 0.95f),
+        offset(-0.04f, 0.04f), c(0.0f, 1.0f);
+    std::vector<Mesh> meshes;
+    for (int m = 0; m < 3; ++m) {
+        std::vector<glm::vec3> pos;
+        std::vector<glm::vec4> colors;
+        std::vector<uint32_t> idx;
+        for (uint32_t t = 0; t < 3000; ++t) {
+            const glm::vec3 at(centre(rng), centre(rng), z(rng));
+            for (int k = 0; k < 3; ++k) {
+                idx.push_back(uint32_t(pos.size()));
+                pos.push_back(at + glm::vec3(offset(rng), offset(rng), 0.05f * offset(rng)));
+                colors.push_back({c(rng), c(rng), c(rng), 1.0f});
+            }
+        }
+        meshes.push_back(test::make_mesh(pos, idx, colors));
+    }
+    const auto packable = test::plugin<Shade>(), blocks = test::plugin<ShadeBlocks>();
+    REQUIRE(packable->desc().flags & FACET_SHADER_PACKABLE);
+    REQUIRE_FALSE(blocks->desc().flags & FACET_SHADER_PACKABLE);
+    auto draw = [&](Isa isa, ColorFormat format, bool pack, FrameStats& stats) {
+        Framebuffer fb(203, 117, format);
+        fb.clear(glm::vec4(0.1f, 0.2f, 0.3f, 1.0f), 0.0f);
+        Renderer renderer(2, isa);
+        for (size_t m = 0; m < meshes.size(); ++m) {
+            DrawCall call = test::clip_space_call(meshes[m], pack && m != 1 ? *packable : *blocks);
+            call.state.depth_compare = DepthCompare::greater_equal;
+            renderer.queue(call, fb, stats);
+        }
+        renderer.flush(stats);
+        return fb;
+    };
+    for (Isa isa : supported_isas())
+        for (ColorFormat format : {ColorFormat::srgb8, ColorFormat::rgba32f}) {
+            INFO("path " << isa_name(isa) << ", " << color_format_name(format));
+            FrameStats packed_stats, block_stats;
+            const Framebuffer packed = draw(isa, format, true, packed_stats);
+            const Framebuffer blocked = draw(isa, format, false, block_stats);
+            CHECK(test::same_image(packed, blocked));
+            CHECK(packed_stats.fragments_shaded == block_stats.fragments_shaded);
+            CHECK(packed_stats.fragments_depth_rejected > 1000);
+            // The packed draws need fewer shader calls for the same fragments.
+            CHECK(packed_stats.blocks_shaded * 3 < block_stats.blocks_shaded * 2);
+        }
+}

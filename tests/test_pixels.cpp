@@ -1,0 +1,185 @@
+// Colour formats: the scalar codecs of framebuffer.hpp against their
+// definitions in double precision, and every instruction-set path's vector
+// codecs and row kernels (kernels.hpp) against the scalar codecs, bit for
+// bit, over the values where rounding decides: each sRGB code's threshold,
+// each table bucket's edges, each half float's midpoints, and the special
+// values.
+#include "color_tables.hpp"
+#include "kernels.hpp"
+
+#include <facet/framebuffer.hpp>
+#include <facet/isa.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+using namespace facet;
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+double srgb_decode(double e) { return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4); }
+
+// The floats on both sides of `x`, and x.
+void around(std::vector<float>& out, float x, int ulps = 2) {
+    float v = x;
+    for (int i = 0; i < ulps; ++i) v = std::nextafter(v, -kInf);
+    for (int i = 0; i <= 2 * ulps; ++i, v = std::nextafter(v, kInf)) out.push_back(v);
+}
+
+// Floats where some codec's result changes, and others anywhere.
+std::vector<float> hard_values() {
+    std::vector<float> v = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, 2.0f, 1e-45f, -1e-45f, 1e-38f,
+                            65504.0f, 65519.99f, 65520.0f, 1e30f, -1e30f, kInf, -kInf,
+                            std::numeric_limits<float>::quiet_NaN(),
+                            -std::numeric_limits<float>::quiet_NaN()};
+    for (int c = 1; c < 256; ++c) {
+        around(v, kSrgb8.threshold[c]);
+        around(v, (float(c) - 0.5f) / 255.0f);  // alpha's rounding edges
+    }
+    for (int b = 0; b <= Srgb8Tables::kBuckets; ++b)
+        around(v, std::bit_cast<float>(uint32_t(b + Srgb8Tables::kFirstBucket) << 16), 1);
+    for (uint32_t h = 0; h < 0x7C00u; ++h) {  // each positive finite half and the midpoint above
+        const float a = half_to_float(uint16_t(h)), b = half_to_float(uint16_t(h + 1));
+        v.push_back(a);
+        around(v, a + (b - a) / 2, 1);
+    }
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<uint32_t> bits;
+    for (int i = 0; i < 200000; ++i) v.push_back(unit(rng));
+    for (int i = 0; i < 50000; ++i) v.push_back(std::bit_cast<float>(bits(rng)));
+    return v;
+}
+
+// The values as pixels: each in every channel.
+std::vector<glm::vec4> pixels(const std::vector<float>& values) {
+    std::vector<glm::vec4> out;
+    for (float x : values) out.emplace_back(x);
+    return out;
+}
+
+bool same_float(float a, float b) {
+    return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b) || (a != a && b != b);
+}
+
+}  // namespace
+
+TEST_CASE("half floats: the scalar codec is exact, rounds to nearest even", "[pixels]") {
+    for (uint32_t h = 0; h < 0x10000u; ++h) {
+        const uint32_t e = h >> 10 & 0x1Fu, m = h & 0x3FFu;
+        const double magnitude = e == 0    ? std::ldexp(double(m), -24)
+                                 : e == 31 ? (m ? std::nan("") : double(kInf))
+                                           : std::ldexp(double(m | 0x400u), int(e) - 25);
+        const double want = h & 0x8000u ? -magnitude : magnitude;
+        const float got = half_to_float(uint16_t(h));
+        REQUIRE((std::isnan(want) ? std::isnan(got) : double(got) == want));
+        if (!std::isnan(want)) REQUIRE(float_to_half(got) == h);
+    }
+    // Ties go to the even neighbour; above the largest half, infinity.
+    CHECK(float_to_half(1.0f + 0x1p-11f) == float_to_half(1.0f));
+    CHECK(float_to_half(1.0f + 3 * 0x1p-11f) == float_to_half(1.0f + 0x1p-9f));
+    CHECK(float_to_half(0x1p-25f) == 0);  // half the least subnormal: to even, 0
+    CHECK(float_to_half(std::nextafter(0x1p-25f, 1.0f)) == 1);
+    CHECK(float_to_half(65519.99f) == 0x7BFF);
+    CHECK(float_to_half(65520.0f) == 0x7C00);
+    CHECK(std::isnan(half_to_float(float_to_half(std::nanf("")))));
+}
+
+TEST_CASE("sRGB codes decode correctly rounded; alpha rounds halves away from zero",
+          "[pixels]") {
+    for (int c = 0; c < 256; ++c) {
+        REQUIRE(srgb8_to_linear(uint8_t(c)) == float(srgb_decode(c / 255.0)));
+        REQUIRE(linear_to_srgb8(srgb8_to_linear(uint8_t(c))) == c);
+    }
+    for (int c = 0; c < 255; ++c) {
+        const float half = (float(c) + 0.5f) / 255.0f;  // 255 * half rounds to c + 0.5 or near
+        const float product = half * 255.0f;
+        CHECK(unorm8(half) == int(std::floor(double(product) + 0.5)));
+    }
+    CHECK(unorm8(-0.2f) == 0);
+    CHECK(unorm8(1.5f) == 255);
+    CHECK(unorm8(std::nanf("")) == 0);
+}
+
+TEST_CASE("every path's vector codecs give the scalar codecs' bits", "[pixels]") {
+    const std::vector<float> values = hard_values();
+    const std::vector<glm::vec4> linear = pixels(values);
+    for (Isa isa : supported_isas())
+        for (ColorFormat format : {ColorFormat::srgb8, ColorFormat::rgba16f, ColorFormat::rgba32f}) {
+            INFO("path " << isa_name(isa) << ", " << color_format_name(format));
+            const size_t bytes = size_t(bytes_per_pixel(format));
+            std::vector<uint8_t> encoded(linear.size() * bytes);
+            kernels(isa).encode_pixels(format, linear.data(), linear.size(), encoded.data());
+            uint8_t want[16];
+            for (size_t i = 0; i < linear.size(); ++i) {
+                encode_pixel(format, linear[i], want);
+                INFO("value " << values[i] << " (bits " << std::bit_cast<uint32_t>(values[i]) << ")");
+                REQUIRE(std::memcmp(&encoded[i * bytes], want, bytes) == 0);
+            }
+            std::vector<glm::vec4> decoded(linear.size());
+            kernels(isa).decode_pixels(format, encoded.data(), linear.size(), decoded.data());
+            for (size_t i = 0; i < linear.size(); ++i) {
+                const glm::vec4 w = decode_pixel(format, &encoded[i * bytes]);
+                for (int c = 0; c < 4; ++c) REQUIRE(same_float(decoded[i][c], w[c]));
+            }
+        }
+}
+
+TEST_CASE("every path clears, resolves and converts to 8 bits as the scalar codecs do",
+          "[pixels][msaa]") {
+    const glm::vec4 clear(0.2f, 0.73f, 1.7f, 0.5f);
+    for (Isa isa : supported_isas())
+        for (ColorFormat format : {ColorFormat::srgb8, ColorFormat::rgba16f, ColorFormat::rgba32f}) {
+            INFO("path " << isa_name(isa) << ", " << color_format_name(format));
+            const Kernels& k = kernels(isa);
+            Framebuffer fb(37, 11, format, 4);  // a width that is no multiple of anything
+            k.clear_rows(fb, 0, fb.height(), clear, 0.25f);
+            uint8_t px[16];
+            encode_pixel(format, clear, px);
+            const glm::vec4 stored = decode_pixel(format, px);
+            // Sample s of each pixel gets a colour of its own; the resolve is
+            // their mean in linear light, encoded.
+            std::mt19937 rng(5);
+            std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+            const size_t bytes = size_t(bytes_per_pixel(format));
+            std::vector<glm::vec4> means;
+            for (int y = 0; y < fb.height(); ++y)
+                for (int x = 0; x < fb.width(); ++x) {
+                    glm::vec4 sum(0.0f);
+                    for (int s = 0; s < 4; ++s) {
+                        REQUIRE(fb.sample(x, y, s) == stored);
+                        REQUIRE(fb.sample_depth_at(x, y, s) == 0.25f);
+                        if (x % 3 == 0) {
+                            sum += stored;
+                            continue;  // some pixels keep the clear colour
+                        }
+                        const glm::vec4 c(unit(rng), unit(rng), 4.0f * unit(rng), unit(rng));
+                        uint8_t* at = fb.sample_color_data() +
+                                      ((size_t(y) * fb.stride() + x) * 4 + s) * bytes;
+                        encode_pixel(format, c, at);
+                        sum += decode_pixel(format, at);
+                    }
+                    means.push_back(sum * 0.25f);
+                }
+            k.resolve_rows(fb, 0, fb.height());
+            std::vector<uint8_t> srgb(size_t(fb.width()) * fb.height() * 4);
+            k.srgb8_rows(fb, 0, fb.height(), srgb.data());
+            for (int y = 0, i = 0; y < fb.height(); ++y)
+                for (int x = 0; x < fb.width(); ++x, ++i) {
+                    encode_pixel(format, means[size_t(i)], px);
+                    REQUIRE(fb.pixel(x, y) == decode_pixel(format, px));
+                    REQUIRE(fb.depth_at(x, y) == 0.25f);
+                    uint8_t want[4];
+                    encode_pixel(ColorFormat::srgb8, fb.pixel(x, y), want);
+                    REQUIRE(std::memcmp(&srgb[size_t(i) * 4], want, 4) == 0);
+                }
+        }
+}
