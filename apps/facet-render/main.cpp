@@ -11,6 +11,7 @@
 #include <facet/error.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/hot_reload.hpp>
+#include <facet/isa.hpp>
 #include <facet/plugin.hpp>
 #include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
@@ -65,8 +66,12 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
     if (opt.wireframe) scene.settings.wireframe = true;
     facet::Framebuffer framebuffer;
     facet::Renderer renderer;
+    spdlog::info("{} path on {}, {} threads", facet::isa_name(renderer.isa()), facet::cpu_name(),
+                 renderer.threads());
     const facet::FrameStats stats = renderer.render(scene, framebuffer);
-    framebuffer.write_png(opt.output);
+    std::vector<uint8_t> rgba;
+    renderer.resolve_srgb8(framebuffer, rgba);  // a copy of an srgb8 target
+    facet::write_png(opt.output, framebuffer.width(), framebuffer.height(), rgba);
     report(stats, scene);
     spdlog::info("wrote {}", opt.output);
 }

@@ -255,8 +255,13 @@ void Framebuffer::write_png(const std::filesystem::path& path) const {
             throw Error(ErrorCode::output_failed, "cannot write PNG", path.string());
         return;
     }
-    const std::vector<uint8_t> pixels = resolve_srgb8();
-    if (!stbi_write_png(path.string().c_str(), width_, height_, 4, pixels.data(), width_ * 4))
+    facet::write_png(path, width_, height_, resolve_srgb8());
+}
+
+void write_png(const std::filesystem::path& path, int width, int height,
+               const std::vector<uint8_t>& rgba8) {
+    if (rgba8.size() != size_t(width) * size_t(height) * 4 ||
+        !stbi_write_png(path.string().c_str(), width, height, 4, rgba8.data(), width * 4))
         throw Error(ErrorCode::output_failed, "cannot write PNG", path.string());
 }
 
