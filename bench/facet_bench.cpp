@@ -2,26 +2,33 @@
 // and thread counts.
 //
 //     facet-bench [--scene NAME]... [--size WxH]... [--shader NAME]...
-//                 [--threads N]... [--runs N] [--depth-prepass] [--csv FILE] [--json FILE]
+//                 [--threads N]... [--isa PATH]... [--target srgb8|rgba32f] [--runs N]
+//                 [--depth-prepass] [--csv FILE] [--json FILE]
 //     facet-bench --pareto [--size WxH] [--threads N] [--runs N]
 //                 [--reference-grid N] [--csv FILE] [--plot FILE]
-//     facet-bench --llvmpipe [--llvmpipe-target rgba32f|srgb8] [the options above]
+//     facet-bench --llvmpipe [the options of the first form]
+//
+// Each configuration is measured on each instruction-set path of --isa
+// (sse2, avx2, avx512; by default every one this CPU has), side by side in
+// one run, and the output names the CPU, the path of each row and the
+// thread count. --target is the colour target both renderers draw into:
+// srgb8 (the default, what a display or a PNG takes) or rgba32f.
 //
 // --pareto measures run time against error instead (pareto.hpp).
 //
 // --llvmpipe (when built with OSMesa) also draws each configuration through
 // Mesa's llvmpipe with a GLSL version of its shader (phong and unlit only;
 // other shaders' rows get no llvmpipe columns), in a child process that
-// sets llvmpipe's thread count (llvmpipe_worker.hpp, llvmpipe.hpp). It adds
-// llvmpipe's median, the ratio llvmpipe ms / facet ms (above 1: facet is
-// faster) and the pixels whose coverage differs (a share in the table; the
-// CSV and JSON also give the count): which pixels any geometry covers, from
-// an unlit white frame on black drawn by each. The GLSL computes the
-// plugins' colours but does a little less work: facet's phong and unlit
-// also interpolate UVs and multiply in their base_texture slot (unbound
-// here, so the host fills it with white). With --llvmpipe-target srgb8,
-// llvmpipe writes 8-bit sRGB (GL encodes on write, 4 bytes a pixel) where
-// facet writes linear rgba32f (16 bytes). When a worker fails (a crash, a
+// sets llvmpipe's thread count (llvmpipe_worker.hpp, llvmpipe.hpp), once per
+// configuration (all paths' rows share it). It adds llvmpipe's median, the
+// ratio llvmpipe ms / facet ms (above 1: facet is faster) and the pixels
+// whose coverage differs (a share in the table; the CSV and JSON also give
+// the count): which pixels any geometry covers, from an unlit white frame on
+// black drawn by each. The GLSL computes the plugins' colours but does a
+// little less work: facet's phong and unlit also interpolate UVs and
+// multiply in their base_texture slot (unbound here, so it reads white).
+// With --target srgb8 both encode each fragment to 8-bit sRGB as they write
+// it (GL_FRAMEBUFFER_SRGB; 4 bytes a pixel). When a worker fails (a crash, a
 // timeout, settings llvmpipe cannot model such as MSAA or wireframe), the
 // error is logged, that row's llvmpipe columns stay empty, the run goes on
 // and facet-bench exits with 1 at the end.
@@ -50,6 +57,7 @@
 #endif
 
 #include <facet/command_line.hpp>
+#include <facet/isa.hpp>
 #include <facet/material.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
@@ -219,7 +227,7 @@ struct Versus {
 };
 
 struct Result {
-    std::string scene, note, shader;
+    std::string scene, note, shader, isa;
     int width, height, threads;
     uint64_t triangles;
     double median_ms, min_ms, peak_rss_mib;
@@ -227,52 +235,60 @@ struct Result {
 };
 
 Result measure(Scene& scene, const std::string& name, const std::string& note,
-               const std::string& shader, int threads, int runs, const PeakRss& peak) {
-    Renderer renderer(threads);
+               const std::string& shader, int threads, Isa isa, int runs, const PeakRss& peak) {
+    Renderer renderer(threads, isa);
     Framebuffer fb;
     const FrameStats first = renderer.render(scene, fb);  // warm-up
     std::vector<double> ms;
     for (int i = 0; i < runs; ++i) ms.push_back(renderer.render(scene, fb).milliseconds);
     std::sort(ms.begin(), ms.end());
-    return {name, note, shader, scene.settings.width, scene.settings.height, renderer.threads(),
-            first.triangles_in, ms[ms.size() / 2], ms.front(), peak.read(), {}};
+    return {name, note, shader, std::string(isa_name(isa)), scene.settings.width,
+            scene.settings.height, renderer.threads(), first.triangles_in, ms[ms.size() / 2],
+            ms.front(), peak.read(), {}};
 }
 
-// `lp_target`: the llvmpipe colour buffer with --llvmpipe, which adds its
-// columns (empty in rows llvmpipe did not draw); empty otherwise.
+// The CPU's model, without the commas that would split a CSV field.
+std::string cpu_for_csv() {
+    std::string cpu = cpu_name();
+    std::replace(cpu.begin(), cpu.end(), ',', ' ');
+    return cpu;
+}
+
+// With `llvmpipe`, its columns too (empty in rows llvmpipe did not draw).
+// Every row is drawn into the colour target `target`, by both renderers.
 void write_csv(const std::string& path, const std::vector<Result>& results,
-               const std::string& lp_target) {
+               const std::string& target, bool llvmpipe) {
     std::ofstream out(path);
-    out << "scene,note,shader,width,height,threads,triangles,median_ms,min_ms,peak_rss_mib";
-    if (!lp_target.empty())
-        out << ",llvmpipe_target,llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
+    out << "scene,note,shader,cpu,isa,target,width,height,threads,triangles,median_ms,min_ms,"
+           "peak_rss_mib";
+    if (llvmpipe)
+        out << ",llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
                "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels";
     out << '\n';
+    const std::string cpu = cpu_for_csv();
     for (const Result& r : results) {
-        out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << r.width << ','
-            << r.height << ',' << r.threads << ',' << r.triangles << ',' << r.median_ms << ','
-            << r.min_ms << ',' << r.peak_rss_mib;
-        if (!lp_target.empty() && r.llvmpipe)
-            out << ',' << lp_target << ',' << r.llvmpipe->threads << ','
-                << r.llvmpipe->median_ms << ',' << r.llvmpipe->min_ms << ','
-                << r.llvmpipe->median_ms / r.median_ms << ',' << r.llvmpipe->coverage.percent
-                << ',' << r.llvmpipe->coverage.pixels;
-        else if (!lp_target.empty())
-            out << ",,,,,,,";
+        out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << cpu << ',' << r.isa << ','
+            << target << ',' << r.width << ',' << r.height << ',' << r.threads << ','
+            << r.triangles << ',' << r.median_ms << ',' << r.min_ms << ',' << r.peak_rss_mib;
+        if (llvmpipe && r.llvmpipe)
+            out << ',' << r.llvmpipe->threads << ',' << r.llvmpipe->median_ms << ','
+                << r.llvmpipe->min_ms << ',' << r.llvmpipe->median_ms / r.median_ms << ','
+                << r.llvmpipe->coverage.percent << ',' << r.llvmpipe->coverage.pixels;
+        else if (llvmpipe)
+            out << ",,,,,,";
         out << '\n';
     }
 }
 
 // The JSON fields of --llvmpipe (null where llvmpipe did not draw the row).
-std::string json_llvmpipe(const Result& r, const std::string& lp_target) {
+std::string json_llvmpipe(const Result& r) {
     if (!r.llvmpipe)
-        return ", \"llvmpipe_target\": null, \"llvmpipe_threads\": null, "
-               "\"llvmpipe_median_ms\": null, \"llvmpipe_min_ms\": null, "
-               "\"ratio_llvmpipe_over_facet\": null, \"coverage_diff_percent\": null, "
-               "\"coverage_diff_pixels\": null";
+        return ", \"llvmpipe_threads\": null, \"llvmpipe_median_ms\": null, "
+               "\"llvmpipe_min_ms\": null, \"ratio_llvmpipe_over_facet\": null, "
+               "\"coverage_diff_percent\": null, \"coverage_diff_pixels\": null";
     std::ostringstream out;
-    out << ", \"llvmpipe_target\": \"" << lp_target << "\", \"llvmpipe_threads\": "
-        << r.llvmpipe->threads << ", \"llvmpipe_median_ms\": " << r.llvmpipe->median_ms
+    out << ", \"llvmpipe_threads\": " << r.llvmpipe->threads
+        << ", \"llvmpipe_median_ms\": " << r.llvmpipe->median_ms
         << ", \"llvmpipe_min_ms\": " << r.llvmpipe->min_ms
         << ", \"ratio_llvmpipe_over_facet\": " << r.llvmpipe->median_ms / r.median_ms
         << ", \"coverage_diff_percent\": " << r.llvmpipe->coverage.percent
@@ -281,18 +297,20 @@ std::string json_llvmpipe(const Result& r, const std::string& lp_target) {
 }
 
 void write_json(const std::string& path, const std::vector<Result>& results,
-                const std::string& lp_target) {
+                const std::string& target, bool llvmpipe) {
     std::ofstream out(path);
+    const std::string cpu = cpu_for_csv();
     out << "[\n";
     for (size_t i = 0; i < results.size(); ++i) {
         const Result& r = results[i];
         out << "  {\"scene\": \"" << r.scene << "\", \"note\": \"" << r.note
-            << "\", \"shader\": \"" << r.shader << "\", \"width\": " << r.width
-            << ", \"height\": " << r.height << ", \"threads\": " << r.threads
-            << ", \"triangles\": " << r.triangles << ", \"median_ms\": " << r.median_ms
-            << ", \"min_ms\": " << r.min_ms << ", \"peak_rss_mib\": " << r.peak_rss_mib
-            << (lp_target.empty() ? "" : json_llvmpipe(r, lp_target)) << "}"
-            << (i + 1 < results.size() ? "," : "") << "\n";
+            << "\", \"shader\": \"" << r.shader << "\", \"cpu\": \"" << cpu
+            << "\", \"isa\": \"" << r.isa << "\", \"target\": \"" << target
+            << "\", \"width\": " << r.width << ", \"height\": " << r.height
+            << ", \"threads\": " << r.threads << ", \"triangles\": " << r.triangles
+            << ", \"median_ms\": " << r.median_ms << ", \"min_ms\": " << r.min_ms
+            << ", \"peak_rss_mib\": " << r.peak_rss_mib << (llvmpipe ? json_llvmpipe(r) : "")
+            << "}" << (i + 1 < results.size() ? "," : "") << "\n";
     }
     out << "]\n";
 }
@@ -386,18 +404,19 @@ int llvmpipe_worker(const bench::LlvmpipeJob& job, const std::string& result_pat
 }
 #endif
 
-void print_header(bool llvmpipe) {
-    std::printf("%-9s %-10s %-7s %7s %10s %12s %10s", "scene", "size", "shader", "threads",
-                "triangles", "median ms", "peak MiB");
+void print_header(bool llvmpipe, const std::string& target) {
+    std::printf("%s; colour target %s\n", cpu_name().c_str(), target.c_str());
+    std::printf("%-9s %-10s %-7s %-6s %7s %10s %12s %10s", "scene", "size", "shader", "path",
+                "threads", "triangles", "median ms", "peak MiB");
     if (llvmpipe)
         std::printf(" %11s %12s %9s %11s", "lp threads", "llvmpipe ms", "lp/facet", "cov diff %");
     std::printf("\n");
 }
 
 void print_row(const Result& r, const std::string& size, bool llvmpipe) {
-    std::printf("%-9s %-10s %-7s %7d %10llu %12.2f %10.1f", r.scene.c_str(), size.c_str(),
-                r.shader.c_str(), r.threads, (unsigned long long)r.triangles, r.median_ms,
-                r.peak_rss_mib);
+    std::printf("%-9s %-10s %-7s %-6s %7d %10llu %12.2f %10.1f", r.scene.c_str(), size.c_str(),
+                r.shader.c_str(), r.isa.c_str(), r.threads, (unsigned long long)r.triangles,
+                r.median_ms, r.peak_rss_mib);
     if (llvmpipe && r.llvmpipe)
         std::printf(" %11d %12.2f %9.2f %11.4f", r.llvmpipe->threads, r.llvmpipe->median_ms,
                     r.llvmpipe->median_ms / r.median_ms, r.llvmpipe->coverage.percent);
@@ -411,7 +430,7 @@ void print_row(const Result& r, const std::string& size, bool llvmpipe) {
 // the coverage comparison of the current scene and size, and the failures.
 struct LlvmpipeSide {
     bool on = false;
-    std::string target = "rgba32f";
+    std::string target = "srgb8";  // the colour target of both renderers (--target)
     std::string renderer;
     std::optional<CoverageDiff> coverage;  // reset for each scene and size
     int failures = 0;
@@ -468,8 +487,8 @@ struct LlvmpipeSide {
             "  base_texture slot (unbound here: white); the GLSL versions do neither\n",
             renderer.empty() ? "(no worker reported)" : renderer.c_str(), target.c_str());
         if (target == "srgb8")
-            std::printf("srgb8: llvmpipe encodes each fragment to 8-bit sRGB as it writes it\n"
-                        "  (4 bytes a pixel); facet writes linear rgba32f (16 bytes a pixel)\n");
+            std::printf("srgb8: both renderers encode each fragment to 8-bit sRGB as they write\n"
+                        "  it (4 bytes a pixel), blending in linear light\n");
         if (failures)
             std::printf("llvmpipe: %d measurement(s) failed (logged above; their columns "
                         "are empty)\n",
@@ -483,6 +502,7 @@ struct Options {
     std::vector<std::string> sizes = {"1280x720", "1920x1080"};
     std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao"};
     std::vector<int> threads = {1, int(std::max(1u, std::thread::hardware_concurrency()))};
+    std::vector<std::string> isas;  // empty: every path this CPU has
     int runs = 5;
     bool depth_prepass = false;
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
@@ -504,6 +524,14 @@ void add_options(CLI::App& app, Options& o) {
     app.add_option("--size", o.sizes, "image size WxH");
     app.add_option("--shader", o.shaders, "shader plugin name");
     app.add_option("--threads", o.threads, "threads (counting the caller)");
+    app.add_option("--isa", o.isas,
+                   "instruction-set paths to measure facet on, side by side: sse2, avx2, "
+                   "avx512 (default: every one this CPU has)");
+    app.add_option("--target", o.lp.target,
+                   "colour target of both renderers: srgb8 (8-bit sRGB, what a display or a "
+                   "PNG takes) or rgba32f (linear float)")
+        ->check(CLI::IsMember({"rgba32f", "srgb8"}))
+        ->capture_default_str();
     app.add_option("--runs", o.runs, "frames per configuration (median)")->capture_default_str();
     app.add_flag("--depth-prepass", o.depth_prepass,
                  "render with the depth pre-pass (render: depth_prepass), noted in each row");
@@ -513,11 +541,6 @@ void add_options(CLI::App& app, Options& o) {
                  "also draw each configuration (phong and unlit) through Mesa's llvmpipe "
                  "(OSMesa): its time, the ratio to facet's and the coverage difference")
         ->excludes(pareto_flag);
-    app.add_option("--llvmpipe-target", o.lp.target,
-                   "--llvmpipe: llvmpipe's colour buffer, rgba32f (linear float, like facet's) "
-                   "or srgb8")
-        ->check(CLI::IsMember({"rgba32f", "srgb8"}))
-        ->capture_default_str();
     // The child side of --llvmpipe (llvmpipe_worker.hpp); not for users.
     app.add_option("--llvmpipe-worker", o.worker_result)->group("");
     app.add_option("--llvmpipe-coverage", o.worker_mask)->group("");
@@ -558,13 +581,15 @@ int run_pareto(const CLI::App& app, Options& o) {
     return bench::run_pareto(o.po);
 }
 
-// Every row of scene `name`: each size, shader and thread count.
-void bench_scene(const std::string& name, Options& o, PluginRegistry& registry,
-                 std::vector<Result>& results) {
+// Every row of scene `name`: each size, shader, thread count and path. With
+// --llvmpipe, llvmpipe draws each configuration once, for all paths' rows.
+void bench_scene(const std::string& name, Options& o, const std::vector<Isa>& isas,
+                 PluginRegistry& registry, std::vector<Result>& results) {
     PeakRss peak;  // from before the scene is made: its memory counts
     std::string note;
     Scene scene = make_scene(name, note);
     scene.settings.depth_prepass = o.depth_prepass;
+    scene.settings.color_format = *parse_color_format(o.lp.target);
     if (o.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
@@ -574,11 +599,15 @@ void bench_scene(const std::string& name, Options& o, PluginRegistry& registry,
         for (const std::string& shader : o.shaders) {
             set_shader(scene, registry, shader);
             for (int t : o.threads) {
-                Result r = measure(scene, name, note, shader, t, o.runs, peak);
-                if (o.lp.on && o.lp.draws(shader))
-                    r.llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
-                print_row(r, size, o.lp.on);
-                results.push_back(r);
+                std::optional<Versus> llvmpipe;
+                for (Isa isa : isas) {
+                    Result r = measure(scene, name, note, shader, t, isa, o.runs, peak);
+                    if (o.lp.on && o.lp.draws(shader) && isa == isas.front())
+                        llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
+                    r.llvmpipe = llvmpipe;
+                    print_row(r, size, o.lp.on);
+                    results.push_back(r);
+                }
             }
         }
     }
@@ -592,15 +621,26 @@ int run_table(Options& o) {
             spdlog::error("bad size '{}' (WxH)", size);
             return 2;
         }
+    std::vector<Isa> isas;
+    for (const std::string& name : o.isas) {
+        const std::optional<Isa> isa = parse_isa(name);
+        if (!isa || !isa_supported(*isa)) {
+            spdlog::error("--isa {}: {}", name,
+                          isa ? "this CPU does not have it" : "expected sse2, avx2 or avx512");
+            return 2;
+        }
+        isas.push_back(*isa);
+    }
+    if (isas.empty()) isas = supported_isas();
     o.runs = std::max(1, o.runs);
     PluginRegistry registry;
     std::vector<Result> results;
     if (o.lp.on) o.lp.print_skipped(o.shaders);
-    print_header(o.lp.on);
-    for (const std::string& name : o.scenes) bench_scene(name, o, registry, results);
+    print_header(o.lp.on, o.lp.target);
+    for (const std::string& name : o.scenes) bench_scene(name, o, isas, registry, results);
     if (o.lp.on) o.lp.print_legend();
-    write_csv(o.csv, results, o.lp.on ? o.lp.target : "");
-    write_json(o.json, results, o.lp.on ? o.lp.target : "");
+    write_csv(o.csv, results, o.lp.target, o.lp.on);
+    write_json(o.json, results, o.lp.target, o.lp.on);
     std::printf("wrote %s and %s\n", o.csv.c_str(), o.json.c_str());
     return o.lp.failures ? 1 : 0;
 }

@@ -161,7 +161,7 @@ LlvmpipeResult measure_llvmpipe(const LlvmpipeJob& job) {
                                      job.scene,              "--size",
                                      job.size,               "--shader",
                                      job.shader,             "--runs",
-                                     std::to_string(job.runs), "--llvmpipe-target",
+                                     std::to_string(job.runs), "--target",
                                      target_name(job.target)};
     if (job.coverage) args.insert(args.end(), {"--llvmpipe-coverage", mask_path.string()});
     const int status = run_self(args, child_environment(job.threads), output_path, job.timeout);

@@ -5,7 +5,7 @@
 // parent (measure_llvmpipe) therefore runs this same program again as
 //
 //     facet-bench --llvmpipe-worker RESULT --scene S --size WxH --shader NAME
-//                 --runs N --llvmpipe-target T [--llvmpipe-coverage MASK]
+//                 --runs N --target T [--llvmpipe-coverage MASK]
 //
 // with LP_NUM_THREADS and GALLIUM_DRIVER=llvmpipe in its environment, and
 // waits for it (at most LlvmpipeJob::timeout; then it kills it). The child

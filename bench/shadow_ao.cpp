@@ -158,6 +158,7 @@ int main(int argc, char** argv) {
     Scene shadow = load_scene(configs + "shadow.yaml", registry);
     shadow.settings.width = width;
     shadow.settings.height = height;
+    shadow.settings.color_format = ColorFormat::rgba32f;  // light visibility is a float
     override_materials(shadow, registry, "shadow",
                        {number("base_color", {1, 1, 1, 1}), number("ambient", {0, 0, 0})});
     for (size_t i = 0; i < shadow.lights.size(); ++i) {
@@ -173,6 +174,7 @@ int main(int argc, char** argv) {
     Scene ao = load_scene(configs + "ao.yaml", registry);
     ao.settings.width = width;
     ao.settings.height = height;
+    ao.settings.color_format = ColorFormat::rgba32f;
     const Material& demo = *ao.objects[0].material;
     auto param = [&](const char* name) {
         for (const MaterialParam& p : demo.params)
