@@ -8,6 +8,7 @@
 #include "viewer.hpp"
 
 #include <facet/error.hpp>
+#include <facet/isa.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -146,6 +147,10 @@ TEST_CASE("the viewer renders once, then only when something changes", "[viewer]
     CHECK(v.frames_rendered() == 1);  // idle: nothing rendered
     CHECK(v.wait_ms() == -1);         // and run() would sleep until an event
     CHECK(v.overlay().stats.triangles_in == 5856);  // Spot
+    // The overlay names the instruction-set path the frame was drawn on.
+    CHECK(v.overlay().isa == default_isa());
+    CHECK(stats_text(v.overlay()).find(std::string(isa_name(default_isa())) + "\n") !=
+          std::string::npos);
     drag(5, 0, 0);  // a move without a button changes nothing
     v.pump();
     CHECK(v.frames_rendered() == 1);

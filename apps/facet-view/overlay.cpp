@@ -44,8 +44,8 @@ std::string stats_text(const OverlayInfo& i) {
     const RenderSettings& r = i.settings;
     const double fps = i.frame_ms > 0.0 ? 1000.0 / i.frame_ms : 0.0;
     std::string t;
-    t += fmt::format("frame     {:.1f} ms ({:.0f} fps)  render {:.1f} ms  {} threads\n",
-                     i.frame_ms, fps, s.milliseconds, i.threads);
+    t += fmt::format("frame     {:.1f} ms ({:.0f} fps)  render {:.1f} ms  {} threads, {}\n",
+                     i.frame_ms, fps, s.milliseconds, i.threads, isa_name(i.isa));
     t += fmt::format("passes    shadow {:.1f}  pre {:.1f}  main {:.1f}  AO {:.1f}  post {:.1f} ms\n",
                      s.ms_shadow, s.ms_prepass, s.ms_main, s.ms_ao, s.ms_post);
     t += fmt::format("triangles in {}  culled {} (back {}, frustum {}, tiny {})\n",

@@ -3,6 +3,7 @@
 // from drawing it so the tests can read it.
 #pragma once
 
+#include <facet/isa.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 #include <facet/text.hpp>
@@ -26,6 +27,7 @@ struct OverlayInfo {
     FrameStats stats;
     double frame_ms = 0.0;       // render and conversion to sRGB8
     int threads = 1;
+    Isa isa = Isa::portable;     // the renderer's instruction-set path
     RenderSettings settings;     // as rendered (size, MSAA, wireframe, passes)
     bool shadows_needed = false; // a visible material asks for shadow maps
     bool ao_needed = false;      // a visible material asks for AO

@@ -220,9 +220,10 @@ void Viewer::render() {
         const ViewOf view(scene_, controller_.camera(), settings_);
         info_.stats = renderer_.render(scene_, framebuffer_);
     }
-    framebuffer_.resolve_srgb8(image_);
+    renderer_.resolve_srgb8(framebuffer_, image_);  // a copy: the target is 8-bit sRGB
     ++frames_;
     info_.threads = renderer_.threads();
+    info_.isa = renderer_.isa();
     info_.settings = settings_;
     info_.shadows_needed = info_.ao_needed = false;
     for (const Object& o : scene_.objects) {
