@@ -68,6 +68,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -245,6 +246,36 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
     return {name, note, shader, std::string(isa_name(isa)), scene.settings.width,
             scene.settings.height, renderer.threads(), first.triangles_in, ms[ms.size() / 2],
             ms.front(), peak.read(), {}};
+}
+
+// With a float target, what turning it into 8-bit sRGB for a PNG or a window
+// costs against clearing it (Renderer::resolve_srgb8, Renderer::clear): the
+// medians of `runs`, in ms, of a target of varied colours.
+void print_output_cost(const std::string& target, const glm::ivec2& size, int threads, Isa isa,
+                       int runs) {
+    Framebuffer fb(size.x, size.y, *parse_color_format(target));
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x)
+            fb.set_pixel(x, y, {float(x) / float(size.x), float(y) / float(size.y),
+                                float((x * 7 + y * 13) % 101) / 50.0f, 1.0f});
+    Renderer renderer(threads, isa);
+    std::vector<uint8_t> rgba;
+    const auto median_ms = [&](auto&& work) {
+        std::vector<double> ms;
+        for (int i = 0; i <= runs; ++i) {  // the first warms up
+            const auto start = std::chrono::steady_clock::now();
+            work();
+            const std::chrono::duration<double, std::milli> d = std::chrono::steady_clock::now() - start;
+            if (i) ms.push_back(d.count());
+        }
+        std::sort(ms.begin(), ms.end());
+        return ms[ms.size() / 2];
+    };
+    const double convert = median_ms([&] { renderer.resolve_srgb8(fb, rgba); });
+    const double clear = median_ms([&] { renderer.clear(fb, glm::vec4(0.1f), 0.0f); });
+    std::printf("%s %dx%d to 8-bit sRGB, %d threads, %s: %.2f ms (a clear: %.2f ms)\n",
+                target.c_str(), size.x, size.y, renderer.threads(),
+                std::string(isa_name(isa)).c_str(), convert, clear);
 }
 
 // The CPU's model, without the commas that would split a CSV field.
@@ -639,6 +670,10 @@ int run_table(Options& o) {
     print_header(o.lp.on, o.lp.target);
     for (const std::string& name : o.scenes) bench_scene(name, o, isas, registry, results);
     if (o.lp.on) o.lp.print_legend();
+    if (o.lp.target != "srgb8")  // what a float target's 8-bit output costs
+        for (const std::string& size : o.sizes)
+            for (int t : o.threads)
+                for (Isa isa : isas) print_output_cost(o.lp.target, *parse_size(size), t, isa, o.runs);
     write_csv(o.csv, results, o.lp.target, o.lp.on);
     write_json(o.json, results, o.lp.target, o.lp.on);
     std::printf("wrote %s and %s\n", o.csv.c_str(), o.json.c_str());

@@ -197,7 +197,7 @@ void write_pixels(const DrawContext& dc, const Block& b, const Float* z, const f
         if (dc.state.blend != BlendMode::opaque)
             src = blend(dc.state.blend, src, load_color(format, block, row_bytes, p));
         Packed packed;
-        pack(format, src, packed);
+        pack(format, src, packed.bytes);
         store_packed(format, block, row_bytes, p, packed, lanes);
     }
 }
@@ -257,7 +257,7 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
         const uint32_t lanes = simd::part_mask(mask, p);
         if (!lanes) continue;
         Packed packed;  // opaque: each lane's encoded colour, the same for all its samples
-        if (write_color && opaque) pack(format, shaded(color, p), packed);
+        if (write_color && opaque) pack(format, shaded(color, p), packed.bytes);
         for (uint32_t m = lanes; m; m &= m - 1) {
             const int j = std::countr_zero(m), i = p * kWidth + j;
             const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
@@ -377,7 +377,7 @@ void PackedBatch::flush(FrameStats& stats) {
     const size_t bytes = size_t(bytes_per_pixel(format));
     for (int p = 0; p * kWidth < count_; ++p) {
         Packed packed;
-        pack(format, shaded(color, p), packed);
+        pack(format, shaded(color, p), packed.bytes);
         for (uint32_t m = simd::part_mask(mask, p); m; m &= m - 1) {
             const int j = std::countr_zero(m);
             std::memcpy(fb.color_data() + size_t(pixel[p * kWidth + j]) * bytes,

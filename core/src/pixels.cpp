@@ -33,16 +33,40 @@ void fill(uint8_t* p, size_t bytes, const uint8_t* pixel, size_t size) {
 }
 
 // Up to kWidth pixels of `size` bytes from `in` (`step` bytes apart), decoded.
+// A run of `count` pixels of Bytes each, zeros after it: a copy of constant
+// size in the common case of a whole run (a variable one is a slow rep movs).
+template <size_t Bytes>
+void copy_run(uint8_t* dst, const uint8_t* src, int count) {
+    if (count == kWidth) {
+        std::memcpy(dst, src, Bytes * kWidth);
+        return;
+    }
+    std::memcpy(dst, src, Bytes * size_t(count));
+    std::memset(dst + Bytes * size_t(count), 0, Bytes * size_t(kWidth - count));
+}
+
 Rgba gather_pixels(ColorFormat format, const uint8_t* in, size_t step, size_t size, int count) {
-    Packed packed{};
-    for (int i = 0; i < count; ++i) std::memcpy(packed.bytes + size_t(i) * size, in + size_t(i) * step, size);
-    return unpack(format, packed);
+    Packed packed;
+    if (step != size) {
+        for (int i = 0; i < count; ++i)
+            std::memcpy(packed.bytes + size_t(i) * size, in + size_t(i) * step, size);
+        std::memset(packed.bytes + size * size_t(count), 0, size * size_t(kWidth - count));
+    } else if (size == 4) {
+        copy_run<4>(packed.bytes, in, count);
+    } else if (size == 8) {
+        copy_run<8>(packed.bytes, in, count);
+    } else {
+        copy_run<16>(packed.bytes, in, count);
+    }
+    return unpack(format, packed.bytes);
 }
 
 void put_pixels(ColorFormat format, const Rgba& c, uint8_t* out, int count) {
     Packed packed;
-    pack(format, c, packed);
-    std::memcpy(out, packed.bytes, size_t(count) * size_t(bytes_per_pixel(format)));
+    pack(format, c, packed.bytes);
+    const size_t bytes = size_t(bytes_per_pixel(format));
+    if (count == kWidth && bytes == 4) std::memcpy(out, packed.bytes, 4 * kWidth);
+    else std::memcpy(out, packed.bytes, size_t(count) * bytes);
 }
 
 }  // namespace
@@ -88,16 +112,32 @@ void resolve_rows(Framebuffer& fb, int first, int count) {
     }
 }
 
-void srgb8_rows(const Framebuffer& fb, int first, int count, uint8_t* out) {
-    const ColorFormat format = fb.format();
-    const size_t bytes = size_t(bytes_per_pixel(format));
-    for (int y = first; y < first + count; ++y)
-        for (int x = 0; x < fb.width(); x += kWidth) {
-            const int k = std::min(kWidth, fb.width() - x);
-            const size_t at = size_t(y) * size_t(fb.stride()) + size_t(x);
-            const Rgba c = gather_pixels(format, fb.color_data() + at * bytes, bytes, bytes, k);
-            put_pixels(ColorFormat::srgb8, c, out + (size_t(y) * size_t(fb.width()) + size_t(x)) * 4, k);
+// Rows of a `format` image to 8-bit sRGB: whole runs of kWidth pixels
+// straight from the row into registers and out, then the row's tail.
+template <ColorFormat format>
+void srgb8_rows_of(const Framebuffer& fb, int first, int count, uint8_t* out) {
+    constexpr size_t bytes = size_t(bytes_per_pixel(format));
+    const int width = fb.width(), whole = width - width % kWidth;
+    for (int y = first; y < first + count; ++y) {
+        const uint8_t* row = fb.color_data() + size_t(y) * size_t(fb.stride()) * bytes;
+        uint8_t* dst = out + size_t(y) * size_t(width) * 4;
+        for (int x = 0; x < whole; x += kWidth)
+            pack(ColorFormat::srgb8, unpack(format, row + size_t(x) * bytes), dst + size_t(x) * 4);
+        if (whole < width) {
+            const Rgba c = gather_pixels(format, row + size_t(whole) * bytes, bytes, bytes,
+                                         width - whole);
+            put_pixels(ColorFormat::srgb8, c, dst + size_t(whole) * 4, width - whole);
         }
+    }
+}
+
+void srgb8_rows(const Framebuffer& fb, int first, int count, uint8_t* out) {
+    switch (fb.format()) {
+        case ColorFormat::srgb8: return srgb8_rows_of<ColorFormat::srgb8>(fb, first, count, out);
+        case ColorFormat::rgba16f: return srgb8_rows_of<ColorFormat::rgba16f>(fb, first, count, out);
+        case ColorFormat::rgba32f: return srgb8_rows_of<ColorFormat::rgba32f>(fb, first, count, out);
+        case ColorFormat::none: return;
+    }
 }
 
 void encode_pixels(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out) {

@@ -130,17 +130,20 @@ inline void deinterleave(const V& a, const V& b, V& even, V& odd) {
 // Two floats as one lane, to move r-g and b-a pairs together.
 using Pairs = double __attribute__((vector_size(4 * kWidth)));
 
-inline void pack(ColorFormat format, const Rgba& c, Packed& out) {
+// kWidth pixels encoded in `format`, written to `out` in lane order; and
+// read back. `out` and `in` may be anywhere (an image's row, a Packed).
+inline void pack(ColorFormat format, const Rgba& c, uint8_t* out) {
     switch (format) {
         case ColorFormat::srgb8:
-            simd::store(out.bytes, srgb8_encode(c.r) | srgb8_encode(c.g) << 8 |
-                                       srgb8_encode(c.b) << 16 | unorm8_encode(c.a) << 24);
+            simd::store(out, srgb8_encode(c.r) | srgb8_encode(c.g) << 8 |
+                                 srgb8_encode(c.b) << 16 | unorm8_encode(c.a) << 24);
             return;
         case ColorFormat::rgba16f: {
             Int p[2];
             interleave(half_encode(c.r) | half_encode(c.g) << 16,
                        half_encode(c.b) | half_encode(c.a) << 16, p[0], p[1]);
-            std::memcpy(out.bytes, p, sizeof p);
+            simd::store(out, p[0]);
+            simd::store(out + sizeof p[0], p[1]);
             return;
         }
         case ColorFormat::rgba32f: {
@@ -150,31 +153,31 @@ inline void pack(ColorFormat format, const Rgba& c, Packed& out) {
             Pairs p[4];  // r0 g0 b0 a0 r1 ..
             interleave(std::bit_cast<Pairs>(rg[0]), std::bit_cast<Pairs>(ba[0]), p[0], p[1]);
             interleave(std::bit_cast<Pairs>(rg[1]), std::bit_cast<Pairs>(ba[1]), p[2], p[3]);
-            std::memcpy(out.bytes, p, sizeof p);
+            for (int i = 0; i < 4; ++i) simd::store(out + i * sizeof p[0], p[i]);
             return;
         }
         case ColorFormat::none: return;
     }
 }
 
-inline Rgba unpack(ColorFormat format, const Packed& in) {
+inline Rgba unpack(ColorFormat format, const uint8_t* in) {
     switch (format) {
         case ColorFormat::srgb8: {
-            const Int p = simd::load<Int>(in.bytes);
+            const Int p = simd::load<Int>(in);
             return {srgb8_decode(p & 0xFF), srgb8_decode((p >> 8) & 0xFF),
                     srgb8_decode((p >> 16) & 0xFF),
                     simd::to_float((p >> 24) & 0xFF) / 255.0f};
         }
         case ColorFormat::rgba16f: {
-            Int p[2], rg, ba;
-            std::memcpy(p, in.bytes, sizeof p);
+            const Int p[2] = {simd::load<Int>(in), simd::load<Int>(in + sizeof(Int))};
+            Int rg, ba;
             deinterleave(p[0], p[1], rg, ba);
             return {half_decode(rg & 0xFFFF), half_decode((rg >> 16) & 0xFFFF),
                     half_decode(ba & 0xFFFF), half_decode((ba >> 16) & 0xFFFF)};
         }
         case ColorFormat::rgba32f: {
             Pairs p[4], rg[2], ba[2];
-            std::memcpy(p, in.bytes, sizeof p);
+            for (int i = 0; i < 4; ++i) p[i] = simd::load<Pairs>(in + i * sizeof(Pairs));
             deinterleave(p[0], p[1], rg[0], ba[0]);
             deinterleave(p[2], p[3], rg[1], ba[1]);
             Rgba c;
@@ -192,13 +195,19 @@ inline Rgba unpack(ColorFormat format, const Packed& in) {
 // part's kWidth bits) back.
 inline Rgba load_color(ColorFormat format, const uint8_t* block, size_t row_bytes, int part) {
     Packed packed;
-    switch (bytes_per_pixel(format)) {
-        case 4: simd::load_part<4>(block, row_bytes, part, packed.bytes); break;
-        case 8: simd::load_part<8>(block, row_bytes, part, packed.bytes); break;
-        case 16: simd::load_part<16>(block, row_bytes, part, packed.bytes); break;
-        default: return {Float{}, Float{}, Float{}, Float{}};
+    switch (format) {
+        case ColorFormat::srgb8:
+            simd::load_part<4>(block, row_bytes, part, packed.bytes);
+            return unpack(ColorFormat::srgb8, packed.bytes);
+        case ColorFormat::rgba16f:
+            simd::load_part<8>(block, row_bytes, part, packed.bytes);
+            return unpack(ColorFormat::rgba16f, packed.bytes);
+        case ColorFormat::rgba32f:
+            simd::load_part<16>(block, row_bytes, part, packed.bytes);
+            return unpack(ColorFormat::rgba32f, packed.bytes);
+        case ColorFormat::none: break;
     }
-    return unpack(format, packed);
+    return {Float{}, Float{}, Float{}, Float{}};
 }
 
 inline void store_packed(ColorFormat format, uint8_t* block, size_t row_bytes, int part,
