@@ -55,6 +55,16 @@ void Bins::bin(const std::deque<SetupChunk>& chunks, int count) {
                 }
         }
     }
+    order_busy();
+}
+
+// The tiles with the most triangles first (ties by index: any order draws
+// the same image, tiles being independent). std::sort allocates nothing.
+void Bins::order_busy() {
+    std::sort(busy_.begin(), busy_.end(), [&](int a, int b) {
+        const size_t na = tiles_[size_t(a)].size(), nb = tiles_[size_t(b)].size();
+        return na != nb ? na > nb : a < b;
+    });
 }
 
 void Bins::clear() {

@@ -40,7 +40,9 @@ public:
     void resize(int width, int height);
     // Appends every setup of chunks [0, count) to the tiles it touches.
     void bin(const std::deque<SetupChunk>& chunks, int count);
-    // Tiles with work, and clearing them for the next batch.
+    // Tiles with work, the ones with the most triangles first (so that the
+    // threads finish together rather than one waiting on a late big tile),
+    // and clearing them for the next batch.
     const std::vector<int>& busy() const { return busy_; }
     void clear();
 
@@ -51,6 +53,8 @@ public:
 private:
     int columns_ = 0, rows_ = 0, width_ = 0, height_ = 0;
     std::vector<std::vector<uint32_t>> tiles_;
+    void order_busy();
+
     std::vector<int> busy_;
 };
 

@@ -26,7 +26,9 @@ namespace {
 
 constexpr uint32_t kVertexBatch = 256;
 constexpr size_t kSetupChunk = 1024;                   // triangles per setup task
-constexpr size_t kTriangleBatch = 16 * kSetupChunk;   // triangles binned at once, at most
+constexpr size_t kTriangleBatch = 32 * kSetupChunk;   // triangles binned at once, at most
+// (each round of setup, binning and rasterization ends with a thread idle,
+// so fewer rounds scale better; 32k setups, 6 MiB, stay in the caches)
 constexpr int kMaxQueuedDraws = 256;                   // draws binned at once, at most
 // Every queued draw's last chunk may be partly full.
 constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;

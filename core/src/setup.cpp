@@ -31,7 +31,7 @@ bool top_left(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
 
 EdgeFunction make_edge(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
     const int64_t dx = x1 - x0, dy = y1 - y0;
-    return {x0, y0, dx, dy, top_left(dx, dy) ? 0 : -1};
+    return {int32_t(x0), int32_t(y0), int32_t(dx), int32_t(dy), top_left(dx, dy) ? 0 : -1};
 }
 
 // 2^ilogb(w) for w > 0: w with its mantissa cleared, when w is normal.
@@ -116,7 +116,7 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
     out.narrow = true;
     for (int k = 0; k < 3; ++k) {
         const EdgeFunction& e = out.edge[k];
-        out.narrow &= std::abs(e.dx) + std::abs(e.dy) < kNarrowEdgeSpan;
+        out.narrow &= std::abs(int64_t(e.dx)) + std::abs(int64_t(e.dy)) < kNarrowEdgeSpan;
         // Edge k gives the weight of vertex k + 2; it grows by -dy per
         // sub-pixel in x and by dx in y.
         out.bary_dx[(k + 2) % 3] = float(double(-e.dy * kSubpixelOne) * out.inv_area2);

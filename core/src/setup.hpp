@@ -61,11 +61,15 @@ struct SetupVertex {
 // when E(P) + bias >= 0 for all three edges: bias is 0 on a top or left
 // edge and -1 otherwise, so a point exactly on an edge belongs to the
 // triangle on its top or left side only.
+// The coordinates fit 32 bits (below 2^29 after snapping, their
+// differences below 2^30); the products are taken in 64.
 struct EdgeFunction {
-    int64_t x0, y0;   // start vertex
-    int64_t dx, dy;   // end minus start
-    int64_t bias;     // 0 or -1
-    int64_t at(int64_t px, int64_t py) const { return dx * (py - y0) - dy * (px - x0); }
+    int32_t x0, y0;   // start vertex
+    int32_t dx, dy;   // end minus start
+    int32_t bias;     // 0 or -1
+    int64_t at(int64_t px, int64_t py) const {
+        return int64_t(dx) * (py - y0) - int64_t(dy) * (px - x0);
+    }
 };
 
 enum class SetupResult { ok, culled_backface, degenerate, no_pixels, clipped_away };
