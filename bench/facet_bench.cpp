@@ -33,7 +33,9 @@
 // error is logged, that row's llvmpipe columns stay empty, the run goes on
 // and facet-bench exits with 1 at the end.
 //
-// Scenes (made here, except the bunny and the dragon):
+// Scenes, by name (made here, except the bunny and the dragon), or a scene
+// file (NAME.yaml), drawn with its own materials and settings but the size
+// and target of the command line:
 //   small     a sphere of ~1k triangles
 //   medium    the Stanford bunny (69,451 triangles) from ../shared/assets,
 //             or a ~70k-triangle sphere where that file is absent
@@ -437,7 +439,7 @@ int llvmpipe_worker(const bench::LlvmpipeJob& job, const std::string& result_pat
 
 void print_header(bool llvmpipe, const std::string& target) {
     std::printf("%s; colour target %s\n", cpu_name().c_str(), target.c_str());
-    std::printf("%-9s %-10s %-7s %-6s %7s %10s %12s %10s", "scene", "size", "shader", "path",
+    std::printf("%-12s %-10s %-7s %-6s %7s %10s %12s %10s", "scene", "size", "shader", "path",
                 "threads", "triangles", "median ms", "peak MiB");
     if (llvmpipe)
         std::printf(" %11s %12s %9s %11s", "lp threads", "llvmpipe ms", "lp/facet", "cov diff %");
@@ -445,7 +447,7 @@ void print_header(bool llvmpipe, const std::string& target) {
 }
 
 void print_row(const Result& r, const std::string& size, bool llvmpipe) {
-    std::printf("%-9s %-10s %-7s %-6s %7d %10llu %12.2f %10.1f", r.scene.c_str(), size.c_str(),
+    std::printf("%-12s %-10s %-7s %-6s %7d %10llu %12.2f %10.1f", r.scene.c_str(), size.c_str(),
                 r.shader.c_str(), r.isa.c_str(), r.threads, (unsigned long long)r.triangles,
                 r.median_ms, r.peak_rss_mib);
     if (llvmpipe && r.llvmpipe)
@@ -551,7 +553,9 @@ void add_options(CLI::App& app, Options& o) {
     app.add_option("--reference-grid", o.po.grid, "--pareto: reference samples per pixel side")
         ->capture_default_str();
     app.add_option("--plot", o.po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
-    app.add_option("--scene", o.scenes, "small, medium, dragon, large, fill, subpixel, huge");
+    app.add_option("--scene", o.scenes,
+                   "small, medium, dragon, large, fill, subpixel, huge, or a scene file "
+                   "(NAME.yaml, drawn with its own materials)");
     app.add_option("--size", o.sizes, "image size WxH");
     app.add_option("--shader", o.shaders, "shader plugin name");
     app.add_option("--threads", o.threads, "threads (counting the caller)");
@@ -614,26 +618,35 @@ int run_pareto(const CLI::App& app, Options& o) {
 
 // Every row of scene `name`: each size, shader, thread count and path. With
 // --llvmpipe, llvmpipe draws each configuration once, for all paths' rows.
+// A scene file's rows keep its own materials and settings (but the size,
+// the target and --depth-prepass); llvmpipe does not draw them.
+bool is_scene_file(const std::string& name) {
+    return name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0;
+}
+
 void bench_scene(const std::string& name, Options& o, const std::vector<Isa>& isas,
                  PluginRegistry& registry, std::vector<Result>& results) {
     PeakRss peak;  // from before the scene is made: its memory counts
-    std::string note;
-    Scene scene = make_scene(name, note);
+    const bool file = is_scene_file(name);
+    std::string note = file ? "scene file" : "";
+    Scene scene = file ? load_scene(name, registry) : make_scene(name, note);
     scene.settings.depth_prepass = o.depth_prepass;
     scene.settings.color_format = *parse_color_format(o.lp.target);
     if (o.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
+    const std::vector<std::string> shaders = file ? std::vector<std::string>{"(scene)"} : o.shaders;
+    const std::string label = file ? std::filesystem::path(name).filename().string() : name;
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
         scene.settings.width = wh.x;
         scene.settings.height = wh.y;
         o.lp.coverage.reset();
-        for (const std::string& shader : o.shaders) {
-            set_shader(scene, registry, shader);
+        for (const std::string& shader : shaders) {
+            if (!file) set_shader(scene, registry, shader);
             for (int t : o.threads) {
                 std::optional<Versus> llvmpipe;
                 for (Isa isa : isas) {
-                    Result r = measure(scene, name, note, shader, t, isa, o.runs, peak);
-                    if (o.lp.on && o.lp.draws(shader) && isa == isas.front())
+                    Result r = measure(scene, label, note, shader, t, isa, o.runs, peak);
+                    if (o.lp.on && !file && o.lp.draws(shader) && isa == isas.front())
                         llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
                     r.llvmpipe = llvmpipe;
                     print_row(r, size, o.lp.on);
