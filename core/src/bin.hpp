@@ -22,8 +22,10 @@ namespace facet {
 
 constexpr int kTileSize = 64;
 
-// What one setup task produced.
-struct SetupChunk {
+// What one setup task produced. Chunks sit side by side and two threads
+// fill neighbours at once: each has cache lines of its own, or their
+// counters would bounce between the cores (false sharing).
+struct alignas(64) SetupChunk {
     std::vector<TriangleSetup> setups;
     // Vertices of clipped triangles: a deque, so setups can point into it;
     // its first `clipped_used` elements are this batch's, the rest are kept

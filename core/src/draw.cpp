@@ -228,15 +228,15 @@ void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport
 void rasterize_queued(Geometry& g, FrameStats& stats) {
     if (g.chunks_used == 0) return;
     g.bins.resize(g.target->width(), g.target->height());
-    for (FrameStats& w : g.worker_stats) w = {};
+    for (Geometry::WorkerStats& w : g.worker_stats) w.stats = {};
     g.bins.bin(g.chunks, g.chunks_used);
     const std::vector<int>& busy = g.bins.busy();
     g.pool.parallel_for(int(busy.size()), [&](int i, int worker) {
-        g.kernels->draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)]);
+        g.kernels->draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)].stats);
     });
     g.bins.clear();
     for (int c = 0; c < g.chunks_used; ++c) stats += g.chunks[size_t(c)].stats;
-    for (const FrameStats& w : g.worker_stats) stats += w;
+    for (const Geometry::WorkerStats& w : g.worker_stats) stats += w.stats;
     g.chunks_used = 0;
     g.triangles_queued = 0;
 }

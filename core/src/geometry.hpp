@@ -41,6 +41,11 @@ struct Geometry {
     Geometry(int threads, Isa isa)
         : pool(threads), kernels(&facet::kernels(isa)), worker_stats(size_t(pool.size())) {}
 
+    // A thread's counters, on cache lines of its own (see SetupChunk).
+    struct alignas(64) WorkerStats {
+        FrameStats stats;
+    };
+
     ThreadPool pool;
     const Kernels* kernels;  // of the renderer's instruction-set path
     std::vector<std::unique_ptr<QueuedDraw>> draws;  // the first draws_used are queued
@@ -52,7 +57,7 @@ struct Geometry {
     size_t triangles_queued = 0;     // in those chunks, before clipping and culling
     Framebuffer* target = nullptr;   // of the queued draws
     Bins bins;
-    std::vector<FrameStats> worker_stats;
+    std::vector<WorkerStats> worker_stats;
 };
 
 }  // namespace facet

@@ -30,8 +30,10 @@
 
 #include <glm/glm.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <new>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -39,6 +41,19 @@
 namespace facet {
 
 enum class ColorFormat { none, srgb8, rgba16f, rgba32f };
+
+// Storage that starts on a cache line: threads drawing neighbouring tiles
+// then never write to the same line (a tile's rows are whole lines).
+template <class T>
+struct CacheLineAllocator {
+    using value_type = T;
+    CacheLineAllocator() = default;
+    template <class U>
+    CacheLineAllocator(const CacheLineAllocator<U>&) {}
+    T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(64))); }
+    void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(64)); }
+    friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) { return true; }
+};
 
 // "none", "srgb8", "rgba16f", "rgba32f"; and back.
 std::string_view color_format_name(ColorFormat format);
@@ -127,10 +142,10 @@ private:
     int rows_ = 0;
     int samples_ = 1;
     ColorFormat format_ = ColorFormat::none;
-    std::vector<uint8_t> color_;
-    std::vector<float> depth_;
-    std::vector<uint8_t> sample_color_;  // empty with one sample
-    std::vector<float> sample_depth_;
+    std::vector<uint8_t, CacheLineAllocator<uint8_t>> color_;
+    std::vector<float, CacheLineAllocator<float>> depth_;
+    std::vector<uint8_t, CacheLineAllocator<uint8_t>> sample_color_;  // empty with one sample
+    std::vector<float, CacheLineAllocator<float>> sample_depth_;
 };
 
 // Position of sample s of an n-sample pattern, in 1/16 pixel from the pixel
