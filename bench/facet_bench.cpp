@@ -3,7 +3,7 @@
 //
 //     facet-bench [--scene NAME]... [--size WxH]... [--shader NAME]...
 //                 [--threads N]... [--isa PATH]... [--target srgb8|rgba32f] [--runs N]
-//                 [--depth-prepass] [--csv FILE] [--json FILE]
+//                 [--rounds N] [--depth-prepass] [--csv FILE] [--json FILE]
 //     facet-bench --pareto [--size WxH] [--threads N] [--runs N]
 //                 [--reference-grid N] [--csv FILE] [--plot FILE]
 //     facet-bench --llvmpipe [the options of the first form]
@@ -537,6 +537,7 @@ struct Options {
     std::vector<int> threads = {1, int(std::max(1u, std::thread::hardware_concurrency()))};
     std::vector<std::string> isas;  // empty: every path this CPU has
     int runs = 5;
+    int rounds = 1;
     bool depth_prepass = false;
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
     bool pareto = false;
@@ -568,6 +569,10 @@ void add_options(CLI::App& app, Options& o) {
         ->check(CLI::IsMember({"rgba32f", "srgb8"}))
         ->capture_default_str();
     app.add_option("--runs", o.runs, "frames per configuration (median)")->capture_default_str();
+    app.add_option("--rounds", o.rounds,
+                   "measure the whole table this many times, one round after another, and "
+                   "report each row's median over the rounds")
+        ->capture_default_str();
     app.add_flag("--depth-prepass", o.depth_prepass,
                  "render with the depth pre-pass (render: depth_prepass), noted in each row");
     app.add_option("--csv", o.csv, "CSV output")->capture_default_str();
@@ -657,6 +662,34 @@ void bench_scene(const std::string& name, Options& o, const std::vector<Isa>& is
     }
 }
 
+// Each row's median over rounds of the whole table (--rounds): a virtual
+// machine's neighbours can slow a few seconds of a run, and rounds spread
+// over minutes see through that. The fastest frame is the fastest of all;
+// llvmpipe's columns, where every round has them, likewise.
+std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rounds) {
+    std::vector<Result> out = rounds.front();
+    const auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
+    for (size_t i = 0; i < out.size(); ++i) {
+        std::vector<double> ms, lp_ms;
+        for (const std::vector<Result>& round : rounds) {
+            const Result& r = round[i];
+            ms.push_back(r.median_ms);
+            out[i].min_ms = std::min(out[i].min_ms, r.min_ms);
+            out[i].peak_rss_mib = std::max(out[i].peak_rss_mib, r.peak_rss_mib);
+            if (r.llvmpipe) lp_ms.push_back(r.llvmpipe->median_ms);
+            if (r.llvmpipe && out[i].llvmpipe)
+                out[i].llvmpipe->min_ms = std::min(out[i].llvmpipe->min_ms, r.llvmpipe->min_ms);
+        }
+        out[i].median_ms = median(ms);
+        if (lp_ms.size() == rounds.size() && out[i].llvmpipe) out[i].llvmpipe->median_ms = median(lp_ms);
+        else out[i].llvmpipe.reset();
+    }
+    return out;
+}
+
 // The table, CSV and JSON; non-zero when a size is malformed or an llvmpipe
 // measurement failed (the rest still runs and is written).
 int run_table(Options& o) {
@@ -677,11 +710,21 @@ int run_table(Options& o) {
     }
     if (isas.empty()) isas = supported_isas();
     o.runs = std::max(1, o.runs);
+    o.rounds = std::max(1, o.rounds);
     PluginRegistry registry;
-    std::vector<Result> results;
+    std::vector<std::vector<Result>> rounds(size_t(o.rounds));
     if (o.lp.on) o.lp.print_skipped(o.shaders);
-    print_header(o.lp.on, o.lp.target);
-    for (const std::string& name : o.scenes) bench_scene(name, o, isas, registry, results);
+    for (int r = 0; r < o.rounds; ++r) {
+        if (o.rounds > 1) std::printf("round %d of %d\n", r + 1, o.rounds);
+        print_header(o.lp.on, o.lp.target);
+        for (const std::string& name : o.scenes) bench_scene(name, o, isas, registry, rounds[size_t(r)]);
+    }
+    const std::vector<Result> results = median_of_rounds(rounds);
+    if (o.rounds > 1) {
+        std::printf("the median of the %d rounds\n", o.rounds);
+        print_header(o.lp.on, o.lp.target);
+        for (const Result& r : results) print_row(r, std::to_string(r.width) + "x" + std::to_string(r.height), o.lp.on);
+    }
     if (o.lp.on) o.lp.print_legend();
     if (o.lp.target != "srgb8")  // what a float target's 8-bit output costs
         for (const std::string& size : o.sizes)
