@@ -7,7 +7,7 @@
 # chooses a build type.
 #
 # On x86-64 the sources are compiled twice more, for the avx2 (x86-64-v3)
-# and avx512 (x86-64-v4) paths, with FACET_SDK_ISA set: there
+# and avx512 (x86-64-v4) paths, with FACET_SDK_ISA_avx2 or _avx512 set: there
 # <facet/shader.hpp> gives only the shader's wide fragment loop, with the
 # lane count that path's registers hold, and the descriptor points the
 # host at it (facet_shader_desc.fragment_avx2, fragment_avx512). Compile
@@ -25,6 +25,33 @@
 # (a std::min, a glm operator, compiled once with AVX-512 and once for
 # SSE2) and a slower path could call the faster path's copy, which the CPU
 # may not have.
+#
+# What runs when the library is loaded runs on every CPU, so these objects
+# must have none of it: a namespace-scope object with a dynamic
+# initialiser (a std::vector, a table filled by a function) would run its
+# AVX-512 copy at dlopen on a CPU without AVX-512. The build fails on one
+# (constexpr tables and function-local statics are fine). Sanitizer builds,
+# which add constructors of their own, are exempt.
+
+# Run as a script (cmake -P) by facet_isa_objects: fails if OBJECT has
+# load-time constructors, unless OPTIONS ask for a sanitizer.
+if(CMAKE_SCRIPT_MODE_FILE AND DEFINED FACET_CHECK_OBJECT)
+  if(NOT OPTIONS MATCHES "-fsanitize")
+    execute_process(COMMAND "${OBJDUMP}" -h "${FACET_CHECK_OBJECT}"
+                    OUTPUT_VARIABLE sections RESULT_VARIABLE failed)
+    if(failed)
+      message(FATAL_ERROR "${OBJDUMP} -h ${FACET_CHECK_OBJECT} failed")
+    endif()
+    if(sections MATCHES "\\.(init_array|ctors)")
+      message(FATAL_ERROR "${SOURCES}: the ${ISA} build has code that runs when the "
+        "library is loaded (a namespace-scope object with a dynamic initialiser), "
+        "which would run ${ISA} instructions on every CPU. Make it constexpr or a "
+        "function-local static.")
+    endif()
+  endif()
+  return()
+endif()
+set(FACET_SHADER_CMAKE "${CMAKE_CURRENT_LIST_FILE}")
 
 # The paths beyond the baseline that this target architecture gets.
 if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
@@ -42,6 +69,9 @@ function(facet_isa_flags ISA OUT)
     set(${OUT} -march=x86-64-v3 -ffp-contract=off PARENT_SCOPE)
   elseif(ISA STREQUAL "avx512")
     set(${OUT} -march=x86-64-v4 -ffp-contract=off PARENT_SCOPE)
+  elseif(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
+    # SSE2 even when the project's flags name a newer CPU.
+    set(${OUT} -march=x86-64 -mtune=generic -ffp-contract=off PARENT_SCOPE)
   else()
     set(${OUT} -ffp-contract=off PARENT_SCOPE)
   endif()
@@ -51,8 +81,9 @@ function(facet_isa_objects NAME ISA)
   cmake_parse_arguments(ARG "" "KEEP;LIKE;OUTPUT" "SOURCES;DEFINITIONS" ${ARGN})
   facet_isa_flags(${ISA} flags)
   add_library(${NAME} OBJECT ${ARG_SOURCES})
-  target_compile_options(${NAME} PRIVATE ${flags}
-    $<TARGET_PROPERTY:${ARG_LIKE},COMPILE_OPTIONS>)
+  # The path's flags last, so that they win over the target's own.
+  target_compile_options(${NAME} PRIVATE
+    $<TARGET_PROPERTY:${ARG_LIKE},COMPILE_OPTIONS> ${flags})
   target_compile_definitions(${NAME} PRIVATE ${ARG_DEFINITIONS}
     $<TARGET_PROPERTY:${ARG_LIKE},COMPILE_DEFINITIONS>)
   target_include_directories(${NAME} PRIVATE
@@ -67,7 +98,12 @@ function(facet_isa_objects NAME ISA)
   add_custom_command(OUTPUT "${object}"
     COMMAND "${CMAKE_LINKER}" -r --force-group-allocation -o "${object}.all"
             "$<TARGET_OBJECTS:${NAME}>"
-    COMMAND "${CMAKE_OBJCOPY}" "--keep-global-symbol=${ARG_KEEP}" "${object}.all" "${object}"
+    COMMAND "${CMAKE_OBJCOPY}" "--keep-global-symbol=${ARG_KEEP}" "${object}.all" "${object}.local"
+    COMMAND "${CMAKE_COMMAND}" "-DFACET_CHECK_OBJECT=${object}.local" "-DOBJDUMP=${CMAKE_OBJDUMP}"
+            "-DISA=${ISA}" "-DSOURCES=${ARG_SOURCES}"
+            "-DOPTIONS=${CMAKE_CXX_FLAGS} $<TARGET_PROPERTY:${ARG_LIKE},COMPILE_OPTIONS>"
+            -P "${FACET_SHADER_CMAKE}"
+    COMMAND "${CMAKE_COMMAND}" -E rename "${object}.local" "${object}"
     DEPENDS ${NAME} "$<TARGET_OBJECTS:${NAME}>"
     COMMENT "Linking the ${ISA} objects of ${NAME}, all local but ${ARG_KEEP}"
     COMMAND_EXPAND_LISTS VERBATIM)

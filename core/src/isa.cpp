@@ -44,16 +44,20 @@ CpuFeatures detect() {
     const bool zmm_state = (xcr0 & 0xE6) == 0xE6;   // and opmask, ZMM_Hi256, Hi16_ZMM
     __cpuid_count(7, 0, a, b, c, d);
     const unsigned b7 = b;
-    unsigned lzcnt = 0;
-    if (__get_cpuid(0x80000001, &a, &b, &c, &d)) lzcnt = c >> 5 & 1;
+    unsigned c81 = 0;
+    if (__get_cpuid(0x80000001, &a, &b, &c, &d)) c81 = c;
     const auto has = [](unsigned reg, std::initializer_list<int> bits) {
         for (int bit : bits)
             if (!(reg >> bit & 1)) return false;
         return true;
     };
-    // Leaf 1 ECX: FMA 12, MOVBE 22, POPCNT 23, AVX 28, F16C 29.
-    // Leaf 7 EBX: BMI1 3, AVX2 5, BMI2 8; AVX512 F 16, DQ 17, CD 28, BW 30, VL 31.
-    f.avx2 = ymm_state && lzcnt && has(c1, {12, 22, 23, 28, 29}) && has(b7, {3, 5, 8});
+    // Everything -march=x86-64-v3 lets the compiler use, x86-64-v2's too.
+    // Leaf 1 ECX: SSE3 0, SSSE3 9, FMA 12, CMPXCHG16B 13, SSE4.1 19, SSE4.2 20,
+    // MOVBE 22, POPCNT 23, XSAVE 26, AVX 28, F16C 29. Leaf 0x80000001 ECX:
+    // LAHF/SAHF 0, LZCNT 5. Leaf 7 EBX: BMI1 3, AVX2 5, BMI2 8; AVX-512 F 16,
+    // DQ 17, CD 28, BW 30, VL 31.
+    f.avx2 = ymm_state && has(c1, {0, 9, 12, 13, 19, 20, 22, 23, 26, 28, 29}) &&
+             has(c81, {0, 5}) && has(b7, {3, 5, 8});
     f.avx512 = f.avx2 && zmm_state && has(b7, {16, 17, 28, 30, 31});
     return f;
 }

@@ -14,9 +14,9 @@
 // NEON. facet_add_shader() compiles a plugin once for each x86-64 path, so
 // the same fragment_wide runs 4, 8 or 16 lanes at a time and never holds
 // more values than the registers can; the batch loop calls it once per
-// kLanes lanes of the 16-lane block and skips lanes with no fragment.
-// Write it for any kLanes: lane i of a call is pixel
-// (i % 4, first_row + i / 4) of the block (WideFragment::coord has it).
+// kLanes lanes of the 16-fragment batch and skips lanes with no fragment.
+// Write it for any kLanes: a batch may hold pixels of several blocks and
+// triangles (shader.hpp), and WideFragment::coord gives each lane's pixel.
 //
 // Arithmetic and comparisons work lane by lane, mixed freely with plain
 // floats; a comparison gives a Mask (all ones or zero per lane). The
@@ -51,8 +51,11 @@
 #endif
 
 namespace facet::sdk::wide {
-// Each lane count in a namespace of its own, so that a plugin's builds for
-// several paths never share a symbol of different widths.
+// Each lane count in a namespace of its own, so that these functions have a
+// name per width. Code that only uses them (shader.hpp's WideFragment and
+// batch loop) can still share a name across widths: facet_add_shader keeps
+// the builds apart by making every symbol of a path's build local
+// (facet_isa_objects in FacetShader.cmake), so build them that way.
 inline namespace FACET_WIDE_NAMESPACE {
 
 static_assert(FACET_BLOCK_LANES % FACET_WIDE_LANES == 0);
@@ -106,7 +109,7 @@ inline Float log2(const Float& x) {
 // 2^-126 and overflows to infinity above FLT_MAX as a float would. NaN
 // stays NaN.
 inline Float exp2(const Float& y) {
-    const Float c = clamp(y, -160.0f, 160.0f);
+    const Float c = clamp(select(y != y, splat(0.0f), y), -160.0f, 160.0f);  // NaN: any number
     Float n = __builtin_convertvector(__builtin_convertvector(c, Mask), Float);  // truncated
     n = select(n > c, n - 1.0f, n);                                              // floored
     n = select(c - n > 0.5f, n + 1.0f, n);                                       // nearest
