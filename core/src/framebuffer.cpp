@@ -183,7 +183,7 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples)
                     "MSAA sample count " + std::to_string(samples) + " (must be 1, 2, 4 or 8)");
     width_ = width;
     height_ = height;
-    stride_ = (width + 3) & ~3;
+    stride_ = (width + 15) & ~15;  // 64 bytes of depth: rows start on cache lines
     rows_ = (height + 3) & ~3;
     samples_ = samples;
     format_ = format;

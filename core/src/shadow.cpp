@@ -131,9 +131,9 @@ void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view
 void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
                         Renderer& renderer, ShadowMaps& maps) {
     caster_corners(casters, maps.corners);
-    // A multiple of 4, so that the map's rows are exactly `size` floats
+    // A multiple of 16, so that the map's rows are exactly `size` floats
     // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
-    const int size = (scene.settings.shadow_map_size + 3) & ~3;
+    const int size = (scene.settings.shadow_map_size + 15) & ~15;
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
     maps.abi.clear();
     for (size_t i = 0; i < scene.lights.size(); ++i) {

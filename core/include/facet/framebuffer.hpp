@@ -10,9 +10,10 @@
 //   rgba16f  half floats, 8 bytes a pixel: HDR at half the bandwidth.
 //   rgba32f  floats, 16 bytes a pixel: HDR and accuracy work, exact.
 //   none     depth only (shadow maps, pre-passes).
-// Storage is row-major, top row first. Rows are stride() pixels apart and
-// both sides are padded to a multiple of 4, so that the rasterizer's 4x4
-// blocks never cross the end of the storage; the padding is never shown.
+// Storage is row-major, top row first. Rows are stride() pixels apart, a
+// multiple of 16, and the rows are padded to a multiple of 4, so that the
+// rasterizer's 4x4 blocks never cross the end of the storage and every row
+// starts on a cache line; the padding is never shown.
 //
 // Multisampling: a framebuffer made with samples > 1 (2, 4 or 8) also holds
 // a colour and a depth per sample, at the D3D standard sample positions
@@ -42,8 +43,9 @@ namespace facet {
 
 enum class ColorFormat { none, srgb8, rgba16f, rgba32f };
 
-// Storage that starts on a cache line: threads drawing neighbouring tiles
-// then never write to the same line (a tile's rows are whole lines).
+// Storage that starts on a cache line. With rows a multiple of 16 pixels
+// apart, a 64-pixel tile's rows are then whole lines, and threads drawing
+// neighbouring tiles never write to the same line.
 template <class T>
 struct CacheLineAllocator {
     using value_type = T;
@@ -85,6 +87,9 @@ public:
     // Error(out_of_range).
     void resize(int width, int height, ColorFormat format = ColorFormat::rgba32f,
                 int samples = 1);
+    // clear(), resolve() and resolve_srgb8() run on the calling thread, on
+    // the default instruction-set path (default_isa(), which throws for a
+    // bad FACET_ISA); Renderer's versions use all its threads and its path.
     void clear(const glm::vec4& color, float depth);
     // Averages each pixel's samples into its colour (in linear light), and
     // copies sample 0's depth into its depth. Call after drawing; a no-op

@@ -74,7 +74,8 @@ struct RenderSettings {
     DepthCompare depth_compare = DepthCompare::greater_equal;  // matches reversed_z
     CullMode cull = CullMode::back;
     bool front_ccw = true;  // counter-clockwise triangles (as seen) face the viewer
-    int shadow_map_size = 2048;    // texels per side of each shadow map
+    // Texels per side of each shadow map, 16..8192 (rounded up to a multiple of 16).
+    int shadow_map_size = 2048;
     float shadow_distance = 0.0f;  // directional shadows cover the view up to here; 0: far
     int msaa = 1;                  // samples per pixel: 1, 2, 4 or 8
     // The colour target (framebuffer.hpp): 8-bit sRGB, as a display or a
