@@ -61,7 +61,9 @@ inline Int half_encode(const Float& x) {
     const Int a = u & 0x7FFFFFFF;
     const Int nan = sign | 0x7E00 | ((a >> 13) & 0x3FF);
     const Int normal = sign | ((a - 0x38000000 + 0xFFF + ((a >> 13) & 1)) >> 13);
-    const Float scaled = std::bit_cast<Float>(a) * 16777216.0f;  // 2^24: subnormals as integers
+    // 2^24: subnormal halves as integers (the other lanes, which may be NaN or
+    // too large to convert, as 0).
+    const Float scaled = std::bit_cast<Float>(a < 0x38800000 ? a : 0) * 16777216.0f;
     const Int subnormal = sign | __builtin_convertvector((scaled + 8388608.0f) - 8388608.0f, Int);
     return a > 0x7F800000 ? nan
            : a >= 0x477FF000 ? (sign | 0x7C00)

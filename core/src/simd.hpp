@@ -52,9 +52,6 @@ using Int = int32_t __attribute__((vector_size(4 * kWidth)));
 using Long = int64_t __attribute__((vector_size(4 * kWidth)));  // kWidth / 2 lanes
 using Row = float __attribute__((vector_size(16)));             // 4 floats
 
-inline Float splat(float v) { return Float{} + v; }
-inline Int splat(int32_t v) { return Int{} + v; }
-
 template <class V>
 inline V load(const void* p) {
     V v;
@@ -122,13 +119,6 @@ inline uint32_t bits(const Long& m) {
     for (int i = 0; i < kWidth / 2; ++i) r |= uint32_t(m[i] != 0) << i;
     return r;
 #endif
-}
-
-// Lanes set in the low kWidth bits of `mask`, as a comparison result.
-inline Int lanes(uint32_t mask) {
-    Int bit;
-    for (int j = 0; j < kWidth; ++j) bit[j] = 1 << j;
-    return (splat(int32_t(mask)) & bit) != 0;
 }
 
 // table[index[i]] for each lane; every index must lie inside the table.
