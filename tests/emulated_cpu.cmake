@@ -1,7 +1,7 @@
 # facet-render on an emulated CPU (qemu-x86_64 -cpu CPU), which raises an
 # illegal-instruction fault for any instruction that CPU lacks:
 #
-#   cmake -DQEMU=... -DCPU=Nehalem -DPATH_NAME=sse2 -DRENDER=facet-render
+#   cmake -DQEMU=... -DCPU=Opteron_G1 -DPATH_NAME=sse2 -DRENDER=facet-render
 #         -DSCENE=scene.yaml -DOUT=dir -P emulated_cpu.cmake
 #
 # facet-render must pick PATH_NAME by itself, finish, and write the image

@@ -15,6 +15,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <optional>
@@ -111,8 +112,10 @@ TEST_CASE("every demo scene renders bit for bit the same on every path", "[isa]"
 
 namespace {
 
-// Colour from the interpolated normal and depth: a smooth function of the
-// varyings, so a fragment shaded with another fragment's inputs shows.
+// Colour from the interpolated normal and depth and the pixel's position: a
+// smooth function of the varyings, so a fragment shaded with another
+// fragment's inputs shows, and a pattern over the screen, so one shaded at
+// another pixel's coordinates does.
 struct Shade {
     struct Params {};
     struct Varyings {
@@ -132,7 +135,8 @@ struct Shade {
     static glm::vec4 fragment(const Varyings& v, sdk::Fragment& f, const sdk::Draw&,
                               const Params&) {
         const float facing = f.front_facing ? 1.0f : 0.25f;
-        return {v.color.r * facing, 0.5f + 0.5f * v.normal.y, f.depth, 1.0f};
+        const float pattern = glm::fract(0.1234f * f.coord.x + 0.0567f * f.coord.y);
+        return {v.color.r * facing, 0.5f + 0.5f * v.normal.y, 0.5f * (f.depth + pattern), 1.0f};
     }
 };
 
@@ -193,4 +197,108 @@ TEST_CASE("packed fragment batches draw what block batches draw", "[isa][packing
             // The packed draws need fewer shader calls for the same fragments.
             CHECK(packed_stats.blocks_shaded * 3 < block_stats.blocks_shaded * 2);
         }
+}
+
+namespace {
+
+// The pixel's window coordinates as its colour.
+struct Coordinates {
+    struct Params {};
+    struct Varyings {
+        glm::vec4 color;
+    };
+    static constexpr const char* name = "test_coordinates";
+    static constexpr const char* version = "test";
+    static constexpr uint32_t needs = FACET_NEED_COLORS;
+    static constexpr facet_varying_desc varyings[] = {sdk::varying("color", 4)};
+    static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw&, const Params&,
+                           glm::vec4& clip) {
+        clip = glm::vec4(in.position, 1.0f);
+        return {in.color};
+    }
+    static glm::vec4 fragment(const Varyings&, sdk::Fragment& f, const sdk::Draw&,
+                              const Params&) {
+        return {f.coord.x, f.coord.y, 0.0f, 1.0f};
+    }
+};
+
+}  // namespace
+
+TEST_CASE("packed fragments are shaded at their own pixel centres", "[isa][packing]") {
+    // Small triangles all over the target, all facing one way (a batch
+    // holds one facing), packed many blocks to a batch.
+    std::vector<glm::vec3> pos;
+    std::vector<uint32_t> idx;
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<float> centre(-1.0f, 1.0f), size(0.01f, 0.04f),
+        turn(0.0f, 6.2831853f);
+    for (uint32_t t = 0; t < 2000; ++t) {
+        const glm::vec3 at(centre(rng), centre(rng), 0.5f);
+        const float r = size(rng), a = turn(rng);
+        for (int k = 0; k < 3; ++k) {  // counter-clockwise
+            const float angle = a + 2.0943951f * float(k);
+            idx.push_back(uint32_t(pos.size()));
+            pos.push_back(at + r * glm::vec3(std::cos(angle), std::sin(angle), 0.0f));
+        }
+    }
+    const Mesh mesh = test::make_mesh(pos, idx);
+    const auto shader = test::plugin<Coordinates>();
+    REQUIRE(shader->desc().flags & FACET_SHADER_PACKABLE);
+    for (Isa isa : supported_isas()) {
+        INFO("path " << isa_name(isa));
+        Framebuffer fb(203, 117, ColorFormat::rgba32f);
+        fb.clear(glm::vec4(-1.0f), 0.0f);
+        Renderer renderer(2, isa);
+        DrawCall call = test::clip_space_call(mesh, *shader);
+        call.state.cull = CullMode::none;
+        FrameStats stats;
+        renderer.draw(call, fb, stats);
+        REQUIRE(stats.fragments_shaded > 2000);
+        REQUIRE(stats.blocks_shaded * 2 < stats.fragments_shaded / 16 * 3);  // packed
+        int drawn = 0;
+        for (int y = 0; y < fb.height(); ++y)
+            for (int x = 0; x < fb.width(); ++x) {
+                const glm::vec4 c = fb.pixel(x, y);
+                if (c.x == -1.0f) continue;
+                ++drawn;
+                INFO("pixel " << x << ", " << y);
+                REQUIRE(c == glm::vec4(float(x) + 0.5f, float(y) + 0.5f, 0.0f, 1.0f));
+            }
+        CHECK(uint64_t(drawn) <= stats.fragments_shaded);
+        CHECK(drawn > 1500);
+    }
+}
+
+TEST_CASE("shipped wide shaders draw the same packed as a block at a time, on every path",
+          "[isa][packing]") {
+    // Each plugin's own per-path fragment_wide (fragment_avx2, _avx512),
+    // called with packed batches and, through a copy of its descriptor
+    // that does not allow packing, with blocks.
+    PluginRegistry registry;
+    for (const char* name : {"default.yaml", "scenes/phong.yaml"}) {
+        Scene scene = test::small_demo_scene(registry, name);
+        std::vector<facet_shader_desc> copies;
+        copies.reserve(scene.objects.size());
+        std::vector<std::pair<std::shared_ptr<Material>, std::shared_ptr<ShaderPlugin>>> swaps;
+        for (const Object& o : scene.objects) {
+            const facet_shader_desc& desc = o.material->plugin->desc();
+            if (!(desc.flags & FACET_SHADER_PACKABLE)) continue;
+            REQUIRE(desc.fragment_avx2);  // a plugin built with facet_add_shader
+            copies.push_back(desc);
+            copies.back().flags &= ~uint32_t(FACET_SHADER_PACKABLE);
+            swaps.emplace_back(o.material, ShaderPlugin::from_descriptor(&copies.back(), "test"));
+        }
+        REQUIRE_FALSE(swaps.empty());
+        for (Isa isa : supported_isas()) {
+            INFO(name << ", path " << isa_name(isa));
+            Framebuffer packed, blocked;
+            const FrameStats packed_stats = Renderer(2, isa).render(scene, packed);
+            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            const FrameStats block_stats = Renderer(2, isa).render(scene, blocked);
+            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            CHECK(test::same_image(packed, blocked));
+            CHECK(packed_stats.fragments_shaded == block_stats.fragments_shaded);
+            CHECK(packed_stats.blocks_shaded < block_stats.blocks_shaded);
+        }
+    }
 }

@@ -219,27 +219,32 @@ TEST_CASE("fill rule: shared edges cover each pixel exactly once", "[raster][fil
 }
 
 TEST_CASE("32-bit and 64-bit lanes agree with the oracle at the width where they part",
-          "[raster]") {
-    // Triangles in a 16384-pixel viewport with edges spanning just under
+          "[raster][msaa]") {
+    // Triangles in a 16384-pixel viewport with an edge spanning just under
     // and just over 2^20 sub-pixels (4096 pixels): the widest that take
-    // 32-bit lanes and the narrowest that do not; and four times as wide. Where an edge crosses a
-    // block the lanes' values are largest, so windows along each edge are
-    // rasterized with both widths on every path (cover() compares them)
-    // and held to the oracle.
+    // 32-bit lanes and the narrowest that do not; then 2^21, 1.5 * 2^21 and
+    // 2^22, the last two past what 32-bit lanes hold (a limit of 1.5 * 2^21
+    // fails here). Where an edge crosses a block the lanes' values are
+    // largest, so windows along each edge are rasterized with both widths
+    // on every path (cover() compares them) and held to the oracle, with
+    // one sample and with 8, whose positions reach furthest from the
+    // centres.
     constexpr int kBig = 16384;
     const auto clip = [](P p) {
         return glm::dvec4(double(p.x) / (256.0 * kBig) * 2.0 - 1.0,
                           1.0 - double(p.y) / (256.0 * kBig) * 2.0, 0.5, 1.0);
     };
+    constexpr int64_t kSpans[] = {int64_t(1) << 20, int64_t(1) << 20, int64_t(1) << 21,
+                                  int64_t(3) << 20, int64_t(1) << 22};
     std::mt19937 rng(77);
     std::uniform_int_distribution<int64_t> start(256 * 1000, 256 * 6000), tweak(-64, 64);
     std::uniform_real_distribution<double> angle(0.0, 6.283185307179586);
     int narrow = 0, wide = 0, covered_windows = 0;
-    for (int n = 0; n < 24; ++n) {
-        // Edge v0-v1 of |dx| + |dy| = 2^20 + d, d within a few sub-pixels of
-        // 0 (every third triangle: 2^22 + d); v2 beside its middle, so the
-        // other edges are about half as long.
-        const int64_t span = (int64_t(1) << (n % 3 ? 20 : 22)) + tweak(rng) / 16;
+    for (int n = 0; n < 30; ++n) {
+        // Edge v0-v1 of |dx| + |dy| = span + d, d within a few sub-pixels
+        // of 0; v2 beside its middle, so the other edges are about half as
+        // long.
+        const int64_t span = kSpans[n % 5] + tweak(rng) / 16;
         const double a = angle(rng);
         const double cx = std::cos(a), cy = std::sin(a);
         const double scale = double(span) / (std::abs(cx) + std::abs(cy));
@@ -250,41 +255,52 @@ TEST_CASE("32-bit and 64-bit lanes agree with the oracle at the width where they
         const P v[3] = {v0, v1, v2};
         const float none = 0.0f;
         const SetupVertex sv[3] = {{clip(v0), &none}, {clip(v1), &none}, {clip(v2), &none}};
-        TriangleSetup t;
-        if (setup_triangle(sv, Viewport{kBig, kBig}, CullState{false, false, true}, t) !=
-            SetupResult::ok)
-            continue;
-        (t.narrow ? narrow : wide) += 1;
-        for (int k = 0; k < 3; ++k)
-            for (double f : {0.1, 0.5, 0.9}) {  // windows along edge k
-                const P a0 = v[k], a1 = v[(k + 1) % 3];
-                const int x = int((double(a0.x) + f * double(a1.x - a0.x)) / 256.0) & ~3;
-                const int y = int((double(a0.y) + f * double(a1.y - a0.y)) / 256.0) & ~3;
-                const int x0 = std::max(0, x - 16), y0 = std::max(0, y - 16);
-                PixelSet got;
-                for (Isa isa : supported_isas())
-                    for (EdgeWidth width : {EdgeWidth::automatic, EdgeWidth::wide}) {
-                        std::vector<Block> blocks;
-                        kernels(isa).cover(t, x0, y0, x0 + 31, y0 + 31, 1, width, blocks);
-                        PixelSet s;
-                        for (const Block& b : blocks)
-                            for (int i = 0; i < FACET_BLOCK_LANES; ++i)
-                                if (b.mask >> i & 1) s.insert({b.x + i % 4, b.y + i / 4});
-                        if (isa == Isa::portable && width == EdgeWidth::automatic) got = s;
-                        INFO("path " << isa_name(isa) << (width == EdgeWidth::wide ? ", 64-bit" : ""));
-                        REQUIRE(s == got);
-                    }
-                PixelSet want;
-                for (int py = y0; py < std::min(y0 + 32, kBig); ++py)
-                    for (int px = x0; px < std::min(x0 + 32, kBig); ++px)
-                        if (oracle_covers(v, {px * 256 + 128, py * 256 + 128})) want.insert({px, py});
-                REQUIRE(got == want);
-                covered_windows += !got.empty();  // the far end of a wedge may be too thin
-            }
+        for (int samples : {1, 8}) {
+            TriangleSetup t;
+            if (setup_triangle(sv, Viewport{kBig, kBig, samples}, CullState{false, false, true},
+                               t) != SetupResult::ok)
+                continue;
+            (t.narrow ? narrow : wide) += 1;
+            const auto offsets =
+                samples == 1 ? std::vector<std::pair<int, int>>{{0, 0}} : pattern(samples);
+            for (int k = 0; k < 3; ++k)
+                for (double f : {0.1, 0.5, 0.9}) {  // windows along edge k
+                    const P a0 = v[k], a1 = v[(k + 1) % 3];
+                    const int x = int((double(a0.x) + f * double(a1.x - a0.x)) / 256.0) & ~3;
+                    const int y = int((double(a0.y) + f * double(a1.y - a0.y)) / 256.0) & ~3;
+                    const int x0 = std::max(0, x - 16), y0 = std::max(0, y - 16);
+                    SampleSet got;
+                    for (Isa isa : supported_isas())
+                        for (EdgeWidth width : {EdgeWidth::automatic, EdgeWidth::wide}) {
+                            std::vector<Block> blocks;
+                            kernels(isa).cover(t, x0, y0, x0 + 31, y0 + 31, samples, width, blocks);
+                            SampleSet s;
+                            for (const Block& b : blocks)
+                                for (int i = 0; i < FACET_BLOCK_LANES; ++i)
+                                    for (int j = 0; j < samples; ++j)
+                                        if (samples == 1 ? (b.mask >> i & 1) : (b.samples[i] >> j & 1))
+                                            s.insert({b.x + i % 4, b.y + i / 4, j});
+                            if (isa == Isa::portable && width == EdgeWidth::automatic) got = s;
+                            INFO("path " << isa_name(isa) << (width == EdgeWidth::wide ? ", 64-bit" : "")
+                                         << ", " << samples << " samples, span " << span);
+                            REQUIRE(s == got);
+                        }
+                    SampleSet want;
+                    for (int py = y0; py < std::min(y0 + 32, kBig); ++py)
+                        for (int px = x0; px < std::min(x0 + 32, kBig); ++px)
+                            for (int j = 0; j < samples; ++j)
+                                if (oracle_covers(v, {px * 256 + 128 + offsets[size_t(j)].first * 16,
+                                                      py * 256 + 128 + offsets[size_t(j)].second * 16}))
+                                    want.insert({px, py, j});
+                    INFO(samples << " samples, span " << span);
+                    REQUIRE(got == want);
+                    covered_windows += !got.empty();  // the far end of a wedge may be too thin
+                }
+        }
     }
     CHECK(narrow > 4);  // both sides of the limit were tried
-    CHECK(wide > 4);
-    CHECK(covered_windows > 100);
+    CHECK(wide > 20);
+    CHECK(covered_windows > 200);
 }
 
 TEST_CASE("random sub-pixel triangles match the oracle", "[raster]") {

@@ -13,10 +13,12 @@
 // Exactness: snapped coordinates are below 2^28 in magnitude anywhere in the
 // guard band (|x|, |y| < 2^20 pixels), so an edge function, a difference of
 // two products of 29-bit numbers, stays below 2^59 and int64 never overflows.
-// Inside one 4x4 block the values are smaller: relative to the block's
-// corner they change by at most 4 (|dx| + |dy|) sub-pixels a pixel, so a
-// triangle whose edges span less than kNarrowEdgeSpan sub-pixels has every
-// lane of a partly covered block within 32 bits (rasterize.hpp), exactly.
+// Inside one 4x4 block the values are smaller: an edge function changes by
+// at most |dx| + |dy| (the edge's extent in sub-pixels) per sub-pixel step,
+// and every lane and MSAA sample of a block the edge crosses lies within
+// 1024 sub-pixels (4 pixels) of a point where it is zero. So a triangle
+// whose edges span less than kNarrowEdgeSpan sub-pixels has every lane of a
+// partly covered block within 32 bits (rasterize.hpp), exactly.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -3,9 +3,11 @@
 // Write a shader as a struct with plain per-vertex and per-fragment functions;
 // FACET_SHADER(YourShader) generates the batch loops and the C descriptor of
 // <facet/shader_abi.h> inside your plugin, so your functions inline into the
-// loops. The fragment loop visits a block's covered pixels one at a time; a
-// shader that also gives fragment_wide (facet/wide.hpp) shades the whole
-// block in one SIMD call instead. A whole shader:
+// loops. The fragment loop visits a batch's covered pixels one at a time; a
+// shader that also gives fragment_wide (facet/wide.hpp) shades them kLanes
+// at a time instead. A batch is 16 fragments: a 4x4 block, or, for shaders
+// that may be packed (the default), covered pixels of any blocks and
+// triangles of one draw. A whole shader:
 //
 //     struct Tint {
 //         struct Params { glm::vec4 color; };
@@ -148,7 +150,7 @@ inline Incident incident_light(const facet_light& l, glm::vec3 p) {
 }
 
 #if FACET_SDK_WIDE
-// The same for 16 points at once (fragment_wide).
+// The same for wide::kLanes points at once (fragment_wide).
 struct WideIncident {
     wide::Vec3 to_light;
     wide::Vec3 radiance;

@@ -10,8 +10,8 @@
  *   which returns a pointer to a constant descriptor that lives as long as the
  *   library is loaded. The descriptor names the shader, declares its varyings,
  *   what it needs from the core, its parameter schema, and its two batch
- *   functions: one shades a batch of vertices, one shades a 4x4 block of
- *   fragments. The host pays one indirect call per batch, never per pixel.
+ *   functions: one shades a batch of vertices, one a batch of 16 fragments
+ *   (a 4x4 block, or packed pixels: FACET_SHADER_PACKABLE). The host pays one indirect call per batch, never per pixel.
  *
  * WHAT THIS IS NOT
  *   Not a C++ API: only C types cross the boundary, so a plugin built by a
@@ -65,9 +65,11 @@ extern "C" {
 #define FACET_EXPORT __attribute__((visibility("default")))
 #endif
 
-/* A fragment batch is one 4x4 block of pixels; lane i is pixel
- * (x + i % 4, y + i / 4). The 2x2 quads are lanes {0,1,4,5}, {2,3,6,7},
- * {8,9,12,13}, {10,11,14,15}, so derivatives are differences within a quad. */
+/* A fragment batch is one 4x4 block of pixels, lane i pixel
+ * (x + i % 4, y + i / 4), or, for a FACET_SHADER_PACKABLE shader, 16
+ * pixels from anywhere (facet_fragment_batch.coord). In a block the 2x2
+ * quads are lanes {0,1,4,5}, {2,3,6,7}, {8,9,12,13}, {10,11,14,15}, so
+ * derivatives are differences within a quad. */
 #define FACET_BLOCK_SIZE 4
 #define FACET_BLOCK_LANES 16
 
@@ -107,8 +109,11 @@ enum facet_shader_flag {
      * triangles of one draw (all front-facing or all back-facing): the host
      * then shades only covered pixels, packed into as few batches as it
      * can. Each lane's pixel is in facet_fragment_batch.coord; x and y say
-     * nothing. For shaders that compute nothing across lanes (no
-     * derivatives). <facet/shader.hpp> sets it. */
+     * nothing. For shaders that compute nothing across lanes.
+     * <facet/shader.hpp> sets it unless the shader says packable = false.
+     * The host packs only opaque, single-sample, filled draws that write
+     * colour, and never a shader that needs FACET_NEED_DERIVATIVES or
+     * FACET_NEED_DISCARD; everything else gets 4x4 blocks. */
     FACET_SHADER_PACKABLE = 1u << 0
 };
 
