@@ -95,13 +95,14 @@ function(facet_isa_objects NAME ISA)
     CXX_VISIBILITY_PRESET hidden
     VISIBILITY_INLINES_HIDDEN ON)
   set(object "${CMAKE_CURRENT_BINARY_DIR}/${NAME}.o")
+  string(JOIN ", " sources ${ARG_SOURCES})  # one argument for the check below
   add_custom_command(OUTPUT "${object}"
     COMMAND "${CMAKE_LINKER}" -r --force-group-allocation -o "${object}.all"
             "$<TARGET_OBJECTS:${NAME}>"
     COMMAND "${CMAKE_OBJCOPY}" "--keep-global-symbol=${ARG_KEEP}" "${object}.all" "${object}.local"
     COMMAND "${CMAKE_COMMAND}" "-DFACET_CHECK_OBJECT=${object}.local" "-DOBJDUMP=${CMAKE_OBJDUMP}"
-            "-DISA=${ISA}" "-DSOURCES=${ARG_SOURCES}"
-            "-DOPTIONS=${CMAKE_CXX_FLAGS} $<TARGET_PROPERTY:${ARG_LIKE},COMPILE_OPTIONS>"
+            "-DISA=${ISA}" "-DSOURCES=${sources}"
+            "-DOPTIONS=${CMAKE_CXX_FLAGS} $<JOIN:$<TARGET_PROPERTY:${ARG_LIKE},COMPILE_OPTIONS>, >"
             -P "${FACET_SHADER_CMAKE}"
     COMMAND "${CMAKE_COMMAND}" -E rename "${object}.local" "${object}"
     DEPENDS ${NAME} "$<TARGET_OBJECTS:${NAME}>"
