@@ -275,7 +275,7 @@ TEST_CASE("shipped wide shaders draw the same packed as a block at a time, on ev
     // called with packed batches and, through a copy of its descriptor
     // that does not allow packing, with blocks.
     PluginRegistry registry;
-    for (const char* name : {"default.yaml", "scenes/phong.yaml"}) {
+    for (const char* name : test::kDemoScenes) {
         Scene scene = test::small_demo_scene(registry, name);
         std::vector<facet_shader_desc> copies;
         copies.reserve(scene.objects.size());

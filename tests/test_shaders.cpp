@@ -18,11 +18,13 @@
 // pixels were compared and that they were not all black or saturated.
 #include "support.hpp"
 
+#include <facet/isa.hpp>
 #include <facet/math.hpp>
 #include <facet/plugin.hpp>
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -602,7 +604,21 @@ float max_abs_difference(const Framebuffer& a, const Framebuffer& b) {
     return worst;
 }
 
-TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit)",
+// Pixels of two same-sized float images whose channels differ by more
+// than `tolerance`.
+int pixels_differing(const Framebuffer& a, const Framebuffer& b, float tolerance) {
+    int n = 0;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x)
+            for (int c = 0; c < 4; ++c)
+                if (!(std::abs(a.pixel(x, y)[c] - b.pixel(x, y)[c]) <= tolerance)) {
+                    ++n;
+                    break;
+                }
+    return n;
+}
+
+TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit, lit, toon)",
           "[shader][wide]") {
     PluginRegistry registry;
     const Setup s = quad_setup();
@@ -618,7 +634,12 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit)
         {"phong", phong_values(false, 1, true), true},
         {"phong", phong_values(true, 6000, true), true},
         {"unlit", {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {0.0}}}, false},
-        {"unlit", {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {1.0}}}, true}};
+        {"unlit", {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {1.0}}}, true},
+        {"lit", lit_values(true, false), false},
+        {"lit", lit_values(false, false), false},
+        {"lit", lit_values(true, true), true},
+        {"toon", toon_values(3, 0.42), false},
+        {"toon", toon_values(7, 0.0), false}};
     for (const Case& c : cases) {
         INFO(c.shader << ", textured " << c.textured);
         const auto wide = registry.get(c.shader);
@@ -633,8 +654,46 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit)
             for (int x = 0; x < b.width(); ++x) brightest = std::max(brightest, b.pixel(x, y).g);
         CHECK(brightest > 0.2f);
         // wide::pow is within 1e-6 relative of std::pow where it matters;
-        // the rest differs by rounding.
-        CHECK(max_abs_difference(a, b) < 2e-5f);
+        // the rest differs by rounding. Toon's bands and thresholds are
+        // steps: a pixel within rounding of one may fall on either side.
+        if (c.shader == "toon")
+            CHECK(pixels_differing(a, b, 2e-5f) <= a.width() * a.height() / 1000);
+        else
+            CHECK(max_abs_difference(a, b) < 2e-5f);
+    }
+}
+
+TEST_CASE("every shipped shader's fragment_wide draws its demo scene as its scalar fragment "
+          "does, shadow maps and AO included, on every path",
+          "[shader][wide][isa]") {
+    PluginRegistry registry;
+    for (const char* name : kDemoScenes) {
+        Scene scene = small_demo_scene(registry, name);
+        scene.settings.color_format = ColorFormat::rgba32f;  // compare before rounding
+        // Each material's plugin, and the same shader built with FACET_SDK_SCALAR.
+        std::vector<std::pair<std::shared_ptr<Material>, std::shared_ptr<ShaderPlugin>>> swaps;
+        for (const Object& o : scene.objects) {
+            if (std::any_of(swaps.begin(), swaps.end(),
+                            [&](const auto& s) { return s.first == o.material; }))
+                continue;
+            const std::string shader = o.material->plugin->name();
+            swaps.emplace_back(o.material,
+                               ShaderPlugin::load(std::string(FACET_TEST_PLUGIN_DIR) + "/" +
+                                                      shader + "_scalar.so",
+                                                  shader));
+        }
+        for (Isa isa : supported_isas()) {
+            INFO(name << ", path " << isa_name(isa));
+            Renderer renderer(2, isa);
+            Framebuffer wide, scalar;
+            renderer.render(scene, wide);
+            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            renderer.render(scene, scalar);
+            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            // A PCF tap or a toon threshold within rounding may go either way.
+            CHECK(pixels_differing(wide, scalar, 2e-5f) <= wide.width() * wide.height() / 1000);
+            CHECK(max_abs_difference(wide, scalar) < 0.5f);
+        }
     }
 }
 

@@ -342,3 +342,71 @@ TEST_CASE("two shadow-casting lights each cast their own shadow in one frame", "
     CHECK(shadowed_by[0] > 100);
     CHECK(shadowed_by[1] > 100);
 }
+
+TEST_CASE("a shadow map is drawn again only when its casters, its light or its fitted bounds "
+          "change, and never shows a stale map",
+          "[shadow][skip]") {
+    SceneDir sd;
+    Scene scene = sd.load(
+        camera(96, 72) +
+        "lights:\n"
+        "  - {type: directional, direction: [0.7, -1, 0.5], intensity: 0.5, casts_shadow: true}\n"
+        "  - {type: spot, position: [-1.0, 3.2, 1.2], direction: [0.3, -1, -0.35], "
+        "intensity: 0.5, spot_inner: 25, spot_outer: 30, casts_shadow: true}\n"
+        "objects:\n  - {mesh: ground.obj, material: " + std::string(kShadowed) + "}\n" +
+        "  - {name: cube, mesh: cube.obj, position: [0, 0.8, 0], material: " + kShadowed + "}\n" +
+        // Behind the camera and outside the spot's cone: no map can see it.
+        "  - {name: far, mesh: cube.obj, position: [9, 9, 12], material: " + kShadowed + "}\n");
+    Renderer renderer(2);
+    Framebuffer fb;
+    // Each frame of `renderer` against a renderer that has never drawn a map.
+    auto frame = [&](uint64_t drawn, uint64_t reused) {
+        const FrameStats s = renderer.render(scene, fb);
+        CHECK(s.shadow_passes == drawn);
+        CHECK(s.shadow_maps_reused == reused);
+        Framebuffer fresh;
+        Renderer(1).render(scene, fresh);
+        CHECK(test::same_image(fb, fresh));
+        return s;
+    };
+    const FrameStats first = frame(2, 0);
+    // Neither map sees the far cube: it is outside the spot's cone, and
+    // across the sun's light outside the view, which the sun's map is
+    // fitted to.
+    CHECK(first.shadow_casters_culled == 2);
+    SECTION("nothing changed: no map is drawn") {
+        frame(0, 2);
+        frame(0, 2);
+    }
+    SECTION("a caster moved: both maps see it") {
+        scene.objects[1].transform.translation.x += 0.3f;
+        frame(2, 0);
+        frame(0, 2);
+    }
+    SECTION("a caster got a new mesh, equal to the old one: drawn again, to be safe") {
+        scene.objects[1].mesh = std::make_shared<Mesh>(*scene.objects[1].mesh);
+        frame(2, 0);
+    }
+    SECTION("the spot light turned: its map only") {
+        scene.lights[1].direction.x += 0.05f;
+        frame(1, 1);
+    }
+    SECTION("the light's colour changed: no map") {
+        scene.lights[1].intensity = 0.7f;
+        frame(0, 2);
+    }
+    SECTION("the camera moved: the directional map's fitted bounds changed") {
+        scene.camera.position.x += 0.2f;
+        frame(1, 1);
+    }
+    SECTION("the map size changed") {
+        scene.settings.shadow_map_size = 512;
+        frame(2, 0);
+    }
+    SECTION("shadows off, then on: the kept maps are still good") {
+        scene.settings.shadows = false;
+        frame(0, 0);
+        scene.settings.shadows = true;
+        frame(0, 2);
+    }
+}

@@ -179,6 +179,25 @@ TEST_CASE("an orbit drag and the wheel move the camera and render again", "[view
     CHECK(v.controller().camera().position == before.position);
 }
 
+TEST_CASE("a frame where nothing the shadows depend on changed draws no shadow map, and the "
+          "overlay says so",
+          "[viewer][shadow]") {
+    Viewer v(small((fs::path(FACET_SOURCE_DIR) / "configs/scenes/shadow.yaml").string()));
+    v.pump();
+    CHECK(v.overlay().stats.shadow_passes == 2);
+    CHECK(stats_text(v.overlay()).find("shadow maps unchanged") == std::string::npos);
+    key(SDLK_l);  // wireframe: a new frame, the same shadow maps
+    v.pump();
+    REQUIRE(v.frames_rendered() == 2);
+    CHECK(v.overlay().stats.shadow_passes == 0);
+    CHECK(v.overlay().stats.shadow_maps_reused == 2);
+    CHECK(stats_text(v.overlay()).find("2 shadow maps unchanged") != std::string::npos);
+    drag(40, 10, SDL_BUTTON_LMASK);  // the camera moves: the sun's map follows the view
+    v.pump();
+    CHECK(v.overlay().stats.shadow_passes == 1);
+    CHECK(v.overlay().stats.shadow_maps_reused == 1);
+}
+
 TEST_CASE("keys cycle materials and toggle wireframe, MSAA, passes and the overlay", "[viewer]") {
     Viewer v(small());
     v.pump();

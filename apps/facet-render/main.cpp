@@ -53,6 +53,11 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                  s.triangles_culled_backface, s.triangles_culled_frustum,
                  s.triangles_culled_degenerate, s.triangles_invalid, s.fragments_shaded,
                  s.blocks_shaded);
+    if (s.shadow_passes || s.prepasses || s.depth_prepasses || s.ao_passes)
+        spdlog::info("passes: {} shadow map(s) {:.2f} ms, {} pre-pass(es) {:.2f} ms, {} AO "
+                     "{:.2f} ms, main {:.2f} ms, resolve {:.2f} ms",
+                     s.shadow_passes, s.ms_shadow, s.prepasses + s.depth_prepasses,
+                     s.ms_prepass, s.ao_passes, s.ms_ao, s.ms_main, s.ms_post);
 }
 
 // Renders `scene` to the output PNG, with what the command line overrides.

@@ -30,6 +30,10 @@ std::string skipped_line(const OverlayInfo& i) {
          {pass_skip("shadow", i.settings.shadows, i.shadows_needed, s.shadow_passes),
           pass_skip("AO", i.settings.ao, i.ao_needed, s.ao_passes)})
         if (!p.empty()) parts.push_back(p);
+    if (s.shadow_maps_reused)
+        parts.push_back(count(s.shadow_maps_reused) + " shadow maps unchanged");
+    if (s.shadow_casters_culled)
+        parts.push_back(count(s.shadow_casters_culled) + " casters out of light");
     if (s.objects_culled) parts.push_back(count(s.objects_culled) + " objects out of view");
     parts.push_back(count(i.idle_wakeups) + " idle wake-ups");
     std::string out = "skipped   ";

@@ -67,6 +67,16 @@ uint32_t outcode(const glm::dvec4& p, double guard) {
            (p.y + gw < 0.0 ? kPlaneBottom : 0u) | (gw - p.y < 0.0 ? kPlaneTop : 0u);
 }
 
+bool outside_frustum(const Bounds& b, const glm::mat4& mvp) {
+    uint32_t all = ~0u;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 corner(i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
+                               i & 4 ? b.max.z : b.min.z);
+        all &= outcode(glm::dvec4(mvp * glm::vec4(corner, 1.0f)), 1.0);
+    }
+    return all != 0;
+}
+
 int clip_polygon(const ClipVertex* in, int n, uint32_t planes, double guard, int floats,
                  const uint8_t* interpolation, ClipVertex* out) {
     ClipVertex buffer[2][kMaxClipVertices];

@@ -17,6 +17,8 @@
 // skip clip_polygon() entirely.
 #pragma once
 
+#include "facet/mesh.hpp"
+
 #include <facet/shader_abi.h>
 
 #include <glm/glm.hpp>
@@ -49,6 +51,11 @@ constexpr int kMaxClipVertices = 3 + 6;
 // The planes p lies outside of, for side planes at +-g w (g = 1: the view
 // frustum itself; `guard` is the guard-band half-width in NDC units).
 uint32_t outcode(const glm::dvec4& p, double guard);
+
+// True when all eight corners of `b`, transformed by `mvp` to clip space,
+// lie outside one plane of the view frustum: nothing of what b bounds can
+// be seen through mvp.
+bool outside_frustum(const Bounds& b, const glm::mat4& mvp);
 
 // Clips polygon `in` (n vertices, each with `floats` varyings) against the
 // planes in `planes`. `interpolation` gives each varying float's

@@ -21,17 +21,6 @@ namespace facet {
 
 namespace {
 
-// True when all eight corners of `b` lie outside one plane of the frustum.
-bool outside_frustum(const Bounds& b, const glm::mat4& mvp) {
-    uint32_t all = ~0u;
-    for (int i = 0; i < 8; ++i) {
-        const glm::vec3 corner(i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
-                               i & 4 ? b.max.z : b.min.z);
-        all &= outcode(glm::dvec4(mvp * glm::vec4(corner, 1.0f)), 1.0);
-    }
-    return all != 0;
-}
-
 float view_depth(const Object& o, const glm::mat4& view) {
     const glm::vec3 centre = 0.5f * (o.mesh->bounds.min + o.mesh->bounds.max);
     return (view * o.transform.matrix() * glm::vec4(centre, 1.0f)).z;
@@ -140,6 +129,8 @@ FrameStats& FrameStats::operator+=(const FrameStats& o) {
     fragments_shaded += o.fragments_shaded;
     fragments_depth_rejected += o.fragments_depth_rejected;
     shadow_passes += o.shadow_passes;
+    shadow_maps_reused += o.shadow_maps_reused;
+    shadow_casters_culled += o.shadow_casters_culled;
     prepasses += o.prepasses;
     depth_prepasses += o.depth_prepasses;
     ao_passes += o.ao_passes;
@@ -210,8 +201,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     }
     if (needs_shadow) {
         const auto t = std::chrono::steady_clock::now();
-        render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow);
-        stats.shadow_passes += passes_->shadow.abi.size();
+        render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow, stats);
         call.shadow_maps = passes_->shadow.abi.data();
         call.shadow_map_count = uint32_t(passes_->shadow.abi.size());
         stats.ms_shadow += elapsed_ms(t);

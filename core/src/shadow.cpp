@@ -1,5 +1,6 @@
 #include "shadow.hpp"
 
+#include "clip.hpp"
 #include "internal_shaders.hpp"
 
 #include "facet/math.hpp"
@@ -108,8 +109,24 @@ void spot(const Light& light, const std::vector<glm::vec3>& casters, int size,
     sm.texel_size = 2.0f * std::tan(fov * 0.5f) / float(size);
 }
 
-void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view,
-                const glm::mat4& proj, Renderer& renderer, Framebuffer& target) {
+// The key of a map seen through view_projection: the casters it can see.
+void make_key(const std::vector<const Object*>& casters, const glm::mat4& view_projection,
+              int size, ShadowMapKey& key, FrameStats& stats) {
+    key.size = size;
+    key.view_projection = view_projection;
+    key.casters.clear();
+    for (const Object* o : casters) {
+        const glm::mat4 model = o->transform.matrix();
+        if (outside_frustum(o->mesh->bounds, view_projection * model)) {
+            ++stats.shadow_casters_culled;
+            continue;
+        }
+        key.casters.push_back({o->mesh, model});
+    }
+}
+
+void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4& proj,
+                Renderer& renderer, Framebuffer& target) {
     DrawCall call;
     call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
@@ -118,9 +135,9 @@ void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view
     call.state.depth_compare = DepthCompare::less;
     call.state.color_write = false;
     FrameStats stats;  // the main pass's statistics count the main pass only
-    for (const Object* o : casters) {
-        call.mesh = o->mesh.get();
-        call.model = o->transform.matrix();
+    for (const ShadowMapKey::Caster& c : key.casters) {
+        call.mesh = c.mesh.get();
+        call.model = c.model;
         renderer.queue(call, target, stats);
     }
     renderer.flush(stats);
@@ -129,7 +146,7 @@ void draw_depth(const std::vector<const Object*>& casters, const glm::mat4& view
 }  // namespace
 
 void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
-                        Renderer& renderer, ShadowMaps& maps) {
+                        Renderer& renderer, ShadowMaps& maps, FrameStats& stats) {
     caster_corners(casters, maps.corners);
     // A multiple of 16, so that the map's rows are exactly `size` floats
     // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
@@ -140,20 +157,34 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
         const Light& light = scene.lights[i];
         if (!light.casts_shadow || light.type == LightType::point) continue;
         facet_shadow_map& sm = maps.abi.emplace_back();
-        if (maps.depth.size() < maps.abi.size()) maps.depth.emplace_back();
-        Framebuffer& depth = maps.depth[maps.abi.size() - 1];
+        const size_t k = maps.abi.size() - 1;
+        if (maps.depth.size() <= k) {
+            maps.depth.emplace_back();
+            maps.key.emplace_back();
+        }
+        Framebuffer& depth = maps.depth[k];
         glm::mat4 view, proj;
         if (light.type == LightType::directional)
             directional(scene, light, maps.corners, aspect, size, sm, view, proj);
         else
             spot(light, maps.corners, size, sm, view, proj);
-        if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
-        renderer.clear(depth, glm::vec4(0.0f), 1.0f);
-        draw_depth(casters, view, proj, renderer, depth);
         sm.light = uint32_t(i);
         sm.width = sm.height = uint32_t(size);
         std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
         sm.depth = depth.depth();
+        FrameStats culled;  // counted only when the map is drawn
+        make_key(casters, proj * view, size, maps.next, culled);
+        if (maps.next == maps.key[k] && depth.width() == size) {
+            ++stats.shadow_maps_reused;
+            continue;
+        }
+        std::swap(maps.key[k], maps.next);
+        if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
+        sm.depth = depth.depth();
+        renderer.clear(depth, glm::vec4(0.0f), 1.0f);
+        draw_depth(maps.key[k], view, proj, renderer, depth);
+        ++stats.shadow_passes;
+        stats.shadow_casters_culled += culled.shadow_casters_culled;
     }
 }
 

@@ -55,6 +55,26 @@ struct Ao {
         }
         return glm::vec4(glm::vec3(p.base_color) * light, p.base_color.a);
     }
+
+    // The same for wide::kLanes fragments at once, which facet runs (the
+    // tests hold it to the reference above).
+    struct WideVaryings {
+        wide::Vec3 normal;
+        wide::Vec3 position;
+    };
+
+    static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw& d,
+                                    const Params& p) {
+        using namespace wide;
+        Vec3 n = normalize(v.normal);
+        if (!f.front_facing) n = -n;
+        Vec3 light = p.ambient * pow(f.ao, p.strength);
+        for (uint32_t i = 0; i < d.light_count(); ++i) {
+            const WideIncident in = incident_light(d.light(i), v.position);
+            light += in.radiance * max(dot(n, in.to_light), splat(0.0f));
+        }
+        return {glm::vec3(p.base_color) * light, splat(p.base_color.a)};
+    }
 };
 
 }  // namespace

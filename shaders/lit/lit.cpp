@@ -73,6 +73,35 @@ struct Lit {
             p.per_pixel ? irradiance(v.position, glm::normalize(v.normal), d, p) : v.irradiance;
         return {glm::vec3(albedo) * e, albedo.a};
     }
+
+    // The same for wide::kLanes fragments at once, which facet runs (the
+    // tests hold it to the reference above).
+    struct WideVaryings {
+        wide::Vec3 position;
+        wide::Vec3 normal;
+        wide::Vec2 uv;
+        wide::Vec3 irradiance;
+    };
+
+    static wide::Vec3 irradiance(const wide::Vec3& p, const wide::Vec3& n, const Draw& d,
+                                 const Params& params) {
+        using namespace wide;
+        Vec3 e(params.ambient);
+        for (uint32_t i = 0; i < d.light_count(); ++i) {
+            const WideIncident in = incident_light(d.light(i), p);
+            e += in.radiance * max(dot(n, in.to_light), splat(0.0f));
+        }
+        return e;
+    }
+
+    static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw& d,
+                                    const Params& p) {
+        using namespace wide;
+        const Vec4 albedo = Vec4(p.base_color) * f.texture(0);
+        const Vec3 e =
+            p.per_pixel ? irradiance(v.position, normalize(v.normal), d, p) : v.irradiance;
+        return {rgb(albedo) * e, albedo.w};
+    }
 };
 
 }  // namespace

@@ -61,6 +61,34 @@ struct Shadow {
         }
         return glm::vec4(glm::vec3(p.base_color) * (p.ambient + light), p.base_color.a);
     }
+
+    // The same for wide::kLanes fragments at once, which facet runs (the
+    // tests hold it to the reference above): a light no lane faces is
+    // skipped, and its map is filtered only where some lane faces it.
+    struct WideVaryings {
+        wide::Vec3 normal;
+        wide::Vec3 position;
+    };
+
+    static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw& d,
+                                    const Params& p) {
+        using namespace wide;
+        Vec3 n = normalize(v.normal);
+        if (!f.front_facing) n = -n;
+        Vec3 light(splat(0.0f));
+        for (uint32_t i = 0; i < d.light_count(); ++i) {
+            const WideIncident in = incident_light(d.light(i), v.position);
+            const Float n_dot_l = dot(n, in.to_light);
+            const Mask facing = n_dot_l > 0.0f;
+            if (!any(facing)) continue;
+            const facet_shadow_map* map = d.shadow_map(i);
+            const Float visible = map ? shadow_visibility(*map, v.position, n_dot_l,
+                                                          p.pcf_kernel, p.bias, p.slope_bias)
+                                      : splat(1.0f);
+            light += select(facing, in.radiance * (n_dot_l * visible), Vec3(splat(0.0f)));
+        }
+        return {glm::vec3(p.base_color) * (p.ambient + light), splat(p.base_color.a)};
+    }
 };
 
 }  // namespace

@@ -7,6 +7,7 @@
 //     colour   = base_color * (ambient + sum of radiance * band(n.L))
 //              + sum of radiance * specular_color   where n.L > 0 and
 //                                                    max(n.h, 0)^shininess > specular_threshold
+//                                                    (n.h > specular_threshold^(1/shininess))
 //              + rim_color                          where 1 - n.v > rim_threshold
 //     colour   = outline_color                      where n.v < outline_width
 //                                                    (outline_width 0: no outline)
@@ -77,8 +78,9 @@ struct Toon {
         return n_l > 0.0f ? std::ceil(n_l * float(bands)) / float(bands) : 0.0f;
     }
 
-    static bool highlight(const glm::vec3& n, const glm::vec3& h, const Params& p) {
-        return std::pow(glm::max(glm::dot(n, h), 0.0f), p.shininess) > p.specular_threshold;
+    // max(n.h, 0)^shininess > specular_threshold where n.h exceeds this.
+    static float highlight_cos(const Params& p) {
+        return std::pow(p.specular_threshold, 1.0f / p.shininess);
     }
 
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
@@ -92,16 +94,47 @@ struct Toon {
         const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
         const float n_v = glm::dot(n, to_eye);
         if (p.outline_width > 0.0f && n_v < p.outline_width) return {p.outline_color, 1.0f};
+        const float highlight = highlight_cos(p);
         glm::vec3 light = p.ambient, shine(0.0f);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
             const float n_l = glm::dot(n, in.to_light);
             light += in.radiance * band(n_l, p.bands);
-            if (n_l > 0.0f && highlight(n, glm::normalize(in.to_light + to_eye), p))
+            if (n_l > 0.0f && glm::dot(n, glm::normalize(in.to_light + to_eye)) > highlight)
                 shine += in.radiance * p.specular_color;
         }
         const glm::vec3 rim = 1.0f - n_v > p.rim_threshold ? p.rim_color : glm::vec3(0.0f);
         return {p.base_color * light + shine + rim, 1.0f};
+    }
+
+    // The same for wide::kLanes fragments at once, which facet runs (the
+    // tests hold it to the reference above).
+    struct WideVaryings {
+        wide::Vec3 position;
+        wide::Vec3 normal;
+    };
+
+    static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment&, const Draw& d,
+                                    const Params& p) {
+        using namespace wide;
+        const Vec3 n = normalize(v.normal);
+        const Vec3 to_eye = normalize(d.camera_position() - v.position);
+        const Float n_v = dot(n, to_eye);
+        const Mask outline = p.outline_width > 0.0f ? n_v < p.outline_width : Mask{};
+        const float highlight = highlight_cos(p), bands = float(p.bands);
+        Vec3 light(p.ambient), shine(splat(0.0f));
+        for (uint32_t i = 0; i < d.light_count(); ++i) {
+            const WideIncident in = incident_light(d.light(i), v.position);
+            const Float n_l = dot(n, in.to_light);
+            const Mask facing = n_l > 0.0f;
+            if (!any(facing)) continue;
+            light += in.radiance * select(facing, ceil(n_l * bands) / bands, splat(0.0f));
+            const Mask shines = facing && dot(n, normalize(in.to_light + to_eye)) > highlight;
+            shine += select(shines, in.radiance * p.specular_color, Vec3(splat(0.0f)));
+        }
+        const Vec3 rim = select(1.0f - n_v > p.rim_threshold, Vec3(p.rim_color), Vec3(splat(0.0f)));
+        const Vec3 c = p.base_color * light + shine + rim;
+        return {select(outline, Vec3(p.outline_color), c), splat(1.0f)};
     }
 };
 

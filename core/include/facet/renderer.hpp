@@ -51,7 +51,9 @@ struct FrameStats {
     uint64_t fragments_shaded = 0;             // covered lanes sent to the shader
     uint64_t fragments_depth_rejected = 0;     // covered lanes the early depth test removed
     // Passes run. Each runs only when a visible material needs it.
-    uint64_t shadow_passes = 0;                // one per shadow-casting light
+    uint64_t shadow_passes = 0;                // shadow maps drawn
+    uint64_t shadow_maps_reused = 0;           // ... kept: nothing they depend on changed
+    uint64_t shadow_casters_culled = 0;        // casters outside a drawn map's light frustum
     uint64_t prepasses = 0;                    // depth-and-normal pre-pass, for AO
     uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
     uint64_t ao_passes = 0;                    // SSAO and its blur

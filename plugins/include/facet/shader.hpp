@@ -230,6 +230,56 @@ inline float shadow_visibility(const facet_shadow_map& sm, glm::vec3 p, float n_
     return float(lit) / float((2 * r + 1) * (2 * r + 1));
 }
 
+#if FACET_SDK_WIDE
+// The same for wide::kLanes points at once (fragment_wide), in the same
+// arithmetic, gathering each tap's texels.
+inline wide::Float shadow_distance(const facet_shadow_map& sm, const wide::Float& z) {
+    const float n = sm.near_plane, f = sm.far_plane;
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return n + z * (f - n);
+    return n * f / (f - z * (f - n));
+}
+
+inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec3& p,
+                                     const wide::Float& n_dot_l, int kernel, float bias,
+                                     float slope_bias) {
+    using namespace wide;
+    const float* m = sm.view_projection;  // column-major, as glm::make_mat4 reads it
+    const auto row = [&](int r) {
+        return (m[r] * p.x + m[4 + r] * p.y) + (m[8 + r] * p.z + splat(m[12 + r]));
+    };
+    const Float cw = row(3);
+    const Float ndc_x = row(0) / cw, ndc_y = row(1) / cw, ndc_z = row(2) / cw;
+    const Mask seen = cw > 0.0f && !(ndc_z > 1.0f);  // others are lit
+    if (!any(seen)) return splat(1.0f);
+    const Float distance = shadow_distance(sm, max(ndc_z, splat(0.0f)));
+    const Float texel = sm.projection == FACET_SHADOW_PERSPECTIVE ? sm.texel_size * distance
+                                                                  : splat(sm.texel_size);
+    const Float cos_t = clamp(n_dot_l, 0.1f, 1.0f);
+    const Float tan_t = sqrt(1.0f - cos_t * cos_t) / cos_t;
+    const Float receiver = distance - texel * (bias + slope_bias * tan_t);
+    // The centre texel, kept within reach of the map (a kernel reaches 7
+    // texels) so that it converts to an integer; NaN reads as off the map.
+    const float w = float(sm.width), h = float(sm.height);
+    const auto texel_of = [](const Float& t, float size) {
+        const Float c = select(t == t, floor(t * size), splat(-16.0f));
+        return __builtin_convertvector(clamp(c, -16.0f, size + 16.0f), Mask);
+    };
+    const Mask cx = texel_of(ndc_x * 0.5f + 0.5f, w), cy = texel_of(0.5f - ndc_y * 0.5f, h);
+    const int r = std::max(kernel, 1) / 2;
+    Float lit = splat(0.0f);
+    for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+            const Mask x = cx + dx, y = cy + dy;
+            const Mask on_map = seen & (x >= 0) & (y >= 0) & (x < int(sm.width)) &
+                                (y < int(sm.height));
+            const Float stored = gather(sm.depth, y * int(sm.width) + x, on_map, 0.0f);
+            const Float tap = receiver - texel * tan_t * std::sqrt(float(dx * dx + dy * dy));
+            lit += select(!on_map || tap <= shadow_distance(sm, stored), splat(1.0f), splat(0.0f));
+        }
+    return select(seen, lit / float((2 * r + 1) * (2 * r + 1)), splat(1.0f));
+}
+#endif
+
 // ---- what a shader function sees -------------------------------------------
 
 struct VertexIn {

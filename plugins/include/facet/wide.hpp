@@ -87,6 +87,41 @@ inline Float sqrt(const Float& x) {
 #endif
 }
 
+// As std::floor and std::ceil (though a zero result may be +0 where they
+// give -0). Floats of magnitude 2^23 or more are whole already and stay as
+// they are, as do NaN and infinities.
+inline Float floor(const Float& x) {
+    const Mask small = x < 8388608.0f && x > -8388608.0f;  // false for NaN
+    const Float t = __builtin_convertvector(
+        __builtin_convertvector(select(small, x, splat(0.0f)), Mask), Float);  // truncated
+    return select(small, select(t > x, t - 1.0f, t), x);
+}
+inline Float ceil(const Float& x) {
+    const Mask small = x < 8388608.0f && x > -8388608.0f;
+    const Float t = __builtin_convertvector(
+        __builtin_convertvector(select(small, x, splat(0.0f)), Mask), Float);
+    return select(small, select(t < x, t + 1.0f, t), x);
+}
+
+// base[index[i]] for each lane of `m`, `otherwise` for the others (whose
+// index is not read).
+inline Float gather(const float* base, const Mask& index, const Mask& m, float otherwise) {
+#if defined(__AVX512F__)
+    return std::bit_cast<Float>(_mm512_mask_i32gather_ps(
+        _mm512_set1_ps(otherwise), _mm512_cmplt_epi32_mask(std::bit_cast<__m512i>(m),
+                                                           _mm512_setzero_si512()),
+        std::bit_cast<__m512i>(index), base, 4));
+#elif defined(__AVX2__)
+    return std::bit_cast<Float>(_mm256_mask_i32gather_ps(
+        _mm256_set1_ps(otherwise), base, std::bit_cast<__m256i>(index),
+        std::bit_cast<__m256>(m), 4));
+#else
+    Float r;
+    for (int i = 0; i < kLanes; ++i) r[i] = m[i] ? base[index[i]] : otherwise;
+    return r;
+#endif
+}
+
 // log2(x) for finite x >= FLT_MIN (other x give meaningless values; pow
 // handles them): x = m 2^e with m in [sqrt(1/2), sqrt(2)), and ln m =
 // 2 atanh(t), t = (m - 1) / (m + 1), from its series to t^9 (|t| < 0.172, so
@@ -168,6 +203,7 @@ inline Vec3 operator/(const Vec3& a, const Float& s) {
     return {a.x * r, a.y * r, a.z * r};
 }
 inline Vec3 operator+(const Vec3& a, const glm::vec3& b) { return a + Vec3(b); }
+inline Vec3 operator+(const glm::vec3& a, const Vec3& b) { return Vec3(a) + b; }
 inline Vec3 operator-(const glm::vec3& a, const Vec3& b) { return Vec3(a) - b; }
 inline Vec3 operator*(const Vec3& a, const glm::vec3& b) { return a * Vec3(b); }
 inline Vec3 operator*(const glm::vec3& a, const Vec3& b) { return Vec3(a) * b; }
