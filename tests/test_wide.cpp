@@ -118,3 +118,37 @@ TEST_CASE("wide vectors: dot, normalize and reflect as glm's", "[wide]") {
     CHECK(r.y[kLanes - 1] == Approx(gr.y).epsilon(1e-6));
     CHECK(select(splat(1.0f) > 0.0f, splat(2.0f), splat(3.0f))[0] == 2.0f);
 }
+
+TEST_CASE("wide floor and ceil as std::floor and std::ceil, gather as indexing", "[wide]") {
+    const float big = 8388608.0f;  // 2^23: every float from here on is whole
+    const float inf = std::numeric_limits<float>::infinity();
+    const float values[] = {0.0f,  -0.0f, 0.5f,   -0.5f,  1.0f,     -1.0f,      2.999999f,
+                            -2.999999f, 1e-30f, -1e-30f, big - 0.5f, -(big - 0.5f), big,
+                            -big,  3e9f,  -3e9f,  inf,    -inf};
+    for (float v : values) {
+        INFO(v);
+        CHECK(floor(splat(v))[0] == std::floor(v));
+        CHECK(ceil(splat(v))[0] == std::ceil(v));
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    CHECK(std::isnan(floor(splat(nan))[0]));
+    CHECK(std::isnan(ceil(splat(nan))[0]));
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> arg(-100.0f, 100.0f);
+    for (int r = 0; r < 1000; ++r) {
+        Float x;
+        for (int i = 0; i < kLanes; ++i) x[i] = arg(rng);
+        const Float f = floor(x), c = ceil(x);
+        for (int i = 0; i < kLanes; ++i) {
+            REQUIRE(f[i] == std::floor(x[i]));
+            REQUIRE(c[i] == std::ceil(x[i]));
+        }
+    }
+
+    float table[64];
+    for (int i = 0; i < 64; ++i) table[i] = float(i) * 1.5f;
+    Mask index, odd;
+    for (int i = 0; i < kLanes; ++i) index[i] = (i * 37) % 64, odd[i] = i % 2 ? -1 : 0;
+    const Float g = gather(table, index, odd, -7.0f);
+    for (int i = 0; i < kLanes; ++i) CHECK(g[i] == (i % 2 ? table[(i * 37) % 64] : -7.0f));
+}
