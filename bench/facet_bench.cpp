@@ -234,20 +234,32 @@ struct Result {
     int width, height, threads;
     uint64_t triangles;
     double median_ms, min_ms, peak_rss_mib;
+    double shadow_ms, ao_ms;  // medians of the shadow maps' and the AO pre-pass and pass's times
     std::optional<Versus> llvmpipe;  // --llvmpipe, for shaders it has, when its worker succeeded
 };
 
 Result measure(Scene& scene, const std::string& name, const std::string& note,
-               const std::string& shader, int threads, Isa isa, int runs, const PeakRss& peak) {
+               const std::string& shader, int threads, Isa isa, int runs, bool redraw_shadows,
+               const PeakRss& peak) {
     Renderer renderer(threads, isa);
     Framebuffer fb;
     const FrameStats first = renderer.render(scene, fb);  // warm-up
-    std::vector<double> ms;
-    for (int i = 0; i < runs; ++i) ms.push_back(renderer.render(scene, fb).milliseconds);
-    std::sort(ms.begin(), ms.end());
+    std::vector<double> ms, shadow_ms, ao_ms;
+    for (int i = 0; i < runs; ++i) {
+        if (redraw_shadows) renderer.forget_shadow_maps();
+        const FrameStats s = renderer.render(scene, fb);
+        ms.push_back(s.milliseconds);
+        shadow_ms.push_back(s.ms_shadow);
+        ao_ms.push_back(s.ao_passes ? s.ms_prepass + s.ms_ao : 0.0);
+    }
+    const auto median = [](std::vector<double>& v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
+    const double min_ms = *std::min_element(ms.begin(), ms.end());
     return {name, note, shader, std::string(isa_name(isa)), scene.settings.width,
-            scene.settings.height, renderer.threads(), first.triangles_in, ms[ms.size() / 2],
-            ms.front(), peak.read(), {}};
+            scene.settings.height, renderer.threads(), first.triangles_in, median(ms), min_ms,
+            peak.read(), median(shadow_ms), median(ao_ms), {}};
 }
 
 // With a float target, what turning it into 8-bit sRGB for a PNG or a window
@@ -293,7 +305,7 @@ void write_csv(const std::string& path, const std::vector<Result>& results,
                const std::string& target, bool llvmpipe) {
     std::ofstream out(path);
     out << "scene,note,shader,cpu,isa,target,width,height,threads,triangles,median_ms,min_ms,"
-           "peak_rss_mib";
+           "shadow_ms,ao_ms,peak_rss_mib";
     if (llvmpipe)
         out << ",llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
                "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels";
@@ -302,7 +314,8 @@ void write_csv(const std::string& path, const std::vector<Result>& results,
     for (const Result& r : results) {
         out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << cpu << ',' << r.isa << ','
             << target << ',' << r.width << ',' << r.height << ',' << r.threads << ','
-            << r.triangles << ',' << r.median_ms << ',' << r.min_ms << ',' << r.peak_rss_mib;
+            << r.triangles << ',' << r.median_ms << ',' << r.min_ms << ',' << r.shadow_ms << ','
+            << r.ao_ms << ',' << r.peak_rss_mib;
         if (llvmpipe && r.llvmpipe)
             out << ',' << r.llvmpipe->threads << ',' << r.llvmpipe->median_ms << ','
                 << r.llvmpipe->min_ms << ',' << r.llvmpipe->median_ms / r.median_ms << ','
@@ -342,6 +355,7 @@ void write_json(const std::string& path, const std::vector<Result>& results,
             << "\", \"width\": " << r.width << ", \"height\": " << r.height
             << ", \"threads\": " << r.threads << ", \"triangles\": " << r.triangles
             << ", \"median_ms\": " << r.median_ms << ", \"min_ms\": " << r.min_ms
+            << ", \"shadow_ms\": " << r.shadow_ms << ", \"ao_ms\": " << r.ao_ms
             << ", \"peak_rss_mib\": " << r.peak_rss_mib << (llvmpipe ? json_llvmpipe(r) : "")
             << "}" << (i + 1 < results.size() ? "," : "") << "\n";
     }
@@ -439,17 +453,18 @@ int llvmpipe_worker(const bench::LlvmpipeJob& job, const std::string& result_pat
 
 void print_header(bool llvmpipe, const std::string& target) {
     std::printf("%s; colour target %s\n", cpu_name().c_str(), target.c_str());
-    std::printf("%-12s %-10s %-7s %-6s %7s %10s %12s %10s", "scene", "size", "shader", "path",
-                "threads", "triangles", "median ms", "peak MiB");
+    std::printf("%-12s %-10s %-7s %-6s %7s %10s %12s %10s %10s %10s", "scene", "size", "shader",
+                "path", "threads", "triangles", "median ms", "shadow ms", "AO ms", "peak MiB");
     if (llvmpipe)
         std::printf(" %11s %12s %9s %11s", "lp threads", "llvmpipe ms", "lp/facet", "cov diff %");
     std::printf("\n");
 }
 
 void print_row(const Result& r, const std::string& size, bool llvmpipe) {
-    std::printf("%-12s %-10s %-7s %-6s %7d %10llu %12.2f %10.1f", r.scene.c_str(), size.c_str(),
-                r.shader.c_str(), r.isa.c_str(), r.threads, (unsigned long long)r.triangles,
-                r.median_ms, r.peak_rss_mib);
+    std::printf("%-12s %-10s %-7s %-6s %7d %10llu %12.2f %10.2f %10.2f %10.1f", r.scene.c_str(),
+                size.c_str(), r.shader.c_str(), r.isa.c_str(), r.threads,
+                (unsigned long long)r.triangles, r.median_ms, r.shadow_ms, r.ao_ms,
+                r.peak_rss_mib);
     if (llvmpipe && r.llvmpipe)
         std::printf(" %11d %12.2f %9.2f %11.4f", r.llvmpipe->threads, r.llvmpipe->median_ms,
                     r.llvmpipe->median_ms / r.median_ms, r.llvmpipe->coverage.percent);
@@ -539,6 +554,7 @@ struct Options {
     int runs = 5;
     int rounds = 1;
     bool depth_prepass = false;
+    bool redraw_shadows = false;
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
     bool pareto = false;
     bench::ParetoOptions po;
@@ -573,6 +589,9 @@ void add_options(CLI::App& app, Options& o) {
                    "measure the whole table this many times, one round after another, and "
                    "report each row's median over the rounds")
         ->capture_default_str();
+    app.add_flag("--redraw-shadows", o.redraw_shadows,
+                 "draw every shadow map in every frame, as while the camera or the casters "
+                 "move (by default a map is kept while nothing it depends on changes)");
     app.add_flag("--depth-prepass", o.depth_prepass,
                  "render with the depth pre-pass (render: depth_prepass), noted in each row");
     app.add_option("--csv", o.csv, "CSV output")->capture_default_str();
@@ -638,6 +657,7 @@ void bench_scene(const std::string& name, Options& o, const std::vector<Isa>& is
     scene.settings.depth_prepass = o.depth_prepass;
     scene.settings.color_format = *parse_color_format(o.lp.target);
     if (o.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
+    if (o.redraw_shadows) note += note.empty() ? "shadow maps redrawn" : "; shadow maps redrawn";
     const std::vector<std::string> shaders = file ? std::vector<std::string>{"(scene)"} : o.shaders;
     const std::string label = file ? std::filesystem::path(name).filename().string() : name;
     for (const std::string& size : o.sizes) {
@@ -650,7 +670,8 @@ void bench_scene(const std::string& name, Options& o, const std::vector<Isa>& is
             for (int t : o.threads) {
                 std::optional<Versus> llvmpipe;
                 for (Isa isa : isas) {
-                    Result r = measure(scene, label, note, shader, t, isa, o.runs, peak);
+                    Result r = measure(scene, label, note, shader, t, isa, o.runs,
+                                       o.redraw_shadows, peak);
                     if (o.lp.on && !file && o.lp.draws(shader) && isa == isas.front())
                         llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
                     r.llvmpipe = llvmpipe;
@@ -673,10 +694,12 @@ std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rou
         return v[v.size() / 2];
     };
     for (size_t i = 0; i < out.size(); ++i) {
-        std::vector<double> ms, lp_ms;
+        std::vector<double> ms, shadow_ms, ao_ms, lp_ms;
         for (const std::vector<Result>& round : rounds) {
             const Result& r = round[i];
             ms.push_back(r.median_ms);
+            shadow_ms.push_back(r.shadow_ms);
+            ao_ms.push_back(r.ao_ms);
             out[i].min_ms = std::min(out[i].min_ms, r.min_ms);
             out[i].peak_rss_mib = std::max(out[i].peak_rss_mib, r.peak_rss_mib);
             if (r.llvmpipe) lp_ms.push_back(r.llvmpipe->median_ms);
@@ -684,6 +707,8 @@ std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rou
                 out[i].llvmpipe->min_ms = std::min(out[i].llvmpipe->min_ms, r.llvmpipe->min_ms);
         }
         out[i].median_ms = median(ms);
+        out[i].shadow_ms = median(shadow_ms);
+        out[i].ao_ms = median(ao_ms);
         if (lp_ms.size() == rounds.size() && out[i].llvmpipe) out[i].llvmpipe->median_ms = median(lp_ms);
         else out[i].llvmpipe.reset();
     }

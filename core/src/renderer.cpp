@@ -65,6 +65,8 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 int Renderer::threads() const { return geometry_->pool.size(); }
+
+void Renderer::forget_shadow_maps() { passes_->shadow.key.clear(); }
 Isa Renderer::isa() const { return geometry_->kernels->isa; }
 
 namespace {

@@ -158,10 +158,8 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
         if (!light.casts_shadow || light.type == LightType::point) continue;
         facet_shadow_map& sm = maps.abi.emplace_back();
         const size_t k = maps.abi.size() - 1;
-        if (maps.depth.size() <= k) {
-            maps.depth.emplace_back();
-            maps.key.emplace_back();
-        }
+        if (maps.depth.size() <= k) maps.depth.emplace_back();
+        if (maps.key.size() <= k) maps.key.resize(k + 1);  // empty: nothing drawn yet
         Framebuffer& depth = maps.depth[k];
         glm::mat4 view, proj;
         if (light.type == LightType::directional)

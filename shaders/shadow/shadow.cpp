@@ -52,7 +52,7 @@ struct Shadow {
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
             const float n_dot_l = glm::dot(n, in.to_light);
-            if (n_dot_l <= 0.0f) continue;
+            if (n_dot_l <= 0.0f || in.radiance == glm::vec3(0.0f)) continue;  // nothing to shadow
             const facet_shadow_map* map = d.shadow_map(i);
             const float visible = map ? shadow_visibility(*map, v.position, n_dot_l,
                                                           p.pcf_kernel, p.bias, p.slope_bias)
@@ -63,8 +63,9 @@ struct Shadow {
     }
 
     // The same for wide::kLanes fragments at once, which facet runs (the
-    // tests hold it to the reference above): a light no lane faces is
-    // skipped, and its map is filtered only where some lane faces it.
+    // tests hold it to the reference above): a light that reaches no lane
+    // (facing away, outside a spot's cone, past its range) is skipped, and
+    // its map filtered only where it reaches some lane.
     struct WideVaryings {
         wide::Vec3 normal;
         wide::Vec3 position;
@@ -79,8 +80,10 @@ struct Shadow {
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const WideIncident in = incident_light(d.light(i), v.position);
             const Float n_dot_l = dot(n, in.to_light);
-            const Mask facing = n_dot_l > 0.0f;
-            if (!any(facing)) continue;
+            const Mask facing = n_dot_l > 0.0f &&
+                                (in.radiance.x != 0.0f || in.radiance.y != 0.0f ||
+                                 in.radiance.z != 0.0f);
+            if (!any(facing)) continue;  // nothing to shadow
             const facet_shadow_map* map = d.shadow_map(i);
             const Float visible = map ? shadow_visibility(*map, v.position, n_dot_l,
                                                           p.pcf_kernel, p.bias, p.slope_bias)

@@ -114,13 +114,19 @@ public:
     Renderer& operator=(Renderer&&) noexcept;
 
     // Resizes `target` to the scene's size, colour format and MSAA sample
-    // count if needed,
-    // clears it, draws every visible object and resolves the samples. Shadow
-    // maps are rendered first only if a visible material needs them (and
-    // settings.shadows allows), and the AO pre-pass and AO pass only if one
-    // needs AO (and settings.ao allows); the statistics count the passes
-    // that ran.
+    // count if needed, clears it, draws every visible object and resolves
+    // the samples. Shadow maps are rendered first only if a visible material
+    // needs them (and settings.shadows allows), and only those whose light,
+    // casters or fitted bounds changed since the frame that drew them; the
+    // AO pre-pass and AO pass only if a visible material needs AO (and
+    // settings.ao allows). The statistics count the passes that ran and
+    // those skipped.
     FrameStats render(const Scene& scene, Framebuffer& target);
+
+    // Forgets the shadow maps kept from earlier frames, so that the next
+    // render() draws every map it needs: what a frame costs while the
+    // camera or the casters move (benchmarks).
+    void forget_shadow_maps();
 
     // Draws one mesh into `target` (which must be cleared by the caller).
     void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);

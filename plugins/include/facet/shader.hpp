@@ -186,11 +186,17 @@ inline WideIncident incident_light(const facet_light& l, const wide::Vec3& p) {
 
 // ---- shadow maps (ABI 1.1) ----------------------------------------------------
 
-// Distance from the light (along its axis) of window depth z in `sm`.
+// Distance from the light (along its axis) of window depth z in `sm`, and
+// back: the window depth of distance d.
 inline float shadow_distance(const facet_shadow_map& sm, float z) {
     const float n = sm.near_plane, f = sm.far_plane;
     if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return n + z * (f - n);
     return n * f / (f - z * (f - n));
+}
+inline float shadow_depth(const facet_shadow_map& sm, float d) {
+    const float n = sm.near_plane, f = sm.far_plane;
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return (d - n) * (1.0f / (f - n));
+    return f * (d - n) / (d * (f - n));
 }
 
 // Fraction of a kernel x kernel block of shadow-map texels (percentage-closer
@@ -200,7 +206,10 @@ inline float shadow_distance(const facet_shadow_map& sm, float z) {
 // cosine): a slope-scaled bias, which keeps surfaces from shadowing
 // themselves ("acne") at any angle. A tap k texels from the centre sees the
 // tilted receiver k * tan(theta) texels deeper, so its bias grows by that
-// much too. Points outside the map are lit.
+// much too. A tap is lit where the map's depth is at least the tap's depth
+// (the comparison is made in window depth, where the map stores it, so a
+// tap costs no conversion of the texel). Points outside the map are lit;
+// kernel is clamped to 1..15.
 inline float shadow_visibility(const facet_shadow_map& sm, glm::vec3 p, float n_dot_l,
                                int kernel, float bias, float slope_bias) {
     const glm::vec4 c = glm::make_mat4(sm.view_projection) * glm::vec4(p, 1.0f);
@@ -215,7 +224,7 @@ inline float shadow_visibility(const facet_shadow_map& sm, glm::vec3 p, float n_
     const float receiver = distance - texel * (bias + slope_bias * tan_t);
     const int cx = int(glm::floor((ndc.x * 0.5f + 0.5f) * float(sm.width)));
     const int cy = int(glm::floor((0.5f - ndc.y * 0.5f) * float(sm.height)));
-    const int r = glm::max(kernel, 1) / 2;
+    const int r = std::clamp(kernel, 1, 15) / 2;
     int lit = 0;
     for (int dy = -r; dy <= r; ++dy)
         for (int dx = -r; dx <= r; ++dx) {
@@ -225,18 +234,24 @@ inline float shadow_visibility(const facet_shadow_map& sm, glm::vec3 p, float n_
                 continue;
             }
             const float tap = receiver - texel * tan_t * glm::sqrt(float(dx * dx + dy * dy));
-            lit += tap <= shadow_distance(sm, sm.depth[size_t(y) * sm.width + size_t(x)]);
+            lit += shadow_depth(sm, tap) <= sm.depth[size_t(y) * sm.width + size_t(x)];
         }
     return float(lit) / float((2 * r + 1) * (2 * r + 1));
 }
 
 #if FACET_SDK_WIDE
 // The same for wide::kLanes points at once (fragment_wide), in the same
-// arithmetic, gathering each tap's texels.
+// arithmetic: each tap's texels gathered, and the depth of each distance
+// from the centre worked out once, not per tap.
 inline wide::Float shadow_distance(const facet_shadow_map& sm, const wide::Float& z) {
     const float n = sm.near_plane, f = sm.far_plane;
     if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return n + z * (f - n);
     return n * f / (f - z * (f - n));
+}
+inline wide::Float shadow_depth(const facet_shadow_map& sm, const wide::Float& d) {
+    const float n = sm.near_plane, f = sm.far_plane;
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return (d - n) * (1.0f / (f - n));
+    return f * (d - n) / (d * (f - n));
 }
 
 inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec3& p,
@@ -247,8 +262,11 @@ inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec
     const auto row = [&](int r) {
         return (m[r] * p.x + m[4 + r] * p.y) + (m[8 + r] * p.z + splat(m[12 + r]));
     };
-    const Float cw = row(3);
-    const Float ndc_x = row(0) / cw, ndc_y = row(1) / cw, ndc_z = row(2) / cw;
+    // An orthographic map's w is 1: no division (x / 1 is x, as in the scalar code).
+    const bool ortho = sm.projection == FACET_SHADOW_ORTHOGRAPHIC;
+    const Float cw = ortho ? splat(1.0f) : row(3);
+    const Float ndc_x = ortho ? row(0) : row(0) / cw, ndc_y = ortho ? row(1) : row(1) / cw,
+                ndc_z = ortho ? row(2) : row(2) / cw;
     const Mask seen = cw > 0.0f && !(ndc_z > 1.0f);  // others are lit
     if (!any(seen)) return splat(1.0f);
     const Float distance = shadow_distance(sm, max(ndc_z, splat(0.0f)));
@@ -265,16 +283,29 @@ inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec
         return __builtin_convertvector(clamp(c, -16.0f, size + 16.0f), Mask);
     };
     const Mask cx = texel_of(ndc_x * 0.5f + 0.5f, w), cy = texel_of(0.5f - ndc_y * 0.5f, h);
-    const int r = std::max(kernel, 1) / 2;
+    const int r = std::clamp(kernel, 1, 15) / 2;
+    // The tap's depth at |dx| = i, |dy| = j, for j <= i.
+    Float depth[8][8];
+    for (int i = 0; i <= r; ++i)
+        for (int j = 0; j <= i; ++j)
+            depth[i][j] = shadow_depth(sm, receiver - texel * tan_t *
+                                                          std::sqrt(float(i * i + j * j)));
+    // Where every lane's kernel lies on the map, no tap needs a bounds test.
+    const int width = int(sm.width), height = int(sm.height);
+    const Mask inside = !seen || ((cx >= r) & (cy >= r) & (cx < width - r) & (cy < height - r));
+    const bool all_inside = bits(inside) == (1u << kLanes) - 1u;
+    const Mask centre = cy * width + cx;
     Float lit = splat(0.0f);
     for (int dy = -r; dy <= r; ++dy)
         for (int dx = -r; dx <= r; ++dx) {
-            const Mask x = cx + dx, y = cy + dy;
-            const Mask on_map = seen & (x >= 0) & (y >= 0) & (x < int(sm.width)) &
-                                (y < int(sm.height));
-            const Float stored = gather(sm.depth, y * int(sm.width) + x, on_map, 0.0f);
-            const Float tap = receiver - texel * tan_t * std::sqrt(float(dx * dx + dy * dy));
-            lit += select(!on_map || tap <= shadow_distance(sm, stored), splat(1.0f), splat(0.0f));
+            Mask on_map = seen;
+            if (!all_inside) {
+                const Mask x = cx + dx, y = cy + dy;
+                on_map &= (x >= 0) & (y >= 0) & (x < width) & (y < height);
+            }
+            const Float stored = gather(sm.depth, centre + (dy * width + dx), on_map, 0.0f);
+            const int i = std::max(std::abs(dx), std::abs(dy)), j = std::min(std::abs(dx), std::abs(dy));
+            lit += select(!on_map || depth[i][j] <= stored, splat(1.0f), splat(0.0f));
         }
     return select(seen, lit / float((2 * r + 1) * (2 * r + 1)), splat(1.0f));
 }
