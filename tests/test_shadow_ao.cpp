@@ -132,9 +132,12 @@ TEST_CASE("a plane facing the light shows no acne, at any angle and kernel", "[s
 }
 
 TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
+    const std::string resolution = GENERATE(std::string("full"), std::string("half"));
+    INFO("ao_resolution " << resolution);
     SceneDir sd;
-    const Scene scene = sd.load(camera(160, 120) + "objects:\n  - {mesh: ground.obj, material: " +
-                                kAoOnly + "}\n");
+    Scene scene = sd.load(camera(160, 120) + "objects:\n  - {mesh: ground.obj, material: " +
+                          kAoOnly + "}\n");
+    scene.settings.ao_half_resolution = resolution == "half";
     Framebuffer fb;
     const FrameStats stats = Renderer().render(scene, fb);
     CHECK(stats.prepasses == 1);
@@ -156,12 +159,17 @@ TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
 TEST_CASE("ambient occlusion: the inside corner of a box is darker than its faces, and "
           "SSAO agrees with ray-traced AO",
           "[ao]") {
-    // Inside a room corner: the floor and two walls (cubes stretched into slabs).
+    // Inside a room corner: the floor and two walls (cubes stretched into
+    // slabs). At half resolution too, where the depth-aware upsample must
+    // keep each wall's occlusion off the others.
+    const std::string resolution = GENERATE(std::string("full"), std::string("half"));
+    INFO("ao_resolution " << resolution);
     SceneDir sd;
     const std::string wall = std::string(", material: ") + kAoOnly + "}\n";
     const Scene scene = sd.load(
         "camera: {position: [2.6, 1.9, 2.6], target: [0, 0.4, 0], fov_y: 50}\n"
-        "render: {size: [192, 144], color_format: rgba32f}\nobjects:\n"
+        "render: {size: [192, 144], color_format: rgba32f, ao_resolution: " + resolution +
+        "}\nobjects:\n"
         "  - {mesh: ground.obj" + wall +
         "  - {mesh: cube.obj, position: [-0.05, 1.5, 1.5], scale: [0.1, 3, 3]" + wall +
         "  - {mesh: cube.obj, position: [1.5, 1.5, -0.05], scale: [3, 3, 0.1]" + wall);

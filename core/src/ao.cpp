@@ -7,14 +7,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 
 namespace facet {
 
-// AO radius and sample count from the material's `ao_radius` (float) and
-// `ao_samples` (int) parameters, where its shader declares them.
-AoSettings ao_settings(const Material& m) {
+AoSettings ao_settings(const Material& m, const RenderSettings& render) {
     AoSettings s;
     const facet_param_desc* radius = m.plugin->find_param("ao_radius");
     if (radius && radius->type == FACET_PARAM_FLOAT && m.block)
@@ -24,25 +22,11 @@ AoSettings ao_settings(const Material& m) {
         std::memcpy(&s.samples, m.block->bytes + samples->offset, sizeof(int));
     s.radius = std::max(s.radius, 1e-4f);
     s.samples = std::clamp(s.samples, 1, 256);
+    s.half_resolution = render.ao_half_resolution;
     return s;
 }
 
 namespace {
-
-constexpr int kSteps = 4;  // march steps along each direction
-
-// View-space position of the pre-pass surface at pixel (x, y).
-struct Unproject {
-    glm::mat4 inverse;
-    int width, height;
-
-    glm::vec3 at(int x, int y, float depth) const {
-        const glm::vec4 ndc((x + 0.5f) / width * 2.0f - 1.0f, 1.0f - (y + 0.5f) / height * 2.0f,
-                            depth, 1.0f);
-        const glm::vec4 p = inverse * ndc;
-        return glm::vec3(p) / p.w;
-    }
-};
 
 // Direction k of n, cosine-weighted over the hemisphere around +Z (a
 // Hammersley set), turned by `angle` about +Z.
@@ -61,110 +45,160 @@ glm::vec3 hemisphere(int k, int n, float angle) {
 
 }  // namespace
 
+void AoPass::make_directions(int samples) {
+    if (direction_samples_ == samples) return;
+    directions_.resize(size_t(16 * 3 * samples));
+    for (int rotation = 0; rotation < 16; ++rotation)
+        for (int k = 0; k < samples; ++k) {
+            const glm::vec3 d =
+                hemisphere(k, samples, float(rotation) * (glm::two_pi<float>() / 16.0f));
+            for (int c = 0; c < 3; ++c)
+                directions_[size_t((rotation * 3 + c) * samples + k)] = d[c];
+        }
+    direction_samples_ = samples;
+}
+
 void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& view,
                  const glm::mat4& proj, bool reversed_z, int width, int height,
-                 const AoSettings& settings, Renderer& renderer, ThreadPool& pool,
-                 FrameStats& stats) {
+                 const AoSettings& settings, Renderer& renderer, const Kernels& kernels,
+                 ThreadPool& pool, FrameStats& stats) {
     auto start = std::chrono::steady_clock::now();
-    if (prepass_.width() != width || prepass_.height() != height)
-        prepass_.resize(width, height, ColorFormat::rgba32f);
-    renderer.clear(prepass_, glm::vec4(0.0f), reversed_z ? 0.0f : 1.0f);
+    if (depth_.width() != width || depth_.height() != height)
+        depth_.resize(width, height, ColorFormat::none);
+    const float background = reversed_z ? 0.0f : 1.0f;
+    renderer.clear(depth_, glm::vec4(0.0f), background);
     DrawCall call;
-    call.shader = &internal::plugin<internal::ViewNormals>();
+    call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
     call.projection = proj;
     call.state.cull = CullMode::none;
     call.state.depth_compare = reversed_z ? DepthCompare::greater : DepthCompare::less;
+    call.state.color_write = false;
     FrameStats pass;
     for (const Object* o : objects) {
         call.mesh = o->mesh.get();
         call.model = o->transform.matrix();
-        renderer.queue(call, prepass_, pass);
+        renderer.queue(call, depth_, pass);
     }
     renderer.flush(pass);
     stats.prepasses += 1;
     stats.ms_prepass += elapsed_ms(start);
 
     start = std::chrono::steady_clock::now();
-    view_z_.resize(size_t(width) * height);
-    raw_.resize(view_z_.size());
-    blurred_.resize(view_z_.size());
-    pool.parallel_for(height, [&](int y, int) { linearize(proj, reversed_z, y); });
-    pool.parallel_for(height, [&](int y, int) { occlusion(proj, settings, y); });
-    pool.parallel_for(height, [&](int y, int) { blur(y); });
+    scale_ = settings.half_resolution ? 2 : 1;
+    AoFrame& f = frame_;
+    f.scale = scale_;
+    f.width = (width + scale_ - 1) / scale_;
+    f.height = (height + scale_ - 1) / scale_;
+    f.target_width = width;
+    f.target_height = height;
+    f.samples = settings.samples;
+    f.radius = settings.radius;
+    f.projection = proj;
+    const size_t texels = size_t(f.width) * size_t(f.height);
+    for (std::vector<float>* v : {&x_, &y_, &z_, &nx_, &ny_, &nz_, &raw_, &blurred_})
+        v->resize(texels);
+    f.x = x_.data(), f.y = y_.data(), f.z = z_.data();
+    f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
+    f.raw = raw_.data();
+    f.blurred = blurred_.data();
+    make_directions(settings.samples);
+    f.directions = directions_.data();
+    const glm::mat4 inverse = glm::inverse(proj);
+    f.target_depth = depth_.depth();
+    f.target_stride = depth_.stride();
+    f.background = background;
+    f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
+    f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
+    if (scale_ > 1) {
+        visibility_.resize(size_t(width) * size_t(height));
+        f.visibility = visibility_.data();
+    }
+
+    constexpr int kBand = 8;  // rows per task
+    const auto bands = [&](int rows, auto&& fn) {
+        pool.parallel_for((rows + kBand - 1) / kBand, [&](int band, int) {
+            fn(band * kBand, std::min(kBand, rows - band * kBand));
+        });
+    };
+    bands(f.height, [&](int first, int count) { surface_rows(inverse, first, count); });
+    bands(f.height, [&](int first, int count) { normal_rows(first, count); });
+    bands(f.height, [&](int first, int count) { kernels.ao_occlusion_rows(f, first, count); });
+    bands(f.height, [&](int first, int count) { kernels.ao_blur_rows(f, first, count); });
+    if (scale_ > 1)
+        bands(height, [&](int first, int count) { kernels.ao_upsample_rows(f, first, count); });
     stats.ao_passes += 1;
     stats.ms_ao += elapsed_ms(start);
 }
 
-// View-space z of row y of the pre-pass (0 where nothing was drawn).
-void AoPass::linearize(const glm::mat4& proj, bool reversed_z, int y) {
-    const int w = prepass_.width(), h = prepass_.height();
-    const float background = reversed_z ? 0.0f : 1.0f;
-    const Unproject unproject{glm::inverse(proj), w, h};
-    for (int x = 0; x < w; ++x) {
-        const float d = prepass_.depth_at(x, y);
-        view_z_[size_t(y) * w + x] = d == background ? 0.0f : unproject.at(x, y, d).z;
-    }
-}
-
-// Ambient visibility of row y, before the blur.
-void AoPass::occlusion(const glm::mat4& proj, const AoSettings& s, int y) {
-    const int w = prepass_.width(), h = prepass_.height();
-    const Unproject unproject{glm::inverse(proj), w, h};
-    for (int x = 0; x < w; ++x) {
-        raw_[size_t(y) * w + x] = 1.0f;
-        if (view_z_[size_t(y) * w + x] == 0.0f) continue;  // background
-        const glm::vec3 p = unproject.at(x, y, prepass_.depth_at(x, y));
-        const glm::vec3 n = glm::normalize(glm::vec3(prepass_.pixel(x, y)));
-        const glm::vec3 t = glm::normalize(glm::abs(n.x) < 0.9f ? glm::cross(n, {1, 0, 0})
-                                                                : glm::cross(n, {0, 1, 0}));
-        const glm::mat3 tbn(t, glm::cross(n, t), n);
-        const float angle = float((x & 3) * 4 + (y & 3)) * (glm::two_pi<float>() / 16.0f);
-        int occluded = 0;
-        for (int k = 0; k < s.samples; ++k)
-            occluded += blocked(p, tbn * hemisphere(k, s.samples, angle), proj, s.radius);
-        raw_[size_t(y) * w + x] = 1.0f - float(occluded) / float(s.samples);
-    }
-}
-
-// Does the march from p along dir pass behind the pre-pass surface, by less
-// than `radius`, within `radius`?
-bool AoPass::blocked(const glm::vec3& p, const glm::vec3& dir, const glm::mat4& proj,
-                     float radius) const {
-    const int w = prepass_.width(), h = prepass_.height();
-    for (int step = 1; step <= kSteps; ++step) {
-        const glm::vec3 q = p + dir * (radius * float(step) / kSteps);
-        const glm::vec4 c = proj * glm::vec4(q, 1.0f);
-        if (c.w <= 0.0f) return false;
-        const int sx = int(std::floor((c.x / c.w * 0.5f + 0.5f) * w));
-        const int sy = int(std::floor((0.5f - c.y / c.w * 0.5f) * h));
-        if (sx < 0 || sy < 0 || sx >= w || sy >= h) return false;
-        const float surface = view_z_[size_t(sy) * w + sx];  // nearer is larger
-        if (surface == 0.0f) continue;
-        const float behind = surface - q.z;
-        if (behind > 0.02f * radius && behind < radius) return true;
-    }
-    return false;
-}
-
-// Row y: mean of the 4x4 window aligned with the rotation pattern, weighted
-// by depth similarity (view-space z, relative).
-void AoPass::blur(int y) {
-    const int w = prepass_.width(), h = prepass_.height();
-    for (int x = 0; x < w; ++x) {
-        const float z = view_z_[size_t(y) * w + x];
-        blurred_[size_t(y) * w + x] = 1.0f;
-        if (z == 0.0f) continue;
-        float sum = 0.0f, weight = 0.0f;
-        for (int j = std::max(y - 1, 0); j <= std::min(y + 2, h - 1); ++j)
-            for (int i = std::max(x - 1, 0); i <= std::min(x + 2, w - 1); ++i) {
-                const float rel = (view_z_[size_t(j) * w + i] - z) / std::abs(z);
-                const float wgt = std::exp(-rel * rel * 2500.0f);  // ~2% depth difference
-                sum += wgt * raw_[size_t(j) * w + i];
-                weight += wgt;
+// View-space positions of AO rows [first, first + count): each texel's
+// target pixel unprojected from the pre-pass depth (z = 0: nothing drawn).
+void AoPass::surface_rows(const glm::mat4& inverse, int first, int count) {
+    const AoFrame& f = frame_;
+    for (int j = first; j < first + count; ++j)
+        for (int i = 0; i < f.width; ++i) {
+            const size_t k = size_t(j) * size_t(f.width) + size_t(i);
+            const int px = std::min(i * f.scale, f.target_width - 1);
+            const int py = std::min(j * f.scale, f.target_height - 1);
+            const float d = depth_.depth_at(px, py);
+            if (d == f.background) {
+                x_[k] = y_[k] = z_[k] = 0.0f;
+                continue;
             }
-        blurred_[size_t(y) * w + x] = sum / weight;
-    }
+            const glm::vec4 ndc((float(px) + 0.5f) / float(f.target_width) * 2.0f - 1.0f,
+                                1.0f - (float(py) + 0.5f) / float(f.target_height) * 2.0f, d,
+                                1.0f);
+            const glm::vec4 p = inverse * ndc;
+            x_[k] = p.x / p.w;
+            y_[k] = p.y / p.w;
+            z_[k] = p.z / p.w;
+        }
+}
+
+// Normals of AO rows [first, first + count): the cross product of the
+// position's steps to a neighbour along each axis, taking the neighbour
+// nearer in depth, turned towards the camera. A texel with no neighbour on
+// an axis faces the camera.
+void AoPass::normal_rows(int first, int count) {
+    const AoFrame& f = frame_;
+    const auto at = [&](int i, int j) {
+        const size_t k = size_t(j) * size_t(f.width) + size_t(i);
+        return glm::vec3(x_[k], y_[k], z_[k]);
+    };
+    // The step from p along one axis: to the neighbour at +1 or from the one
+    // at -1, whichever is nearer in depth; none if neither is a surface.
+    const auto step = [&](const glm::vec3& p, int i, int j, int di, int dj, glm::vec3& out) {
+        bool found = false;
+        float best = INFINITY;
+        for (int side : {1, -1}) {
+            const int ni = i + side * di, nj = j + side * dj;
+            if (ni < 0 || nj < 0 || ni >= f.width || nj >= f.height) continue;
+            const glm::vec3 q = at(ni, nj);
+            if (q.z == 0.0f || std::abs(q.z - p.z) >= best) continue;
+            best = std::abs(q.z - p.z);
+            out = float(side) * (q - p);
+            found = true;
+        }
+        return found;
+    };
+    for (int j = first; j < first + count; ++j)
+        for (int i = 0; i < f.width; ++i) {
+            const size_t k = size_t(j) * size_t(f.width) + size_t(i);
+            const glm::vec3 p = at(i, j);
+            glm::vec3 n(0.0f, 0.0f, 1.0f);
+            glm::vec3 du, dv;
+            if (p.z != 0.0f) {
+                n = -p;  // facing the camera, unless both steps exist
+                if (step(p, i, j, 1, 0, du) && step(p, i, j, 0, 1, dv)) {
+                    const glm::vec3 c = glm::cross(du, dv);
+                    if (glm::dot(c, c) > 0.0f) n = glm::dot(c, p) > 0.0f ? -c : c;
+                }
+                n = glm::normalize(n);
+            }
+            nx_[k] = n.x;
+            ny_[k] = n.y;
+            nz_[k] = n.z;
+        }
 }
 
 }  // namespace facet

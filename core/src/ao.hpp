@@ -1,18 +1,32 @@
 // Screen-space ambient occlusion.
 //
 // Takes: the visible opaque objects, the camera's view and projection, the
-// target size, and the AO radius and sample count.
+// target size, and the AO radius, sample count and resolution.
 // Gives: a target-sized buffer of ambient visibility, 1 where nothing
-// occludes. A pre-pass renders depth and view-space normals. For each pixel,
-// `samples` cosine-weighted directions in the hemisphere around its normal
-// (rotated per pixel in a 4x4 pattern) are marched in screen space up to
-// `radius` world units; a direction is occluded where it passes behind the
-// pre-pass surface by less than `radius`. This estimates the same quantity a
-// ray tracer does (cosine-weighted visibility within the radius) from what
-// the screen shows. A depth-aware 4x4 blur then removes the pattern's noise
-// without bleeding across depth edges.
+// occludes.
+//
+// A depth-only pre-pass draws the objects at the target's size. The AO grid
+// is that size, or half of it per side (settings.half_resolution), each of
+// its texels standing for one target pixel (i * scale, j * scale). Each
+// texel's view-space position comes from the pre-pass depth, and its normal
+// from its neighbours' positions (on each axis, the side nearer in depth, so
+// that no normal straddles an edge): the geometric normal, as a ray tracer
+// sees the surface. From each texel `samples` cosine-weighted directions in
+// the hemisphere around its normal (rotated per texel in a 4x4 pattern) are
+// marched in screen space up to `radius` world units; a direction is
+// occluded where it passes behind the pre-pass surface by less than
+// `radius`. This estimates the same quantity a ray tracer does
+// (cosine-weighted visibility within the radius) from what the screen
+// shows. A depth-aware 4x4 blur removes the pattern's noise without
+// bleeding across depth edges, and at half resolution a depth-aware
+// bilinear upsample gives each target pixel the visibility of the texels
+// around it that lie at its depth.
+//
+// The occlusion, blur and upsample are per-ISA kernels (ao_kernels.cpp),
+// kWidth texels at a time, and every stage runs on the renderer's threads.
 #pragma once
 
+#include "kernels.hpp"
 #include "thread_pool.hpp"
 
 #include "facet/framebuffer.hpp"
@@ -24,37 +38,42 @@
 namespace facet {
 
 struct AoSettings {
-    float radius = 0.5f;  // world units
-    int samples = 12;     // directions per pixel
+    float radius = 0.5f;           // world units
+    int samples = 12;              // directions per texel
+    bool half_resolution = false;  // the AO grid at half the target's size per side
 };
 
 // AO radius and sample count from the material's `ao_radius` (float) and
 // `ao_samples` (int) parameters, where its shader declares them; clamped.
-AoSettings ao_settings(const Material& material);
+// The resolution is the render settings' (ao_resolution).
+AoSettings ao_settings(const Material& material, const RenderSettings& render);
 
 class AoPass {
 public:
-    // Runs the pre-pass (timed into stats.ms_prepass) and the AO and blur
-    // (stats.ms_ao). `reversed_z` and `clear_depth` describe the depth range.
+    // Runs the pre-pass (timed into stats.ms_prepass) and the AO, blur and
+    // upsample (stats.ms_ao). `reversed_z` tells the depth range.
     void run(const std::vector<const Object*>& objects, const glm::mat4& view,
              const glm::mat4& proj, bool reversed_z, int width, int height,
-             const AoSettings& settings, Renderer& renderer, ThreadPool& pool,
-             FrameStats& stats);
+             const AoSettings& settings, Renderer& renderer, const Kernels& kernels,
+             ThreadPool& pool, FrameStats& stats);
 
-    // Ambient visibility per pixel of the last run, row-major.
-    const float* visibility() const { return blurred_.data(); }
+    // Ambient visibility per target pixel of the last run, row-major.
+    const float* visibility() const {
+        return scale_ == 1 ? blurred_.data() : visibility_.data();
+    }
 
 private:
-    void linearize(const glm::mat4& proj, bool reversed_z, int y);
-    void occlusion(const glm::mat4& proj, const AoSettings& settings, int y);
-    void blur(int y);
-    bool blocked(const glm::vec3& p, const glm::vec3& dir, const glm::mat4& proj,
-                 float radius) const;
+    void surface_rows(const glm::mat4& proj, int first, int count);
+    void normal_rows(int first, int count);
+    void make_directions(int samples);
 
-    Framebuffer prepass_;
-    std::vector<float> view_z_;  // view-space z per pixel; 0 where nothing was drawn
-    std::vector<float> raw_;
-    std::vector<float> blurred_;
+    Framebuffer depth_;  // the pre-pass, at the target's size
+    int scale_ = 1;
+    AoFrame frame_;
+    std::vector<float> x_, y_, z_, nx_, ny_, nz_;  // per AO texel
+    std::vector<float> directions_;
+    int direction_samples_ = 0;  // what directions_ holds
+    std::vector<float> raw_, blurred_, visibility_;
 };
 
 }  // namespace facet

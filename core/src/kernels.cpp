@@ -9,6 +9,10 @@
 
 namespace facet::FACET_KERNEL_NS {
 
+void ao_occlusion_rows(const AoFrame& f, int first, int count);  // ao_kernels.cpp
+void ao_blur_rows(const AoFrame& f, int first, int count);
+void ao_upsample_rows(const AoFrame& f, int first, int count);
+
 namespace {
 
 // Rasterizes and shades one tile's triangles, in submission order.
@@ -52,4 +56,7 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::srgb8_rows,
     &facet::FACET_KERNEL_NS::encode_pixels,
     &facet::FACET_KERNEL_NS::decode_pixels,
+    &facet::FACET_KERNEL_NS::ao_occlusion_rows,
+    &facet::FACET_KERNEL_NS::ao_blur_rows,
+    &facet::FACET_KERNEL_NS::ao_upsample_rows,
 };

@@ -47,6 +47,38 @@ enum class EdgeWidth {
     wide,       // 64-bit lanes always (tests hold the two to the same coverage)
 };
 
+// What the AO pass's kernels read and write (ao.hpp): buffers of the AO
+// grid, `scale` times coarser per side than the target (texel i stands for
+// target pixel i * scale), row-major, and the target's own buffers.
+struct AoFrame {
+    static constexpr int kSteps = 4;  // march steps along each direction
+    int width = 0, height = 0;        // the AO grid
+    int scale = 1;                    // 1 or 2
+    int target_width = 0, target_height = 0;
+    int samples = 0;                  // directions per texel
+    float radius = 0.0f;              // world (view) units
+    glm::mat4 projection{1.0f};
+    const float* x = nullptr;         // view-space position of each texel's surface
+    const float* y = nullptr;
+    const float* z = nullptr;         // ... its z; 0 where nothing was drawn
+    const float* nx = nullptr;        // view-space unit normal
+    const float* ny = nullptr;
+    const float* nz = nullptr;
+    // Hemisphere directions around +Z: [16 rotations][x, y, z][samples].
+    const float* directions = nullptr;
+    float* raw = nullptr;             // visibility before the blur
+    float* blurred = nullptr;         // ... after it
+    // The target's window depth (rows target_stride floats apart), whose
+    // `background` value means nothing was drawn, and the rows of the
+    // inverse projection that give a pixel's view z: dot(z_row, ndc) /
+    // dot(w_row, ndc), ndc = (x, y, depth, 1).
+    const float* target_depth = nullptr;
+    int target_stride = 0;
+    float background = 0.0f;
+    glm::vec4 z_row{0.0f}, w_row{0.0f};
+    float* visibility = nullptr;      // per target pixel (scale 2 only)
+};
+
 struct Kernels {
     Isa isa;
     // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
@@ -68,6 +100,11 @@ struct Kernels {
     // ones of framebuffer.hpp).
     void (*encode_pixels)(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out);
     void (*decode_pixels)(ColorFormat format, const uint8_t* in, size_t count, glm::vec4* linear);
+    // AO rows [first, first + count) (ao_kernels.cpp): raw visibility and
+    // its blur, on the AO grid; the depth-aware upsample, on the target's.
+    void (*ao_occlusion_rows)(const AoFrame& f, int first, int count);
+    void (*ao_blur_rows)(const AoFrame& f, int first, int count);
+    void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
 };
 
 // The kernels of a supported path; throws Error(isa_unavailable) otherwise.

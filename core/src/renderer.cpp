@@ -210,7 +210,8 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     }
     if (needs_ao) {
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
-                        s.height, ao_settings(*needs_ao), *this, geometry_->pool, stats);
+                        s.height, ao_settings(*needs_ao, s), *this, *geometry_->kernels,
+                        geometry_->pool, stats);
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);

@@ -121,7 +121,7 @@ RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "render",
                     {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
                      "shadow_map_size", "shadow_distance", "msaa", "subpixel_bits", "wireframe",
-                     "shadows", "ao", "depth_prepass", "color_format"});
+                     "shadows", "ao", "ao_resolution", "depth_prepass", "color_format"});
     RenderSettings s;
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
@@ -154,6 +154,9 @@ RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::read(ctx, node, "wireframe", s.wireframe);
     yaml::read(ctx, node, "shadows", s.shadows);
     yaml::read(ctx, node, "ao", s.ao);
+    if (const YAML::Node resolution = node["ao_resolution"])
+        s.ao_half_resolution =
+            yaml::as_enum<bool>(ctx, resolution, {{"full", false}, {"half", true}});
     yaml::read(ctx, node, "depth_prepass", s.depth_prepass);
     if (const YAML::Node format = node["color_format"])
         s.color_format = yaml::as_enum<ColorFormat>(ctx, format,

@@ -121,6 +121,21 @@ inline uint32_t bits(const Long& m) {
 #endif
 }
 
+// Correctly rounded square roots, as std::sqrt.
+inline Float sqrt(const Float& x) {
+#if defined(__AVX512F__)
+    return std::bit_cast<Float>(_mm512_maskz_sqrt_ps(0xFFFF, std::bit_cast<__m512>(x)));
+#elif defined(__AVX2__)
+    return std::bit_cast<Float>(_mm256_sqrt_ps(std::bit_cast<__m256>(x)));
+#elif defined(__SSE2__)
+    return std::bit_cast<Float>(_mm_sqrt_ps(std::bit_cast<__m128>(x)));
+#else
+    Float r;
+    for (int k = 0; k < kWidth; ++k) r[k] = __builtin_sqrtf(x[k]);
+    return r;
+#endif
+}
+
 // table[index[i]] for each lane; every index must lie inside the table.
 inline Float gather(const float* table, const Int& index) {
 #if defined(__AVX512F__)

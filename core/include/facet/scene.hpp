@@ -86,6 +86,9 @@ struct RenderSettings {
     bool wireframe = false;        // draw each triangle's edges over its shading
     bool shadows = true;           // false: no shadow passes; shaders see no shadow maps
     bool ao = true;                // false: no AO passes; shaders see full visibility
+    // AO computed at half the target's size per side and upsampled by depth
+    // (ao_resolution: half), or at every pixel (full).
+    bool ao_half_resolution = false;
     // Draw the opaque objects' depth first (no shading), then shade only the
     // fragments that pass depth equal: each pixel is shaded once, whatever
     // the overdraw. Pays for itself with heavy shaders and overdraw.
