@@ -3,7 +3,8 @@
 //
 //     facet-bench [--scene NAME]... [--size WxH]... [--shader NAME]...
 //                 [--threads N]... [--isa PATH]... [--target srgb8|rgba32f] [--runs N]
-//                 [--rounds N] [--depth-prepass] [--csv FILE] [--json FILE]
+//                 [--rounds N] [--render YAML]... [--redraw-shadows] [--depth-prepass]
+//                 [--csv FILE] [--json FILE]
 //     facet-bench --pareto [--size WxH] [--threads N] [--runs N]
 //                 [--reference-grid N] [--csv FILE] [--plot FILE]
 //     facet-bench --llvmpipe [the options of the first form]
@@ -16,9 +17,19 @@
 //
 // --pareto measures run time against error instead (pareto.hpp).
 //
+// --render '{key: value, ...}' applies render settings over each scene's, as
+// a scene file's render: map would ('{shadows: false}', '{msaa: 4}'); given
+// several times, each is its own set of rows, side by side ('{}': none).
+// --redraw-shadows draws every shadow map in every frame, as while the
+// camera moves; otherwise a map is kept while nothing it depends on changes.
+// Each row also gives the median time of its shadow maps and of its AO
+// pre-pass and pass.
+//
 // --llvmpipe (when built with OSMesa) also draws each configuration through
 // Mesa's llvmpipe with a GLSL version of its shader (phong and unlit only;
-// other shaders' rows get no llvmpipe columns), in a child process that
+// other shaders' rows get no llvmpipe columns; a scene file when all its
+// materials are opaque, untextured phong or unlit, and not under --render),
+// in a child process that
 // sets llvmpipe's thread count (llvmpipe_worker.hpp, llvmpipe.hpp), once per
 // configuration (all paths' rows share it). It adds llvmpipe's median, the
 // ratio llvmpipe ms / facet ms (above 1: facet is faster) and the pixels
@@ -169,6 +180,10 @@ Scene make_scene(const std::string& name, std::string& note) {
     point.attenuation = {1.0f, 0.0f, 0.2f};
     s.lights = {sun, point};
     return s;
+}
+
+bool is_scene_file(const std::string& name) {
+    return name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0;
 }
 
 void set_shader(Scene& s, PluginRegistry& registry, const std::string& shader) {
@@ -423,21 +438,25 @@ int llvmpipe_worker(const bench::LlvmpipeJob& job, const std::string& result_pat
                     const std::string& mask_path) {
     try {
         std::string note;
-        Scene scene = make_scene(job.scene, note);
+        PluginRegistry registry;
+        const bool file = is_scene_file(job.scene);
+        // A scene file is drawn with its own materials (the job's shader is
+        // "(scene)"), as facet-bench drew it.
+        Scene scene = file ? load_scene(job.scene, registry) : make_scene(job.scene, note);
         const auto size = parse_size(job.size);
         if (!size) throw std::runtime_error("bad size '" + job.size + "'");
         scene.settings.width = size->x;
         scene.settings.height = size->y;
-        PluginRegistry registry;
         bench::LlvmpipeRenderer lp(size->x, size->y, job.target);
         std::vector<uint8_t> coverage;
         if (!mask_path.empty()) {  // first, so that the timed frames come last
-            set_shader(scene, registry, "unlit");
-            lp.upload(scene);
-            lp.render(scene);
+            Scene white = scene;
+            set_shader(white, registry, "unlit");
+            lp.upload(white);
+            lp.render(white);
             coverage = lp.coverage();
         }
-        set_shader(scene, registry, job.shader);
+        if (!file) set_shader(scene, registry, job.shader);
         lp.upload(scene);
         bench::LlvmpipeResult result = bench::time_frames(lp, scene, job.runs);
         result.coverage = std::move(coverage);
@@ -555,6 +574,7 @@ struct Options {
     int rounds = 1;
     bool depth_prepass = false;
     bool redraw_shadows = false;
+    std::vector<std::string> render;  // --render: settings over each scene's, a row set each
     std::string csv = "facet-bench.csv", json = "facet-bench.json";
     bool pareto = false;
     bench::ParetoOptions po;
@@ -589,6 +609,9 @@ void add_options(CLI::App& app, Options& o) {
                    "measure the whole table this many times, one round after another, and "
                    "report each row's median over the rounds")
         ->capture_default_str();
+    app.add_option("--render", o.render,
+                   "render settings over each scene's, as a scene file writes them, e.g. "
+                   "'{shadows: false}'; each value is a set of rows ('{}': as the scene has them)");
     app.add_flag("--redraw-shadows", o.redraw_shadows,
                  "draw every shadow map in every frame, as while the camera or the casters "
                  "move (by default a map is kept while nothing it depends on changes)");
@@ -640,26 +663,44 @@ int run_pareto(const CLI::App& app, Options& o) {
     return bench::run_pareto(o.po);
 }
 
-// Every row of scene `name`: each size, shader, thread count and path. With
-// --llvmpipe, llvmpipe draws each configuration once, for all paths' rows.
-// A scene file's rows keep its own materials and settings (but the size,
-// the target and --depth-prepass); llvmpipe does not draw them.
-bool is_scene_file(const std::string& name) {
-    return name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0;
+// Every row of scene `name` under `render` settings: each size, shader,
+// thread count and path. With --llvmpipe, llvmpipe draws each configuration
+// once, for all paths' rows. A scene file's rows keep its own materials and
+// settings (but the size, the target, --render and --depth-prepass).
+
+// True when llvmpipe can draw every visible object of a scene file as facet
+// does: GLSL versions of their shaders, no texture, no blending.
+bool llvmpipe_draws_scene(const Scene& scene, const LlvmpipeSide& lp) {
+    for (const Object& o : scene.objects) {
+        if (!o.visible || !o.mesh || !o.material || !o.material->plugin) continue;
+        const Material& m = *o.material;
+        if (!lp.draws(m.plugin->name()) || m.blend != BlendMode::opaque) return false;
+        for (const TextureBinding& t : m.textures)
+            if (t.texture) return false;
+    }
+    return true;
 }
 
-void bench_scene(const std::string& name, Options& o, const std::vector<Isa>& isas,
-                 PluginRegistry& registry, std::vector<Result>& results) {
+void bench_scene(const std::string& name, const std::string& render, Options& o,
+                 const std::vector<Isa>& isas, PluginRegistry& registry,
+                 std::vector<Result>& results) {
     PeakRss peak;  // from before the scene is made: its memory counts
     const bool file = is_scene_file(name);
     std::string note = file ? "scene file" : "";
     Scene scene = file ? load_scene(name, registry) : make_scene(name, note);
     scene.settings.depth_prepass = o.depth_prepass;
+    if (!render.empty()) {
+        apply_render_settings(scene.settings, render, "--render");
+        note += (note.empty() ? "render " : "; render ") + render;
+    }
     scene.settings.color_format = *parse_color_format(o.lp.target);
     if (o.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
     if (o.redraw_shadows) note += note.empty() ? "shadow maps redrawn" : "; shadow maps redrawn";
     const std::vector<std::string> shaders = file ? std::vector<std::string>{"(scene)"} : o.shaders;
     const std::string label = file ? std::filesystem::path(name).filename().string() : name;
+    // llvmpipe draws a scene file as it is written: with its own materials,
+    // and not under --render settings.
+    const bool versus = o.lp.on && (!file || (render.empty() && llvmpipe_draws_scene(scene, o.lp)));
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
         scene.settings.width = wh.x;
@@ -672,8 +713,11 @@ void bench_scene(const std::string& name, Options& o, const std::vector<Isa>& is
                 for (Isa isa : isas) {
                     Result r = measure(scene, label, note, shader, t, isa, o.runs,
                                        o.redraw_shadows, peak);
-                    if (o.lp.on && !file && o.lp.draws(shader) && isa == isas.front())
+                    if (versus && (file || o.lp.draws(shader)) && isa == isas.front()) {
+                        r.scene = name;  // the worker loads a scene file by its path
                         llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
+                        r.scene = label;
+                    }
                     r.llvmpipe = llvmpipe;
                     print_row(r, size, o.lp.on);
                     results.push_back(r);
@@ -742,7 +786,10 @@ int run_table(Options& o) {
     for (int r = 0; r < o.rounds; ++r) {
         if (o.rounds > 1) std::printf("round %d of %d\n", r + 1, o.rounds);
         print_header(o.lp.on, o.lp.target);
-        for (const std::string& name : o.scenes) bench_scene(name, o, isas, registry, rounds[size_t(r)]);
+        for (const std::string& name : o.scenes)
+            for (const std::string& render : o.render.empty() ? std::vector<std::string>{""} : o.render)
+                bench_scene(name, render == "{}" ? "" : render, o, isas, registry,
+                            rounds[size_t(r)]);
     }
     const std::vector<Result> results = median_of_rounds(rounds);
     if (o.rounds > 1) {

@@ -34,12 +34,15 @@ struct Setting {
     int pcf_kernel = -1;
     int ao_samples = -1;
     double ao_radius = -1.0;
+    int ao_half = -1;    // render: ao_resolution half (1) or full (0)
+    int per_pixel = -1;  // lit's per_pixel: 1, or 0 (lit per vertex)
 };
 
 struct Point {
     std::string scene;
     Setting setting;
     double median_ms = 0.0;
+    double pass_ms = 0.0;  // of it, the shadow maps' or the AO pre-pass and pass's
     reference::ImageError error;
     bool front = false;
 };
@@ -74,6 +77,16 @@ void set_param(Material& m, const char* name, double value) {
     m.block = block;
 }
 
+// Sets BOOL parameter `name` where a material's shader declares it.
+void set_bool_param(Material& m, const char* name, bool value) {
+    const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
+    if (!p || !m.block || p->type != FACET_PARAM_BOOL) return;
+    auto block = std::make_shared<ParamBlock>(*m.block);
+    const int32_t v = value ? 1 : 0;
+    std::memcpy(block->bytes + p->offset, &v, sizeof v);
+    m.block = block;
+}
+
 // The material's value of FLOAT parameter `name`, or `otherwise`.
 double param_or(const Material& m, const char* name, double otherwise) {
     const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
@@ -88,22 +101,34 @@ Scene with(const Scene& base, const Setting& s) {
     if (s.msaa > 0) scene.settings.msaa = s.msaa;
     if (s.subpixel_bits > 0) scene.settings.subpixel_bits = s.subpixel_bits;
     if (s.shadow_map_size > 0) scene.settings.shadow_map_size = s.shadow_map_size;
+    if (s.ao_half >= 0) scene.settings.ao_half_resolution = s.ao_half == 1;
     edit_materials(scene, [&](Material& m) {
         if (s.filter >= 0)
             for (TextureBinding& t : m.textures) t.filter = Filter(s.filter);
         if (s.pcf_kernel > 0) set_param(m, "pcf_kernel", s.pcf_kernel);
         if (s.ao_samples > 0) set_param(m, "ao_samples", s.ao_samples);
         if (s.ao_radius > 0) set_param(m, "ao_radius", s.ao_radius);
+        if (s.per_pixel >= 0) set_bool_param(m, "per_pixel", s.per_pixel == 1);
     });
     return scene;
 }
 
-double median_frame_ms(const Scene& scene, Renderer& renderer, int runs, Framebuffer& fb) {
+// Median frame time and pass time over `runs` frames, each drawing its
+// shadow maps: a map's size and filter cost what they cost while anything
+// moves (a still frame keeps its maps).
+void time_frames(const Scene& scene, Renderer& renderer, int runs, Framebuffer& fb, Point& p) {
     renderer.render(scene, fb);  // warm-up: passes allocate their buffers
-    std::vector<double> ms;
-    for (int i = 0; i < runs; ++i) ms.push_back(renderer.render(scene, fb).milliseconds);
+    std::vector<double> ms, pass;
+    for (int i = 0; i < runs; ++i) {
+        renderer.forget_shadow_maps();
+        const FrameStats s = renderer.render(scene, fb);
+        ms.push_back(s.milliseconds);
+        pass.push_back(s.ms_shadow + (s.ao_passes ? s.ms_prepass + s.ms_ao : 0.0));
+    }
     std::sort(ms.begin(), ms.end());
-    return ms[ms.size() / 2];
+    std::sort(pass.begin(), pass.end());
+    p.median_ms = ms[ms.size() / 2];
+    p.pass_ms = pass[pass.size() / 2];
 }
 
 // Marks the points of each scene that no other point of that scene beats on
@@ -125,16 +150,27 @@ constexpr int kPassMsaa = 4;
 
 std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
     std::vector<Setting> out;
-    if (scene == "lit") {
-        for (int bits : {2, 4, 6, 8})
+    if (scene == "default" || scene == "lit") {  // textured: unlit, and lit
+        for (int bits : {4, 8})
             for (int f : {int(Filter::nearest), int(Filter::bilinear), int(Filter::trilinear)})
-                for (int msaa : {1, 2, 4, 8}) {
-                    Setting s;
-                    s.msaa = msaa;
-                    s.filter = f;
-                    s.subpixel_bits = bits;
-                    out.push_back(s);
-                }
+                for (int msaa : {1, 2, 4, 8})
+                    for (int per_pixel : scene == "lit" ? std::vector<int>{1, 0}
+                                                        : std::vector<int>{-1}) {
+                        Setting s;
+                        s.msaa = msaa;
+                        s.filter = f;
+                        s.subpixel_bits = bits;
+                        s.per_pixel = per_pixel;
+                        out.push_back(s);
+                    }
+    } else if (scene == "phong" || scene == "toon") {  // no texture; edges only
+        for (int bits : {2, 4, 6, 8})
+            for (int msaa : {1, 2, 4, 8}) {
+                Setting s;
+                s.msaa = msaa;
+                s.subpixel_bits = bits;
+                out.push_back(s);
+            }
     } else if (scene == "shadow") {
         for (int size : {512, 1024, 2048, 4096})
             for (int pcf : {1, 3, 5, 7}) {
@@ -149,13 +185,15 @@ std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
         for (const Object& o : base.objects)
             if (o.material) radius = std::max(radius, param_or(*o.material, "ao_radius", 0.0));
         for (double scale : {0.5, 1.0, 2.0})
-            for (int samples : {4, 8, 16, 32}) {
-                Setting s;
-                s.msaa = kPassMsaa;
-                s.ao_samples = samples;
-                s.ao_radius = radius * scale;
-                out.push_back(s);
-            }
+            for (int samples : {4, 8, 16, 32})
+                for (int half : {0, 1}) {
+                    Setting s;
+                    s.msaa = kPassMsaa;
+                    s.ao_samples = samples;
+                    s.ao_radius = radius * scale;
+                    s.ao_half = half;
+                    out.push_back(s);
+                }
     }
     return out;
 }
@@ -163,14 +201,15 @@ std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
 void write_csv(const std::string& path, const std::vector<Point>& points, int threads) {
     std::ofstream out(path);
     out << "scene,msaa,filter,subpixel_bits,shadow_map_size,pcf_kernel,ao_samples,ao_radius,"
-           "threads,median_ms,rmse,max_error,dssim,pareto\n";
+           "ao_resolution,per_pixel,threads,median_ms,pass_ms,rmse,max_error,dssim,pareto\n";
     for (const Point& p : points) {
         const Setting& s = p.setting;
         out << p.scene << ',' << s.msaa << ',' << (s.filter >= 0 ? filter_name(s.filter) : "")
             << ',' << s.subpixel_bits << ',' << s.shadow_map_size << ',' << s.pcf_kernel << ','
-            << s.ao_samples << ',' << s.ao_radius << ',' << threads << ',' << p.median_ms << ','
-            << p.error.rmse << ',' << p.error.max << ',' << p.error.dssim << ','
-            << (p.front ? 1 : 0) << '\n';
+            << s.ao_samples << ',' << s.ao_radius << ','
+            << (s.ao_half < 0 ? "" : s.ao_half ? "half" : "full") << ',' << s.per_pixel << ','
+            << threads << ',' << p.median_ms << ',' << p.pass_ms << ',' << p.error.rmse << ','
+            << p.error.max << ',' << p.error.dssim << ',' << (p.front ? 1 : 0) << '\n';
     }
     if (!out) throw std::runtime_error("cannot write " + path);
 }
@@ -189,6 +228,8 @@ std::string label(const Setting& s) {
         std::snprintf(r, sizeof r, "radius=%.3g", s.ao_radius);
         add(r);
     }
+    if (s.ao_half >= 0) add(s.ao_half ? "half" : "full");
+    if (s.per_pixel >= 0) add(s.per_pixel ? "per-pixel" : "per-vertex");
     return l;
 }
 
@@ -205,8 +246,9 @@ int run_pareto(const ParetoOptions& o) {
     Renderer renderer(threads);
     Framebuffer fb;
     std::vector<Point> points;
-    for (const std::string name : {"lit", "shadow", "ao"}) {
-        const fs::path file = fs::path(FACET_SOURCE_DIR) / "configs/scenes" / (name + ".yaml");
+    for (const std::string name : {"default", "lit", "phong", "toon", "shadow", "ao"}) {
+        const fs::path file = fs::path(FACET_SOURCE_DIR) / "configs" /
+                              (name == "default" ? "default.yaml" : "scenes/" + name + ".yaml");
         Scene base = load_scene(file, registry);
         base.settings.width = o.width;
         base.settings.height = o.height;
@@ -221,14 +263,15 @@ int run_pareto(const ParetoOptions& o) {
         const std::vector<glm::dvec4> truth = reference::render(base, ro);
         std::printf("\n%s (%s): reference in %.1f s\n", name.c_str(), file.string().c_str(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-        std::printf("  %-40s %9s %9s %9s %9s\n", "setting", "ms", "rmse", "max", "dssim");
+        std::printf("  %-44s %9s %9s %9s %9s %9s\n", "setting", "ms", "pass ms", "rmse", "max",
+                    "dssim");
         for (const Setting& s : sweep(name, base)) {
             const Scene scene = with(base, s);
-            Point p{name, s, 0.0, {}, false};
-            p.median_ms = median_frame_ms(scene, renderer, o.runs, fb);
+            Point p{name, s, 0.0, 0.0, {}, false};
+            time_frames(scene, renderer, o.runs, fb, p);
             p.error = reference::compare(reference::linear_image(fb), truth, o.width, o.height);
-            std::printf("  %-40s %9.2f %9.5f %9.4f %9.5f\n", label(s).c_str(), p.median_ms,
-                        p.error.rmse, p.error.max, p.error.dssim);
+            std::printf("  %-44s %9.2f %9.2f %9.5f %9.4f %9.5f\n", label(s).c_str(), p.median_ms,
+                        p.pass_ms, p.error.rmse, p.error.max, p.error.dssim);
             std::fflush(stdout);
             points.push_back(p);
         }

@@ -1,12 +1,19 @@
 // facet-bench --pareto: run time against error for each quality knob.
 //
-// Three demo scenes, each with the knobs that matter to it, swept over a
-// grid of settings (the other settings stay as the scene file has them):
-//   lit     MSAA 1/2/4/8 x texture filter nearest/bilinear/trilinear x
-//           sub-pixel bits 2/4/6/8
+// Every demo scene, one per shipped shader, each with the knobs that matter
+// to it, swept over a grid of settings (the other settings stay as the
+// scene file has them):
+//   default (unlit, textured)  MSAA 1/2/4/8 x texture filter nearest/bilinear/
+//           trilinear x sub-pixel bits 4/8
+//   lit     the same x lighting per pixel or per vertex (per_pixel)
+//   phong, toon  MSAA 1/2/4/8 x sub-pixel bits 2/4/6/8 (their other
+//           parameters choose a look, not a cost)
 //   shadow  shadow-map size 512..4096 x PCF kernel 1/3/5/7, at 4x MSAA
-//   ao      AO samples 4..32 x AO radius 0.5/1/2 x the material's, at 4x MSAA
-// Each setting is rendered `runs` times (median frame time) and compared
+//   ao      AO samples 4..32 x AO radius 0.5/1/2 x the material's x AO at full
+//           or half resolution, at 4x MSAA
+// Each setting is rendered `runs` times, each frame drawing its shadow maps
+// (median frame time, and the median time of the shadow or AO passes within
+// it), and compared
 // with the reference renderer's image of the scene as written (RMSE, max
 // error and DSSIM on sRGB values, tests/reference/metrics.hpp). The CSV
 // marks each scene's Pareto front (no other setting is both faster and

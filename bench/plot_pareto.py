@@ -15,18 +15,24 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 SCENES = [
-    ("lit", "MSAA, texture filter, sub-pixel bits", "msaa"),
+    ("default", "MSAA, texture filter, sub-pixel bits", "msaa"),
+    ("lit", "MSAA, filter, bits, per pixel or vertex", "msaa"),
+    ("phong", "MSAA, sub-pixel bits", "msaa"),
+    ("toon", "MSAA, sub-pixel bits", "msaa"),
     ("shadow", "shadow-map size, PCF kernel", "shadow_map_size"),
-    ("ao", "AO samples and radius", "ao_samples"),
+    ("ao", "AO samples, radius, resolution", "ao_samples"),
 ]
 
 
 def label(row, scene):
-    if scene == "lit":
-        return f"{row['msaa']}x {row['filter'][:3]} {row['subpixel_bits']}b"
+    if scene in ("default", "lit"):
+        vertex = " vtx" if row["per_pixel"] == "0" else ""
+        return f"{row['msaa']}x {row['filter'][:3]} {row['subpixel_bits']}b{vertex}"
+    if scene in ("phong", "toon"):
+        return f"{row['msaa']}x {row['subpixel_bits']}b"
     if scene == "shadow":
         return f"{row['shadow_map_size']} pcf{row['pcf_kernel']}"
-    return f"{row['ao_samples']} r{float(row['ao_radius']):.2g}"
+    return f"{row['ao_samples']} r{float(row['ao_radius']):.2g} {row['ao_resolution']}"
 
 
 def main(csv_path, png_path):
@@ -35,8 +41,10 @@ def main(csv_path, png_path):
     if not rows:
         sys.exit(f"{csv_path}: no rows")
     threads = rows[0]["threads"]
-    fig, axes = plt.subplots(1, len(SCENES), figsize=(6 * len(SCENES), 5.2))
-    for ax, (scene, knobs, colour_by) in zip(axes, SCENES):
+    columns = 3
+    rows_of_panels = (len(SCENES) + columns - 1) // columns
+    fig, axes = plt.subplots(rows_of_panels, columns, figsize=(6 * columns, 5.2 * rows_of_panels))
+    for ax, (scene, knobs, colour_by) in zip(axes.flat, SCENES):
         points = [r for r in rows if r["scene"] == scene]
         if not points:
             ax.set_visible(False)

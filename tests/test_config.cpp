@@ -133,6 +133,30 @@ TEST_CASE("malformed YAML names file, line and column", "[config]") {
     REQUIRE(e.column() > 0);
 }
 
+TEST_CASE("render settings given as text replace only the keys they name", "[config]") {
+    facet::RenderSettings s;
+    s.msaa = 2;
+    s.shadow_map_size = 1024;
+    facet::apply_render_settings(s, "{shadows: false, ao_resolution: half, depth: standard}", "--render");
+    CHECK_FALSE(s.shadows);
+    CHECK(s.ao_half_resolution);
+    CHECK_FALSE(s.reversed_z);
+    CHECK(s.depth_compare == facet::DepthCompare::less_equal);  // follows the depth range
+    CHECK(s.msaa == 2);                                   // not named: kept
+    CHECK(s.shadow_map_size == 1024);
+    const facet::RenderSettings before = s;
+    const auto e = error_of([&] { facet::apply_render_settings(s, "{msaa: 3}", "--render"); });
+    CHECK(e.code() == ErrorCode::out_of_range);
+    CHECK(e.file() == "--render");
+    CHECK(e.column() > 0);
+    CHECK(error_of([&] { facet::apply_render_settings(s, "{shadow: false}", "--render"); }).code() ==
+          ErrorCode::unknown_key);
+    CHECK(error_of([&] { facet::apply_render_settings(s, "{msaa: [", "--render"); }).code() ==
+          ErrorCode::yaml_syntax);
+    CHECK(s.msaa == before.msaa);  // a bad map changes nothing
+    CHECK(s.shadows == before.shadows);
+}
+
 TEST_CASE("unknown keys are errors at the key, listing the keys expected", "[config]") {
     Env env;
     const auto e = error_of([&] { env.material("shader: test\nblennd: alpha\n"); });

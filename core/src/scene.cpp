@@ -117,17 +117,18 @@ void read_shadow_settings(const yaml::Context& ctx, const YAML::Node& node, Rend
            ErrorCode::out_of_range, "shadow_distance must be >= 0 (0: the camera's far plane)");
 }
 
-RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
+// Reads a `render:` map over `s`: the keys it names replace their values.
+void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSettings& s) {
     yaml::check_map(ctx, node, "render",
                     {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
                      "shadow_map_size", "shadow_distance", "msaa", "subpixel_bits", "wireframe",
                      "shadows", "ao", "ao_resolution", "depth_prepass", "color_format"});
-    RenderSettings s;
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
-    if (const YAML::Node depth = node["depth"])
+    if (const YAML::Node depth = node["depth"]) {  // and the compare that goes with it
         s.reversed_z = yaml::as_enum<bool>(ctx, depth, {{"reversed", true}, {"standard", false}});
-    s.depth_compare = s.reversed_z ? DepthCompare::greater_equal : DepthCompare::less_equal;
+        s.depth_compare = s.reversed_z ? DepthCompare::greater_equal : DepthCompare::less_equal;
+    }
     if (const YAML::Node compare = node["depth_compare"])
         s.depth_compare =
             yaml::as_enum<DepthCompare>(ctx, compare,
@@ -163,7 +164,6 @@ RenderSettings read_render(const yaml::Context& ctx, const YAML::Node& node) {
                                                     {{"srgb8", ColorFormat::srgb8},
                                                      {"rgba16f", ColorFormat::rgba16f},
                                                      {"rgba32f", ColorFormat::rgba32f}});
-    return s;
 }
 
 // ---- lights --------------------------------------------------------------------
@@ -335,7 +335,7 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     Scene scene;
     scene.source = path;
     if (const YAML::Node camera = root["camera"]) scene.camera = read_camera(ctx, camera);
-    if (const YAML::Node render = root["render"]) scene.settings = read_render(ctx, render);
+    if (const YAML::Node render = root["render"]) read_render(ctx, render, scene.settings);
     // Plugin folders first: the materials below may need them.
     for_each_item(ctx, root, "plugin_paths",
                   [&](const YAML::Node& item, size_t) { loader.add_plugin_path(item, scene); });
@@ -349,6 +349,20 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),
                  scene.lights.size(), scene.settings.width, scene.settings.height);
     return scene;
+}
+
+void apply_render_settings(RenderSettings& settings, const std::string& yaml,
+                           const std::string& origin) {
+    const yaml::Context ctx{origin};
+    YAML::Node node;
+    try {
+        node = YAML::Load(yaml);
+    } catch (const YAML::ParserException& e) {
+        throw Error(ErrorCode::yaml_syntax, e.msg, origin, e.mark.line + 1, e.mark.column + 1);
+    }
+    RenderSettings s = settings;  // unchanged when the map is bad
+    read_render(ctx, node, s);
+    settings = s;
 }
 
 }  // namespace facet

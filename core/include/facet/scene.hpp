@@ -120,6 +120,13 @@ struct Scene {
 // Throws Error naming file:line:column.
 Scene load_scene(const std::filesystem::path& path, PluginRegistry& registry);
 
+// Reads `yaml`, a render map as a scene file writes it ("{shadows: false,
+// msaa: 4}"), over `settings`: the keys it names replace their values, the
+// others stay. Throws Error naming `origin` (where the text came from) and
+// the line and column, and leaves `settings` unchanged, when it is bad.
+void apply_render_settings(RenderSettings& settings, const std::string& yaml,
+                           const std::string& origin);
+
 // The scene facet-render uses when given none.
 std::filesystem::path default_scene_path();
 
