@@ -28,7 +28,7 @@
 // --llvmpipe (when built with OSMesa) also draws each configuration through
 // Mesa's llvmpipe with a GLSL version of its shader (phong and unlit only;
 // other shaders' rows get no llvmpipe columns; a scene file when all its
-// materials are opaque, untextured phong or unlit, and not under --render),
+// materials are opaque, untextured phong or unlit; no row under --render),
 // in a child process that
 // sets llvmpipe's thread count (llvmpipe_worker.hpp, llvmpipe.hpp), once per
 // configuration (all paths' rows share it). It adds llvmpipe's median, the
@@ -698,9 +698,9 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
     if (o.redraw_shadows) note += note.empty() ? "shadow maps redrawn" : "; shadow maps redrawn";
     const std::vector<std::string> shaders = file ? std::vector<std::string>{"(scene)"} : o.shaders;
     const std::string label = file ? std::filesystem::path(name).filename().string() : name;
-    // llvmpipe draws a scene file as it is written: with its own materials,
-    // and not under --render settings.
-    const bool versus = o.lp.on && (!file || (render.empty() && llvmpipe_draws_scene(scene, o.lp)));
+    // llvmpipe draws a scene as it is written (a scene file with its own
+    // materials), never under --render settings, which its worker lacks.
+    const bool versus = o.lp.on && render.empty() && (!file || llvmpipe_draws_scene(scene, o.lp));
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
         scene.settings.width = wh.x;

@@ -96,8 +96,9 @@ TEST_CASE("every demo scene renders bit for bit the same on every path", "[isa]"
                 scene.settings.msaa = 4;
                 scene.settings.wireframe = true;
                 scene.settings.color_format = ColorFormat::rgba16f;
-            } else if (variant == 2) {
+            } else if (variant == 2) {  // and AO at half resolution
                 scene.settings.color_format = ColorFormat::rgba32f;
+                scene.settings.ao_half_resolution = true;
             }
             INFO(name << ", variant " << variant);
             Framebuffer first;
@@ -149,6 +150,33 @@ struct ShadeBlocks : Shade {
 };
 
 }  // namespace
+
+TEST_CASE("AO at full and half resolution on images narrower than a register, on every path",
+          "[isa][ao]") {
+    PluginRegistry registry;
+    Scene scene = test::small_demo_scene(registry, "scenes/ao.yaml");
+    scene.settings.color_format = ColorFormat::rgba32f;
+    for (const glm::ivec2 size : {glm::ivec2(5, 3), glm::ivec2(17, 9), glm::ivec2(33, 20)})
+        for (bool half : {false, true}) {
+            INFO(size.x << "x" << size.y << (half ? ", half" : ", full"));
+            scene.settings.width = size.x;
+            scene.settings.height = size.y;
+            scene.settings.ao_half_resolution = half;
+            Framebuffer first;
+            Renderer(1, Isa::portable).render(scene, first);
+            for (int y = 0; y < size.y; ++y)
+                for (int x = 0; x < size.x; ++x) {
+                    const glm::vec4 c = first.pixel(x, y);
+                    REQUIRE((std::isfinite(c.r) && c.r >= 0.0f && c.r <= 2.0f));
+                }
+            for (Isa isa : supported_isas()) {
+                INFO("path " << isa_name(isa));
+                Framebuffer other;
+                Renderer(2, isa).render(scene, other);
+                CHECK(test::same_image(first, other));
+            }
+        }
+}
 
 TEST_CASE("packed fragment batches draw what block batches draw", "[isa][packing]") {
     // Many small triangles of both facings, overlapping in depth, in three

@@ -4,12 +4,15 @@
 #include "support.hpp"
 
 #include <facet/framebuffer.hpp>
+#include <facet/math.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
+#include <facet/shader.hpp>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 using namespace facet;
@@ -417,4 +420,26 @@ TEST_CASE("a shadow map is drawn again only when its casters, its light or its f
         scene.settings.shadows = true;
         frame(0, 2);
     }
+}
+
+TEST_CASE("a PCF tap pushed past a perspective map's near plane is lit, not shadowed",
+          "[shadow]") {
+    // A wide spot map of 16 texels, nothing drawn (every texel at depth 1):
+    // a grazing receiver with the widest kernel moves its outer taps behind
+    // the light, where the depth formula turns back; they must count as lit.
+    std::vector<float> depth(16 * 16, 1.0f);
+    facet_shadow_map sm{};
+    sm.projection = FACET_SHADOW_PERSPECTIVE;
+    sm.width = sm.height = 16;
+    sm.near_plane = 0.1f;
+    sm.far_plane = 10.0f;
+    sm.texel_size = 2.0f * std::tan(glm::radians(85.0f)) / 16.0f;
+    const glm::mat4 vp = perspective(glm::radians(170.0f), 1.0f, 0.1f, 10.0f, false);
+    std::memcpy(sm.view_projection, &vp[0][0], sizeof sm.view_projection);
+    sm.depth = depth.data();
+    const glm::vec3 p(0.05f, 0.0f, -2.0f);  // ahead of the light, near the axis
+    CHECK(sdk::shadow_visibility(sm, p, 0.1f, 15, 1.0f, 1.5f) == 1.0f);
+    sdk::wide::Vec3 wp{sdk::wide::splat(p.x), sdk::wide::splat(p.y), sdk::wide::splat(p.z)};
+    const sdk::wide::Float v = sdk::shadow_visibility(sm, wp, sdk::wide::splat(0.1f), 15, 1.0f, 1.5f);
+    for (int i = 0; i < sdk::wide::kLanes; ++i) CHECK(v[i] == 1.0f);
 }

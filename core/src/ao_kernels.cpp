@@ -31,9 +31,9 @@ void store_row(float* row, int x0, int width, const Float& v) {
     for (int i = 0; x0 + i < width; ++i) row[x0 + i] = v[i];
 }
 
-// The lanes' integer parts, for values in [-2^30, 2^30] (clamped first).
+// The lanes' integer parts, clamped to [-1e9, 1e9]; NaN gives -1e9.
 Int floor_int(const Float& v) {
-    const Float c = v < -1e9f ? Float{} - 1e9f : v > 1e9f ? Float{} + 1e9f : v;
+    const Float c = !(v >= -1e9f) ? Float{} - 1e9f : v > 1e9f ? Float{} + 1e9f : v;
     const Int t = __builtin_convertvector(c, Int);
     return t - (simd::to_float(t) > c ? 1 : 0);
 }
@@ -123,7 +123,8 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count) {
                             const Int sy =
                                 floor_int((1.0f - (cpy + t * cdy) * inv_w) * sy_scale + offset);
                             active &= (sx >= 0) & (sy >= 0) & (sx < f.width) & (sy < f.height);
-                            const Int index = select(active, sy * f.width + sx, Int{});
+                            const Int index = select(active, sy, Int{}) * f.width +
+                                              select(active, sx, Int{});
                             const Float there = simd::gather(f.z, index);  // nearer is larger
                             const Float behind = there - (oz + t * dz);
                             blocked |= active & (there != 0.0f) & (behind > 0.02f * f.radius) &

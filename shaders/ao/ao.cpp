@@ -1,5 +1,5 @@
 // ao: Lambert diffuse plus ambient light scaled by screen-space ambient
-// occlusion. The host runs a depth-and-normal pre-pass and an AO pass (only
+// occlusion. The host runs a depth pre-pass and an AO pass (only
 // when a visible material uses this shader), with the radius and sample
 // count given here as ao_radius and ao_samples, and blurs the result; this
 // shader darkens its ambient term by it, raised to `strength`.

@@ -54,7 +54,7 @@ struct FrameStats {
     uint64_t shadow_passes = 0;                // shadow maps drawn
     uint64_t shadow_maps_reused = 0;           // ... kept: nothing they depend on changed
     uint64_t shadow_casters_culled = 0;        // casters outside a drawn map's light frustum
-    uint64_t prepasses = 0;                    // depth-and-normal pre-pass, for AO
+    uint64_t prepasses = 0;                    // depth pre-pass, for AO
     uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
     uint64_t ao_passes = 0;                    // SSAO and its blur
     double milliseconds = 0.0;                 // render() wall time

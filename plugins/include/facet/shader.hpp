@@ -193,9 +193,12 @@ inline float shadow_distance(const facet_shadow_map& sm, float z) {
     if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return n + z * (f - n);
     return n * f / (f - z * (f - n));
 }
+// (A perspective map's distances below its near plane, where the formula
+// turns back, all give depth 0: nearer than anything the map holds.)
 inline float shadow_depth(const facet_shadow_map& sm, float d) {
     const float n = sm.near_plane, f = sm.far_plane;
     if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return (d - n) * (1.0f / (f - n));
+    d = glm::max(d, n);
     return f * (d - n) / (d * (f - n));
 }
 
@@ -222,8 +225,14 @@ inline float shadow_visibility(const facet_shadow_map& sm, glm::vec3 p, float n_
     const float cos_t = glm::clamp(n_dot_l, 0.1f, 1.0f);
     const float tan_t = glm::sqrt(1.0f - cos_t * cos_t) / cos_t;
     const float receiver = distance - texel * (bias + slope_bias * tan_t);
-    const int cx = int(glm::floor((ndc.x * 0.5f + 0.5f) * float(sm.width)));
-    const int cy = int(glm::floor((0.5f - ndc.y * 0.5f) * float(sm.height)));
+    // The centre texel, kept within reach of the map (a kernel reaches 7
+    // texels) so that it converts to an int; NaN reads as off the map.
+    const auto texel_of = [](float t, float size) {
+        const float c = t == t ? glm::floor(t * size) : -16.0f;
+        return int(glm::clamp(c, -16.0f, size + 16.0f));
+    };
+    const int cx = texel_of(ndc.x * 0.5f + 0.5f, float(sm.width));
+    const int cy = texel_of(0.5f - ndc.y * 0.5f, float(sm.height));
     const int r = std::clamp(kernel, 1, 15) / 2;
     int lit = 0;
     for (int dy = -r; dy <= r; ++dy)
@@ -248,9 +257,10 @@ inline wide::Float shadow_distance(const facet_shadow_map& sm, const wide::Float
     if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return n + z * (f - n);
     return n * f / (f - z * (f - n));
 }
-inline wide::Float shadow_depth(const facet_shadow_map& sm, const wide::Float& d) {
+inline wide::Float shadow_depth(const facet_shadow_map& sm, const wide::Float& distance) {
     const float n = sm.near_plane, f = sm.far_plane;
-    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return (d - n) * (1.0f / (f - n));
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) return (distance - n) * (1.0f / (f - n));
+    const wide::Float d = wide::max(distance, wide::splat(n));
     return f * (d - n) / (d * (f - n));
 }
 
