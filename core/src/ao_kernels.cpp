@@ -31,12 +31,8 @@ void store_row(float* row, int x0, int width, const Float& v) {
     for (int i = 0; x0 + i < width; ++i) row[x0 + i] = v[i];
 }
 
-// The lanes' integer parts, clamped to [-1e9, 1e9]; NaN gives -1e9.
-Int floor_int(const Float& v) {
-    const Float c = !(v >= -1e9f) ? Float{} - 1e9f : v > 1e9f ? Float{} + 1e9f : v;
-    const Int t = __builtin_convertvector(c, Int);
-    return t - (simd::to_float(t) > c ? 1 : 0);
-}
+// Truncated to integers; every lane must be in int range.
+Int to_int(const Float& v) { return __builtin_convertvector(v, Int); }
 
 // 1 / (1 + 2500 r^2): the blur's and the upsample's weight for a relative
 // depth difference r: 1/2 at 2%, about 1/10 at 6%.
@@ -116,15 +112,14 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count) {
                         for (int s = 1; s <= AoFrame::kSteps && simd::bits(active); ++s) {
                             const float t = step * float(s);
                             const Float cw = cpw + t * cdw;
-                            active &= cw > 0.0f;
-                            const Float inv_w = 1.0f / select(active, cw, Float{} + 1.0f);
-                            const Int sx =
-                                floor_int(((cpx + t * cdx) * inv_w + 1.0f) * sx_scale + offset);
-                            const Int sy =
-                                floor_int((1.0f - (cpy + t * cdy) * inv_w) * sy_scale + offset);
-                            active &= (sx >= 0) & (sy >= 0) & (sx < f.width) & (sy < f.height);
-                            const Int index = select(active, sy, Int{}) * f.width +
-                                              select(active, sx, Int{});
+                            const Float inv_w = 1.0f / cw;  // lanes with cw <= 0 drop out
+                            const Float sx = ((cpx + t * cdx) * inv_w + 1.0f) * sx_scale + offset;
+                            const Float sy = (1.0f - (cpy + t * cdy) * inv_w) * sy_scale + offset;
+                            // On the grid (NaN is not): then truncating is flooring.
+                            active &= (cw > 0.0f) & (sx >= 0.0f) & (sy >= 0.0f) &
+                                      (sx < float(f.width)) & (sy < float(f.height));
+                            const Int index = to_int(select(active, sy, Float{})) * f.width +
+                                              to_int(select(active, sx, Float{}));
                             const Float there = simd::gather(f.z, index);  // nearer is larger
                             const Float behind = there - (oz + t * dz);
                             blocked |= active & (there != 0.0f) & (behind > 0.02f * f.radius) &
