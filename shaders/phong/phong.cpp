@@ -81,15 +81,16 @@ struct Phong {
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
             const float n_l = glm::dot(n, in.to_light);
-            if (n_l <= 0.0f) continue;
+            if (n_l <= 0.0f || in.radiance == glm::vec3(0.0f)) continue;
             c += in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p));
         }
         return {c, 1.0f};
     }
 
     // The same for wide::kLanes fragments at once, which facet runs (the
-    // tests hold it to the reference above): lanes facing away from a light
-    // select 0, and a light no lane faces is skipped.
+    // tests hold it to the reference above): lanes a light does not reach
+    // (facing away, outside a spot's cone, past its range) select 0, and a
+    // light that reaches no lane is skipped.
     struct WideVaryings {
         wide::Vec3 position;
         wide::Vec3 normal;
@@ -114,7 +115,8 @@ struct Phong {
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const WideIncident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);
-            const Mask facing = n_l > 0.0f;
+            const Mask facing = n_l > 0.0f && (in.radiance.x != 0.0f || in.radiance.y != 0.0f ||
+                                               in.radiance.z != 0.0f);
             if (!any(facing)) continue;
             const Vec3 lit = in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p));
             c += select(facing, lit, Vec3(splat(0.0f)));

@@ -161,7 +161,10 @@ inline wide::Float spot_cone(const facet_light& l, const wide::Float& cos_angle)
     using namespace wide;
     if (l.spot_cos_inner <= l.spot_cos_outer)
         return select(cos_angle >= l.spot_cos_outer, splat(1.0f), splat(0.0f));
-    const Float t = clamp((cos_angle - l.spot_cos_outer) / (l.spot_cos_inner - l.spot_cos_outer),
+    // A multiply by the reciprocal, where the scalar form divides: within an
+    // ulp or two, and no division per lane.
+    const Float t = clamp((cos_angle - l.spot_cos_outer) *
+                              (1.0f / (l.spot_cos_inner - l.spot_cos_outer)),
                           0.0f, 1.0f);
     return t * t * (3.0f - 2.0f * t);
 }
