@@ -145,6 +145,7 @@ TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
     const FrameStats stats = Renderer().render(scene, fb);
     CHECK(stats.prepasses == 1);
     CHECK(stats.ao_passes == 1);
+    CHECK(stats.fragments_depth_only > 5000);  // the AO pre-pass calls no shader
     double sum = 0, low = 1;
     int n = 0;
     for (int y = 0; y < fb.height(); ++y)
@@ -381,12 +382,13 @@ TEST_CASE("a shadow map is drawn again only when its casters, its light or its f
         return s;
     };
     const FrameStats first = frame(2, 0);
+    CHECK(first.fragments_depth_only > 1000);  // the maps, drawn with no shader call
     // Neither map sees the far cube: it is outside the spot's cone, and
     // across the sun's light outside the view, which the sun's map is
     // fitted to.
     CHECK(first.shadow_casters_culled == 2);
     SECTION("nothing changed: no map is drawn") {
-        frame(0, 2);
+        CHECK(frame(0, 2).fragments_depth_only == 0);
         frame(0, 2);
     }
     SECTION("a caster moved: both maps see it") {

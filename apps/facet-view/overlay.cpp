@@ -30,6 +30,8 @@ std::string skipped_line(const OverlayInfo& i) {
          {pass_skip("shadow", i.settings.shadows, i.shadows_needed, s.shadow_passes),
           pass_skip("AO", i.settings.ao, i.ao_needed, s.ao_passes)})
         if (!p.empty()) parts.push_back(p);
+    if (s.fragments_depth_only)
+        parts.push_back(count(s.fragments_depth_only) + " depth-only fragments (no shader)");
     if (s.shadow_maps_reused)
         parts.push_back(count(s.shadow_maps_reused) + " shadow maps unchanged");
     if (s.shadow_casters_culled)

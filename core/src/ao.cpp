@@ -81,6 +81,7 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
         renderer.queue(call, depth_, pass);
     }
     renderer.flush(pass);
+    stats.fragments_depth_only += pass.fragments_depth_only;
     stats.prepasses += 1;
     stats.ms_prepass += elapsed_ms(start);
 

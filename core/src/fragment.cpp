@@ -413,6 +413,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
         else write_pixels(dc, b, z, nullptr, mask);
+        stats.fragments_depth_only += std::popcount(mask);
         return;
     }
 

@@ -130,6 +130,7 @@ FrameStats& FrameStats::operator+=(const FrameStats& o) {
     blocks_shaded += o.blocks_shaded;
     fragments_shaded += o.fragments_shaded;
     fragments_depth_rejected += o.fragments_depth_rejected;
+    fragments_depth_only += o.fragments_depth_only;
     shadow_passes += o.shadow_passes;
     shadow_maps_reused += o.shadow_maps_reused;
     shadow_casters_culled += o.shadow_casters_culled;
@@ -255,6 +256,7 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         FrameStats prepass;  // the main pass's statistics count the main pass only
         for (const Object* o : scratch_.opaque) draw_object(*o, true, prepass);
         flush(prepass);
+        stats.fragments_depth_only += prepass.fragments_depth_only;
         stats.depth_prepasses += 1;
         stats.ms_prepass += elapsed_ms(start);
     }

@@ -126,7 +126,7 @@ void make_key(const std::vector<const Object*>& casters, const glm::mat4& view_p
 }
 
 void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4& proj,
-                Renderer& renderer, Framebuffer& target) {
+                Renderer& renderer, Framebuffer& target, FrameStats& frame) {
     DrawCall call;
     call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
@@ -141,6 +141,7 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
         renderer.queue(call, target, stats);
     }
     renderer.flush(stats);
+    frame.fragments_depth_only += stats.fragments_depth_only;
 }
 
 }  // namespace
@@ -180,7 +181,7 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
         if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
         sm.depth = depth.depth();
         renderer.clear(depth, glm::vec4(0.0f), 1.0f);
-        draw_depth(maps.key[k], view, proj, renderer, depth);
+        draw_depth(maps.key[k], view, proj, renderer, depth, stats);
         ++stats.shadow_passes;
         stats.shadow_casters_culled += culled.shadow_casters_culled;
     }

@@ -50,6 +50,9 @@ struct FrameStats {
     uint64_t blocks_shaded = 0;                // fragment batches
     uint64_t fragments_shaded = 0;             // covered lanes sent to the shader
     uint64_t fragments_depth_rejected = 0;     // covered lanes the early depth test removed
+    // Depth written with no shader call: shadow maps and pre-passes (which
+    // count nothing else in the frame's statistics).
+    uint64_t fragments_depth_only = 0;
     // Passes run. Each runs only when a visible material needs it.
     uint64_t shadow_passes = 0;                // shadow maps drawn
     uint64_t shadow_maps_reused = 0;           // ... kept: nothing they depend on changed
