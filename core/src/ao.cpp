@@ -124,7 +124,17 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     };
     bands(f.height, [&](int first, int count) { surface_rows(inverse, first, count); });
     bands(f.height, [&](int first, int count) { normal_rows(first, count); });
-    bands(f.height, [&](int first, int count) { kernels.ao_occlusion_rows(f, first, count); });
+    // Occlusion in tiles, whose marches' loads (up to `radius` away) stay
+    // within a few hundred kilobytes; row bands as wide as the image would
+    // reach over several megabytes and miss the cache.
+    constexpr int kTileWidth = 128, kTileRows = 16;
+    const int columns = (f.width + kTileWidth - 1) / kTileWidth;
+    const int tile_rows = (f.height + kTileRows - 1) / kTileRows;
+    pool.parallel_for(columns * tile_rows, [&](int tile, int) {
+        const int ty = tile / columns, tx = tile % columns;
+        kernels.ao_occlusion_rows(f, ty * kTileRows, std::min(kTileRows, f.height - ty * kTileRows),
+                                  tx * kTileWidth, kTileWidth);
+    });
     bands(f.height, [&](int first, int count) { kernels.ao_blur_rows(f, first, count); });
     if (scale_ > 1)
         bands(height, [&](int first, int count) { kernels.ao_upsample_rows(f, first, count); });

@@ -44,13 +44,14 @@ constexpr float kLift = 0.06f;
 }  // namespace
 
 // Ambient visibility of AO rows [first, first + count), before the blur:
-// the share of the texel's `samples` directions whose march is not blocked.
+// the share of the texel's `samples` directions whose march is not blocked,
+// over columns [x_first, x_first + x_count) (x_first a multiple of 64).
 // Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
 // are texels of one row 4 apart, which share that turn, so that their
 // marches stay side by side on the screen and each step's loads fall on a
 // few cache lines. A lane stops marching when it leaves the screen or
 // passes behind the camera, and a direction when every lane has.
-void ao_occlusion_rows(const AoFrame& f, int first, int count) {
+void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     const glm::mat4& P = f.projection;
     // Texel i stands for target pixel i * scale, whose centre is at
     // i * scale + 1/2: target x X falls to texel floor((X + (scale - 1) / 2) / scale).
@@ -60,12 +61,13 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count) {
     const float step = f.radius / float(AoFrame::kSteps);
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = 4 * i;
+    const int x_end = std::min(x_first + x_count, f.width);
     for (int y = first; y < first + count; ++y) {
         const int row = y * f.width;
-        for (int x0 = 0; x0 < f.width; x0 += 4 * kWidth)
+        for (int x0 = x_first; x0 < x_end; x0 += 4 * kWidth)
             for (int phase = 0; phase < 4; ++phase) {
                 const Int x = lane + (x0 + phase);
-                const Int in_row = x < f.width;
+                const Int in_row = x < x_end;
                 const Int at = select(in_row, x + row, Int{} + row);
                 const Float pz = select(in_row, simd::gather(f.z, at), Float{});
                 const Int surface = pz != 0.0f;  // background texels stay visible
@@ -131,7 +133,7 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count) {
                 const Float visible = select(surface, open * (1.0f / float(f.samples)),
                                              Float{} + 1.0f);
                 for (int i = 0; i < kWidth; ++i)
-                    if (x0 + phase + 4 * i < f.width) f.raw[row + x0 + phase + 4 * i] = visible[i];
+                    if (x0 + phase + 4 * i < x_end) f.raw[row + x0 + phase + 4 * i] = visible[i];
             }
     }
 }

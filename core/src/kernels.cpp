@@ -9,7 +9,8 @@
 
 namespace facet::FACET_KERNEL_NS {
 
-void ao_occlusion_rows(const AoFrame& f, int first, int count);  // ao_kernels.cpp
+void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
+                       int x_count);  // ao_kernels.cpp
 void ao_blur_rows(const AoFrame& f, int first, int count);
 void ao_upsample_rows(const AoFrame& f, int first, int count);
 

@@ -100,9 +100,11 @@ struct Kernels {
     // ones of framebuffer.hpp).
     void (*encode_pixels)(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out);
     void (*decode_pixels)(ColorFormat format, const uint8_t* in, size_t count, glm::vec4* linear);
-    // AO rows [first, first + count) (ao_kernels.cpp): raw visibility and
-    // its blur, on the AO grid; the depth-aware upsample, on the target's.
-    void (*ao_occlusion_rows)(const AoFrame& f, int first, int count);
+    // AO rows [first, first + count) (ao_kernels.cpp): raw visibility
+    // (within columns [x_first, x_first + x_count), x_first a multiple of
+    // 64) and its blur, on the AO grid; the depth-aware upsample, on the
+    // target's.
+    void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
     void (*ao_blur_rows)(const AoFrame& f, int first, int count);
     void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
 };
