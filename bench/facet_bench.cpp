@@ -253,6 +253,12 @@ struct Result {
     std::optional<Versus> llvmpipe;  // --llvmpipe, for shaders it has, when its worker succeeded
 };
 
+// The middle value of a non-empty list (the upper of the two middle ones).
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
 Result measure(Scene& scene, const std::string& name, const std::string& note,
                const std::string& shader, int threads, Isa isa, int runs, bool redraw_shadows,
                const PeakRss& peak) {
@@ -267,10 +273,6 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
         shadow_ms.push_back(s.ms_shadow);
         ao_ms.push_back(s.ao_passes ? s.ms_prepass + s.ms_ao : 0.0);
     }
-    const auto median = [](std::vector<double>& v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
     const double min_ms = *std::min_element(ms.begin(), ms.end());
     return {name, note, shader, std::string(isa_name(isa)), scene.settings.width,
             scene.settings.height, renderer.threads(), first.triangles_in, median(ms), min_ms,
@@ -297,8 +299,7 @@ void print_output_cost(const std::string& target, const glm::ivec2& size, int th
             const std::chrono::duration<double, std::milli> d = std::chrono::steady_clock::now() - start;
             if (i) ms.push_back(d.count());
         }
-        std::sort(ms.begin(), ms.end());
-        return ms[ms.size() / 2];
+        return median(ms);
     };
     const double convert = median_ms([&] { renderer.resolve_srgb8(fb, rgba); });
     const double clear = median_ms([&] { renderer.clear(fb, glm::vec4(0.1f), 0.0f); });
@@ -733,10 +734,6 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
 // llvmpipe's columns, where every round has them, likewise.
 std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rounds) {
     std::vector<Result> out = rounds.front();
-    const auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
     for (size_t i = 0; i < out.size(); ++i) {
         std::vector<double> ms, shadow_ms, ao_ms, lp_ms;
         for (const std::vector<Result>& round : rounds) {

@@ -62,28 +62,19 @@ void edit_materials(Scene& scene, const std::function<void(Material&)>& edit) {
     }
 }
 
-// Sets parameter `name` where a material's shader declares it (INT or FLOAT).
+// Sets parameter `name` where a material's shader declares it (INT, BOOL:
+// value != 0, or FLOAT).
 void set_param(Material& m, const char* name, double value) {
     const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
     if (!p || !m.block) return;
     auto block = std::make_shared<ParamBlock>(*m.block);
-    if (p->type == FACET_PARAM_INT) {
-        const int32_t v = int32_t(value);
+    if (p->type == FACET_PARAM_INT || p->type == FACET_PARAM_BOOL) {
+        const int32_t v = p->type == FACET_PARAM_BOOL ? int32_t(value != 0.0) : int32_t(value);
         std::memcpy(block->bytes + p->offset, &v, sizeof v);
     } else if (p->type == FACET_PARAM_FLOAT) {
         const float v = float(value);
         std::memcpy(block->bytes + p->offset, &v, sizeof v);
     }
-    m.block = block;
-}
-
-// Sets BOOL parameter `name` where a material's shader declares it.
-void set_bool_param(Material& m, const char* name, bool value) {
-    const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
-    if (!p || !m.block || p->type != FACET_PARAM_BOOL) return;
-    auto block = std::make_shared<ParamBlock>(*m.block);
-    const int32_t v = value ? 1 : 0;
-    std::memcpy(block->bytes + p->offset, &v, sizeof v);
     m.block = block;
 }
 
@@ -108,7 +99,7 @@ Scene with(const Scene& base, const Setting& s) {
         if (s.pcf_kernel > 0) set_param(m, "pcf_kernel", s.pcf_kernel);
         if (s.ao_samples > 0) set_param(m, "ao_samples", s.ao_samples);
         if (s.ao_radius > 0) set_param(m, "ao_radius", s.ao_radius);
-        if (s.per_pixel >= 0) set_bool_param(m, "per_pixel", s.per_pixel == 1);
+        if (s.per_pixel >= 0) set_param(m, "per_pixel", s.per_pixel);
     });
     return scene;
 }

@@ -1,5 +1,7 @@
 #include "support.hpp"
 
+#include <algorithm>
+
 #include <glm/gtc/constants.hpp>
 
 #include <atomic>
@@ -64,6 +66,21 @@ Scene small_demo_scene(PluginRegistry& registry, const std::string& name) {
     s.settings.width = 197;
     s.settings.height = 111;
     return s;
+}
+
+PluginSwap::PluginSwap(const Scene& scene,
+                       const std::function<std::shared_ptr<ShaderPlugin>(const Material&)>& replace) {
+    for (const Object& o : scene.objects) {
+        if (!o.material || std::any_of(swaps_.begin(), swaps_.end(),
+                                       [&](const auto& s) { return s.first == o.material; }))
+            continue;
+        if (std::shared_ptr<ShaderPlugin> other = replace(*o.material))
+            swaps_.emplace_back(o.material, std::move(other));
+    }
+}
+
+void PluginSwap::swap() {
+    for (auto& [material, plugin] : swaps_) std::swap(material->plugin, plugin);
 }
 
 std::filesystem::path temp_dir(const std::string& tag) {

@@ -7,6 +7,7 @@
 #include <facet/shader.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,6 +80,21 @@ extern const char* const kDemoScenes[6];
 // configs/<name>, at 197 x 111 (several tiles, and no multiple of the tile
 // or block size).
 Scene small_demo_scene(PluginRegistry& registry, const std::string& name);
+
+// Another plugin for each material of a scene that `replace` gives one
+// for (it returns null to leave a material alone), each material once
+// however many objects share it. swap() puts them in; swap() again puts
+// the originals back.
+class PluginSwap {
+public:
+    PluginSwap(const Scene& scene,
+               const std::function<std::shared_ptr<ShaderPlugin>(const Material&)>& replace);
+    void swap();
+    bool empty() const { return swaps_.empty(); }
+
+private:
+    std::vector<std::pair<std::shared_ptr<Material>, std::shared_ptr<ShaderPlugin>>> swaps_;
+};
 
 // A fresh, empty temporary folder.
 std::filesystem::path temp_dir(const std::string& tag);

@@ -309,26 +309,22 @@ TEST_CASE("shipped wide shaders draw the same packed as a block at a time, on ev
         Scene scene = test::small_demo_scene(registry, name);
         std::vector<facet_shader_desc> copies;
         copies.reserve(scene.objects.size());
-        std::vector<std::pair<std::shared_ptr<Material>, std::shared_ptr<ShaderPlugin>>> swaps;
-        for (const Object& o : scene.objects) {
-            const facet_shader_desc& desc = o.material->plugin->desc();
-            if (!(desc.flags & FACET_SHADER_PACKABLE)) continue;
-            if (std::any_of(swaps.begin(), swaps.end(),  // objects may share a material
-                            [&](const auto& s) { return s.first == o.material; }))
-                continue;
+        test::PluginSwap blocks(scene, [&](const Material& m) -> std::shared_ptr<ShaderPlugin> {
+            const facet_shader_desc& desc = m.plugin->desc();
+            if (!(desc.flags & FACET_SHADER_PACKABLE)) return nullptr;
             REQUIRE(desc.fragment_avx2);  // a plugin built with facet_add_shader
             copies.push_back(desc);
             copies.back().flags &= ~uint32_t(FACET_SHADER_PACKABLE);
-            swaps.emplace_back(o.material, ShaderPlugin::from_descriptor(&copies.back(), "test"));
-        }
-        REQUIRE_FALSE(swaps.empty());
+            return ShaderPlugin::from_descriptor(&copies.back(), "test");
+        });
+        REQUIRE_FALSE(blocks.empty());
         for (Isa isa : supported_isas()) {
             INFO(name << ", path " << isa_name(isa));
             Framebuffer packed, blocked;
             const FrameStats packed_stats = Renderer(2, isa).render(scene, packed);
-            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            blocks.swap();
             const FrameStats block_stats = Renderer(2, isa).render(scene, blocked);
-            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            blocks.swap();
             CHECK(test::same_image(packed, blocked));
             CHECK(packed_stats.fragments_shaded == block_stats.fragments_shaded);
             CHECK(packed_stats.blocks_shaded < block_stats.blocks_shaded);

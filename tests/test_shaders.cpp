@@ -671,25 +671,20 @@ TEST_CASE("every shipped shader's fragment_wide draws its demo scene as its scal
         Scene scene = small_demo_scene(registry, name);
         scene.settings.color_format = ColorFormat::rgba32f;  // compare before rounding
         // Each material's plugin, and the same shader built with FACET_SDK_SCALAR.
-        std::vector<std::pair<std::shared_ptr<Material>, std::shared_ptr<ShaderPlugin>>> swaps;
-        for (const Object& o : scene.objects) {
-            if (std::any_of(swaps.begin(), swaps.end(),
-                            [&](const auto& s) { return s.first == o.material; }))
-                continue;
-            const std::string shader = o.material->plugin->name();
-            swaps.emplace_back(o.material,
-                               ShaderPlugin::load(std::string(FACET_TEST_PLUGIN_DIR) + "/" +
-                                                      shader + "_scalar.so",
-                                                  shader));
-        }
+        PluginSwap scalar_build(scene, [](const Material& m) {
+            const std::string shader = m.plugin->name();
+            return ShaderPlugin::load(
+                std::string(FACET_TEST_PLUGIN_DIR) + "/" + shader + "_scalar.so", shader);
+        });
+        REQUIRE_FALSE(scalar_build.empty());
         for (Isa isa : supported_isas()) {
             INFO(name << ", path " << isa_name(isa));
             Renderer renderer(2, isa);
             Framebuffer wide, scalar;
             renderer.render(scene, wide);
-            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            scalar_build.swap();
             renderer.render(scene, scalar);
-            for (auto& [material, plugin] : swaps) std::swap(material->plugin, plugin);
+            scalar_build.swap();
             // A PCF tap or a toon threshold within rounding may go either way.
             CHECK(pixels_differing(wide, scalar, 2e-5f) <= wide.width() * wide.height() / 1000);
             CHECK(max_abs_difference(wide, scalar) < 0.5f);

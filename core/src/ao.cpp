@@ -12,7 +12,7 @@
 
 namespace facet {
 
-AoSettings ao_settings(const Material& m, const RenderSettings& render) {
+AoSettings ao_settings(const Material& m) {
     AoSettings s;
     const facet_param_desc* radius = m.plugin->find_param("ao_radius");
     if (radius && radius->type == FACET_PARAM_FLOAT && m.block)
@@ -22,7 +22,6 @@ AoSettings ao_settings(const Material& m, const RenderSettings& render) {
         std::memcpy(&s.samples, m.block->bytes + samples->offset, sizeof(int));
     s.radius = std::max(s.radius, 1e-4f);
     s.samples = std::clamp(s.samples, 1, 256);
-    s.half_resolution = render.ao_half_resolution;
     return s;
 }
 

@@ -45,8 +45,8 @@ struct AoSettings {
 
 // AO radius and sample count from the material's `ao_radius` (float) and
 // `ao_samples` (int) parameters, where its shader declares them; clamped.
-// The resolution is the render settings' (ao_resolution).
-AoSettings ao_settings(const Material& material, const RenderSettings& render);
+// (The resolution is a render setting: the caller sets it.)
+AoSettings ao_settings(const Material& material);
 
 class AoPass {
 public:

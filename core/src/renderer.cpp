@@ -210,9 +210,10 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         stats.ms_shadow += elapsed_ms(t);
     }
     if (needs_ao) {
+        AoSettings ao = ao_settings(*needs_ao);
+        ao.half_resolution = s.ao_half_resolution;
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
-                        s.height, ao_settings(*needs_ao, s), *this, *geometry_->kernels,
-                        geometry_->pool, stats);
+                        s.height, ao, *this, *geometry_->kernels, geometry_->pool, stats);
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);

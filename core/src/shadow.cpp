@@ -110,19 +110,18 @@ void spot(const Light& light, const std::vector<glm::vec3>& casters, int size,
 }
 
 // The key of a map seen through view_projection: the casters it can see.
-void make_key(const std::vector<const Object*>& casters, const glm::mat4& view_projection,
-              int size, ShadowMapKey& key, FrameStats& stats) {
+// Returns how many it cannot.
+uint64_t make_key(const std::vector<const Object*>& casters, const glm::mat4& view_projection,
+                  int size, ShadowMapKey& key) {
     key.size = size;
     key.view_projection = view_projection;
     key.casters.clear();
     for (const Object* o : casters) {
         const glm::mat4 model = o->transform.matrix();
-        if (outside_frustum(o->mesh->bounds, view_projection * model)) {
-            ++stats.shadow_casters_culled;
-            continue;
-        }
-        key.casters.push_back({o->mesh, model});
+        if (!outside_frustum(o->mesh->bounds, view_projection * model))
+            key.casters.push_back({o->mesh, model});
     }
+    return casters.size() - key.casters.size();
 }
 
 void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4& proj,
@@ -170,20 +169,18 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
         sm.light = uint32_t(i);
         sm.width = sm.height = uint32_t(size);
         std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
-        sm.depth = depth.depth();
-        FrameStats culled;  // counted only when the map is drawn
-        make_key(casters, proj * view, size, maps.next, culled);
+        const uint64_t culled = make_key(casters, proj * view, size, maps.next);
         if (maps.next == maps.key[k] && depth.width() == size) {
             ++stats.shadow_maps_reused;
-            continue;
+        } else {
+            std::swap(maps.key[k], maps.next);
+            if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
+            renderer.clear(depth, glm::vec4(0.0f), 1.0f);
+            draw_depth(maps.key[k], view, proj, renderer, depth, stats);
+            ++stats.shadow_passes;
+            stats.shadow_casters_culled += culled;
         }
-        std::swap(maps.key[k], maps.next);
-        if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
         sm.depth = depth.depth();
-        renderer.clear(depth, glm::vec4(0.0f), 1.0f);
-        draw_depth(maps.key[k], view, proj, renderer, depth, stats);
-        ++stats.shadow_passes;
-        stats.shadow_casters_culled += culled.shadow_casters_culled;
     }
 }
 

@@ -67,7 +67,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     prepare_context(p->dc, *p->shader, Isa::portable, p->textures.data(), int(p->textures.size()));
     p->shadowed = s.shadows && p->shader->needs(FACET_NEED_SHADOW_MAP);
     p->needs_ao = p->shader->needs(FACET_NEED_AO);
-    p->ao_radius = ao_settings(m, scene.settings).radius;
+    p->ao_radius = ao_settings(m).radius;
 
     DrawCall call;
     call.mesh = p->mesh;
