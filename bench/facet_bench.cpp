@@ -289,7 +289,7 @@ void print_output_cost(const std::string& target, const glm::ivec2& size, int th
         for (int x = 0; x < size.x; ++x)
             fb.set_pixel(x, y, {float(x) / float(size.x), float(y) / float(size.y),
                                 float((x * 7 + y * 13) % 101) / 50.0f, 1.0f});
-    Renderer renderer(threads, isa);
+    Pipeline pipeline(threads, isa);
     std::vector<uint8_t> rgba;
     const auto median_ms = [&](auto&& work) {
         std::vector<double> ms;
@@ -301,10 +301,10 @@ void print_output_cost(const std::string& target, const glm::ivec2& size, int th
         }
         return median(ms);
     };
-    const double convert = median_ms([&] { renderer.resolve_srgb8(fb, rgba); });
-    const double clear = median_ms([&] { renderer.clear(fb, glm::vec4(0.1f), 0.0f); });
+    const double convert = median_ms([&] { pipeline.resolve_srgb8(fb, rgba); });
+    const double clear = median_ms([&] { pipeline.clear(fb, glm::vec4(0.1f), 0.0f); });
     std::printf("%s %dx%d to 8-bit sRGB, %d threads, %s: %.2f ms (a clear: %.2f ms)\n",
-                target.c_str(), size.x, size.y, renderer.threads(),
+                target.c_str(), size.x, size.y, pipeline.threads(),
                 std::string(isa_name(isa)).c_str(), convert, clear);
 }
 

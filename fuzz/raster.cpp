@@ -32,7 +32,9 @@
 #include "support.hpp"
 
 #include <facet/framebuffer.hpp>
-#include <facet/renderer.hpp>
+#include <facet/mesh.hpp>
+#include <facet/pipeline.hpp>
+#include <facet/plugin.hpp>
 #include <facet/shader.hpp>
 
 #include <algorithm>
@@ -282,7 +284,7 @@ Mesh mesh_of(const std::vector<Triangle>& triangles) {
     return m;
 }
 
-FrameStats draw(Renderer& renderer, const Mesh& mesh, const Config& c, Framebuffer& fb) {
+FrameStats draw(Pipeline& pipeline, const Mesh& mesh, const Config& c, Framebuffer& fb) {
     static const std::shared_ptr<ShaderPlugin> shader =
         ShaderPlugin::from_descriptor(sdk::describe<ClipShader>(), "fuzz");
     fb.clear(glm::vec4(0.0f), 0.0f);
@@ -296,7 +298,7 @@ FrameStats draw(Renderer& renderer, const Mesh& mesh, const Config& c, Framebuff
     call.state.depth_write = false;
     call.state.subpixel_bits = c.subpixel_bits;
     FrameStats stats;
-    renderer.draw(call, fb, stats);
+    pipeline.draw(call, fb, stats);
     return stats;
 }
 
@@ -432,18 +434,18 @@ void raster(const uint8_t* data, size_t size) {
     }
     if (triangles.empty()) return;
 
-    Renderer renderer(1);
+    Pipeline pipeline(1);
     Framebuffer fb(c.width, c.height, ColorFormat::rgba32f, c.samples);
     std::vector<float> counts(size_t(c.width) * size_t(c.height) * size_t(c.samples), 0.0f);
     FrameStats sum;
     for (const Triangle& t : triangles) {
-        const FrameStats st = draw(renderer, mesh_of({t}), c, fb);
+        const FrameStats st = draw(pipeline, mesh_of({t}), c, fb);
         const std::vector<glm::vec4> alone = read_samples(fb);
         check_alone(t, c, alone, st);
         for (size_t i = 0; i < counts.size(); ++i) counts[i] += alone[i].r;
         sum += st;
     }
-    const FrameStats all = draw(renderer, mesh_of(triangles), c, fb);
+    const FrameStats all = draw(pipeline, mesh_of(triangles), c, fb);
     check_sums(all, sum);
     const std::vector<glm::vec4> together = read_samples(fb);
     for (size_t i = 0; i < counts.size(); ++i)

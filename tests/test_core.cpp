@@ -124,7 +124,7 @@ TEST_CASE("triangles beyond the guard band are clipped to it, others are not",
         DrawCall call = clip_space_call(quad, *shader);
         call.state.blend = BlendMode::additive;
         FrameStats stats;
-        Renderer().draw(call, fb, stats);
+        Pipeline().draw(call, fb, stats);
         const std::vector<glm::vec4> px = fb.linear();
         for (int i = 0; i < W * H; ++i) REQUIRE(px[size_t(i)].r == 1.0f);
         return stats;
@@ -183,7 +183,7 @@ TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
         call.lights = &light;
         call.light_count = 1;
         FrameStats stats;
-        Renderer().draw(call, fb, stats);
+        Pipeline().draw(call, fb, stats);
         return g_seen;
     };
     Seen none = run();
@@ -238,7 +238,7 @@ TEST_CASE("unlit.so computes vertex colour x base colour x texture", "[shader][u
         call.textures = textured ? bindings : nullptr;
         call.texture_count = textured ? 1 : 0;
         FrameStats stats;
-        Renderer().draw(call, fb, stats);
+        Pipeline().draw(call, fb, stats);
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x) {
                 const glm::vec4 texel = textured ? tex->texels[(y / 4) * 2 + x / 4] : glm::vec4(1);
@@ -298,7 +298,7 @@ TEST_CASE("trilinear filtering picks the analytic level of detail at a grazing a
     call.textures = &binding;
     call.texture_count = 1;
     FrameStats stats;
-    Renderer().draw(call, fb, stats);
+    Pipeline().draw(call, fb, stats);
 
     // uv at window point p (pixels), from the ray through it.
     const glm::dmat4 inv = glm::inverse(glm::dmat4(proj) * glm::dmat4(view));

@@ -206,7 +206,7 @@ TEST_CASE("packed fragment batches draw what block batches draw", "[isa][packing
     auto draw = [&](Isa isa, ColorFormat format, bool pack, FrameStats& stats) {
         Framebuffer fb(203, 117, format);
         fb.clear(glm::vec4(0.1f, 0.2f, 0.3f, 1.0f), 0.0f);
-        Renderer renderer(2, isa);
+        Pipeline renderer(2, isa);
         for (size_t m = 0; m < meshes.size(); ++m) {
             DrawCall call = test::clip_space_call(meshes[m], pack && m != 1 ? *packable : *blocks);
             call.state.depth_compare = DepthCompare::greater_equal;
@@ -278,7 +278,7 @@ TEST_CASE("packed fragments are shaded at their own pixel centres", "[isa][packi
         INFO("path " << isa_name(isa));
         Framebuffer fb(203, 117, ColorFormat::rgba32f);
         fb.clear(glm::vec4(-1.0f), 0.0f);
-        Renderer renderer(2, isa);
+        Pipeline renderer(2, isa);
         DrawCall call = test::clip_space_call(mesh, *shader);
         call.state.cull = CullMode::none;
         FrameStats stats;

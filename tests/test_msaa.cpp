@@ -30,7 +30,7 @@ Framebuffer draw_msaa(const Mesh& mesh, const ShaderPlugin& shader, int samples,
     call.state.wireframe = wireframe;
     call.state.wire_color = glm::vec3(1.0f);
     FrameStats stats;
-    Renderer(1).draw(call, fb, stats);
+    Pipeline(1).draw(call, fb, stats);
     fb.resolve();
     return fb;
 }
@@ -112,7 +112,7 @@ TEST_CASE("MSAA: depth is tested per sample on the exact depth plane", "[msaa][d
         Framebuffer fb(W, H, ColorFormat::rgba32f, n);
         fb.clear(glm::vec4(0.0f), 0.0f);
         FrameStats stats;
-        Renderer renderer(1);
+        Pipeline renderer(1);
         for (const Mesh* m : {&red, &green}) {
             DrawCall call = clip_space_call(*m, *shader);
             call.state.depth_compare = DepthCompare::greater_equal;  // reversed-Z

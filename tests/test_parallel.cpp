@@ -129,7 +129,7 @@ TEST_CASE("a triangle soup with clipping renders the same at any thread count", 
         call.projection = perspective(glm::radians(70.0f), 301.0f / 203.0f, 0.2f, 50.0f, true);
         call.state.blend = BlendMode::alpha;
         FrameStats stats;
-        Renderer(threads).draw(call, fb, stats);
+        Pipeline(threads).draw(call, fb, stats);
         CHECK(stats.triangles_clipped > 100);
         return fb;
     };
@@ -155,7 +155,7 @@ TEST_CASE("queued draws render what one draw() at a time renders", "[parallel][q
     }
     auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
     auto render = [&](bool queued, Framebuffer (&fb)[2], FrameStats& stats) {
-        Renderer renderer(2);
+        Pipeline renderer(2);
         for (Framebuffer& f : fb) {
             f.resize(157, 93);
             f.clear(glm::vec4(0.0f), 0.0f);

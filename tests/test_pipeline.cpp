@@ -30,7 +30,7 @@ Framebuffer draw_fresh(const Mesh& mesh, const ShaderPlugin& shader, const glm::
     call.projection = proj;
     call.state.blend = blend;
     FrameStats local;
-    Renderer().draw(call, fb, stats ? *stats : local);
+    Pipeline().draw(call, fb, stats ? *stats : local);
     return fb;
 }
 
@@ -81,7 +81,7 @@ TEST_CASE("a draw snaps vertices to its pipeline state's sub-pixel bits", "[pipe
         DrawCall call = clip_space_call(quad, *shader);
         call.state.subpixel_bits = bits;
         FrameStats stats;
-        Renderer(1).draw(call, fb, stats);
+        Pipeline(1).draw(call, fb, stats);
         CAPTURE(bits);
         CHECK(fb.pixel(10, H / 2).r == (bits == 1 ? 1.0f : 0.0f));
         CHECK(fb.pixel(11, H / 2).r == 1.0f);
@@ -247,7 +247,7 @@ TEST_CASE("depth test keeps the nearest surface in either draw order", "[pipelin
             if (!red_first) std::swap(order[0], order[1]);
             for (const Mesh* m : order) {
                 call.mesh = m;
-                Renderer().draw(call, fb, stats);
+                Pipeline().draw(call, fb, stats);
             }
             const glm::vec4 centre = fb.pixel(W / 2, H / 2);
             CHECK(centre.r == 1.0f);
@@ -271,9 +271,9 @@ TEST_CASE("interpenetrating triangles resolve per pixel", "[pipeline][depth]") {
     call.projection = perspective(glm::radians(60.0f), float(W) / H, 0.1f, 100.0f, true);
     call.state.depth_compare = DepthCompare::greater;
     FrameStats stats;
-    Renderer().draw(call, fb, stats);
+    Pipeline().draw(call, fb, stats);
     call.mesh = &blue;
-    Renderer().draw(call, fb, stats);
+    Pipeline().draw(call, fb, stats);
     const int y = H / 2 + 4;
     CHECK(fb.pixel(W / 2 - 8, y).b == 1.0f);
     CHECK(fb.pixel(W / 2 + 8, y).r == 1.0f);
@@ -291,10 +291,10 @@ TEST_CASE("blending: source-alpha over and additive", "[pipeline][blend]") {
         fb.clear(glm::vec4(0.0f), 0.0f);
         DrawCall call = clip_space_call(blue, *shader);
         FrameStats stats;
-        Renderer().draw(call, fb, stats);
+        Pipeline().draw(call, fb, stats);
         call.mesh = &red;
         call.state.blend = mode;
-        Renderer().draw(call, fb, stats);
+        Pipeline().draw(call, fb, stats);
         return fb.pixel(3, 3);
     };
     const glm::vec4 over = draw_pair(BlendMode::alpha);
@@ -322,7 +322,7 @@ TEST_CASE("back-face culling follows the winding", "[pipeline][cull]") {
             call.state.cull = mode;
             call.state.front_ccw = front_ccw;
             FrameStats stats;
-            Renderer().draw(call, fb, stats);
+            Pipeline().draw(call, fb, stats);
             const bool front = front_ccw;
             const bool culled = (mode == CullMode::back && !front) ||
                                 (mode == CullMode::front && front);
@@ -341,7 +341,7 @@ TEST_CASE("NaN and Inf vertices are dropped and counted", "[pipeline][robust]") 
     fb.clear(glm::vec4(0.0f), 0.0f);
     DrawCall call = clip_space_call(mesh, *shader);
     FrameStats stats;
-    Renderer().draw(call, fb, stats);
+    Pipeline().draw(call, fb, stats);
     CHECK(stats.triangles_in == 3);
     CHECK(stats.triangles_invalid == 2);
     CHECK(stats.triangles_rasterized == 1);
@@ -362,7 +362,7 @@ TEST_CASE("NaN and Inf in matrices drop the draw's triangles and count them",
         if (which == 2) call.projection[2][3] = nan;   // w row
         if (which == 3) call.view[0][0] = -inf;
         FrameStats stats;
-        Renderer().draw(call, fb, stats);
+        Pipeline().draw(call, fb, stats);
         CHECK(stats.triangles_in == 12);
         CHECK(stats.triangles_invalid + stats.triangles_culled_frustum == 12);
         CHECK(stats.triangles_rasterized == 0);

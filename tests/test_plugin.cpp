@@ -79,7 +79,7 @@ TEST_CASE("a plugin written in C loads and draws", "[abi][plugin]") {
     Framebuffer fb(8, 8);
     fb.clear(glm::vec4(0.0f), 0.0f);
     FrameStats stats;
-    Renderer().draw(test::clip_space_call(mesh, *plugin), fb, stats);
+    Pipeline().draw(test::clip_space_call(mesh, *plugin), fb, stats);
     CHECK(fb.pixel(4, 4) == glm::vec4(1.0f, 0.5f, 0.25f, 1.0f));
 }
 

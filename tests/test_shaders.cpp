@@ -179,7 +179,7 @@ Framebuffer draw(const Setup& s, const ShaderPlugin& shader, const ParamBlock& b
     call.light_count = uint32_t(s.lights.size());
     call.state.cull = CullMode::none;
     FrameStats stats;
-    Renderer().draw(call, fb, stats);
+    Pipeline().draw(call, fb, stats);
     return fb;
 }
 

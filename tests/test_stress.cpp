@@ -38,7 +38,7 @@ TEST_CASE("a camera sweeping around a closed mesh sees no crack at any angle", "
         call.projection = proj;
         call.state.blend = BlendMode::additive;
         FrameStats stats;
-        Renderer().draw(call, fb, stats);
+        Pipeline().draw(call, fb, stats);
         REQUIRE(stats.triangles_clipped == 0);  // the near plane never cuts it open
         for (const glm::vec4& c : fb.linear()) {
             const int count = int(c.r);
@@ -71,7 +71,7 @@ TEST_CASE("extreme near/far ratios keep nearby surfaces far away ordered", "[str
         if (!near_first) std::swap(order[0], order[1]);
         for (const Mesh* m : order) {
             call.mesh = m;
-            Renderer().draw(call, fb, stats);
+            Pipeline().draw(call, fb, stats);
         }
         for (const glm::vec4& c : fb.linear()) REQUIRE(c == glm::vec4(1, 0, 0, 1));
     }
@@ -156,7 +156,7 @@ TEST_CASE("a 5M-triangle mesh renders watertight in bounded memory", "[stress][m
     DrawCall call = clip_space_call(sphere, *shader);
     call.state.blend = BlendMode::additive;
     FrameStats stats;
-    Renderer renderer(2);
+    Pipeline renderer(2);
     const size_t before = rss_bytes("VmRSS:");
     const bool measured = reset_peak_rss() && before > 0;
     renderer.draw(call, fb, stats);

@@ -75,7 +75,7 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
                  renderer.threads());
     const facet::FrameStats stats = renderer.render(scene, framebuffer);
     std::vector<uint8_t> rgba;
-    renderer.resolve_srgb8(framebuffer, rgba);  // a copy of an srgb8 target
+    renderer.pipeline().resolve_srgb8(framebuffer, rgba);  // a copy of an srgb8 target
     facet::write_png(opt.output, framebuffer.width(), framebuffer.height(), rgba);
     report(stats, scene);
     spdlog::info("wrote {}", opt.output);

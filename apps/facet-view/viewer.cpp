@@ -220,7 +220,7 @@ void Viewer::render() {
         const ViewOf view(scene_, controller_.camera(), settings_);
         info_.stats = renderer_.render(scene_, framebuffer_);
     }
-    renderer_.resolve_srgb8(framebuffer_, image_);  // a copy: the target is 8-bit sRGB
+    renderer_.pipeline().resolve_srgb8(framebuffer_, image_);  // a copy: the target is 8-bit sRGB
     ++frames_;
     info_.threads = renderer_.threads();
     info_.isa = renderer_.isa();

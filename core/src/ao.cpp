@@ -59,13 +59,14 @@ void AoPass::make_directions(int samples) {
 
 void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& view,
                  const glm::mat4& proj, bool reversed_z, int width, int height,
-                 const AoSettings& settings, Renderer& renderer, const Kernels& kernels,
-                 ThreadPool& pool, FrameStats& stats) {
+                 const AoSettings& settings, Pipeline& pipeline, FrameStats& stats) {
+    ThreadPool& pool = pipeline.pool();
+    const Kernels& kernels = pipeline.kernels();
     auto start = std::chrono::steady_clock::now();
     if (depth_.width() != width || depth_.height() != height)
         depth_.resize(width, height, ColorFormat::none);
     const float background = reversed_z ? 0.0f : 1.0f;
-    renderer.clear(depth_, glm::vec4(0.0f), background);
+    pipeline.clear(depth_, glm::vec4(0.0f), background);
     DrawCall call;
     call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
@@ -77,9 +78,9 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     for (const Object* o : objects) {
         call.mesh = o->mesh.get();
         call.model = o->transform.matrix();
-        renderer.queue(call, depth_, pass);
+        pipeline.queue(call, depth_, pass);
     }
-    renderer.flush(pass);
+    pipeline.flush(pass);
     stats.fragments_depth_only += pass.fragments_depth_only;
     stats.prepasses += 1;
     stats.ms_prepass += elapsed_ms(start);

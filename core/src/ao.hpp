@@ -23,14 +23,14 @@
 // around it that lie at its depth.
 //
 // The occlusion, blur and upsample are per-ISA kernels (ao_kernels.cpp),
-// kWidth texels at a time, and every stage runs on the renderer's threads.
+// kWidth texels at a time, and every stage runs on the pipeline's threads.
 #pragma once
 
 #include "kernels.hpp"
 #include "thread_pool.hpp"
 
 #include "facet/framebuffer.hpp"
-#include "facet/renderer.hpp"
+#include "facet/pipeline.hpp"
 #include "facet/scene.hpp"
 
 #include <vector>
@@ -54,8 +54,7 @@ public:
     // upsample (stats.ms_ao). `reversed_z` tells the depth range.
     void run(const std::vector<const Object*>& objects, const glm::mat4& view,
              const glm::mat4& proj, bool reversed_z, int width, int height,
-             const AoSettings& settings, Renderer& renderer, const Kernels& kernels,
-             ThreadPool& pool, FrameStats& stats);
+             const AoSettings& settings, Pipeline& pipeline, FrameStats& stats);
 
     // Ambient visibility per target pixel of the last run, row-major.
     const float* visibility() const {

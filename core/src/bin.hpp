@@ -12,7 +12,7 @@
 #include "clip.hpp"
 #include "setup.hpp"
 
-#include "facet/renderer.hpp"
+#include "facet/pipeline.hpp"
 
 #include <cstdint>
 #include <deque>
@@ -32,7 +32,7 @@ struct alignas(64) SetupChunk {
     // for reuse, so a steady frame allocates nothing.
     std::deque<ClipVertex> clipped;
     size_t clipped_used = 0;
-    int draw = 0;                    // the queued draw (Geometry::draws) they belong to
+    int draw = 0;                    // the queued draw (DrawQueue::draws) they belong to
     FrameStats stats;                // triangle counters
 };
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "facet/isa.hpp"
-#include "facet/renderer.hpp"
+#include "facet/pipeline.hpp"
 
 #include <facet/shader_abi.h>
 
@@ -13,7 +13,7 @@ namespace facet {
 struct DrawContext {
     const facet_draw* abi = nullptr;
     const ShaderPlugin* shader = nullptr;
-    facet_fragment_fn fragment = nullptr;      // the plugin's loop for the renderer's path
+    facet_fragment_fn fragment = nullptr;      // the plugin's loop for the pipeline's path
     const TextureBinding* textures = nullptr;  // by slot; slots past texture_count are unbound
     int texture_count = 0;
     bool sample_textures = false;

@@ -3,6 +3,9 @@
 #include "pixels.hpp"
 #include "simd.hpp"
 
+#include "facet/plugin.hpp"
+#include "facet/texture.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>

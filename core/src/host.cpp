@@ -3,6 +3,8 @@
 #include "draw_context.hpp"
 
 #include "facet/math.hpp"
+#include "facet/plugin.hpp"
+#include "facet/texture.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -58,9 +60,9 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
 
 facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc) {
     facet_draw d{};
-    static const ParamBlock kNoParams{};
+    alignas(16) static const unsigned char kNoParams[FACET_MAX_PARAMS_SIZE] = {};
     d.host = host_services();
-    d.params = call.params ? call.params : kNoParams.bytes;  // never NULL
+    d.params = call.params ? call.params : kNoParams;  // never NULL
     d.host_data = &dc;
     copy_matrix(d.model, call.model);
     copy_matrix(d.view, call.view);

@@ -2,8 +2,8 @@
 // loop that joins rasterization to the fragment stage.
 #include "kernels.hpp"
 
+#include "draw_queue.hpp"
 #include "fragment.hpp"
-#include "geometry.hpp"
 #include "pixels.hpp"
 #include "rasterize.hpp"
 
@@ -17,7 +17,7 @@ void ao_upsample_rows(const AoFrame& f, int first, int count);
 namespace {
 
 // Rasterizes and shades one tile's triangles, in submission order.
-void draw_tile(const Geometry& g, int tile, FrameStats& stats) {
+void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     int x0, y0, x1, y1;
     g.bins.rect(tile, x0, y0, x1, y1);
     const int samples = g.target->samples();

@@ -5,7 +5,7 @@
 // own (FACET_KERNEL_NS: isa_portable, isa_avx2, isa_avx512), and each
 // compilation exports one table of function pointers, facet_kernels_<path>.
 // The rest of the core is built for the baseline and calls the kernels of
-// its Renderer's path through that table: one indirect call per tile, per
+// its Pipeline's path through that table: one indirect call per tile, per
 // band of rows, never per pixel.
 //
 // The build links each path's objects into one relocatable object and
@@ -30,7 +30,7 @@
 namespace facet {
 
 struct FrameStats;
-struct Geometry;
+struct DrawQueue;
 
 // One 4x4 block of a triangle's coverage (rasterize.hpp).
 struct Block {
@@ -83,7 +83,7 @@ struct Kernels {
     Isa isa;
     // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
     // submission order (draw.cpp), adding to `stats`.
-    void (*draw_tile)(const Geometry& g, int tile, FrameStats& stats);
+    void (*draw_tile)(const DrawQueue& g, int tile, FrameStats& stats);
     // The blocks of `t` with coverage inside the pixel rectangle [x0, x1] x
     // [y0, y1] (corners multiples of 4), at `samples` per pixel, appended
     // to `out`. For tests and tools; draw_tile does the same inline.

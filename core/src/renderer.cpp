@@ -1,11 +1,10 @@
 // Scene-level rendering: the frame plan (which objects, in which order, with
-// which state), then every object queued and rasterized together
-// (Renderer::queue and flush, draw.cpp).
+// which state, after which passes), then every object queued and rasterized
+// together through the Pipeline (pipeline.cpp).
 #include "facet/renderer.hpp"
 
 #include "ao.hpp"
 #include "clip.hpp"
-#include "geometry.hpp"
 #include "shadow.hpp"
 #include "timing.hpp"
 
@@ -58,93 +57,12 @@ struct Renderer::Passes {
 };
 
 Renderer::Renderer(int threads, std::optional<Isa> isa)
-    : passes_(std::make_unique<Passes>()),
-      geometry_(std::make_unique<Geometry>(threads, isa ? checked_isa(*isa) : default_isa())) {}
+    : passes_(std::make_unique<Passes>()), pipeline_(threads, isa) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
-int Renderer::threads() const { return geometry_->pool.size(); }
-
 void Renderer::forget_shadow_maps() { passes_->shadow.key.clear(); }
-Isa Renderer::isa() const { return geometry_->kernels->isa; }
-
-namespace {
-
-// Calls fn(first_row, rows) for bands of `height` rows, in parallel.
-template <class Fn>
-void for_row_bands(ThreadPool& pool, int height, Fn&& fn) {
-    constexpr int kBand = 32;
-    pool.parallel_for((height + kBand - 1) / kBand, [&](int band, int) {
-        fn(band * kBand, std::min(kBand, height - band * kBand));
-    });
-}
-
-}  // namespace
-
-void Renderer::require_flushed(const Framebuffer& target, const char* what) const {
-    if (geometry_->chunks_used > 0 && geometry_->target == &target)
-        throw Error(ErrorCode::out_of_range,
-                    std::string(what) + ": draws queued for the target wait; flush() first");
-}
-
-void Renderer::clear(Framebuffer& target, const glm::vec4& color, float depth) {
-    require_flushed(target, "Renderer::clear");
-    const Kernels& k = *geometry_->kernels;
-    for_row_bands(geometry_->pool, target.height(),
-                  [&](int first, int rows) { k.clear_rows(target, first, rows, color, depth); });
-}
-
-void Renderer::resolve(Framebuffer& target) {
-    require_flushed(target, "Renderer::resolve");
-    if (target.samples() == 1) return;
-    const Kernels& k = *geometry_->kernels;
-    for_row_bands(geometry_->pool, target.height(),
-                  [&](int first, int rows) { k.resolve_rows(target, first, rows); });
-}
-
-void Renderer::resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out) {
-    require_flushed(target, "Renderer::resolve_srgb8");
-    if (target.format() != ColorFormat::rgba16f && target.format() != ColorFormat::rgba32f) {
-        target.resolve_srgb8(out);  // a copy (srgb8), or black (no colour)
-        return;
-    }
-    out.resize(size_t(target.width()) * size_t(target.height()) * 4);
-    const Kernels& k = *geometry_->kernels;
-    for_row_bands(geometry_->pool, target.height(),
-                  [&](int first, int rows) { k.srgb8_rows(target, first, rows, out.data()); });
-}
-
-FrameStats& FrameStats::operator+=(const FrameStats& o) {
-    objects += o.objects;
-    objects_culled += o.objects_culled;
-    draws += o.draws;
-    vertices_shaded += o.vertices_shaded;
-    triangles_in += o.triangles_in;
-    triangles_culled_frustum += o.triangles_culled_frustum;
-    triangles_culled_backface += o.triangles_culled_backface;
-    triangles_culled_degenerate += o.triangles_culled_degenerate;
-    triangles_invalid += o.triangles_invalid;
-    triangles_clipped += o.triangles_clipped;
-    triangles_rasterized += o.triangles_rasterized;
-    blocks_shaded += o.blocks_shaded;
-    fragments_shaded += o.fragments_shaded;
-    fragments_depth_rejected += o.fragments_depth_rejected;
-    fragments_depth_only += o.fragments_depth_only;
-    shadow_passes += o.shadow_passes;
-    shadow_maps_reused += o.shadow_maps_reused;
-    shadow_casters_culled += o.shadow_casters_culled;
-    prepasses += o.prepasses;
-    depth_prepasses += o.depth_prepasses;
-    ao_passes += o.ao_passes;
-    milliseconds += o.milliseconds;
-    ms_shadow += o.ms_shadow;
-    ms_prepass += o.ms_prepass;
-    ms_ao += o.ms_ao;
-    ms_main += o.ms_main;
-    ms_post += o.ms_post;
-    return *this;
-}
 
 facet_light to_abi(const Light& l) {
     facet_light out{};
@@ -163,14 +81,15 @@ facet_light to_abi(const Light& l) {
     return out;
 }
 
+
 FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
-    require_flushed(target, "Renderer::render");  // it may resize the target
+    pipeline_.require_flushed(target, "Renderer::render");  // it may resize the target
     if (target.width() != s.width || target.height() != s.height || target.samples() != s.msaa ||
         target.format() != s.color_format)
         target.resize(s.width, s.height, s.color_format, s.msaa);
-    clear(target, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
+    pipeline_.clear(target, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
 
     DrawCall call;
     call.view = scene.camera.view();
@@ -204,7 +123,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     }
     if (needs_shadow) {
         const auto t = std::chrono::steady_clock::now();
-        render_shadow_maps(scene, scratch_.casters, *this, passes_->shadow, stats);
+        render_shadow_maps(scene, scratch_.casters, pipeline_, passes_->shadow, stats);
         call.shadow_maps = passes_->shadow.abi.data();
         call.shadow_map_count = uint32_t(passes_->shadow.abi.size());
         stats.ms_shadow += elapsed_ms(t);
@@ -213,12 +132,12 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         AoSettings ao = ao_settings(*needs_ao);
         ao.half_resolution = s.ao_half_resolution;
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
-                        s.height, ao, *this, *geometry_->kernels, geometry_->pool, stats);
+                        s.height, ao, pipeline_, stats);
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);
     const auto post = std::chrono::steady_clock::now();
-    resolve(target);
+    pipeline_.resolve(target);
     stats.ms_post += elapsed_ms(post);
     stats.milliseconds = elapsed_ms(start);
     return stats;
@@ -250,13 +169,13 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         } else if (prepass) {
             return;
         }
-        queue(call, target, counts);
+        pipeline_.queue(call, target, counts);
     };
     if (scene.settings.depth_prepass) {
         const auto start = std::chrono::steady_clock::now();
         FrameStats prepass;  // the main pass's statistics count the main pass only
         for (const Object* o : scratch_.opaque) draw_object(*o, true, prepass);
-        flush(prepass);
+        pipeline_.flush(prepass);
         stats.fragments_depth_only += prepass.fragments_depth_only;
         stats.depth_prepasses += 1;
         stats.ms_prepass += elapsed_ms(start);
@@ -269,7 +188,7 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
                   return a.depth < b.depth || (a.depth == b.depth && a.order < b.order);
               });
     for (const BlendedObject& b : scratch_.blended) draw_object(*b.object, false, stats);
-    flush(stats);
+    pipeline_.flush(stats);
     stats.ms_main += elapsed_ms(start);
 }
 

@@ -125,7 +125,7 @@ uint64_t make_key(const std::vector<const Object*>& casters, const glm::mat4& vi
 }
 
 void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4& proj,
-                Renderer& renderer, Framebuffer& target, FrameStats& frame) {
+                Pipeline& pipeline, Framebuffer& target, FrameStats& frame) {
     DrawCall call;
     call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
@@ -137,16 +137,16 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
     for (const ShadowMapKey::Caster& c : key.casters) {
         call.mesh = c.mesh.get();
         call.model = c.model;
-        renderer.queue(call, target, stats);
+        pipeline.queue(call, target, stats);
     }
-    renderer.flush(stats);
+    pipeline.flush(stats);
     frame.fragments_depth_only += stats.fragments_depth_only;
 }
 
 }  // namespace
 
 void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
-                        Renderer& renderer, ShadowMaps& maps, FrameStats& stats) {
+                        Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats) {
     caster_corners(casters, maps.corners);
     // A multiple of 16, so that the map's rows are exactly `size` floats
     // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
@@ -175,8 +175,8 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
         } else {
             std::swap(maps.key[k], maps.next);
             if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
-            renderer.clear(depth, glm::vec4(0.0f), 1.0f);
-            draw_depth(maps.key[k], view, proj, renderer, depth, stats);
+            pipeline.clear(depth, glm::vec4(0.0f), 1.0f);
+            draw_depth(maps.key[k], view, proj, pipeline, depth, stats);
             ++stats.shadow_passes;
             stats.shadow_casters_culled += culled;
         }

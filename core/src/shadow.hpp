@@ -12,7 +12,7 @@
 #pragma once
 
 #include "facet/framebuffer.hpp"
-#include "facet/renderer.hpp"
+#include "facet/pipeline.hpp"
 #include "facet/scene.hpp"
 
 #include <facet/shader_abi.h>
@@ -56,6 +56,6 @@ struct ShadowMaps {
 // from an earlier frame, and shadow_casters_culled the casters a drawn map
 // left out.
 void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
-                        Renderer& renderer, ShadowMaps& maps, FrameStats& stats);
+                        Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats);
 
 }  // namespace facet

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "facet/plugin.hpp"
+#include "facet/render_state.hpp"
 #include "facet/texture.hpp"
 
 #include <glm/glm.hpp>
@@ -27,9 +28,6 @@
 #include <vector>
 
 namespace facet {
-
-enum class BlendMode { opaque, alpha, additive };
-enum class CullMode { none, back, front };
 
 // One parameter value as written in YAML.
 struct MaterialParam {

@@ -1,116 +1,30 @@
-// The renderer: draws meshes with shader plugins into a Framebuffer.
+// The renderer: plans and draws a frame of a Scene.
 //
-// A frame flows: object culling by bounds -> vertex stage (plugin, in
-// batches) -> primitive assembly -> homogeneous clipping -> perspective
-// divide and viewport -> fixed-point setup and back-face culling ->
-// rasterization in 4x4 blocks -> early depth test -> fragment stage (plugin,
-// one call per block) -> depth write -> blend -> framebuffer.
-// docs/ARCHITECTURE.md names the file for each stage.
-//
-// Renderer::render() draws a whole Scene: opaque objects first, then blended
-// ones back to front. Renderer::draw() draws one mesh; Renderer::queue() and
-// flush() draw several together, which is what render() does; tests and
-// embedders call them directly. A Renderer keeps scratch buffers between
-// draws, so a steady frame allocates nothing; use one Renderer per thread.
+// Takes: a Scene (camera, lights, objects with materials, settings) and a
+// target Framebuffer.
+// Gives: the frame drawn, and FrameStats of what it did and skipped.
+// render() decides which objects are visible, which passes the visible
+// materials need (shadow maps, the AO pre-pass and AO, the depth pre-pass)
+// and in which order the objects go: opaque ones first, then blended ones
+// back to front. It draws through its Pipeline (facet/pipeline.hpp), which
+// embedders and tests may also use directly, and keeps the passes' buffers
+// between frames.
 #pragma once
 
-#include "facet/framebuffer.hpp"
-#include "facet/isa.hpp"
-#include "facet/material.hpp"
-#include "facet/mesh.hpp"
-#include "facet/plugin.hpp"
+#include "facet/pipeline.hpp"
 #include "facet/scene.hpp"
 
 #include <facet/shader_abi.h>
 
-#include <glm/glm.hpp>
-
-#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
 
 namespace facet {
 
-// What a frame did and what it skipped. Triangle counts are per input
-// triangle: each ends in exactly one of culled_frustum, culled_backface,
-// culled_degenerate, invalid or rasterized.
-struct FrameStats {
-    uint64_t objects = 0;
-    uint64_t objects_culled = 0;        // outside the view frustum, by bounds
-    uint64_t draws = 0;
-    uint64_t vertices_shaded = 0;
-    uint64_t triangles_in = 0;
-    uint64_t triangles_culled_frustum = 0;
-    uint64_t triangles_culled_backface = 0;
-    uint64_t triangles_culled_degenerate = 0;  // zero area or no pixel centre
-    uint64_t triangles_invalid = 0;            // NaN or Inf in a vertex
-    uint64_t triangles_clipped = 0;            // needed clipping (and kept a part)
-    uint64_t triangles_rasterized = 0;
-    uint64_t blocks_shaded = 0;                // fragment batches
-    uint64_t fragments_shaded = 0;             // covered lanes sent to the shader
-    uint64_t fragments_depth_rejected = 0;     // covered lanes the early depth test removed
-    // Depth written with no shader call: shadow maps and pre-passes (which
-    // count nothing else in the frame's statistics).
-    uint64_t fragments_depth_only = 0;
-    // Passes run. Each runs only when a visible material needs it.
-    uint64_t shadow_passes = 0;                // shadow maps drawn
-    uint64_t shadow_maps_reused = 0;           // ... kept: nothing they depend on changed
-    uint64_t shadow_casters_culled = 0;        // casters outside a drawn map's light frustum
-    uint64_t prepasses = 0;                    // depth pre-pass, for AO
-    uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
-    uint64_t ao_passes = 0;                    // SSAO and its blur
-    double milliseconds = 0.0;                 // render() wall time
-    double ms_shadow = 0.0;                    // ... spent in shadow passes
-    double ms_prepass = 0.0;                   // ... in both kinds of pre-pass
-    double ms_ao = 0.0;
-    double ms_main = 0.0;
-    double ms_post = 0.0;                      // MSAA resolve
-
-    FrameStats& operator+=(const FrameStats& o);
-};
-
-// Fixed-function state of one draw.
-struct PipelineState {
-    CullMode cull = CullMode::back;
-    bool front_ccw = true;
-    BlendMode blend = BlendMode::opaque;
-    DepthCompare depth_compare = DepthCompare::greater_equal;
-    bool depth_write = true;
-    bool color_write = true;  // false: depth only (shadow maps, pre-passes)
-    bool wireframe = false;   // blend each triangle's edges (about 1 pixel) over its colour
-    int subpixel_bits = 8;    // vertex snapping precision, 1..8 (D3D10+: 8)
-    glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
-};
-
-// One mesh, one shader, one set of matrices.
-struct DrawCall {
-    const Mesh* mesh = nullptr;
-    const ShaderPlugin* shader = nullptr;
-    const void* params = nullptr;                // the shader's parameter block
-    const TextureBinding* textures = nullptr;    // by texture slot
-    int texture_count = 0;
-    glm::mat4 model{1.0f};
-    glm::mat4 view{1.0f};
-    glm::mat4 projection{1.0f};
-    glm::vec3 camera_position{0.0f};
-    const facet_light* lights = nullptr;
-    uint32_t light_count = 0;
-    const facet_shadow_map* shadow_maps = nullptr;  // for FACET_NEED_SHADOW_MAP
-    uint32_t shadow_map_count = 0;
-    const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
-    float time = 0.0f;
-    PipelineState state;
-};
-
-struct Geometry;  // core/src/geometry.hpp
-
 class Renderer {
 public:
-    // Renders with `threads` threads (counting the caller); 0: one per
-    // hardware thread. Its kernels are those of `isa` (isa.hpp), by default
-    // default_isa(): FACET_ISA or the best the CPU has; a path the CPU lacks
-    // throws Error(isa_unavailable). The image depends on neither.
+    // A renderer on its own Pipeline(threads, isa).
     explicit Renderer(int threads = 0, std::optional<Isa> isa = std::nullopt);
     ~Renderer();
     Renderer(Renderer&&) noexcept;
@@ -131,36 +45,11 @@ public:
     // camera or the casters move (benchmarks).
     void forget_shadow_maps();
 
-    // Draws one mesh into `target` (which must be cleared by the caller).
-    void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
-
-    // The same, but rasterization may wait for flush(): queued draws into
-    // one target are binned together, so each tile is rasterized once for
-    // all of them, in submission order (the image is the same as with
-    // draw()). Everything `call` points at (mesh, shader, parameters,
-    // textures, lights, shadow maps, AO) must live, and the target keep its
-    // size, until flush(), which adds the triangle and fragment counts to
-    // its `stats`. When the queue is full, or `call` is for another target,
-    // queue() rasterizes what waits first, counting it in its own `stats`.
-    // clear(), resolve() and render() of a target with queued draws throw
-    // Error(out_of_range).
-    void queue(const DrawCall& call, Framebuffer& target, FrameStats& stats);
-    void flush(FrameStats& stats);
-
-    // Framebuffer::clear() and resolve() on all the renderer's threads.
-    // Both throw Error(out_of_range) while draws queued for `target` wait.
-    void clear(Framebuffer& target, const glm::vec4& color, float depth);
-    void resolve(Framebuffer& target);
-    // Framebuffer::resolve_srgb8() on all the renderer's threads: the 8-bit
-    // sRGB image of a float target, for a PNG or a window, at the cost of a
-    // clear (from an srgb8 target it is a copy).
-    void resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out);
-
-    int threads() const;
-    Isa isa() const;
+    Pipeline& pipeline() { return pipeline_; }
+    int threads() const { return pipeline_.threads(); }
+    Isa isa() const { return pipeline_.isa(); }
 
 private:
-    void require_flushed(const Framebuffer& target, const char* what) const;
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                         FrameStats& stats);
 
@@ -179,7 +68,7 @@ private:
 
     Scratch scratch_;
     std::unique_ptr<Passes> passes_;
-    std::unique_ptr<Geometry> geometry_;
+    Pipeline pipeline_;
 };
 
 // The light as the plugin ABI carries it.

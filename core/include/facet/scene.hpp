@@ -24,6 +24,7 @@
 #include "facet/material.hpp"
 #include "facet/math.hpp"
 #include "facet/mesh.hpp"
+#include "facet/render_state.hpp"
 
 #include <glm/glm.hpp>
 
@@ -63,8 +64,6 @@ struct Light {
     float spot_outer = 30.0f;
     bool casts_shadow = false;
 };
-
-enum class DepthCompare { never, less, less_equal, greater, greater_equal, equal, always };
 
 struct RenderSettings {
     int width = 960;

@@ -1,7 +1,7 @@
-// What Renderer::draw and Renderer::queue keep (private to the core): the
-// thread pool, the queued draws with their vertex stage's outputs, the setup
-// chunks, the tile bins and per-thread statistics. Reused, so a steady frame
-// allocates nothing.
+// What Pipeline::queue keeps until flush() (private to the core): the
+// queued draws with their vertex stage's outputs, the setup chunks, the tile
+// bins and per-thread statistics. Reused, so a steady frame allocates
+// nothing.
 //
 // Draws queue up until flush() (or until the queue is full): their triangles
 // are binned together, so each tile is rasterized once for all of them while
@@ -10,9 +10,9 @@
 
 #include "bin.hpp"
 #include "draw_context.hpp"
-#include "kernels.hpp"
 #include "setup.hpp"
-#include "thread_pool.hpp"
+
+#include "facet/pipeline.hpp"
 
 #include <glm/glm.hpp>
 
@@ -33,21 +33,18 @@ struct QueuedDraw {
     DrawContext dc;
     facet_draw abi{};
     std::vector<glm::vec4> clip;       // per vertex
-    std::vector<WindowVertex> window;  // per vertex: projected, with its outcodes (draw.cpp)
+    std::vector<WindowVertex> window;  // per vertex: projected, with its outcodes (vertex.cpp)
     std::vector<float> varyings;       // per vertex, varying_floats each
 };
 
-struct Geometry {
-    Geometry(int threads, Isa isa)
-        : pool(threads), kernels(&facet::kernels(isa)), worker_stats(size_t(pool.size())) {}
+struct DrawQueue {
+    explicit DrawQueue(int threads) : worker_stats(size_t(threads)) {}
 
     // A thread's counters, on cache lines of its own (see SetupChunk).
     struct alignas(64) WorkerStats {
         FrameStats stats;
     };
 
-    ThreadPool pool;
-    const Kernels* kernels;  // of the renderer's instruction-set path
     std::vector<std::unique_ptr<QueuedDraw>> draws;  // the first draws_used are queued
     int draws_used = 0;
     // The first chunks_used hold setups not yet rasterized. A deque: growing

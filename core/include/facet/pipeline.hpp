@@ -1,0 +1,164 @@
+// The pipeline: draws meshes with shader plugins into a Framebuffer.
+//
+// A draw flows: vertex stage (plugin, in batches) -> primitive assembly ->
+// homogeneous clipping -> perspective divide and viewport -> fixed-point
+// setup and back-face culling -> binning into 64x64 tiles -> rasterization
+// in 4x4 blocks -> early depth test -> fragment stage (plugin, one call per
+// batch) -> depth write -> blend -> framebuffer. docs/ARCHITECTURE.md names
+// the file for each stage.
+//
+// Takes: DrawCalls (a mesh, a shader, its parameters and state) and a target.
+// Gives: the target drawn, and FrameStats of what each draw did and skipped.
+// It knows nothing of scenes: Renderer (facet/renderer.hpp) plans a frame of
+// a Scene and draws it through a Pipeline.
+//
+// A Pipeline owns the thread pool and the instruction-set path its stages
+// run on, and keeps scratch buffers between draws, so a steady frame
+// allocates nothing; use one Pipeline per thread.
+#pragma once
+
+#include "facet/framebuffer.hpp"
+#include "facet/isa.hpp"
+#include "facet/render_state.hpp"
+
+#include <facet/shader_abi.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace facet {
+
+struct Mesh;
+class ShaderPlugin;
+struct TextureBinding;
+class ThreadPool;  // core/src/thread_pool.hpp
+struct Kernels;    // core/src/kernels.hpp
+struct DrawQueue;  // core/src/draw_queue.hpp
+
+// What a frame did and what it skipped. Triangle counts are per input
+// triangle: each ends in exactly one of culled_frustum, culled_backface,
+// culled_degenerate, invalid or rasterized.
+struct FrameStats {
+    uint64_t objects = 0;
+    uint64_t objects_culled = 0;        // outside the view frustum, by bounds
+    uint64_t draws = 0;
+    uint64_t vertices_shaded = 0;
+    uint64_t triangles_in = 0;
+    uint64_t triangles_culled_frustum = 0;
+    uint64_t triangles_culled_backface = 0;
+    uint64_t triangles_culled_degenerate = 0;  // zero area or no pixel centre
+    uint64_t triangles_invalid = 0;            // NaN or Inf in a vertex
+    uint64_t triangles_clipped = 0;            // needed clipping (and kept a part)
+    uint64_t triangles_rasterized = 0;
+    uint64_t blocks_shaded = 0;                // fragment batches
+    uint64_t fragments_shaded = 0;             // covered lanes sent to the shader
+    uint64_t fragments_depth_rejected = 0;     // covered lanes the early depth test removed
+    // Depth written with no shader call: shadow maps and pre-passes (which
+    // count nothing else in the frame's statistics).
+    uint64_t fragments_depth_only = 0;
+    // Passes run. Each runs only when a visible material needs it.
+    uint64_t shadow_passes = 0;                // shadow maps drawn
+    uint64_t shadow_maps_reused = 0;           // ... kept: nothing they depend on changed
+    uint64_t shadow_casters_culled = 0;        // casters outside a drawn map's light frustum
+    uint64_t prepasses = 0;                    // depth pre-pass, for AO
+    uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
+    uint64_t ao_passes = 0;                    // SSAO and its blur
+    double milliseconds = 0.0;                 // Renderer::render() wall time
+    double ms_shadow = 0.0;                    // ... spent in shadow passes
+    double ms_prepass = 0.0;                   // ... in both kinds of pre-pass
+    double ms_ao = 0.0;
+    double ms_main = 0.0;
+    double ms_post = 0.0;                      // MSAA resolve
+
+    FrameStats& operator+=(const FrameStats& o);
+};
+
+// Fixed-function state of one draw.
+struct PipelineState {
+    CullMode cull = CullMode::back;
+    bool front_ccw = true;
+    BlendMode blend = BlendMode::opaque;
+    DepthCompare depth_compare = DepthCompare::greater_equal;
+    bool depth_write = true;
+    bool color_write = true;  // false: depth only (shadow maps, pre-passes)
+    bool wireframe = false;   // blend each triangle's edges (about 1 pixel) over its colour
+    int subpixel_bits = 8;    // vertex snapping precision, 1..8 (D3D10+: 8)
+    glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
+};
+
+// One mesh, one shader, one set of matrices.
+struct DrawCall {
+    const Mesh* mesh = nullptr;
+    const ShaderPlugin* shader = nullptr;
+    const void* params = nullptr;                // the shader's parameter block
+    const TextureBinding* textures = nullptr;    // by texture slot
+    int texture_count = 0;
+    glm::mat4 model{1.0f};
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+    glm::vec3 camera_position{0.0f};
+    const facet_light* lights = nullptr;
+    uint32_t light_count = 0;
+    const facet_shadow_map* shadow_maps = nullptr;  // for FACET_NEED_SHADOW_MAP
+    uint32_t shadow_map_count = 0;
+    const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
+    float time = 0.0f;
+    PipelineState state;
+};
+
+class Pipeline {
+public:
+    // Draws with `threads` threads (counting the caller); 0: one per
+    // hardware thread. Its kernels are those of `isa` (isa.hpp), by default
+    // default_isa(): FACET_ISA or the best the CPU has; a path the CPU lacks
+    // throws Error(isa_unavailable). The image depends on neither.
+    explicit Pipeline(int threads = 0, std::optional<Isa> isa = std::nullopt);
+    ~Pipeline();
+    Pipeline(Pipeline&&) noexcept;
+    Pipeline& operator=(Pipeline&&) noexcept;
+
+    // Draws one mesh into `target` (which must be cleared by the caller).
+    void draw(const DrawCall& call, Framebuffer& target, FrameStats& stats);
+
+    // The same, but rasterization may wait for flush(): queued draws into
+    // one target are binned together, so each tile is rasterized once for
+    // all of them, in submission order (the image is the same as with
+    // draw()). Everything `call` points at (mesh, shader, parameters,
+    // textures, lights, shadow maps, AO) must live, and the target keep its
+    // size, until flush(), which adds the triangle and fragment counts to
+    // its `stats`. When the queue is full, or `call` is for another target,
+    // queue() rasterizes what waits first, counting it in its own `stats`.
+    // clear() and resolve() of a target with queued draws throw
+    // Error(out_of_range), as does Renderer::render().
+    void queue(const DrawCall& call, Framebuffer& target, FrameStats& stats);
+    void flush(FrameStats& stats);
+    // Throws Error(out_of_range), naming `what`, while draws queued for
+    // `target` wait.
+    void require_flushed(const Framebuffer& target, const char* what) const;
+
+    // Framebuffer::clear() and resolve() on all the pipeline's threads.
+    void clear(Framebuffer& target, const glm::vec4& color, float depth);
+    void resolve(Framebuffer& target);
+    // Framebuffer::resolve_srgb8() on all the pipeline's threads: the 8-bit
+    // sRGB image of a float target, for a PNG or a window, at the cost of a
+    // clear (from an srgb8 target it is a copy).
+    void resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out);
+
+    int threads() const;
+    Isa isa() const;
+    // For the core's own passes (shadow maps, AO), which run on the same
+    // threads and instruction-set path.
+    ThreadPool& pool() { return *pool_; }
+    const Kernels& kernels() const { return *kernels_; }
+
+private:
+    std::unique_ptr<ThreadPool> pool_;
+    const Kernels* kernels_;
+    std::unique_ptr<DrawQueue> queue_;
+};
+
+}  // namespace facet
