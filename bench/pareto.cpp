@@ -78,27 +78,18 @@ void set_param(Material& m, const char* name, double value) {
     m.block = block;
 }
 
-// The material's value of FLOAT parameter `name`, or `otherwise`.
-double param_or(const Material& m, const char* name, double otherwise) {
-    const facet_param_desc* p = m.plugin ? m.plugin->find_param(name) : nullptr;
-    if (!p || !m.block || p->type != FACET_PARAM_FLOAT) return otherwise;
-    float v;
-    std::memcpy(&v, m.block->bytes + p->offset, sizeof v);
-    return v;
-}
-
 Scene with(const Scene& base, const Setting& s) {
     Scene scene = base;
     if (s.msaa > 0) scene.settings.msaa = s.msaa;
     if (s.subpixel_bits > 0) scene.settings.subpixel_bits = s.subpixel_bits;
     if (s.shadow_map_size > 0) scene.settings.shadow_map_size = s.shadow_map_size;
     if (s.ao_half >= 0) scene.settings.ao_half_resolution = s.ao_half == 1;
+    if (s.ao_samples > 0) scene.settings.ao_samples = s.ao_samples;
+    if (s.ao_radius > 0) scene.settings.ao_radius = float(s.ao_radius);
     edit_materials(scene, [&](Material& m) {
         if (s.filter >= 0)
             for (TextureBinding& t : m.textures) t.filter = Filter(s.filter);
         if (s.pcf_kernel > 0) set_param(m, "pcf_kernel", s.pcf_kernel);
-        if (s.ao_samples > 0) set_param(m, "ao_samples", s.ao_samples);
-        if (s.ao_radius > 0) set_param(m, "ao_radius", s.ao_radius);
         if (s.per_pixel >= 0) set_param(m, "per_pixel", s.per_pixel);
     });
     return scene;
@@ -172,9 +163,7 @@ std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
                 out.push_back(s);
             }
     } else if (scene == "ao") {
-        double radius = 0.0;
-        for (const Object& o : base.objects)
-            if (o.material) radius = std::max(radius, param_or(*o.material, "ao_radius", 0.0));
+        const double radius = base.settings.ao_radius;
         for (double scale : {0.5, 1.0, 2.0})
             for (int samples : {4, 8, 16, 32})
                 for (int half : {0, 1}) {

@@ -177,16 +177,9 @@ int main(int argc, char** argv) {
     ao.settings.width = width;
     ao.settings.height = height;
     ao.settings.color_format = ColorFormat::rgba32f;
-    const Material& demo = *ao.objects[0].material;
-    auto param = [&](const char* name) {
-        for (const MaterialParam& p : demo.params)
-            if (p.name == name) return p.numbers[0];
-        return 0.0;
-    };
-    const double radius = param("ao_radius");
+    const double radius = ao.settings.ao_radius;
     override_materials(ao, registry, "ao",
                        {number("base_color", {1, 1, 1, 1}), number("ambient", {1, 1, 1}),
-                        number("ao_radius", {radius}), number("ao_samples", {param("ao_samples")}),
                         number("strength", {1})});
     ao.lights.clear();
     for (bool half : {false, true}) {
@@ -195,7 +188,7 @@ int main(int argc, char** argv) {
         const Error e = ao_error(ao, t, radius, rays);
         const char* resolution = half ? ", half res" : "";
         row(std::string("AO depth pre-pass") + resolution, t.prepass, {});
-        const std::string name = "SSAO + blur (" + std::to_string(int(param("ao_samples"))) +
+        const std::string name = "SSAO + blur (" + std::to_string(ao.settings.ao_samples) +
                                  " dirs, r=" + std::to_string(radius).substr(0, 4) + resolution +
                                  ")";
         row(name, t.ao, e);

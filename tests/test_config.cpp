@@ -383,6 +383,9 @@ TEST_CASE("scene values are checked for sense", "[scene]") {
     check("render: {subpixel_bits: 9}\n", ErrorCode::out_of_range, 1, 25);
     check("render: {subpixel_bits: 0}\n", ErrorCode::out_of_range, 1, 25);
     check("render: {wireframe: maybe}\n", ErrorCode::wrong_type, 1, 21);
+    check("render: {ao_radius: 0}\n", ErrorCode::out_of_range, 1, 21);
+    check("render: {ao_radius: -1}\n", ErrorCode::out_of_range, 1, 21);
+    check("render: {ao_samples: 257}\n", ErrorCode::out_of_range, 1, 22);
     check("lights:\n  - {direction: [0, 0, 0]}\n", ErrorCode::config_invalid, 2, 17);
     check("lights:\n  - {type: spot, spot_inner: 40, spot_outer: 30}\n", ErrorCode::out_of_range, 2,
           30);

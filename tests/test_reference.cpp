@@ -208,7 +208,7 @@ TEST_CASE("reference: hard shadows and open-sky AO come out exactly", "[referenc
         const Scene scene = sd.load(
             camera +
             "objects:\n  - {mesh: ground.obj, material: {shader: ao, params: {base_color: [1, 1, 1, 1], "
-            "ambient: [1, 1, 1], ao_radius: 0.5, strength: 1}}}\n");
+            "ambient: [1, 1, 1], strength: 1}}}\n");
         reference::RenderOptions options;
         options.grid = 4;
         const std::vector<glm::dvec4> image = reference::render(scene, options);

@@ -42,13 +42,12 @@ const char* kShadowed =
     "{shader: shadow, params: {base_color: [1, 1, 1, 1], ambient: [0, 0, 0], pcf_kernel: 1}}";
 // Material that shows only the ambient visibility (white, ambient 1, AO).
 const char* kAoOnly =
-    "{shader: ao, params: {base_color: [1, 1, 1, 1], ambient: [1, 1, 1], ao_radius: 0.5, "
-    "ao_samples: 16, strength: 1}}";
+    "{shader: ao, params: {base_color: [1, 1, 1, 1], ambient: [1, 1, 1], strength: 1}}";
 
 std::string camera(int w, int h) {
     return "camera: {position: [3, 3.5, 4.5], target: [0, 0.2, 0], fov_y: 45}\n"
            "render: {size: [" + std::to_string(w) + ", " + std::to_string(h) +
-           "], shadow_map_size: 1024, color_format: rgba32f}\n";
+           "], shadow_map_size: 1024, color_format: rgba32f, ao_radius: 0.5, ao_samples: 16}\n";
 }
 
 
@@ -204,6 +203,44 @@ TEST_CASE("ambient occlusion: the inside corner of a box is darker than its face
     INFO("corner " << corner / n_corner << ", open " << open / n_open << ", RMSE " << rmse);
     CHECK(corner / n_corner < open / n_open - 0.2);
     CHECK(rmse < 0.08);  // stated tolerance: SSAO vs ray-traced AO (radius 0.5, 256 rays)
+}
+
+TEST_CASE("the AO pass reaches as far as render: ao_radius says, for every AO material",
+          "[ao]") {
+    // The same room corner with a short and a long reach: near the corner's
+    // edges, ambient visibility must fall as the radius grows.
+    SceneDir sd;
+    const std::string wall = std::string(", material: ") + kAoOnly + "}\n";
+    auto corner_visibility = [&](const char* radius) {
+        const Scene scene = sd.load(
+            "camera: {position: [2.6, 1.9, 2.6], target: [0, 0.4, 0], fov_y: 50}\n"
+            "render: {size: [192, 144], color_format: rgba32f, ao_samples: 8, ao_radius: " +
+            std::string(radius) + "}\nobjects:\n"
+            "  - {mesh: ground.obj" + wall +
+            "  - {mesh: cube.obj, position: [-0.05, 1.5, 1.5], scale: [0.1, 3, 3]" + wall +
+            "  - {mesh: cube.obj, position: [1.5, 1.5, -0.05], scale: [3, 3, 0.1]" + wall);
+        Framebuffer fb;
+        Renderer().render(scene, fb);
+        const reference::RayCaster rc(scene);
+        double sum = 0;
+        int n = 0;
+        for (int y = 0; y < fb.height(); ++y)
+            for (int x = 0; x < fb.width(); ++x) {
+                const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
+                if (!hit) continue;
+                const glm::dvec3 p = hit->point;
+                const double to_edge = std::min({glm::length(glm::dvec2(p.x, p.y)),
+                                                 glm::length(glm::dvec2(p.y, p.z)),
+                                                 glm::length(glm::dvec2(p.x, p.z))});
+                if (to_edge < 0.2) sum += fb.pixel(x, y).r, ++n;
+            }
+        REQUIRE(n > 100);
+        return sum / n;
+    };
+    const double short_reach = corner_visibility("0.02"), long_reach = corner_visibility("0.5");
+    INFO("visibility near the corner: radius 0.02 " << short_reach << ", radius 0.5 "
+                                                    << long_reach);
+    CHECK(short_reach > long_reach + 0.08);  // the same image if the setting were ignored
 }
 
 TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visible material "

@@ -12,17 +12,8 @@
 
 namespace facet {
 
-AoSettings ao_settings(const Material& m) {
-    AoSettings s;
-    const facet_param_desc* radius = m.plugin->find_param("ao_radius");
-    if (radius && radius->type == FACET_PARAM_FLOAT && m.block)
-        std::memcpy(&s.radius, m.block->bytes + radius->offset, sizeof(float));
-    const facet_param_desc* samples = m.plugin->find_param("ao_samples");
-    if (samples && samples->type == FACET_PARAM_INT && m.block)
-        std::memcpy(&s.samples, m.block->bytes + samples->offset, sizeof(int));
-    s.radius = std::max(s.radius, 1e-4f);
-    s.samples = std::clamp(s.samples, 1, 256);
-    return s;
+AoSettings ao_settings(const RenderSettings& settings) {
+    return {settings.ao_radius, settings.ao_samples, settings.ao_half_resolution};
 }
 
 namespace {

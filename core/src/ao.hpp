@@ -43,10 +43,8 @@ struct AoSettings {
     bool half_resolution = false;  // the AO grid at half the target's size per side
 };
 
-// AO radius and sample count from the material's `ao_radius` (float) and
-// `ao_samples` (int) parameters, where its shader declares them; clamped.
-// (The resolution is a render setting: the caller sets it.)
-AoSettings ao_settings(const Material& material);
+// The AO pass's settings, from the scene's render settings.
+AoSettings ao_settings(const RenderSettings& settings);
 
 class AoPass {
 public:

@@ -102,7 +102,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
 
     // The frame plan: what is visible, and which passes its materials need.
     FrameStats stats;
-    const Material* needs_ao = nullptr;
+    bool needs_ao = false;
     bool needs_shadow = false;
     scratch_.blended.clear();
     scratch_.casters.clear();
@@ -117,7 +117,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         }
         const ShaderPlugin& shader = *o.material->plugin;
         needs_shadow |= s.shadows && shader.needs(FACET_NEED_SHADOW_MAP);
-        if (s.ao && shader.needs(FACET_NEED_AO) && !needs_ao) needs_ao = o.material.get();
+        needs_ao |= s.ao && shader.needs(FACET_NEED_AO);
         if (o.material->blend == BlendMode::opaque) scratch_.opaque.push_back(&o);
         else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
     }
@@ -129,10 +129,8 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         stats.ms_shadow += elapsed_ms(t);
     }
     if (needs_ao) {
-        AoSettings ao = ao_settings(*needs_ao);
-        ao.half_resolution = s.ao_half_resolution;
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
-                        s.height, ao, pipeline_, stats);
+                        s.height, ao_settings(s), pipeline_, stats);
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);

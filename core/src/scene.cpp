@@ -122,7 +122,8 @@ void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSetting
     yaml::check_map(ctx, node, "render",
                     {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
                      "shadow_map_size", "shadow_distance", "msaa", "subpixel_bits", "wireframe",
-                     "shadows", "ao", "ao_resolution", "depth_prepass", "color_format"});
+                     "shadows", "ao", "ao_resolution", "ao_radius", "ao_samples", "depth_prepass",
+                     "color_format"});
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
     if (const YAML::Node depth = node["depth"]) {  // and the compare that goes with it
@@ -158,6 +159,12 @@ void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSetting
     if (const YAML::Node resolution = node["ao_resolution"])
         s.ao_half_resolution =
             yaml::as_enum<bool>(ctx, resolution, {{"full", false}, {"half", true}});
+    yaml::read(ctx, node, "ao_radius", s.ao_radius);
+    ensure(s.ao_radius > 0.0f && s.ao_radius <= 1000.0f, ctx, where(node, "ao_radius"),
+           ErrorCode::out_of_range, "ao_radius must be > 0 and <= 1000 (world units)");
+    yaml::read(ctx, node, "ao_samples", s.ao_samples);
+    ensure(s.ao_samples >= 1 && s.ao_samples <= 256, ctx, where(node, "ao_samples"),
+           ErrorCode::out_of_range, "ao_samples must be 1..256 (directions per texel)");
     yaml::read(ctx, node, "depth_prepass", s.depth_prepass);
     if (const YAML::Node format = node["color_format"])
         s.color_format = yaml::as_enum<ColorFormat>(ctx, format,

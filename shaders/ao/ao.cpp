@@ -1,8 +1,8 @@
 // ao: Lambert diffuse plus ambient light scaled by screen-space ambient
-// occlusion. The host runs a depth pre-pass and an AO pass (only
-// when a visible material uses this shader), with the radius and sample
-// count given here as ao_radius and ao_samples, and blurs the result; this
-// shader darkens its ambient term by it, raised to `strength`.
+// occlusion. The host runs a depth pre-pass and an AO pass (only when a
+// visible material uses this shader), with the radius and sample count of
+// the scene's render settings (ao_radius, ao_samples), and blurs the
+// result; this shader darkens its ambient term by it, raised to `strength`.
 #include <facet/shader.hpp>
 
 #include <cstddef>
@@ -15,8 +15,6 @@ struct Ao {
     struct Params {
         glm::vec4 base_color;
         glm::vec3 ambient;
-        float ao_radius;
-        int32_t ao_samples;
         float strength;
     };
     struct Varyings {
@@ -25,16 +23,13 @@ struct Ao {
     };
 
     static constexpr const char* name = "ao";
-    static constexpr const char* version = "1.0";
+    static constexpr const char* version = "2.0";
     static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_LIGHTS | FACET_NEED_AO;
     static constexpr facet_varying_desc varyings[] = {varying("normal", 3),
                                                       varying("position", 3)};
     static constexpr facet_param_desc params[] = {
         color4("base_color", offsetof(Params, base_color), {0.8f, 0.8f, 0.8f, 1.0f}),
         color3("ambient", offsetof(Params, ambient), {0.6f, 0.6f, 0.65f}),
-        float1("ao_radius", offsetof(Params, ao_radius), 0.5f, 0.001f, 1000.0f,
-               "how far occluders count, world units"),
-        int1("ao_samples", offsetof(Params, ao_samples), 12, 1, 256, "directions per pixel"),
         float1("strength", offsetof(Params, strength), 1.0f, 0.0f, 8.0f,
                "exponent on the ambient visibility: 0 ignores AO"),
     };

@@ -2,7 +2,6 @@
 
 #include "raycast.hpp"
 
-#include "ao.hpp"        // ao_settings: the AO radius facet uses
 #include "draw_context.hpp"  // DrawContext, make_abi_draw
 
 #include <facet/renderer.hpp>
@@ -67,7 +66,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     prepare_context(p->dc, *p->shader, Isa::portable, p->textures.data(), int(p->textures.size()));
     p->shadowed = s.shadows && p->shader->needs(FACET_NEED_SHADOW_MAP);
     p->needs_ao = p->shader->needs(FACET_NEED_AO);
-    p->ao_radius = ao_settings(m).radius;
+    p->ao_radius = s.ao_radius;
 
     DrawCall call;
     call.mesh = p->mesh;

@@ -14,7 +14,7 @@
 //   - a shadow-casting directional or spot light (the ones facet shadows)
 //     is blocked or not by a ray to it: hard shadows, no bias;
 //   - ambient visibility, for a shader that asks for AO, is ray-traced with
-//     the material's `ao_radius`, over cosine-weighted directions spread
+//     the scene's `render: ao_radius`, over cosine-weighted directions spread
 //     across the pixel's samples;
 //   - the shading is the plugin's own fragment function, in float, as facet
 //     calls it: only what the rasterizer approximates is replaced.

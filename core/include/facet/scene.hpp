@@ -3,7 +3,8 @@
 //     camera: {position: [0, 1, 3], target: [0, 0.5, 0], fov_y: 45, near: 0.1, far: 100}
 //     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back,
 //              shadow_map_size: 2048, shadow_distance: 20, msaa: 4, subpixel_bits: 8,
-//              wireframe: false, shadows: true, ao: true, color_format: srgb8}
+//              wireframe: false, shadows: true, ao: true, ao_radius: 0.5,
+//              ao_samples: 12, color_format: srgb8}
 //     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
 //     lights:
 //       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
@@ -88,6 +89,10 @@ struct RenderSettings {
     // AO computed at half the target's size per side and upsampled by depth
     // (ao_resolution: half), or at every pixel (full).
     bool ao_half_resolution = false;
+    // The AO pass's reach (world units, > 0) and directions per texel
+    // (1..256). One AO pass serves every material that asks for AO.
+    float ao_radius = 0.5f;
+    int ao_samples = 12;
     // Draw the opaque objects' depth first (no shading), then shade only the
     // fragments that pass depth equal: each pixel is shaded once, whatever
     // the overdraw. Pays for itself with heavy shaders and overdraw.
