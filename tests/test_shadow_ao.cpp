@@ -159,6 +159,18 @@ TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
     CHECK(low > 0.95);
 }
 
+// A room's corner, 192x144: the floor and two walls (cubes stretched into
+// slabs) meeting at the origin, all in the AO-only material, with the given
+// extra render settings.
+static std::string room_corner(const std::string& render) {
+    const std::string wall = std::string(", material: ") + kAoOnly + "}\n";
+    return "camera: {position: [2.6, 1.9, 2.6], target: [0, 0.4, 0], fov_y: 50}\n"
+           "render: {size: [192, 144], color_format: rgba32f, " + render + "}\nobjects:\n"
+           "  - {mesh: ground.obj" + wall +
+           "  - {mesh: cube.obj, position: [-0.05, 1.5, 1.5], scale: [0.1, 3, 3]" + wall +
+           "  - {mesh: cube.obj, position: [1.5, 1.5, -0.05], scale: [3, 3, 0.1]" + wall;
+}
+
 TEST_CASE("ambient occlusion: the inside corner of a box is darker than its faces, and "
           "SSAO agrees with ray-traced AO",
           "[ao]") {
@@ -168,14 +180,7 @@ TEST_CASE("ambient occlusion: the inside corner of a box is darker than its face
     const std::string resolution = GENERATE(std::string("full"), std::string("half"));
     INFO("ao_resolution " << resolution);
     SceneDir sd;
-    const std::string wall = std::string(", material: ") + kAoOnly + "}\n";
-    const Scene scene = sd.load(
-        "camera: {position: [2.6, 1.9, 2.6], target: [0, 0.4, 0], fov_y: 50}\n"
-        "render: {size: [192, 144], color_format: rgba32f, ao_resolution: " + resolution +
-        "}\nobjects:\n"
-        "  - {mesh: ground.obj" + wall +
-        "  - {mesh: cube.obj, position: [-0.05, 1.5, 1.5], scale: [0.1, 3, 3]" + wall +
-        "  - {mesh: cube.obj, position: [1.5, 1.5, -0.05], scale: [3, 3, 0.1]" + wall);
+    const Scene scene = sd.load(room_corner("ao_resolution: " + resolution));
     Framebuffer fb;
     Renderer().render(scene, fb);
     const reference::RayCaster rc(scene);
@@ -210,15 +215,8 @@ TEST_CASE("the AO pass reaches as far as render: ao_radius says, for every AO ma
     // The same room corner with a short and a long reach: near the corner's
     // edges, ambient visibility must fall as the radius grows.
     SceneDir sd;
-    const std::string wall = std::string(", material: ") + kAoOnly + "}\n";
     auto corner_visibility = [&](const char* radius) {
-        const Scene scene = sd.load(
-            "camera: {position: [2.6, 1.9, 2.6], target: [0, 0.4, 0], fov_y: 50}\n"
-            "render: {size: [192, 144], color_format: rgba32f, ao_samples: 8, ao_radius: " +
-            std::string(radius) + "}\nobjects:\n"
-            "  - {mesh: ground.obj" + wall +
-            "  - {mesh: cube.obj, position: [-0.05, 1.5, 1.5], scale: [0.1, 3, 3]" + wall +
-            "  - {mesh: cube.obj, position: [1.5, 1.5, -0.05], scale: [3, 3, 0.1]" + wall);
+        const Scene scene = sd.load(room_corner("ao_samples: 8, ao_radius: " + std::string(radius)));
         Framebuffer fb;
         Renderer().render(scene, fb);
         const reference::RayCaster rc(scene);
