@@ -4,8 +4,8 @@
 // bit, over the values where rounding decides: each sRGB code's threshold,
 // each table bucket's edges, each half float's midpoints, and the special
 // values.
-#include "color_tables.hpp"
-#include "kernels.hpp"
+#include "pipeline/color_tables.hpp"
+#include "pipeline/kernels.hpp"
 
 #include <facet/framebuffer.hpp>
 #include <facet/isa.hpp>

@@ -9,8 +9,8 @@
 // Every triangle is rasterized by the kernels of every instruction-set path
 // this CPU has, each with 32-bit lanes where the triangle allows them and
 // with 64-bit lanes always, and all of them must agree (cover() below).
-#include "kernels.hpp"
-#include "setup.hpp"
+#include "pipeline/kernels.hpp"
+#include "pipeline/setup.hpp"
 
 #include <facet/framebuffer.hpp>
 #include <facet/isa.hpp>

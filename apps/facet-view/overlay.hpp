@@ -1,5 +1,5 @@
 // What facet-view's overlay says, as text, and drawing it over a frame with
-// the core's bitmap font (facet/text.hpp). Composing the text is separate
+// the bitmap font of apps/support (facet/text.hpp). Composing the text is separate
 // from drawing it so the tests can read it.
 #pragma once
 

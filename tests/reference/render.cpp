@@ -2,7 +2,7 @@
 
 #include "raycast.hpp"
 
-#include "draw_context.hpp"  // DrawContext, make_abi_draw
+#include "pipeline/draw_context.hpp"  // DrawContext, make_abi_draw
 
 #include <facet/renderer.hpp>
 

@@ -1,0 +1,258 @@
+// Materials: parsing parameter values as written, and binding them to a
+// shader's schema (type and range checks, parameter block, textures).
+#include "facet/material.hpp"
+
+#include "facet/error.hpp"
+#include "assets/material_yaml.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+namespace facet {
+
+namespace {
+
+// ---- parsing -----------------------------------------------------------------
+
+void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, MaterialParam& p) {
+    yaml::check_map(ctx, node, "texture", {"file", "filter", "wrap"});
+    p.texture_file = yaml::as<std::string>(ctx, yaml::require(ctx, node, "file"));
+    if (const YAML::Node filter = node["filter"])
+        p.filter = yaml::as_enum<Filter>(ctx, filter,
+                                         {{"nearest", Filter::nearest},
+                                          {"bilinear", Filter::bilinear},
+                                          {"trilinear", Filter::trilinear}});
+    if (const YAML::Node wrap = node["wrap"])
+        p.wrap = yaml::as_enum<Wrap>(
+            ctx, wrap,
+            {{"repeat", Wrap::repeat}, {"clamp", Wrap::clamp}, {"mirror", Wrap::mirror}});
+}
+
+// A number, a boolean, 1..4 numbers, or a texture (a file name or a map).
+MaterialParam parse_param(const yaml::Context& ctx, const std::string& name,
+                          const YAML::Node& value, const std::filesystem::path& folder) {
+    MaterialParam p;
+    p.name = name;
+    p.line = yaml::line(value);
+    p.column = yaml::column(value);
+    if (value.IsMap()) {
+        p.kind = MaterialParam::Kind::texture;
+        parse_texture_map(ctx, value, p);
+    } else if (value.IsSequence()) {
+        p.kind = MaterialParam::Kind::vector;
+        p.numbers = yaml::as_numbers(ctx, value, 1, 4);
+    } else if (const std::optional<double> number = yaml::parse_number(value)) {
+        p.numbers = {*number};
+        p.is_integer = yaml::is_integer_text(value.Scalar());
+    } else if (const std::optional<bool> flag = yaml::parse_bool(value)) {
+        p.kind = MaterialParam::Kind::boolean;
+        p.flag = *flag;
+    } else if (value.IsScalar() && !value.Scalar().empty()) {
+        p.kind = MaterialParam::Kind::texture;
+        p.texture_file = value.Scalar();
+    } else {
+        throw yaml::error(ctx, value, ErrorCode::wrong_type,
+                          "'" + name + "' needs a number, true/false, 1 to 4 numbers or a texture");
+    }
+    if (p.kind == MaterialParam::Kind::texture)
+        p.texture_file = (folder / p.texture_file).lexically_normal();
+    return p;
+}
+
+std::vector<MaterialParam> parse_params(const yaml::Context& ctx, const YAML::Node& node,
+                                        const std::filesystem::path& folder) {
+    yaml::check_map(ctx, node, "params");
+    std::vector<MaterialParam> params;
+    for (const auto& entry : node)
+        params.push_back(parse_param(ctx, entry.first.Scalar(), entry.second, folder));
+    return params;
+}
+
+Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
+                        const std::filesystem::path& folder, std::string source) {
+    yaml::check_map(ctx, node, "material", {"shader", "blend", "cull", "depth_write", "params"});
+    Material m;
+    m.source = std::move(source);
+    m.file = ctx.file;
+    m.shader = yaml::as<std::string>(ctx, yaml::require(ctx, node, "shader"));
+    if (const YAML::Node blend = node["blend"])
+        m.blend = yaml::as_enum<BlendMode>(ctx, blend,
+                                           {{"opaque", BlendMode::opaque},
+                                            {"alpha", BlendMode::alpha},
+                                            {"additive", BlendMode::additive}});
+    if (const YAML::Node cull = node["cull"])
+        m.cull = yaml::as_enum<CullMode>(
+            ctx, cull,
+            {{"none", CullMode::none}, {"back", CullMode::back}, {"front", CullMode::front}});
+    if (const YAML::Node depth_write = node["depth_write"])
+        m.depth_write = yaml::as<bool>(ctx, depth_write);
+    if (const YAML::Node params = node["params"]) m.params = parse_params(ctx, params, folder);
+    return m;
+}
+
+// registry.get(), with an unknown name reported where the material names it.
+std::shared_ptr<ShaderPlugin> find_shader(const yaml::Context& ctx, const YAML::Node& at,
+                                          const std::string& name, PluginRegistry& registry) {
+    try {
+        return registry.get(name);
+    } catch (const Error& e) {
+        if (e.code() != ErrorCode::unknown_shader) throw;
+        throw yaml::error(ctx, at, e.code(), e.detail());
+    }
+}
+
+// ---- binding -----------------------------------------------------------------
+
+bool fits(const MaterialParam& p, uint32_t type) {
+    using Kind = MaterialParam::Kind;
+    const size_t n = p.numbers.size();
+    switch (type) {
+        case FACET_PARAM_FLOAT: return p.kind == Kind::number;
+        case FACET_PARAM_INT: return p.kind == Kind::number && p.is_integer;
+        case FACET_PARAM_BOOL: return p.kind == Kind::boolean;
+        case FACET_PARAM_COLOR4: return p.kind == Kind::vector && (n == 3 || n == 4);
+        case FACET_PARAM_TEXTURE: return p.kind == Kind::texture;
+        default: return p.kind == Kind::vector && n == size_t(param_float_count(type));
+    }
+}
+
+std::string expected_text(uint32_t type) {
+    switch (type) {
+        case FACET_PARAM_FLOAT: return "a number";
+        case FACET_PARAM_INT: return "an integer";
+        case FACET_PARAM_BOOL: return "true or false";
+        case FACET_PARAM_COLOR4: return "3 or 4 numbers";
+        case FACET_PARAM_TEXTURE: return "a texture file";
+        default: return std::to_string(param_float_count(type)) + " numbers";
+    }
+}
+
+std::string value_text(const MaterialParam& p) {
+    switch (p.kind) {
+        case MaterialParam::Kind::number: return p.is_integer ? "an integer" : "a number";
+        case MaterialParam::Kind::boolean: return "a boolean";
+        case MaterialParam::Kind::texture: return "a texture";
+        case MaterialParam::Kind::vector: break;
+    }
+    return std::to_string(p.numbers.size()) + (p.numbers.size() == 1 ? " number" : " numbers");
+}
+
+std::string number_text(double x) {
+    std::ostringstream out;
+    out << x;
+    return out.str();
+}
+
+Error param_error(const Material& m, const MaterialParam& p, ErrorCode code, std::string detail) {
+    return Error(code, "'" + p.name + "'" + detail, m.file, p.line, p.column);
+}
+
+void check_type(const Material& m, const MaterialParam& p, const facet_param_desc& d) {
+    if (!fits(p, d.type))
+        throw param_error(m, p, ErrorCode::param_type,
+                          " is " + std::string(param_type_name(d.type)) + " and needs " +
+                              expected_text(d.type) + ", got " + value_text(p));
+}
+
+void check_range(const Material& m, const MaterialParam& p, const facet_param_desc& d) {
+    if (d.type == FACET_PARAM_BOOL || d.type == FACET_PARAM_TEXTURE) return;
+    double lo = d.min_value, hi = d.max_value;
+    if (d.type == FACET_PARAM_INT) {
+        lo = std::max(lo, double(std::numeric_limits<int32_t>::min()));
+        hi = std::min(hi, double(std::numeric_limits<int32_t>::max()));
+    }
+    for (size_t i = 0; i < p.numbers.size(); ++i) {
+        if (p.numbers[i] >= lo && p.numbers[i] <= hi) continue;
+        const std::string which = p.numbers.size() > 1 ? " component " + std::to_string(i) : "";
+        throw param_error(m, p, ErrorCode::param_range,
+                          which + " is " + number_text(p.numbers[i]) + ", outside " +
+                              number_text(lo) + " .. " + number_text(hi));
+    }
+}
+
+void write_floats(ParamBlock& block, uint32_t offset, const float* values, int count) {
+    std::memcpy(block.bytes + offset, values, sizeof(float) * count);
+}
+
+void write_int(ParamBlock& block, uint32_t offset, int32_t value) {
+    std::memcpy(block.bytes + offset, &value, sizeof value);
+}
+
+void write_default(ParamBlock& block, const facet_param_desc& d) {
+    if (const int n = param_float_count(d.type))
+        write_floats(block, d.offset, d.default_value, n);
+    else if (d.type == FACET_PARAM_TEXTURE)
+        write_int(block, d.offset, 0);
+    else
+        write_int(block, d.offset, static_cast<int32_t>(std::lround(d.default_value[0])));
+}
+
+// A value that passed check_type() and check_range().
+void write_value(ParamBlock& block, const facet_param_desc& d, const MaterialParam& p) {
+    if (const int n = param_float_count(d.type)) {
+        float values[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // a 3-number color4 is opaque
+        for (size_t i = 0; i < p.numbers.size(); ++i) values[i] = static_cast<float>(p.numbers[i]);
+        write_floats(block, d.offset, values, n);
+    } else if (d.type == FACET_PARAM_BOOL) {
+        write_int(block, d.offset, p.flag ? 1 : 0);
+    } else if (d.type == FACET_PARAM_INT) {
+        write_int(block, d.offset, static_cast<int32_t>(p.numbers[0]));
+    } else {
+        write_int(block, d.offset, 1);  // a texture is bound
+    }
+}
+
+TextureBinding load_binding(const Material& m, const MaterialParam& p, const facet_param_desc& d,
+                            TextureCache& cache) {
+    try {
+        return {cache.get(p.texture_file, (d.flags & FACET_PARAM_SRGB) != 0), p.filter, p.wrap};
+    } catch (const Error& e) {
+        throw yaml::relocated(e, m.file, p.line, p.column);
+    }
+}
+
+}  // namespace
+
+void bind(Material& material, std::shared_ptr<ShaderPlugin> plugin, TextureCache& cache) {
+    const facet_shader_desc& desc = plugin->desc();
+    auto block = std::make_shared<ParamBlock>();
+    for (uint32_t i = 0; i < desc.param_count; ++i) write_default(*block, desc.params[i]);
+    std::vector<TextureBinding> textures(plugin->texture_count());
+    for (const MaterialParam& p : material.params) {
+        const facet_param_desc* d = plugin->find_param(p.name);
+        if (!d)
+            throw param_error(
+                material, p, ErrorCode::param_unknown,
+                "; shader '" + plugin->name() + "' expects: " + plugin->describe_params());
+        check_type(material, p, *d);
+        check_range(material, p, *d);
+        write_value(*block, *d, p);
+        if (d->type == FACET_PARAM_TEXTURE)
+            textures[plugin->texture_slot(*d)] = load_binding(material, p, *d, cache);
+    }
+    material.plugin = std::move(plugin);
+    material.block = std::move(block);
+    material.textures = std::move(textures);
+}
+
+std::shared_ptr<Material> material_from_yaml(const yaml::Context& ctx, const YAML::Node& node,
+                                             const std::filesystem::path& folder,
+                                             std::string source, PluginRegistry& registry,
+                                             TextureCache& cache) {
+    auto material =
+        std::make_shared<Material>(parse_material(ctx, node, folder, std::move(source)));
+    bind(*material, find_shader(ctx, node["shader"], material->shader, registry), cache);
+    return material;
+}
+
+std::shared_ptr<Material> load_material(const std::filesystem::path& path, PluginRegistry& registry,
+                                        TextureCache& cache) {
+    const yaml::Context ctx{path.string()};
+    return material_from_yaml(ctx, yaml::load_file(path), path.parent_path(), path.string(),
+                              registry, cache);
+}
+
+}  // namespace facet

@@ -1,0 +1,22 @@
+// Materials from YAML nodes (private to the core): the part of
+// load_material() that scenes share for their inline materials.
+#pragma once
+
+#include "facet/material.hpp"
+#include "assets/yaml_util.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace facet {
+
+// Parses `node` (a map with the keys of a material file) and binds it to its
+// shader from `registry`. Relative texture files resolve against `folder`;
+// `source` becomes Material::source. Errors name ctx.file and the line in it.
+std::shared_ptr<Material> material_from_yaml(const yaml::Context& ctx, const YAML::Node& node,
+                                             const std::filesystem::path& folder,
+                                             std::string source, PluginRegistry& registry,
+                                             TextureCache& cache);
+
+}  // namespace facet

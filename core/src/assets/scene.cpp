@@ -1,0 +1,375 @@
+// Scene files: camera, render settings, lights and objects, checked key by
+// key. Meshes and materials named twice in one scene are loaded once.
+#include "facet/scene.hpp"
+
+#include "facet/error.hpp"
+#include "facet/framebuffer.hpp"
+#include "assets/material_yaml.hpp"
+#include "assets/yaml_util.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <map>
+
+namespace facet {
+
+namespace fs = std::filesystem;
+
+glm::mat4 Camera::view() const { return look_at(position, target, up); }
+
+glm::mat4 Camera::projection(float aspect, bool reversed_z) const {
+    if (orthographic) return facet::orthographic(ortho_height, aspect, near, far, reversed_z);
+    return perspective(glm::radians(fov_y), aspect, near, far, reversed_z);
+}
+
+fs::path default_scene_path() { return FACET_DEFAULT_SCENE; }
+
+namespace {
+
+// Throws Error(code, detail) at `at` unless `ok`.
+void ensure(bool ok, const yaml::Context& ctx, const YAML::Node& at, ErrorCode code,
+            const std::string& detail) {
+    if (!ok) throw yaml::error(ctx, at, code, detail);
+}
+
+// map[key] if present, else the map: where to report a value's problem.
+YAML::Node where(const YAML::Node& map, const std::string& key) {
+    const YAML::Node value = map[key];
+    return value ? value : map;
+}
+
+bool all_at_least(const glm::vec3& v, float lo) { return v.x >= lo && v.y >= lo && v.z >= lo; }
+
+// ---- camera and render settings ----------------------------------------------
+
+// v scaled to unit length in double precision, where float's squares would
+// overflow (1e20) or underflow (1e-30); zero for a zero vector.
+glm::vec3 unit(const glm::vec3& v) {
+    const glm::dvec3 d(v);
+    const double length = glm::length(d);
+    return length > 0.0 && std::isfinite(length) ? glm::vec3(d / length) : glm::vec3(0.0f);
+}
+
+void check_camera(const yaml::Context& ctx, const YAML::Node& node, const Camera& c) {
+    ensure(c.near > 0.0f, ctx, where(node, "near"), ErrorCode::out_of_range, "near must be > 0");
+    ensure(c.far > c.near, ctx, where(node, "far"), ErrorCode::out_of_range,
+           "far must be greater than near");
+    ensure(c.fov_y > 0.0f && c.fov_y < 180.0f, ctx, where(node, "fov_y"), ErrorCode::out_of_range,
+           "fov_y must be between 0 and 180 degrees");
+    ensure(c.ortho_height > 0.0f, ctx, where(node, "height"), ErrorCode::out_of_range,
+           "height must be > 0");
+    const glm::vec3 forward = unit(glm::vec3(glm::dvec3(c.target) - glm::dvec3(c.position)));
+    ensure(forward != glm::vec3(0.0f) && std::isfinite(glm::length(c.target - c.position)), ctx,
+           where(node, "target"), ErrorCode::config_invalid,
+           "the camera's target must differ from its position, by a finite distance");
+    ensure(glm::length(glm::cross(forward, unit(c.up))) > 1e-6f, ctx, where(node, "up"),
+           ErrorCode::config_invalid, "up is zero or parallel to the view direction");
+}
+
+Camera read_camera(const yaml::Context& ctx, const YAML::Node& node) {
+    yaml::check_map(ctx, node, "camera",
+                    {"position", "target", "up", "projection", "fov_y", "height", "near", "far"});
+    Camera c;
+    yaml::read(ctx, node, "position", c.position);
+    yaml::read(ctx, node, "target", c.target);
+    yaml::read(ctx, node, "up", c.up);
+    if (const YAML::Node projection = node["projection"])
+        c.orthographic =
+            yaml::as_enum<bool>(ctx, projection, {{"perspective", false}, {"orthographic", true}});
+    yaml::read(ctx, node, "fov_y", c.fov_y);
+    yaml::read(ctx, node, "height", c.ortho_height);
+    yaml::read(ctx, node, "near", c.near);
+    yaml::read(ctx, node, "far", c.far);
+    check_camera(ctx, node, c);
+    return c;
+}
+
+int read_side(const yaml::Context& ctx, const YAML::Node& node) {
+    const int side = yaml::as<int>(ctx, node);
+    ensure(side >= 1 && side <= Framebuffer::kMaxSize, ctx, node, ErrorCode::out_of_range,
+           "each side must be 1.." + std::to_string(Framebuffer::kMaxSize) + " pixels");
+    return side;
+}
+
+void read_size(const yaml::Context& ctx, const YAML::Node& node, RenderSettings& s) {
+    ensure(node.IsSequence() && node.size() == 2, ctx, node, ErrorCode::wrong_type,
+           "size must be [width, height]");
+    s.width = read_side(ctx, node[0]);
+    s.height = read_side(ctx, node[1]);
+}
+
+glm::vec4 read_clear_color(const yaml::Context& ctx, const YAML::Node& node) {
+    const std::vector<double> n = yaml::as_numbers(ctx, node, 3, 4);
+    const glm::vec4 c(n[0], n[1], n[2], n.size() == 4 ? n[3] : 1.0);
+    ensure(all_at_least(glm::vec3(c), 0.0f) && c.a >= 0.0f, ctx, node, ErrorCode::out_of_range,
+           "clear_color components must be >= 0");
+    return c;
+}
+
+void read_shadow_settings(const yaml::Context& ctx, const YAML::Node& node, RenderSettings& s) {
+    yaml::read(ctx, node, "shadow_map_size", s.shadow_map_size);
+    ensure(s.shadow_map_size >= 16 && s.shadow_map_size <= 8192, ctx,
+           where(node, "shadow_map_size"), ErrorCode::out_of_range,
+           "shadow_map_size must be 16..8192");
+    yaml::read(ctx, node, "shadow_distance", s.shadow_distance);
+    ensure(s.shadow_distance >= 0.0f, ctx, where(node, "shadow_distance"),
+           ErrorCode::out_of_range, "shadow_distance must be >= 0 (0: the camera's far plane)");
+}
+
+// Reads a `render:` map over `s`: the keys it names replace their values.
+void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSettings& s) {
+    yaml::check_map(ctx, node, "render",
+                    {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
+                     "shadow_map_size", "shadow_distance", "msaa", "subpixel_bits", "wireframe",
+                     "shadows", "ao", "ao_resolution", "ao_radius", "ao_samples", "depth_prepass",
+                     "color_format"});
+    if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
+    if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
+    if (const YAML::Node depth = node["depth"]) {  // and the compare that goes with it
+        s.reversed_z = yaml::as_enum<bool>(ctx, depth, {{"reversed", true}, {"standard", false}});
+        s.depth_compare = s.reversed_z ? DepthCompare::greater_equal : DepthCompare::less_equal;
+    }
+    if (const YAML::Node compare = node["depth_compare"])
+        s.depth_compare =
+            yaml::as_enum<DepthCompare>(ctx, compare,
+                                        {{"never", DepthCompare::never},
+                                         {"less", DepthCompare::less},
+                                         {"less_equal", DepthCompare::less_equal},
+                                         {"greater", DepthCompare::greater},
+                                         {"greater_equal", DepthCompare::greater_equal},
+                                         {"equal", DepthCompare::equal},
+                                         {"always", DepthCompare::always}});
+    if (const YAML::Node cull = node["cull"])
+        s.cull = yaml::as_enum<CullMode>(
+            ctx, cull,
+            {{"none", CullMode::none}, {"back", CullMode::back}, {"front", CullMode::front}});
+    if (const YAML::Node front = node["front_face"])
+        s.front_ccw = yaml::as_enum<bool>(ctx, front, {{"ccw", true}, {"cw", false}});
+    read_shadow_settings(ctx, node, s);
+    yaml::read(ctx, node, "msaa", s.msaa);
+    ensure(s.msaa == 1 || s.msaa == 2 || s.msaa == 4 || s.msaa == 8, ctx, where(node, "msaa"),
+           ErrorCode::out_of_range, "msaa must be 1, 2, 4 or 8 samples per pixel");
+    yaml::read(ctx, node, "subpixel_bits", s.subpixel_bits);
+    ensure(s.subpixel_bits >= 1 && s.subpixel_bits <= 8, ctx, where(node, "subpixel_bits"),
+           ErrorCode::out_of_range, "subpixel_bits must be 1..8 (D3D10+ and the default: 8)");
+    yaml::read(ctx, node, "wireframe", s.wireframe);
+    yaml::read(ctx, node, "shadows", s.shadows);
+    yaml::read(ctx, node, "ao", s.ao);
+    if (const YAML::Node resolution = node["ao_resolution"])
+        s.ao_half_resolution =
+            yaml::as_enum<bool>(ctx, resolution, {{"full", false}, {"half", true}});
+    yaml::read(ctx, node, "ao_radius", s.ao_radius);
+    ensure(s.ao_radius > 0.0f && s.ao_radius <= 1000.0f, ctx, where(node, "ao_radius"),
+           ErrorCode::out_of_range, "ao_radius must be > 0 and <= 1000 (world units)");
+    yaml::read(ctx, node, "ao_samples", s.ao_samples);
+    ensure(s.ao_samples >= 1 && s.ao_samples <= 256, ctx, where(node, "ao_samples"),
+           ErrorCode::out_of_range, "ao_samples must be 1..256 (directions per texel)");
+    yaml::read(ctx, node, "depth_prepass", s.depth_prepass);
+    if (const YAML::Node format = node["color_format"])
+        s.color_format = yaml::as_enum<ColorFormat>(ctx, format,
+                                                    {{"srgb8", ColorFormat::srgb8},
+                                                     {"rgba16f", ColorFormat::rgba16f},
+                                                     {"rgba32f", ColorFormat::rgba32f}});
+}
+
+// ---- lights --------------------------------------------------------------------
+
+void check_light(const yaml::Context& ctx, const YAML::Node& node, const Light& l) {
+    ensure(all_at_least(l.color, 0.0f), ctx, where(node, "color"), ErrorCode::out_of_range,
+           "color components must be >= 0");
+    ensure(l.intensity >= 0.0f, ctx, where(node, "intensity"), ErrorCode::out_of_range,
+           "intensity must be >= 0");
+    ensure(l.range >= 0.0f, ctx, where(node, "range"), ErrorCode::out_of_range,
+           "range must be >= 0 (0: unlimited)");
+    ensure(all_at_least(l.attenuation, 0.0f) && glm::length(l.attenuation) > 0.0f, ctx,
+           where(node, "attenuation"), ErrorCode::out_of_range,
+           "attenuation [constant, linear, quadratic] must be >= 0 and not all 0");
+    ensure(l.spot_inner >= 0.0f && l.spot_inner <= l.spot_outer && l.spot_outer <= 90.0f, ctx,
+           where(node, "spot_inner"), ErrorCode::out_of_range,
+           "spot angles are half-angles in degrees with 0 <= spot_inner <= spot_outer <= 90");
+}
+
+Light read_light(const yaml::Context& ctx, const YAML::Node& node) {
+    yaml::check_map(ctx, node, "light",
+                    {"type", "position", "direction", "color", "intensity", "range", "attenuation",
+                     "spot_inner", "spot_outer", "casts_shadow"});
+    Light l;
+    if (const YAML::Node type = node["type"])
+        l.type = yaml::as_enum<LightType>(ctx, type,
+                                          {{"directional", LightType::directional},
+                                           {"point", LightType::point},
+                                           {"spot", LightType::spot}});
+    yaml::read(ctx, node, "position", l.position);
+    yaml::read(ctx, node, "direction", l.direction);
+    l.direction = unit(l.direction);
+    ensure(l.direction != glm::vec3(0.0f), ctx, where(node, "direction"),
+           ErrorCode::config_invalid, "direction must not be zero");
+    yaml::read(ctx, node, "color", l.color);
+    yaml::read(ctx, node, "intensity", l.intensity);
+    yaml::read(ctx, node, "range", l.range);
+    yaml::read(ctx, node, "attenuation", l.attenuation);
+    yaml::read(ctx, node, "spot_inner", l.spot_inner);
+    yaml::read(ctx, node, "spot_outer", l.spot_outer);
+    yaml::read(ctx, node, "casts_shadow", l.casts_shadow);
+    check_light(ctx, node, l);
+    return l;
+}
+
+// ---- objects -------------------------------------------------------------------
+
+glm::quat read_rotation(const yaml::Context& ctx, const YAML::Node& node) {
+    if (!node.IsMap()) return euler_degrees(yaml::as<glm::vec3>(ctx, node));
+    yaml::check_map(ctx, node, "rotation", {"axis", "angle"});
+    const glm::vec3 axis = yaml::as<glm::vec3>(ctx, yaml::require(ctx, node, "axis"));
+    const float angle = yaml::as<float>(ctx, yaml::require(ctx, node, "angle"));
+    ensure(unit(axis) != glm::vec3(0.0f), ctx, node["axis"], ErrorCode::config_invalid,
+           "the rotation axis must not be zero");
+    return glm::angleAxis(glm::radians(angle), unit(axis));
+}
+
+glm::vec3 read_scale(const yaml::Context& ctx, const YAML::Node& node) {
+    const glm::vec3 s =
+        node.IsSequence() ? yaml::as<glm::vec3>(ctx, node) : glm::vec3(yaml::as<float>(ctx, node));
+    ensure(s.x != 0.0f && s.y != 0.0f && s.z != 0.0f, ctx, node, ErrorCode::out_of_range,
+           "scale must not be zero");
+    return s;
+}
+
+std::string cache_key(const fs::path& file) {
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(file, ec);
+    return ec ? file.string() : canonical.string();
+}
+
+// load(), with its errors (from another file) reported at `value` in this one.
+template <class Load>
+auto relocate_errors(const yaml::Context& ctx, const YAML::Node& value, Load load) {
+    try {
+        return load();
+    } catch (const Error& e) {
+        throw yaml::relocated(e, ctx, value);
+    }
+}
+
+// What one load_scene() shares between objects.
+class Loader {
+public:
+    Loader(const fs::path& path, PluginRegistry& registry)
+        : ctx{path.string()}, folder_(path.parent_path()), registry_(registry) {}
+
+    const yaml::Context ctx;
+
+    fs::path resolve(const YAML::Node& value) const {
+        return (folder_ / yaml::as<std::string>(ctx, value)).lexically_normal();
+    }
+
+    std::shared_ptr<const Mesh> mesh(const YAML::Node& value) {
+        const fs::path file = resolve(value);
+        std::shared_ptr<const Mesh>& slot = meshes_[cache_key(file)];
+        if (!slot) slot = relocate_errors(ctx, value, [&] { return load_mesh(file); });
+        return slot;
+    }
+
+    // A material file (shared), or an inline map (errors already in this file).
+    std::shared_ptr<Material> material(const YAML::Node& value) {
+        if (value.IsMap())
+            return material_from_yaml(ctx, value, folder_,
+                                      ctx.file + ":" + std::to_string(yaml::line(value)), registry_,
+                                      textures_);
+        const fs::path file = resolve(value);
+        std::shared_ptr<Material>& slot = materials_[cache_key(file)];
+        if (!slot)
+            slot = relocate_errors(ctx, value,
+                                   [&] { return load_material(file, registry_, textures_); });
+        return slot;
+    }
+
+    void add_plugin_path(const YAML::Node& value, Scene& scene) {
+        const fs::path folder = fs::absolute(resolve(value)).lexically_normal();
+        std::error_code ec;
+        ensure(fs::is_directory(folder, ec), ctx, value, ErrorCode::file_not_found,
+               "plugin folder " + folder.string());
+        registry_.add_scene_path(folder);
+        scene.plugin_paths.push_back(folder);
+    }
+
+    // Material files loaded so far, by canonical path.
+    const std::map<std::string, std::shared_ptr<Material>>& materials() const { return materials_; }
+
+private:
+    fs::path folder_;
+    PluginRegistry& registry_;
+    TextureCache textures_;
+    std::map<std::string, std::shared_ptr<const Mesh>> meshes_;
+    std::map<std::string, std::shared_ptr<Material>> materials_;
+};
+
+Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
+    const yaml::Context& ctx = loader.ctx;
+    yaml::check_map(ctx, node, "object",
+                    {"name", "mesh", "material", "position", "rotation", "scale", "visible"});
+    Object o;
+    o.name = "object " + std::to_string(index);
+    yaml::read(ctx, node, "name", o.name);
+    o.mesh = loader.mesh(yaml::require(ctx, node, "mesh"));
+    o.material = loader.material(yaml::require(ctx, node, "material"));
+    yaml::read(ctx, node, "position", o.transform.translation);
+    if (const YAML::Node rotation = node["rotation"])
+        o.transform.rotation = read_rotation(ctx, rotation);
+    if (const YAML::Node scale = node["scale"]) o.transform.scale = read_scale(ctx, scale);
+    yaml::read(ctx, node, "visible", o.visible);
+    return o;
+}
+
+// Calls `read` on each item of the sequence map[key], if present.
+template <class Read>
+void for_each_item(const yaml::Context& ctx, const YAML::Node& map, const std::string& key,
+                   Read read) {
+    const YAML::Node items = map[key];
+    if (!items) return;
+    yaml::check_sequence(ctx, items, key);
+    for (size_t i = 0; i < items.size(); ++i) read(items[i], i);
+}
+
+}  // namespace
+
+Scene load_scene(const fs::path& path, PluginRegistry& registry) {
+    Loader loader(path, registry);
+    const yaml::Context& ctx = loader.ctx;
+    const YAML::Node root = yaml::load_file(path);
+    yaml::check_map(ctx, root, "scene", {"camera", "render", "plugin_paths", "lights", "objects"});
+    Scene scene;
+    scene.source = path;
+    if (const YAML::Node camera = root["camera"]) scene.camera = read_camera(ctx, camera);
+    if (const YAML::Node render = root["render"]) read_render(ctx, render, scene.settings);
+    // Plugin folders first: the materials below may need them.
+    for_each_item(ctx, root, "plugin_paths",
+                  [&](const YAML::Node& item, size_t) { loader.add_plugin_path(item, scene); });
+    for_each_item(ctx, root, "lights", [&](const YAML::Node& item, size_t) {
+        scene.lights.push_back(read_light(ctx, item));
+    });
+    for_each_item(ctx, root, "objects", [&](const YAML::Node& item, size_t i) {
+        scene.objects.push_back(read_object(loader, item, i));
+    });
+    for (const auto& [file, material] : loader.materials()) scene.material_files[file] = material;
+    spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),
+                 scene.lights.size(), scene.settings.width, scene.settings.height);
+    return scene;
+}
+
+void apply_render_settings(RenderSettings& settings, const std::string& yaml,
+                           const std::string& origin) {
+    const yaml::Context ctx{origin};
+    YAML::Node node;
+    try {
+        node = YAML::Load(yaml);
+    } catch (const YAML::ParserException& e) {
+        throw Error(ErrorCode::yaml_syntax, e.msg, origin, e.mark.line + 1, e.mark.column + 1);
+    }
+    RenderSettings s = settings;  // unchanged when the map is bad
+    read_render(ctx, node, s);
+    settings = s;
+}
+
+}  // namespace facet

@@ -1,0 +1,206 @@
+#include "frame/ao.hpp"
+
+#include "plugin/internal_shaders.hpp"
+#include "base/timing.hpp"
+
+#include <glm/gtc/constants.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+namespace facet {
+
+AoSettings ao_settings(const RenderSettings& settings) {
+    return {settings.ao_radius, settings.ao_samples, settings.ao_half_resolution};
+}
+
+namespace {
+
+// Direction k of n, cosine-weighted over the hemisphere around +Z (a
+// Hammersley set), turned by `angle` about +Z.
+glm::vec3 hemisphere(int k, int n, float angle) {
+    const float u = (float(k) + 0.5f) / float(n);
+    uint32_t bits = uint32_t(k);
+    bits = (bits << 16u) | (bits >> 16u);
+    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+    const float phi = glm::two_pi<float>() * float(bits) * 2.3283064365386963e-10f + angle;
+    const float r = std::sqrt(u);
+    return {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0f - u)};
+}
+
+}  // namespace
+
+void AoPass::make_directions(int samples) {
+    if (direction_samples_ == samples) return;
+    directions_.resize(size_t(16 * 3 * samples));
+    for (int rotation = 0; rotation < 16; ++rotation)
+        for (int k = 0; k < samples; ++k) {
+            const glm::vec3 d =
+                hemisphere(k, samples, float(rotation) * (glm::two_pi<float>() / 16.0f));
+            for (int c = 0; c < 3; ++c)
+                directions_[size_t((rotation * 3 + c) * samples + k)] = d[c];
+        }
+    direction_samples_ = samples;
+}
+
+void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& view,
+                 const glm::mat4& proj, bool reversed_z, int width, int height,
+                 const AoSettings& settings, Pipeline& pipeline, FrameStats& stats) {
+    ThreadPool& pool = pipeline.pool();
+    const Kernels& kernels = pipeline.kernels();
+    auto start = std::chrono::steady_clock::now();
+    if (depth_.width() != width || depth_.height() != height)
+        depth_.resize(width, height, ColorFormat::none);
+    const float background = reversed_z ? 0.0f : 1.0f;
+    pipeline.clear(depth_, glm::vec4(0.0f), background);
+    DrawCall call;
+    call.shader = &internal::plugin<internal::DepthOnly>();
+    call.view = view;
+    call.projection = proj;
+    call.state.cull = CullMode::none;
+    call.state.depth_compare = reversed_z ? DepthCompare::greater : DepthCompare::less;
+    call.state.color_write = false;
+    FrameStats pass;
+    for (const Object* o : objects) {
+        call.mesh = o->mesh.get();
+        call.model = o->transform.matrix();
+        pipeline.queue(call, depth_, pass);
+    }
+    pipeline.flush(pass);
+    stats.fragments_depth_only += pass.fragments_depth_only;
+    stats.prepasses += 1;
+    stats.ms_prepass += elapsed_ms(start);
+
+    start = std::chrono::steady_clock::now();
+    scale_ = settings.half_resolution ? 2 : 1;
+    AoFrame& f = frame_;
+    f.scale = scale_;
+    f.width = (width + scale_ - 1) / scale_;
+    f.height = (height + scale_ - 1) / scale_;
+    f.target_width = width;
+    f.target_height = height;
+    f.samples = settings.samples;
+    f.radius = settings.radius;
+    f.projection = proj;
+    const size_t texels = size_t(f.width) * size_t(f.height);
+    for (std::vector<float>* v : {&x_, &y_, &z_, &nx_, &ny_, &nz_, &raw_, &blurred_})
+        v->resize(texels);
+    f.x = x_.data(), f.y = y_.data(), f.z = z_.data();
+    f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
+    f.raw = raw_.data();
+    f.blurred = blurred_.data();
+    make_directions(settings.samples);
+    f.directions = directions_.data();
+    const glm::mat4 inverse = glm::inverse(proj);
+    f.target_depth = depth_.depth();
+    f.target_stride = depth_.stride();
+    f.background = background;
+    f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
+    f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
+    if (scale_ > 1) {
+        visibility_.resize(size_t(width) * size_t(height));
+        f.visibility = visibility_.data();
+    }
+
+    constexpr int kBand = 8;  // rows per task
+    const auto bands = [&](int rows, auto&& fn) {
+        pool.parallel_for((rows + kBand - 1) / kBand, [&](int band, int) {
+            fn(band * kBand, std::min(kBand, rows - band * kBand));
+        });
+    };
+    bands(f.height, [&](int first, int count) { surface_rows(inverse, first, count); });
+    bands(f.height, [&](int first, int count) { normal_rows(first, count); });
+    // Occlusion in tiles, whose marches' loads (up to `radius` away) stay
+    // within a few hundred kilobytes; row bands as wide as the image would
+    // reach over several megabytes and miss the cache.
+    constexpr int kTileWidth = 128, kTileRows = 16;
+    const int columns = (f.width + kTileWidth - 1) / kTileWidth;
+    const int tile_rows = (f.height + kTileRows - 1) / kTileRows;
+    pool.parallel_for(columns * tile_rows, [&](int tile, int) {
+        const int ty = tile / columns, tx = tile % columns;
+        kernels.ao_occlusion_rows(f, ty * kTileRows, std::min(kTileRows, f.height - ty * kTileRows),
+                                  tx * kTileWidth, kTileWidth);
+    });
+    bands(f.height, [&](int first, int count) { kernels.ao_blur_rows(f, first, count); });
+    if (scale_ > 1)
+        bands(height, [&](int first, int count) { kernels.ao_upsample_rows(f, first, count); });
+    stats.ao_passes += 1;
+    stats.ms_ao += elapsed_ms(start);
+}
+
+// View-space positions of AO rows [first, first + count): each texel's
+// target pixel unprojected from the pre-pass depth (z = 0: nothing drawn).
+void AoPass::surface_rows(const glm::mat4& inverse, int first, int count) {
+    const AoFrame& f = frame_;
+    for (int j = first; j < first + count; ++j)
+        for (int i = 0; i < f.width; ++i) {
+            const size_t k = size_t(j) * size_t(f.width) + size_t(i);
+            const int px = std::min(i * f.scale, f.target_width - 1);
+            const int py = std::min(j * f.scale, f.target_height - 1);
+            const float d = depth_.depth_at(px, py);
+            if (d == f.background) {
+                x_[k] = y_[k] = z_[k] = 0.0f;
+                continue;
+            }
+            const glm::vec4 ndc((float(px) + 0.5f) / float(f.target_width) * 2.0f - 1.0f,
+                                1.0f - (float(py) + 0.5f) / float(f.target_height) * 2.0f, d,
+                                1.0f);
+            const glm::vec4 p = inverse * ndc;
+            x_[k] = p.x / p.w;
+            y_[k] = p.y / p.w;
+            z_[k] = p.z / p.w;
+        }
+}
+
+// Normals of AO rows [first, first + count): the cross product of the
+// position's steps to a neighbour along each axis, taking the neighbour
+// nearer in depth, turned towards the camera. A texel with no neighbour on
+// an axis faces the camera.
+void AoPass::normal_rows(int first, int count) {
+    const AoFrame& f = frame_;
+    const auto at = [&](int i, int j) {
+        const size_t k = size_t(j) * size_t(f.width) + size_t(i);
+        return glm::vec3(x_[k], y_[k], z_[k]);
+    };
+    // The step from p along one axis: to the neighbour at +1 or from the one
+    // at -1, whichever is nearer in depth; none if neither is a surface.
+    const auto step = [&](const glm::vec3& p, int i, int j, int di, int dj, glm::vec3& out) {
+        bool found = false;
+        float best = INFINITY;
+        for (int side : {1, -1}) {
+            const int ni = i + side * di, nj = j + side * dj;
+            if (ni < 0 || nj < 0 || ni >= f.width || nj >= f.height) continue;
+            const glm::vec3 q = at(ni, nj);
+            if (q.z == 0.0f || std::abs(q.z - p.z) >= best) continue;
+            best = std::abs(q.z - p.z);
+            out = float(side) * (q - p);
+            found = true;
+        }
+        return found;
+    };
+    for (int j = first; j < first + count; ++j)
+        for (int i = 0; i < f.width; ++i) {
+            const size_t k = size_t(j) * size_t(f.width) + size_t(i);
+            const glm::vec3 p = at(i, j);
+            glm::vec3 n(0.0f, 0.0f, 1.0f);
+            glm::vec3 du, dv;
+            if (p.z != 0.0f) {
+                n = -p;  // facing the camera, unless both steps exist
+                if (step(p, i, j, 1, 0, du) && step(p, i, j, 0, 1, dv)) {
+                    const glm::vec3 c = glm::cross(du, dv);
+                    if (glm::dot(c, c) > 0.0f) n = glm::dot(c, p) > 0.0f ? -c : c;
+                }
+                n = glm::normalize(n);
+            }
+            nx_[k] = n.x;
+            ny_[k] = n.y;
+            nz_[k] = n.z;
+        }
+}
+
+}  // namespace facet

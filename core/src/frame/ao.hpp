@@ -1,0 +1,76 @@
+// Screen-space ambient occlusion.
+//
+// Takes: the visible opaque objects, the camera's view and projection, the
+// target size, and the AO radius, sample count and resolution.
+// Gives: a target-sized buffer of ambient visibility, 1 where nothing
+// occludes.
+//
+// A depth-only pre-pass draws the objects at the target's size. The AO grid
+// is that size, or half of it per side (settings.half_resolution), each of
+// its texels standing for one target pixel (i * scale, j * scale). Each
+// texel's view-space position comes from the pre-pass depth, and its normal
+// from its neighbours' positions (on each axis, the side nearer in depth, so
+// that no normal straddles an edge): the geometric normal, as a ray tracer
+// sees the surface. From each texel `samples` cosine-weighted directions in
+// the hemisphere around its normal (rotated per texel in a 4x4 pattern) are
+// marched in screen space up to `radius` world units; a direction is
+// occluded where it passes behind the pre-pass surface by less than
+// `radius`. This estimates the same quantity a ray tracer does
+// (cosine-weighted visibility within the radius) from what the screen
+// shows. A depth-aware 4x4 blur removes the pattern's noise without
+// bleeding across depth edges, and at half resolution a depth-aware
+// bilinear upsample gives each target pixel the visibility of the texels
+// around it that lie at its depth.
+//
+// The occlusion, blur and upsample are per-ISA kernels (ao_kernels.cpp),
+// kWidth texels at a time, and every stage runs on the pipeline's threads.
+#pragma once
+
+#include "pipeline/kernels.hpp"
+#include "base/thread_pool.hpp"
+
+#include "facet/framebuffer.hpp"
+#include "facet/pipeline.hpp"
+#include "facet/scene.hpp"
+
+#include <vector>
+
+namespace facet {
+
+struct AoSettings {
+    float radius = 0.5f;           // world units
+    int samples = 12;              // directions per texel
+    bool half_resolution = false;  // the AO grid at half the target's size per side
+};
+
+// The AO pass's settings, from the scene's render settings.
+AoSettings ao_settings(const RenderSettings& settings);
+
+class AoPass {
+public:
+    // Runs the pre-pass (timed into stats.ms_prepass) and the AO, blur and
+    // upsample (stats.ms_ao). `reversed_z` tells the depth range.
+    void run(const std::vector<const Object*>& objects, const glm::mat4& view,
+             const glm::mat4& proj, bool reversed_z, int width, int height,
+             const AoSettings& settings, Pipeline& pipeline, FrameStats& stats);
+
+    // Ambient visibility per target pixel of the last run, row-major.
+    const float* visibility() const {
+        return scale_ == 1 ? blurred_.data() : visibility_.data();
+    }
+
+private:
+    void surface_rows(const glm::mat4& proj, int first, int count);
+    void normal_rows(int first, int count);
+    void make_directions(int samples);
+
+    Framebuffer depth_;  // the pre-pass, at the target's size
+    int scale_ = 1;
+    AoFrame frame_;
+    std::vector<float> x_, y_, z_, nx_, ny_, nz_;  // per AO texel
+    std::vector<float> directions_;
+    int direction_samples_ = 0;  // what directions_ holds
+    std::vector<float> raw_, blurred_, visibility_;
+};
+
+}  // namespace facet

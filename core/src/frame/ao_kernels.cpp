@@ -1,0 +1,241 @@
+// The AO pass's row kernels (ao.hpp): occlusion, blur and upsample, kWidth
+// texels of a row at a time; one of the per-ISA kernel sources.
+#include "pipeline/kernels.hpp"
+#include "base/simd.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace facet::FACET_KERNEL_NS {
+
+using simd::Float;
+using simd::Int;
+using simd::kWidth;
+
+namespace {
+
+Float select(const Int& m, const Float& a, const Float& b) { return m ? a : b; }
+Int select(const Int& m, const Int& a, const Int& b) { return m ? a : b; }
+
+// Lanes x0 .. x0 + kWidth - 1 of a row of `width` floats; lanes past the
+// end read `otherwise`.
+Float load_row(const float* row, int x0, int width, float otherwise) {
+    if (x0 + kWidth <= width) return simd::load<Float>(row + x0);
+    Float v = Float{} + otherwise;
+    for (int i = 0; x0 + i < width; ++i) v[i] = row[x0 + i];
+    return v;
+}
+
+void store_row(float* row, int x0, int width, const Float& v) {
+    if (x0 + kWidth <= width) return simd::store(row + x0, v);
+    for (int i = 0; x0 + i < width; ++i) row[x0 + i] = v[i];
+}
+
+// Truncated to integers; every lane must be in int range.
+Int to_int(const Float& v) { return __builtin_convertvector(v, Int); }
+
+// 1 / (1 + 2500 r^2): the blur's and the upsample's weight for a relative
+// depth difference r: 1/2 at 2%, about 1/10 at 6%.
+Float depth_weight(const Float& relative) { return 1.0f / (1.0f + 2500.0f * relative * relative); }
+
+// How far above the surface marches start at half resolution, in radii.
+constexpr float kLift = 0.06f;
+
+}  // namespace
+
+// Ambient visibility of AO rows [first, first + count), before the blur:
+// the share of the texel's `samples` directions whose march is not blocked,
+// over columns [x_first, x_first + x_count) (x_first a multiple of 64).
+// Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
+// are texels of one row 4 apart, which share that turn, so that their
+// marches stay side by side on the screen and each step's loads fall on a
+// few cache lines. A lane stops marching when it leaves the screen or
+// passes behind the camera, and a direction when every lane has.
+void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
+    const glm::mat4& P = f.projection;
+    // Texel i stands for target pixel i * scale, whose centre is at
+    // i * scale + 1/2: target x X falls to texel floor((X + (scale - 1) / 2) / scale).
+    const float sx_scale = 0.5f * float(f.target_width) / float(f.scale);
+    const float sy_scale = 0.5f * float(f.target_height) / float(f.scale);
+    const float offset = 0.5f * float(f.scale - 1) / float(f.scale);
+    const float step = f.radius / float(AoFrame::kSteps);
+    Int lane;
+    for (int i = 0; i < kWidth; ++i) lane[i] = 4 * i;
+    const int x_end = std::min(x_first + x_count, f.width);
+    for (int y = first; y < first + count; ++y) {
+        const int row = y * f.width;
+        for (int x0 = x_first; x0 < x_end; x0 += 4 * kWidth)
+            for (int phase = 0; phase < 4; ++phase) {
+                const Int x = lane + (x0 + phase);
+                const Int in_row = x < x_end;
+                const Int at = select(in_row, x + row, Int{} + row);
+                const Float pz = select(in_row, simd::gather(f.z, at), Float{});
+                const Int surface = pz != 0.0f;  // background texels stay visible
+                Float open = Float{};
+                if (simd::bits(surface)) {
+                    const Float px = simd::gather(f.x, at), py = simd::gather(f.y, at);
+                    const Float nx = simd::gather(f.nx, at), ny = simd::gather(f.ny, at),
+                                nz = simd::gather(f.nz, at);
+                    // A tangent frame: t perpendicular to n (n x X, or n x Y near X), b = n x t.
+                    const Int near_x = (nx < -0.9f) | (nx > 0.9f);
+                    Float tx = select(near_x, -nz, Float{}), ty = select(near_x, Float{}, nz),
+                          tz = select(near_x, nx, -ny);
+                    const Float inv_t = 1.0f / simd::sqrt(tx * tx + ty * ty + tz * tz);
+                    tx *= inv_t, ty *= inv_t, tz *= inv_t;
+                    const Float bx = ny * tz - nz * ty, by = nz * tx - nx * tz,
+                                bz = nx * ty - ny * tx;
+                    // At half resolution the marches start a little off the
+                    // surface, along its normal: a lookup lands up to half a
+                    // texel (a whole pixel) from where the march is, and on a
+                    // surface seen at a grazing angle that much sideways is a
+                    // step in depth. (At full resolution the half pixel stays
+                    // within the 2%-of-radius threshold below.)
+                    const float lift = kLift * f.radius * float(f.scale - 1);
+                    const Float ox = px + lift * nx, oy = py + lift * ny, oz = pz + lift * nz;
+                    // Its clip position; clip positions are linear along a ray.
+                    const Float cpx = P[0][0] * ox + P[1][0] * oy + P[2][0] * oz + P[3][0];
+                    const Float cpy = P[0][1] * ox + P[1][1] * oy + P[2][1] * oz + P[3][1];
+                    const Float cpw = P[0][3] * ox + P[1][3] * oy + P[2][3] * oz + P[3][3];
+                    const float* turn = f.directions + size_t(3 * f.samples) *
+                                                           size_t(phase * 4 + (y & 3));
+                    open = Float{};
+                    for (int k = 0; k < f.samples; ++k) {
+                        const float hx = turn[k], hy = turn[f.samples + k],
+                                    hz = turn[2 * f.samples + k];
+                        const Float dx = tx * hx + bx * hy + nx * hz,
+                                    dy = ty * hx + by * hy + ny * hz,
+                                    dz = tz * hx + bz * hy + nz * hz;
+                        const Float cdx = P[0][0] * dx + P[1][0] * dy + P[2][0] * dz;
+                        const Float cdy = P[0][1] * dx + P[1][1] * dy + P[2][1] * dz;
+                        const Float cdw = P[0][3] * dx + P[1][3] * dy + P[2][3] * dz;
+                        // Which steps are blocked never decides what to load
+                        // next, so the steps' loads overlap.
+                        Int active = surface, blocked = Int{};
+                        for (int s = 1; s <= AoFrame::kSteps && simd::bits(active); ++s) {
+                            const float t = step * float(s);
+                            const Float cw = cpw + t * cdw;
+                            const Float inv_w = 1.0f / cw;  // lanes with cw <= 0 drop out
+                            const Float sx = ((cpx + t * cdx) * inv_w + 1.0f) * sx_scale + offset;
+                            const Float sy = (1.0f - (cpy + t * cdy) * inv_w) * sy_scale + offset;
+                            // On the grid (NaN is not): then truncating is flooring.
+                            active &= (cw > 0.0f) & (sx >= 0.0f) & (sy >= 0.0f) &
+                                      (sx < float(f.width)) & (sy < float(f.height));
+                            const Int index = to_int(select(active, sy, Float{})) * f.width +
+                                              to_int(select(active, sx, Float{}));
+                            const Float there = simd::gather(f.z, index);  // nearer is larger
+                            const Float behind = there - (oz + t * dz);
+                            blocked |= active & (there != 0.0f) & (behind > 0.02f * f.radius) &
+                                       (behind < f.radius);
+                        }
+                        open += select(blocked, Float{}, Float{} + 1.0f);
+                    }
+                }
+                const Float visible = select(surface, open * (1.0f / float(f.samples)),
+                                             Float{} + 1.0f);
+                for (int i = 0; i < kWidth; ++i)
+                    if (x0 + phase + 4 * i < x_end) f.raw[row + x0 + phase + 4 * i] = visible[i];
+            }
+    }
+}
+
+// AO rows [first, first + count) of `raw` averaged over the 4x4 window
+// aligned with the rotation pattern (x - 1 .. x + 2, y - 1 .. y + 2),
+// weighted by depth similarity, into `blurred`.
+void ao_blur_rows(const AoFrame& f, int first, int count) {
+    for (int y = first; y < first + count; ++y) {
+        const size_t row = size_t(y) * size_t(f.width);
+        for (int x0 = 0; x0 < f.width; x0 += kWidth) {
+            const Float z = load_row(f.z + row, x0, f.width, 0.0f);
+            const Int surface = z != 0.0f;
+            if (!simd::bits(surface)) {
+                store_row(f.blurred + row, x0, f.width, Float{} + 1.0f);
+                continue;
+            }
+            const Float inv_z = 1.0f / select(surface, z, Float{} + 1.0f);
+            Float sum = Float{}, weight = Float{};
+            for (int j = std::max(y - 1, 0); j <= std::min(y + 2, f.height - 1); ++j) {
+                const size_t at = size_t(j) * size_t(f.width);
+                for (int dx = -1; dx <= 2; ++dx) {
+                    Int in = Int{} - 1;  // lanes whose neighbour x0 + i + dx is in the row
+                    Float zn{}, raw{};
+                    if (x0 >= 1 && x0 + kWidth + 2 <= f.width) {
+                        zn = simd::load<Float>(f.z + at + size_t(x0 + dx));
+                        raw = simd::load<Float>(f.raw + at + size_t(x0 + dx));
+                    } else {
+                        for (int i = 0; i < kWidth; ++i) {
+                            const int x = std::clamp(x0 + i + dx, 0, f.width - 1);
+                            in[i] = x0 + i + dx == x ? -1 : 0;
+                            zn[i] = f.z[at + size_t(x)];
+                            raw[i] = f.raw[at + size_t(x)];
+                        }
+                    }
+                    const Float w = select(in, depth_weight((zn - z) * inv_z), Float{});
+                    sum += w * raw;
+                    weight += w;
+                }
+            }
+            store_row(f.blurred + row, x0, f.width,
+                      select(surface, sum / weight, Float{} + 1.0f));
+        }
+    }
+}
+
+// Target rows [first, first + count) of `visibility`, from the blurred AO
+// texels around each pixel: the bilinear weights of the four nearest, each
+// times its depth similarity to the pixel's own view z, so that an edge's
+// near side never takes the far side's occlusion; where no texel is alike,
+// the one nearest in depth.
+void ao_upsample_rows(const AoFrame& f, int first, int count) {
+    const float inv_scale = 1.0f / float(f.scale);
+    Int lane;
+    for (int i = 0; i < kWidth; ++i) lane[i] = i;
+    for (int y = first; y < first + count; ++y) {
+        // Texel j stands for target pixel j * scale: rows j0 and j1 straddle y.
+        const int j0 = std::min(y / f.scale, f.height - 1), j1 = std::min(j0 + 1, f.height - 1);
+        const float fy = float(y - j0 * f.scale) * inv_scale;
+        const size_t row = size_t(y) * size_t(f.target_width);
+        const float* depth = f.target_depth + size_t(y) * size_t(f.target_stride);
+        const float ndc_y = 1.0f - (float(y) + 0.5f) * (2.0f / float(f.target_height));
+        for (int x0 = 0; x0 < f.target_width; x0 += kWidth) {
+            // The pixel's view z, from its depth (rows are padded: whole loads).
+            const Float d = simd::load<Float>(depth + x0);
+            const Float ndc_x = (simd::to_float(lane + x0) + 0.5f) * (2.0f / float(f.target_width)) - 1.0f;
+            const Float zv = (f.z_row.x * ndc_x + (f.z_row.y * ndc_y + f.z_row.w)) + f.z_row.z * d;
+            const Float wv = (f.w_row.x * ndc_x + (f.w_row.y * ndc_y + f.w_row.w)) + f.w_row.z * d;
+            const Int surface = (d != f.background) & (lane + x0 < f.target_width);
+            const Float z = select(surface, zv / select(surface, wv, Float{} + 1.0f), Float{});
+            if (!simd::bits(surface)) {
+                store_row(f.visibility + row, x0, f.target_width, Float{} + 1.0f);
+                continue;
+            }
+            const Int x = lane + x0;
+            const Int i0 = f.scale == 2 ? x >> 1 : x;
+            const Float fx = simd::to_float(x - i0 * f.scale) * inv_scale;
+            const Int columns[2] = {i0 < f.width - 1 ? i0 : Int{} + (f.width - 1),
+                                    i0 + 1 < f.width - 1 ? i0 + 1 : Int{} + (f.width - 1)};
+            const Float inv_z = 1.0f / select(surface, z, Float{} + 1.0f);
+            Float sum = Float{}, weight = Float{}, nearest = Float{} + 1.0f,
+                  closest = Float{} + INFINITY;
+            for (int corner = 0; corner < 4; ++corner) {
+                const Int k = columns[corner & 1] + (corner & 2 ? j1 : j0) * f.width;
+                const Float zt = simd::gather(f.z, k), at = simd::gather(f.blurred, k);
+                const Float wx = corner & 1 ? fx : 1.0f - fx;
+                const float wy = corner & 2 ? fy : 1.0f - fy;
+                const Float difference = (zt - z) * inv_z;
+                const Float w = select(zt != 0.0f, wx * wy * depth_weight(difference), Float{});
+                sum += w * at;
+                weight += w;
+                const Float distance =
+                    select(zt != 0.0f, difference * difference, Float{} + INFINITY);
+                const Int nearer = distance < closest;
+                closest = select(nearer, distance, closest);
+                nearest = select(nearer, at, nearest);
+            }
+            const Int enough = weight > 1e-4f;
+            const Float v = select(enough, sum / select(enough, weight, Float{} + 1.0f), nearest);
+            store_row(f.visibility + row, x0, f.target_width, select(surface, v, Float{} + 1.0f));
+        }
+    }
+}
+
+}  // namespace facet::FACET_KERNEL_NS

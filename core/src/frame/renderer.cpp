@@ -1,0 +1,193 @@
+// Scene-level rendering: the frame plan (which objects, in which order, with
+// which state, after which passes), then every object queued and rasterized
+// together through the Pipeline (pipeline.cpp).
+#include "facet/renderer.hpp"
+
+#include "frame/ao.hpp"
+#include "pipeline/clip.hpp"
+#include "frame/shadow.hpp"
+#include "base/timing.hpp"
+
+#include "facet/error.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+float view_depth(const Object& o, const glm::mat4& view) {
+    const glm::vec3 centre = 0.5f * (o.mesh->bounds.min + o.mesh->bounds.max);
+    return (view * o.transform.matrix() * glm::vec4(centre, 1.0f)).z;
+}
+
+PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
+    PipelineState p;
+    p.cull = m.cull.value_or(s.cull);
+    p.front_ccw = s.front_ccw;
+    p.blend = m.blend;
+    p.depth_compare = s.depth_compare;
+    p.depth_write = m.writes_depth();
+    p.wireframe = s.wireframe;
+    p.subpixel_bits = s.subpixel_bits;
+    return p;
+}
+
+// With a depth pre-pass, an object takes part when it writes depth with a
+// non-strict compare: then the last fragment drawn at the nearest depth wins
+// with the pre-pass (compare equal) as without it, and the image is the same.
+bool in_depth_prepass(const PipelineState& p) {
+    return p.depth_write && (p.depth_compare == DepthCompare::less_equal ||
+                             p.depth_compare == DepthCompare::greater_equal);
+}
+
+bool drawable(const Object& o) {
+    return o.visible && o.mesh && o.material && o.material->plugin;
+}
+
+}  // namespace
+
+struct Renderer::Passes {
+    ShadowMaps shadow;
+    AoPass ao;
+};
+
+Renderer::Renderer(int threads, std::optional<Isa> isa)
+    : passes_(std::make_unique<Passes>()), pipeline_(threads, isa) {}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+void Renderer::forget_shadow_maps() { passes_->shadow.key.clear(); }
+
+facet_light to_abi(const Light& l) {
+    facet_light out{};
+    out.type = uint32_t(l.type);
+    out.casts_shadow = l.casts_shadow ? 1u : 0u;
+    for (int i = 0; i < 3; ++i) {
+        out.position[i] = l.position[i];
+        out.direction[i] = l.direction[i];
+        out.color[i] = l.color[i];
+        out.attenuation[i] = l.attenuation[i];
+    }
+    out.range = l.range;
+    out.intensity = l.intensity;
+    out.spot_cos_inner = std::cos(glm::radians(l.spot_inner));
+    out.spot_cos_outer = std::cos(glm::radians(l.spot_outer));
+    return out;
+}
+
+
+FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
+    const auto start = std::chrono::steady_clock::now();
+    const RenderSettings& s = scene.settings;
+    pipeline_.require_flushed(target, "Renderer::render");  // it may resize the target
+    if (target.width() != s.width || target.height() != s.height || target.samples() != s.msaa ||
+        target.format() != s.color_format)
+        target.resize(s.width, s.height, s.color_format, s.msaa);
+    pipeline_.clear(target, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
+
+    DrawCall call;
+    call.view = scene.camera.view();
+    call.projection = scene.camera.projection(float(s.width) / float(s.height), s.reversed_z);
+    call.camera_position = scene.camera.position;
+    scratch_.lights.clear();
+    for (const Light& l : scene.lights) scratch_.lights.push_back(to_abi(l));
+    call.lights = scratch_.lights.data();
+    call.light_count = uint32_t(scratch_.lights.size());
+
+    // The frame plan: what is visible, and which passes its materials need.
+    FrameStats stats;
+    bool needs_ao = false;
+    bool needs_shadow = false;
+    scratch_.blended.clear();
+    scratch_.casters.clear();
+    scratch_.opaque.clear();
+    for (const Object& o : scene.objects) {
+        if (!drawable(o)) continue;
+        scratch_.casters.push_back(&o);
+        ++stats.objects;
+        if (outside_frustum(o.mesh->bounds, call.projection * call.view * o.transform.matrix())) {
+            ++stats.objects_culled;
+            continue;
+        }
+        const ShaderPlugin& shader = *o.material->plugin;
+        needs_shadow |= s.shadows && shader.needs(FACET_NEED_SHADOW_MAP);
+        needs_ao |= s.ao && shader.needs(FACET_NEED_AO);
+        if (o.material->blend == BlendMode::opaque) scratch_.opaque.push_back(&o);
+        else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
+    }
+    if (needs_shadow) {
+        const auto t = std::chrono::steady_clock::now();
+        render_shadow_maps(scene, scratch_.casters, pipeline_, passes_->shadow, stats);
+        call.shadow_maps = passes_->shadow.abi.data();
+        call.shadow_map_count = uint32_t(passes_->shadow.abi.size());
+        stats.ms_shadow += elapsed_ms(t);
+    }
+    if (needs_ao) {
+        passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
+                        s.height, ao_settings(s), pipeline_, stats);
+        call.ao = passes_->ao.visibility();
+    }
+    draw_main_pass(scene, call, target, stats);
+    const auto post = std::chrono::steady_clock::now();
+    pipeline_.resolve(target);
+    stats.ms_post += elapsed_ms(post);
+    stats.milliseconds = elapsed_ms(start);
+    return stats;
+}
+
+// Opaque objects in scene order, then blended ones farthest first (view z
+// is negative in front of the camera, so the most negative is farthest);
+// ties keep scene order.
+void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
+                              FrameStats& stats) {
+    // Queued, and rasterized together at the end: the scene (and so each
+    // material's plugin, block and textures) outlives the pass.
+    auto draw_object = [&](const Object& o, bool prepass, FrameStats& counts) {
+        const Material& m = *o.material;
+        call.mesh = o.mesh.get();
+        call.shader = m.plugin.get();
+        call.params = m.block ? m.block->bytes : nullptr;
+        call.textures = m.textures.data();
+        call.texture_count = int(m.textures.size());
+        call.model = o.transform.matrix();
+        call.state = pipeline_state(m, scene.settings);
+        if (scene.settings.depth_prepass && in_depth_prepass(call.state)) {
+            if (prepass) {
+                call.state.color_write = false;  // depth only: no shader runs
+            } else {
+                call.state.depth_compare = DepthCompare::equal;  // the nearest, once
+                call.state.depth_write = false;
+            }
+        } else if (prepass) {
+            return;
+        }
+        pipeline_.queue(call, target, counts);
+    };
+    if (scene.settings.depth_prepass) {
+        const auto start = std::chrono::steady_clock::now();
+        FrameStats prepass;  // the main pass's statistics count the main pass only
+        for (const Object* o : scratch_.opaque) draw_object(*o, true, prepass);
+        pipeline_.flush(prepass);
+        stats.fragments_depth_only += prepass.fragments_depth_only;
+        stats.depth_prepasses += 1;
+        stats.ms_prepass += elapsed_ms(start);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    for (const Object* o : scratch_.opaque) draw_object(*o, false, stats);
+    for (BlendedObject& b : scratch_.blended) b.depth = view_depth(*b.object, call.view);
+    std::sort(scratch_.blended.begin(), scratch_.blended.end(),
+              [](const BlendedObject& a, const BlendedObject& b) {
+                  return a.depth < b.depth || (a.depth == b.depth && a.order < b.order);
+              });
+    for (const BlendedObject& b : scratch_.blended) draw_object(*b.object, false, stats);
+    pipeline_.flush(stats);
+    stats.ms_main += elapsed_ms(start);
+}
+
+}  // namespace facet

@@ -1,0 +1,187 @@
+#include "frame/shadow.hpp"
+
+#include "pipeline/clip.hpp"
+#include "plugin/internal_shaders.hpp"
+
+#include "facet/math.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+namespace facet {
+
+namespace {
+
+// World-space corners of the casters' bounds, into `out`.
+void caster_corners(const std::vector<const Object*>& casters, std::vector<glm::vec3>& out) {
+    out.clear();
+    for (const Object* o : casters) {
+        const glm::mat4 m = o->transform.matrix();
+        const Bounds& b = o->mesh->bounds;
+        for (int i = 0; i < 8; ++i)
+            out.push_back(glm::vec3(m * glm::vec4(i & 1 ? b.max.x : b.min.x,
+                                                  i & 2 ? b.max.y : b.min.y,
+                                                  i & 4 ? b.max.z : b.min.z, 1.0f)));
+    }
+}
+
+// Corners of the camera's view frustum from its near plane to `distance`.
+std::array<glm::vec3, 8> frustum_corners(const Camera& c, float aspect, float distance) {
+    const glm::vec3 forward = glm::normalize(c.target - c.position);
+    const glm::vec3 right = glm::normalize(glm::cross(forward, c.up));
+    const glm::vec3 up = glm::cross(right, forward);
+    std::array<glm::vec3, 8> out;
+    int k = 0;
+    for (float d : {c.near, std::min(c.far, distance)}) {
+        const float h = c.orthographic ? 0.5f * c.ortho_height
+                                       : d * std::tan(glm::radians(c.fov_y) * 0.5f);
+        for (int i = 0; i < 4; ++i)
+            out[size_t(k++)] = c.position + forward * d + right * (i & 1 ? h : -h) * aspect +
+                               up * (i & 2 ? h : -h);
+    }
+    return out;
+}
+
+glm::vec3 any_perpendicular_up(const glm::vec3& dir) {
+    return std::abs(dir.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+}
+
+// Orthographic projection of the light-view box [lo, hi] (x, y square; view
+// z negative ahead), standard depth: 0 at the near face.
+glm::mat4 box_projection(glm::vec3 lo, glm::vec3 hi, float& near, float& far) {
+    near = -hi.z;
+    far = -lo.z;
+    const glm::vec2 centre = 0.5f * glm::vec2(lo + hi);
+    const float side = std::max(hi.x - lo.x, hi.y - lo.y);
+    glm::mat4 m(1.0f);
+    m[0][0] = m[1][1] = 2.0f / side;
+    m[3][0] = -centre.x * m[0][0];
+    m[3][1] = -centre.y * m[1][1];
+    m[2][2] = -1.0f / (far - near);
+    m[3][2] = -near / (far - near);
+    return m;
+}
+
+void directional(const Scene& scene, const Light& light, const std::vector<glm::vec3>& casters,
+                 float aspect, int size, facet_shadow_map& sm, glm::mat4& view,
+                 glm::mat4& proj) {
+    const glm::vec3 dir = glm::normalize(light.direction);
+    view = look_at(glm::vec3(0.0f), dir, any_perpendicular_up(dir));
+    const float reach = scene.settings.shadow_distance > 0.0f ? scene.settings.shadow_distance
+                                                               : scene.camera.far;
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::vec3& p : frustum_corners(scene.camera, aspect, reach)) {
+        const glm::vec3 q = glm::vec3(view * glm::vec4(p, 1.0f));
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+    }
+    glm::vec3 olo(INFINITY), ohi(-INFINITY);  // the objects' box
+    for (const glm::vec3& p : casters) {
+        const glm::vec3 q = glm::vec3(view * glm::vec4(p, 1.0f));
+        olo = glm::min(olo, q);
+        ohi = glm::max(ohi, q);
+    }
+    // Across the light: only where the view and the objects overlap (nothing
+    // else can receive a shadow). Along it: every caster, wherever it is.
+    lo = glm::vec3(glm::max(glm::vec2(lo), glm::vec2(olo)), std::min(lo.z, olo.z) - 0.01f);
+    hi = glm::vec3(glm::min(glm::vec2(hi), glm::vec2(ohi)), std::max(hi.z, ohi.z) + 0.01f);
+    hi = glm::max(hi, lo + 0.02f);  // never empty
+    proj = box_projection(lo, hi, sm.near_plane, sm.far_plane);
+    sm.projection = FACET_SHADOW_ORTHOGRAPHIC;
+    sm.texel_size = 2.0f / proj[0][0] / float(size);
+}
+
+void spot(const Light& light, const std::vector<glm::vec3>& casters, int size,
+          facet_shadow_map& sm, glm::mat4& view, glm::mat4& proj) {
+    const glm::vec3 dir = glm::normalize(light.direction);
+    view = look_at(light.position, light.position + dir, any_perpendicular_up(dir));
+    float far = 0.1f;
+    for (const glm::vec3& p : casters) far = std::max(far, glm::length(p - light.position));
+    const float fov = glm::radians(std::min(2.0f * light.spot_outer + 2.0f, 170.0f));
+    sm.near_plane = std::max(far * 1e-4f, 0.01f);
+    sm.far_plane = far * 1.01f;
+    proj = perspective(fov, 1.0f, sm.near_plane, sm.far_plane, false);
+    sm.projection = FACET_SHADOW_PERSPECTIVE;
+    sm.texel_size = 2.0f * std::tan(fov * 0.5f) / float(size);
+}
+
+// The key of a map seen through view_projection: the casters it can see.
+// Returns how many it cannot.
+uint64_t make_key(const std::vector<const Object*>& casters, const glm::mat4& view_projection,
+                  int size, ShadowMapKey& key) {
+    key.size = size;
+    key.view_projection = view_projection;
+    key.casters.clear();
+    for (const Object* o : casters) {
+        const glm::mat4 model = o->transform.matrix();
+        if (!outside_frustum(o->mesh->bounds, view_projection * model))
+            key.casters.push_back({o->mesh, model});
+    }
+    return casters.size() - key.casters.size();
+}
+
+void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4& proj,
+                Pipeline& pipeline, Framebuffer& target, FrameStats& frame) {
+    DrawCall call;
+    call.shader = &internal::plugin<internal::DepthOnly>();
+    call.view = view;
+    call.projection = proj;
+    call.state.cull = CullMode::none;  // open meshes (planes) cast from both sides
+    call.state.depth_compare = DepthCompare::less;
+    call.state.color_write = false;
+    FrameStats stats;  // the main pass's statistics count the main pass only
+    for (const ShadowMapKey::Caster& c : key.casters) {
+        call.mesh = c.mesh.get();
+        call.model = c.model;
+        pipeline.queue(call, target, stats);
+    }
+    pipeline.flush(stats);
+    frame.fragments_depth_only += stats.fragments_depth_only;
+}
+
+}  // namespace
+
+void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
+                        Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats) {
+    caster_corners(casters, maps.corners);
+    // A multiple of 16, so that the map's rows are exactly `size` floats
+    // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
+    const int size = (scene.settings.shadow_map_size + 15) & ~15;
+    const float aspect = float(scene.settings.width) / float(scene.settings.height);
+    maps.abi.clear();
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        if (!light.casts_shadow || light.type == LightType::point) continue;
+        facet_shadow_map& sm = maps.abi.emplace_back();
+        const size_t k = maps.abi.size() - 1;
+        if (maps.depth.size() <= k) maps.depth.emplace_back();
+        if (maps.key.size() <= k) maps.key.resize(k + 1);  // empty: nothing drawn yet
+        Framebuffer& depth = maps.depth[k];
+        glm::mat4 view, proj;
+        if (light.type == LightType::directional)
+            directional(scene, light, maps.corners, aspect, size, sm, view, proj);
+        else
+            spot(light, maps.corners, size, sm, view, proj);
+        sm.light = uint32_t(i);
+        sm.width = sm.height = uint32_t(size);
+        std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
+        const uint64_t culled = make_key(casters, proj * view, size, maps.next);
+        if (maps.next == maps.key[k] && depth.width() == size) {
+            ++stats.shadow_maps_reused;
+        } else {
+            std::swap(maps.key[k], maps.next);
+            if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
+            pipeline.clear(depth, glm::vec4(0.0f), 1.0f);
+            draw_depth(maps.key[k], view, proj, pipeline, depth, stats);
+            ++stats.shadow_passes;
+            stats.shadow_casters_culled += culled;
+        }
+        sm.depth = depth.depth();
+    }
+}
+
+}  // namespace facet

@@ -1,0 +1,130 @@
+// Primitive assembly, clipping and triangle setup (assembly.hpp).
+#include "pipeline/assembly.hpp"
+
+#include "pipeline/clip.hpp"
+#include "pipeline/vertex.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace facet {
+
+namespace {
+
+// Sign of the area of a convex clip-space polygon on screen (y down); 0
+// when it is no wider than a step of the sub-pixel grid. Then every point
+// of it lies within a step of its outline, and the fan of its snapped
+// corners can fold over itself and cover samples twice.
+int screen_orientation(const ClipVertex* poly, int n, const Viewport& viewport) {
+    double area = 0.0, perimeter = 0.0;  // twice the area, in pixels
+    for (int i = 0; i < n; ++i) {
+        const glm::dvec2 a = to_window(poly[i].position, viewport);
+        const glm::dvec2 b = to_window(poly[(i + 1) % n].position, viewport);
+        area += a.x * b.y - b.x * a.y;
+        perimeter += glm::length(b - a);
+    }
+    const double step = std::ldexp(1.0, -std::clamp(viewport.subpixel_bits, 1, kSubpixelBits));
+    if (!(std::abs(area) > perimeter * step)) return 0;
+    return area > 0.0 ? 1 : -1;
+}
+
+void count(SetupResult r, FrameStats& stats) {
+    switch (r) {
+        case SetupResult::ok: ++stats.triangles_rasterized; break;
+        case SetupResult::culled_backface: ++stats.triangles_culled_backface; break;
+        case SetupResult::clipped_away: ++stats.triangles_culled_frustum; break;
+        case SetupResult::degenerate:
+        case SetupResult::no_pixels: ++stats.triangles_culled_degenerate; break;
+    }
+}
+
+}  // namespace
+
+CullState cull_state(const PipelineState& s) {
+    return {s.cull == CullMode::back, s.cull == CullMode::front, s.front_ccw};
+}
+
+void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
+    for (size_t t = 0; t < triangles; ++t, idx += 3) {
+        ++chunk.stats.triangles_in;
+        const WindowVertex* w[3] = {&draw_.window[idx[0]], &draw_.window[idx[1]],
+                                    &draw_.window[idx[2]]};
+        const uint32_t any = w[0]->user | w[1]->user | w[2]->user;
+        if (any & kInvalid) {
+            ++chunk.stats.triangles_invalid;
+            continue;
+        }
+        if (view_code(w[0]->user) & view_code(w[1]->user) & view_code(w[2]->user)) {
+            ++chunk.stats.triangles_culled_frustum;
+            continue;
+        }
+        const float* varyings[3];
+        for (int i = 0; i < 3; ++i)
+            varyings[i] = draw_.varyings.data() + size_t(idx[i]) * dc_.varying_floats;
+        SetupResult r;
+        if (const uint32_t planes = band_code(any)) {
+            const SetupVertex v[3] = {{glm::dvec4(draw_.clip[idx[0]]), varyings[0]},
+                                      {glm::dvec4(draw_.clip[idx[1]]), varyings[1]},
+                                      {glm::dvec4(draw_.clip[idx[2]]), varyings[2]}};
+            r = clipped(v, planes, chunk);
+            if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
+        } else if (any & kNoWindow) {
+            r = SetupResult::degenerate;  // a vertex at the origin, w = 0
+        } else {
+            TriangleSetup& s = chunk.setups.emplace_back();
+            r = setup_triangle(w, varyings, viewport_, cull_, s);
+            if (r != SetupResult::ok) chunk.setups.pop_back();
+        }
+        count(r, chunk.stats);
+    }
+}
+
+
+SetupResult Assembler::setup(const SetupVertex v[3], int orientation, SetupChunk& chunk) const {
+    TriangleSetup& t = chunk.setups.emplace_back();
+    const SetupResult r = setup_triangle(v, viewport_, cull_, t, orientation);
+    if (r != SetupResult::ok) chunk.setups.pop_back();
+    return r;
+}
+
+
+// Clips the triangle and sets up the fan of what is left, each piece held
+// to the orientation of the whole polygon.
+SetupResult Assembler::clipped(const SetupVertex v[3], uint32_t planes,
+                                   SetupChunk& chunk) const {
+    ClipVertex in[3], out[kMaxClipVertices];
+    const int floats = int(dc_.varying_floats);
+    for (int i = 0; i < 3; ++i) {
+        in[i].position = v[i].clip;
+        std::memcpy(in[i].varyings, v[i].varyings, sizeof(float) * floats);
+    }
+    const int n = clip_polygon(in, 3, planes, guard_, floats, dc_.interpolation, out);
+    if (n < 3) return SetupResult::clipped_away;
+    // Flat varyings keep the first input vertex's value, not a blend.
+    for (int k = 0; k < floats; ++k)
+        if (dc_.interpolation[k] == FACET_INTERP_FLAT)
+            for (int i = 0; i < n; ++i) out[i].varyings[k] = v[0].varyings[k];
+    const size_t first = chunk.clipped_used;
+    chunk.clipped_used += size_t(n);
+    if (chunk.clipped.size() < chunk.clipped_used) chunk.clipped.resize(chunk.clipped_used);
+    std::copy(out, out + n, chunk.clipped.begin() + std::ptrdiff_t(first));
+    const int orientation = screen_orientation(out, n, viewport_);
+    if (orientation == 0) return SetupResult::degenerate;
+    SetupResult result = SetupResult::clipped_away;
+    for (int i = 1; i + 1 < n; ++i) {
+        const ClipVertex* a = &chunk.clipped[first];
+        const ClipVertex* b = &chunk.clipped[first + size_t(i)];
+        const ClipVertex* c = &chunk.clipped[first + size_t(i) + 1];
+        const SetupVertex tri[3] = {{a->position, a->varyings},
+                                    {b->position, b->varyings},
+                                    {c->position, c->varyings}};
+        const SetupResult r = setup(tri, orientation, chunk);
+        if (r == SetupResult::ok || result == SetupResult::clipped_away) result = r;
+    }
+    return result;
+}
+
+}  // namespace facet

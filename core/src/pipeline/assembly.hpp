@@ -1,0 +1,44 @@
+// Primitive assembly, clipping and triangle setup.
+//
+// Takes: a queued draw's triangles (index triples) and its shaded vertices
+// (vertex.hpp).
+// Gives: a TriangleSetup per triangle (or clipped piece) that covers a
+// pixel, in a SetupChunk, and the count of every triangle by its fate:
+// invalid, outside the view, back-facing, degenerate, clipped or set up.
+// A triangle inside the guard band is set up from its projected vertices;
+// one that crosses it is clipped in homogeneous space first (clip.hpp), and
+// its pieces keep the orientation of the whole.
+#pragma once
+
+#include "pipeline/draw_queue.hpp"
+#include "pipeline/setup.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace facet {
+
+// The back-face culling of a pipeline state.
+CullState cull_state(const PipelineState& s);
+
+class Assembler {
+public:
+    Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull)
+        : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()) {}
+
+    // Assembles, clips and sets up `triangles` triangles from `idx` into
+    // `chunk`, counting them in chunk.stats.
+    void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const;
+
+private:
+    SetupResult setup(const SetupVertex v[3], int orientation, SetupChunk& chunk) const;
+    SetupResult clipped(const SetupVertex v[3], uint32_t planes, SetupChunk& chunk) const;
+
+    const DrawContext& dc_;
+    const QueuedDraw& draw_;  // its vertices
+    const Viewport& viewport_;
+    const CullState& cull_;
+    const double guard_;  // guard-band half-width, NDC
+};
+
+}  // namespace facet

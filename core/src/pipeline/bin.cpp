@@ -1,0 +1,82 @@
+#include "pipeline/bin.hpp"
+
+#include <algorithm>
+
+namespace facet {
+
+namespace {
+
+// Can the triangle cover any sample in pixels [x0, x1] x [y0, y1]? False
+// when one edge is negative over the whole rectangle (its best corner, on
+// the pixels' outer boundary, so MSAA samples are included).
+bool overlaps(const TriangleSetup& t, int x0, int y0, int x1, int y1) {
+    const int64_t left = int64_t(x0) * kSubpixelOne, right = int64_t(x1 + 1) * kSubpixelOne;
+    const int64_t top = int64_t(y0) * kSubpixelOne, bottom = int64_t(y1 + 1) * kSubpixelOne;
+    for (const EdgeFunction& e : t.edge) {
+        // E grows with x when dy < 0 and with y when dx > 0.
+        const int64_t x = e.dy < 0 ? right : left, y = e.dx > 0 ? bottom : top;
+        if (e.at(x, y) + e.bias < 0) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+void Bins::resize(int width, int height) {
+    width_ = width;
+    height_ = height;
+    columns_ = (width + kTileSize - 1) / kTileSize;
+    rows_ = (height + kTileSize - 1) / kTileSize;
+    // Only ever grows: a shadow map's many tiles keep their lists' storage
+    // while the (smaller) main target uses the first few.
+    if (tiles_.size() < size_t(columns_) * rows_) tiles_.resize(size_t(columns_) * rows_);
+}
+
+void Bins::bin(const std::deque<SetupChunk>& chunks, int count) {
+    for (int c = 0; c < count; ++c) {
+        const std::vector<TriangleSetup>& setups = chunks[size_t(c)].setups;
+        for (size_t i = 0; i < setups.size(); ++i) {
+            const TriangleSetup& t = setups[i];
+            const uint32_t entry = uint32_t(c) << 16 | uint32_t(i);
+            const int tx0 = t.x0 / kTileSize, tx1 = t.x1 / kTileSize;
+            const int ty0 = t.y0 / kTileSize, ty1 = t.y1 / kTileSize;
+            const bool one_tile = tx0 == tx1 && ty0 == ty1;
+            for (int ty = ty0; ty <= ty1; ++ty)
+                for (int tx = tx0; tx <= tx1; ++tx) {
+                    // Large triangles skip the tiles of their box they miss.
+                    if (!one_tile && !overlaps(t, tx * kTileSize, ty * kTileSize,
+                                               tx * kTileSize + kTileSize - 1,
+                                               ty * kTileSize + kTileSize - 1))
+                        continue;
+                    const int tile = ty * columns_ + tx;
+                    std::vector<uint32_t>& list = tiles_[size_t(tile)];
+                    if (list.empty()) busy_.push_back(tile);
+                    list.push_back(entry);
+                }
+        }
+    }
+    order_busy();
+}
+
+// The tiles with the most triangles first (ties by index: any order draws
+// the same image, tiles being independent). std::sort allocates nothing.
+void Bins::order_busy() {
+    std::sort(busy_.begin(), busy_.end(), [&](int a, int b) {
+        const size_t na = tiles_[size_t(a)].size(), nb = tiles_[size_t(b)].size();
+        return na != nb ? na > nb : a < b;
+    });
+}
+
+void Bins::clear() {
+    for (int tile : busy_) tiles_[size_t(tile)].clear();
+    busy_.clear();
+}
+
+void Bins::rect(int tile, int& x0, int& y0, int& x1, int& y1) const {
+    x0 = (tile % columns_) * kTileSize;
+    y0 = (tile / columns_) * kTileSize;
+    x1 = std::min(x0 + kTileSize, width_) - 1;
+    y1 = std::min(y0 + kTileSize, height_) - 1;
+}
+
+}  // namespace facet

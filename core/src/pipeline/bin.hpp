@@ -1,0 +1,63 @@
+// Binning.
+//
+// Takes: the triangles the queued draws set up, in submission order (chunk
+// by chunk).
+// Gives: for each 64x64 screen tile, the list of those triangles whose
+// bounding box touches it, in the same order. Tiles are then rasterized
+// independently and in parallel; since every tile replays its triangles in
+// submission order, each pixel sees the same sequence of triangles whatever
+// the thread count, and the image is bit-identical.
+#pragma once
+
+#include "pipeline/clip.hpp"
+#include "pipeline/setup.hpp"
+
+#include "facet/pipeline.hpp"
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace facet {
+
+constexpr int kTileSize = 64;
+
+// What one setup task produced. Chunks sit side by side and two threads
+// fill neighbours at once: each has cache lines of its own, or their
+// counters would bounce between the cores (false sharing).
+struct alignas(64) SetupChunk {
+    std::vector<TriangleSetup> setups;
+    // Vertices of clipped triangles: a deque, so setups can point into it;
+    // its first `clipped_used` elements are this batch's, the rest are kept
+    // for reuse, so a steady frame allocates nothing.
+    std::deque<ClipVertex> clipped;
+    size_t clipped_used = 0;
+    int draw = 0;                    // the queued draw (DrawQueue::draws) they belong to
+    FrameStats stats;                // triangle counters
+};
+
+class Bins {
+public:
+    // Sizes the tile grid for a width x height target.
+    void resize(int width, int height);
+    // Appends every setup of chunks [0, count) to the tiles it touches.
+    void bin(const std::deque<SetupChunk>& chunks, int count);
+    // Tiles with work, the ones with the most triangles first (so that the
+    // threads finish together rather than one waiting on a late big tile),
+    // and clearing them for the next batch.
+    const std::vector<int>& busy() const { return busy_; }
+    void clear();
+
+    // Entries of tile `tile`: chunk << 16 | index in that chunk.
+    const std::vector<uint32_t>& entries(int tile) const { return tiles_[size_t(tile)]; }
+    void rect(int tile, int& x0, int& y0, int& x1, int& y1) const;
+
+private:
+    int columns_ = 0, rows_ = 0, width_ = 0, height_ = 0;
+    std::vector<std::vector<uint32_t>> tiles_;
+    void order_busy();
+
+    std::vector<int> busy_;
+};
+
+}  // namespace facet

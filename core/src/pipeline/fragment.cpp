@@ -1,0 +1,453 @@
+#include "pipeline/fragment.hpp"
+
+#include "pipeline/pixels.hpp"
+#include "base/simd.hpp"
+
+#include "facet/plugin.hpp"
+#include "facet/texture.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+namespace facet::FACET_KERNEL_NS {
+
+namespace {
+
+constexpr int N = FACET_BLOCK_LANES;
+
+using simd::Float;
+using simd::kParts;
+using simd::kWidth;
+
+bool depth_passes(DepthCompare compare, float z, float stored) {
+    switch (compare) {
+        case DepthCompare::never: return false;
+        case DepthCompare::less: return z < stored;
+        case DepthCompare::less_equal: return z <= stored;
+        case DepthCompare::greater: return z > stored;
+        case DepthCompare::greater_equal: return z >= stored;
+        case DepthCompare::equal: return z == stored;
+        case DepthCompare::always: return true;
+    }
+    return false;
+}
+
+// Lanes where z passes the depth test against `stored`.
+uint32_t depth_passes(DepthCompare compare, const Float& z, const Float& stored) {
+    switch (compare) {
+        case DepthCompare::never: return 0;
+        case DepthCompare::less: return simd::bits(z < stored);
+        case DepthCompare::less_equal: return simd::bits(z <= stored);
+        case DepthCompare::greater: return simd::bits(z > stored);
+        case DepthCompare::greater_equal: return simd::bits(z >= stored);
+        case DepthCompare::equal: return simd::bits(z == stored);
+        case DepthCompare::always: return simd::kPartMask;
+    }
+    return 0;
+}
+
+// Window depth of part p, from the exact weights, clamped like std::clamp
+// (NaN stays NaN).
+Float interpolate_depth(const TriangleSetup& t, const Block& b, int p) {
+    const Float z = t.z[0] + simd::load<Float>(b.bary[1] + p * kWidth) * (t.z[1] - t.z[0]) +
+                    simd::load<Float>(b.bary[2] + p * kWidth) * (t.z[2] - t.z[0]);
+    return z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
+}
+
+size_t pixel_index(const Framebuffer& fb, int x, int y) {
+    return size_t(y) * size_t(fb.stride()) + size_t(x);
+}
+
+// The early depth test, part by part; `z` gets each part's depth. The
+// framebuffer is padded to whole blocks, so a block never reads or writes
+// past its storage.
+uint32_t depth_test(const DrawContext& dc, const TriangleSetup& t, const Block& b, Float* z) {
+    const Framebuffer& fb = *dc.target;
+    const float* depth = fb.depth() + pixel_index(fb, b.x, b.y);
+    uint32_t mask = 0;
+    for (int p = 0; p < kParts; ++p) {
+        const uint32_t lanes = simd::part_mask(b.mask, p);
+        if (!lanes) continue;
+        z[p] = interpolate_depth(t, b, p);
+        const uint32_t pass = dc.state.depth_compare == DepthCompare::always
+                                  ? lanes
+                                  : lanes & depth_passes(dc.state.depth_compare, z[p],
+                                                         simd::load_part(depth, fb.stride(), p));
+        mask |= pass << (p * kWidth);
+    }
+    return mask;
+}
+
+// The lanes the shader gets values for: each half of the block (two rows,
+// whole 2x2 quads) with a lane in `mask`, or all of it when the shader takes
+// derivatives (every lane interpolated, as the ABI promises).
+uint32_t interpolated_lanes(const DrawContext& dc, uint32_t mask) {
+    if (dc.shader->needs(FACET_NEED_DERIVATIVES)) return 0xFFFFu;
+    return (mask & 0x00FFu ? 0x00FFu : 0u) | (mask & 0xFF00u ? 0xFF00u : 0u);
+}
+
+void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t,
+                          const TriangleVaryings& tv, const Block& b, uint32_t lanes, float* out) {
+    const uint32_t floats = dc.varying_floats;
+    for (int p = 0; p < kParts; ++p) {
+        const int first = p * kWidth;
+        if (!simd::part_mask(lanes, p)) {  // values no shader call reads: zeros, not garbage
+            for (uint32_t k = 0; k < floats; ++k) simd::store(out + k * N + first, Float{});
+            continue;
+        }
+        // Perspective-correct weights: bary_k * (1/w_k), normalised per lane.
+        const Float l1 = simd::load<Float>(b.bary[1] + first);
+        const Float l2 = simd::load<Float>(b.bary[2] + first);
+        const Float a = simd::load<Float>(b.bary[0] + first) * t.inv_w[0];
+        const Float c = l1 * t.inv_w[1], d = l2 * t.inv_w[2];
+        const Float w = 1.0f / (a + c + d);
+        const Float p1 = c * w, p2 = d * w;
+        // Relative to v0: exact for constant attributes, better conditioned.
+        if (dc.perspective_only) {
+            for (uint32_t k = 0; k < floats; ++k)
+                simd::store(out + k * N + first, tv.v0[k] + p1 * tv.d1[k] + p2 * tv.d2[k]);
+            continue;
+        }
+        for (uint32_t k = 0; k < floats; ++k) {
+            const bool linear = dc.interpolation[k] == FACET_INTERP_LINEAR;
+            simd::store(out + k * N + first,
+                        tv.v0[k] + (linear ? l1 : p1) * tv.d1[k] + (linear ? l2 : p2) * tv.d2[k]);
+        }
+    }
+}
+
+// Texels of every texture slot the shader declares, at the lanes of `mask`
+// (others read 0); unbound slots are white.
+void sample_textures(const DrawContext& dc, const float* varyings, uint32_t mask, float* texels) {
+    for (int s = 0; s < dc.shader->texture_count(); ++s) {
+        float* out = texels + s * 4 * N;
+        if (s >= dc.texture_count || !dc.textures[s].texture) {
+            std::fill(out, out + 4 * N, 1.0f);
+            continue;
+        }
+        const float* u = varyings + dc.shader->texture_uv_float(s) * N;
+        sample_block(dc.textures[s], u, u + N, mask, out);
+    }
+}
+
+// Colour:  alpha    = src * a + dst * (1 - a)   (src-alpha, one-minus-src-alpha)
+//          additive = src * a + dst             (src-alpha, one)
+// Alpha:   alpha    = a + dst.a * (1 - a)       (coverage accumulates)
+//          additive keeps dst.a.
+// The factor a is the source alpha clamped to 0..1.
+Rgba blend(BlendMode mode, const Rgba& src, const Rgba& dst) {
+    const Float a = src.a < 0.0f ? 0.0f : src.a > 1.0f ? 1.0f : src.a;
+    switch (mode) {
+        case BlendMode::opaque: return src;
+        case BlendMode::alpha: {
+            const Float keep = 1.0f - a;
+            return {src.r * a + dst.r * keep, src.g * a + dst.g * keep, src.b * a + dst.b * keep,
+                    a + dst.a * keep};
+        }
+        case BlendMode::additive:
+            return {dst.r + src.r * a, dst.g + src.g * a, dst.b + src.b * a, dst.a};
+    }
+    return src;
+}
+
+glm::vec4 blend(BlendMode mode, const glm::vec4& src, const glm::vec4& dst) {
+    const float a = std::clamp(src.a, 0.0f, 1.0f);
+    switch (mode) {
+        case BlendMode::opaque: return src;
+        case BlendMode::alpha:
+            return {glm::vec3(src) * a + glm::vec3(dst) * (1.0f - a), a + dst.a * (1.0f - a)};
+        case BlendMode::additive: return {glm::vec3(dst) + glm::vec3(src) * a, dst.a};
+    }
+    return src;
+}
+
+// Part p of the shader's colour output ([4][16] floats).
+Rgba shaded(const float* color, int p) {
+    const int first = p * kWidth;
+    return {simd::load<Float>(color + first), simd::load<Float>(color + N + first),
+            simd::load<Float>(color + 2 * N + first), simd::load<Float>(color + 3 * N + first)};
+}
+
+// Ambient visibility of each lane; lanes off the target read 1.
+void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
+    const int w = dc.target->width(), h = dc.target->height();
+    for (int i = 0; i < N; ++i) {
+        const int x = b.x + i % 4, y = b.y + i / 4;
+        ao[i] = x < w && y < h ? dc.ao[size_t(y) * w + x] : 1.0f;
+    }
+}
+
+// Depth and (unless `color` is null) colour of the lanes of `mask`, blended
+// and encoded in the target's format, part by part.
+void write_pixels(const DrawContext& dc, const Block& b, const Float* z, const float* color,
+                  uint32_t mask) {
+    Framebuffer& fb = *dc.target;
+    const size_t at = pixel_index(fb, b.x, b.y);
+    const ColorFormat format = fb.format();
+    const size_t bytes = size_t(bytes_per_pixel(format)), row_bytes = size_t(fb.stride()) * bytes;
+    uint8_t* block = fb.color_data() + at * bytes;
+    const bool write_color = color && dc.state.color_write;
+    for (int p = 0; p < kParts; ++p) {
+        const uint32_t lanes = simd::part_mask(mask, p);
+        if (!lanes) continue;
+        if (dc.state.depth_write)
+            simd::store_part<4>(reinterpret_cast<uint8_t*>(fb.depth() + at),
+                                size_t(fb.stride()) * 4, p, &z[p], lanes);
+        if (!write_color) continue;
+        Rgba src = shaded(color, p);
+        if (dc.state.blend != BlendMode::opaque)
+            src = blend(dc.state.blend, src, load_color(format, block, row_bytes, p));
+        Packed packed;
+        pack(format, src, packed.bytes);
+        store_packed(format, block, row_bytes, p, packed, lanes);
+    }
+}
+
+// MSAA: the depth plane's change per pixel in x and y, from the exact
+// edge functions (vertex k+2's weight is edge k over twice the area).
+glm::vec2 depth_gradient(const TriangleSetup& t) {
+    const double scale = double(kSubpixelOne) / double(t.area2);
+    const double dz1 = double(t.z[1]) - t.z[0], dz2 = double(t.z[2]) - t.z[0];
+    return {float((-t.edge[2].dy * dz1 - t.edge[0].dy * dz2) * scale),
+            float((t.edge[2].dx * dz1 + t.edge[0].dx * dz2) * scale)};
+}
+
+// Per-sample depth of one block, and which covered samples pass the depth
+// test: the surviving sample bits go to `passed`, the lanes with any to the
+// result.
+struct SampleDepth {
+    float z[Framebuffer::kMaxSamples][N];
+    uint8_t passed[N];
+};
+
+uint32_t sample_depth_test(const DrawContext& dc, const TriangleSetup& t, const Block& b,
+                           uint32_t mask, SampleDepth& out) {
+    const Framebuffer& fb = *dc.target;
+    const int n = fb.samples();
+    const float* depth = fb.sample_depth();
+    const glm::vec2 dz = depth_gradient(t);
+    uint32_t lanes = 0;
+    for (uint32_t m = mask; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        const float centre = t.z[0] + b.bary[1][i] * (t.z[1] - t.z[0]) +
+                             b.bary[2][i] * (t.z[2] - t.z[0]);
+        const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
+        out.passed[i] = 0;
+        for (uint32_t bits = b.samples[i]; bits; bits &= bits - 1) {
+            const int s = std::countr_zero(bits);
+            const glm::vec2 o = glm::vec2(sample_offset(n, s)) * (1.0f / 16.0f);
+            const float z = std::clamp(centre + dz.x * o.x + dz.y * o.y, 0.0f, 1.0f);
+            out.z[s][i] = z;
+            if (depth_passes(dc.state.depth_compare, z, depth[at + size_t(s)]))
+                out.passed[i] |= uint8_t(1u << s);
+        }
+        lanes |= uint32_t(out.passed[i] != 0) << i;
+    }
+    return lanes;
+}
+
+void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
+                   const float* color, uint32_t mask) {
+    Framebuffer& fb = *dc.target;
+    const int n = fb.samples();
+    const ColorFormat format = fb.format();
+    const size_t bytes = size_t(bytes_per_pixel(format));
+    const bool write_color = color && dc.state.color_write;
+    const bool opaque = dc.state.blend == BlendMode::opaque;
+    for (int p = 0; p < kParts; ++p) {
+        const uint32_t lanes = simd::part_mask(mask, p);
+        if (!lanes) continue;
+        Packed packed;  // opaque: each lane's encoded colour, the same for all its samples
+        if (write_color && opaque) pack(format, shaded(color, p), packed.bytes);
+        for (uint32_t m = lanes; m; m &= m - 1) {
+            const int j = std::countr_zero(m), i = p * kWidth + j;
+            const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
+            for (uint32_t bits = sd.passed[i]; bits; bits &= bits - 1) {
+                const int s = std::countr_zero(bits);
+                if (dc.state.depth_write) fb.sample_depth()[at + size_t(s)] = sd.z[s][i];
+                if (!write_color) continue;
+                uint8_t* dst = fb.sample_color_data() + (at + size_t(s)) * bytes;
+                if (opaque) {
+                    std::memcpy(dst, packed.bytes + size_t(j) * bytes, bytes);
+                    continue;
+                }
+                const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
+                encode_pixel(format, blend(dc.state.blend, src, decode_pixel(format, dst)), dst);
+            }
+        }
+    }
+}
+
+// Wireframe: blends the wire colour over the lanes within about a pixel of
+// an edge. Lane i lies bary * area2 / length sub-pixels from an edge, where
+// bary is the weight of the vertex opposite it; both triangles of a shared
+// edge draw their own side, so the line is centred on the edge.
+void blend_wire(const DrawContext& dc, const TriangleSetup& t, const Block& b, float* color) {
+    float to_pixels[3];  // per edge k: pixels per unit of the weight of vertex k + 2
+    for (int k = 0; k < 3; ++k) {
+        const double length = std::hypot(double(t.edge[k].dx), double(t.edge[k].dy));
+        to_pixels[k] = float(double(t.area2) / (length * double(kSubpixelOne)));
+    }
+    for (int i = 0; i < N; ++i) {
+        const float d = std::min({b.bary[2][i] * to_pixels[0], b.bary[0][i] * to_pixels[1],
+                                  b.bary[1][i] * to_pixels[2]});
+        const float cover = std::clamp(2.0f * (1.0f - d), 0.0f, 1.0f);  // 1 up to 0.5 px
+        for (int c = 0; c < 3; ++c)
+            color[c * N + i] += cover * (dc.state.wire_color[c] - color[c * N + i]);
+    }
+}
+
+// x | y << 16 of each lane's pixel, for a block at (x, y).
+void lane_positions(const Block& b, int32_t* position) {
+    for (int p = 0; p < kParts; ++p)
+        simd::store(position + p * kWidth, (simd::column() + b.x) | (simd::row(p) + b.y) << 16);
+}
+
+}  // namespace
+
+void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
+                      const float* varyings, const float* depth, const float* texels,
+                      const float* ao, FrameStats& stats) {
+    if (count_ && (dc_ != &dc || front_facing_ != front_facing)) flush(stats);
+    dc_ = &dc;
+    front_facing_ = front_facing;
+    const int room = N - count_;
+    if (std::popcount(mask) > room) {  // the first `room` fragments fill this batch
+        uint32_t first = 0;
+        for (uint32_t m = mask; std::popcount(first) < room; m &= m - 1) first |= m & (0u - m);
+        append(b, first, varyings, depth, texels, ao);
+        flush(stats);
+        mask &= ~first;
+    }
+    append(b, mask, varyings, depth, texels, ao);
+    if (count_ == N) flush(stats);
+}
+
+void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
+                         const float* texels, const float* ao) {
+    const DrawContext& dc = *dc_;
+    const simd::Compressor compress(mask);
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) compress(varyings + k * N, varyings_[k] + count_);
+    if (dc.sample_textures)
+        for (int row = 0; row < 4 * dc.shader->texture_count(); ++row)
+            compress(texels + row * N, texels_[row] + count_);
+    if (dc.needs_ao) compress(ao, ao_ + count_);
+    compress(depth, depth_ + count_);
+    alignas(64) int32_t position[N];
+    lane_positions(b, position);
+    compress(position, position_ + count_);
+    count_ += compress.count();
+}
+
+void PackedBatch::flush(FrameStats& stats) {
+    if (!count_) return;
+    const DrawContext& dc = *dc_;
+    // Into the ABI's layout, rows of 16 lanes; lanes past count_ read 0.
+    const auto row = [&](const float* from, float* to) {
+        std::memcpy(to, from, sizeof(float) * size_t(count_));
+        std::fill(to + count_, to + N, 0.0f);
+    };
+    alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) row(varyings_[k], varyings + k * N);
+    alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
+    if (dc.sample_textures)
+        for (int r = 0; r < 4 * dc.shader->texture_count(); ++r) row(texels_[r], texels + r * N);
+    alignas(64) float depth[N], ao[N], coord[2 * N], color[4 * N];
+    alignas(64) int32_t pixel[N];  // index into the target's pixels
+    row(depth_, depth);
+    if (dc.needs_ao) row(ao_, ao);
+    const int32_t stride = dc.target->stride();
+    std::fill(position_ + count_, position_ + N, 0);
+    for (int p = 0; p < kParts; ++p) {
+        const simd::Int position = simd::load<simd::Int>(position_ + p * kWidth);
+        const simd::Int x = position & 0xFFFF, y = position >> 16;
+        simd::store(coord + p * kWidth, simd::to_float(x) + 0.5f);
+        simd::store(coord + N + p * kWidth, simd::to_float(y) + 0.5f);
+        simd::store(pixel + p * kWidth, y * stride + x);
+    }
+    const uint32_t mask = count_ == N ? 0xFFFFu : (1u << count_) - 1u;
+    facet_fragment_batch batch{0, 0, mask, front_facing_ ? 1u : 0u, varyings, depth,
+                               dc.sample_textures ? texels : nullptr, nullptr,
+                               dc.needs_ao ? ao : nullptr, color, coord};
+    dc.fragment(dc.abi, &batch);
+    stats.blocks_shaded += 1;
+    stats.fragments_shaded += uint64_t(count_);
+    // Opaque colours, in the order the fragments came (a pixel may come twice).
+    Framebuffer& fb = *dc.target;
+    const ColorFormat format = fb.format();
+    const size_t bytes = size_t(bytes_per_pixel(format));
+    for (int p = 0; p * kWidth < count_; ++p) {
+        Packed packed;
+        pack(format, shaded(color, p), packed.bytes);
+        for (uint32_t m = simd::part_mask(mask, p); m; m &= m - 1) {
+            const int j = std::countr_zero(m);
+            std::memcpy(fb.color_data() + size_t(pixel[p * kWidth + j]) * bytes,
+                        packed.bytes + size_t(j) * bytes, bytes);
+        }
+    }
+    count_ = 0;
+}
+
+void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out) {
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) {
+        const float v0 = t.varyings[0][k];
+        const bool flat = dc.interpolation[k] == FACET_INTERP_FLAT;  // vertex 0 is the first
+        out.v0[k] = v0;
+        out.d1[k] = flat ? 0.0f : t.varyings[1][k] - v0;
+        out.d2[k] = flat ? 0.0f : t.varyings[2][k] - v0;
+    }
+}
+
+void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
+                 const Block& b, PackedBatch& packed, FrameStats& stats) {
+    const bool msaa = dc.target->samples() > 1;
+    Float z[kParts];
+    SampleDepth sd;
+    const uint32_t mask = msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, t, b, z);
+    stats.fragments_depth_rejected += std::popcount(b.mask) - std::popcount(mask);
+    if (!mask) return;
+    // Packed batches write depth before they shade, and opaque colours only.
+    const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
+                      dc.state.blend == BlendMode::opaque;
+    if (!pack && !packed.empty()) packed.flush(stats);  // what came first is written first
+    if (!dc.state.color_write && !dc.shader->needs(FACET_NEED_DISCARD)) {
+        // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
+        if (msaa) write_samples(dc, b, sd, nullptr, mask);
+        else write_pixels(dc, b, z, nullptr, mask);
+        stats.fragments_depth_only += std::popcount(mask);
+        return;
+    }
+
+    alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
+    interpolate_varyings(dc, t, tv, b, interpolated_lanes(dc, mask), varyings);
+    alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
+    if (dc.sample_textures) sample_textures(dc, varyings, mask, texels);
+    alignas(64) float color[4 * N];
+    alignas(64) float ao[N];
+    if (dc.ao) gather_ao(dc, b, ao);
+    else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
+
+    alignas(64) float depth[N];
+    for (int p = 0; p < kParts; ++p)
+        simd::store(depth + p * kWidth, msaa || !simd::part_mask(mask, p)
+                                            ? interpolate_depth(t, b, p)
+                                            : z[p]);
+    if (pack) {
+        write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
+        packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);
+        return;
+    }
+    facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, depth,
+                               dc.sample_textures ? texels : nullptr,
+                               nullptr,  dc.needs_ao ? ao : nullptr, color, nullptr};
+    dc.fragment(dc.abi, &batch);
+    stats.blocks_shaded += 1;
+    stats.fragments_shaded += std::popcount(mask);
+    if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);
+    if (msaa) write_samples(dc, b, sd, color, batch.mask & mask);  // a shader may only clear bits
+    else write_pixels(dc, b, z, color, batch.mask & mask);
+}
+
+}  // namespace facet::FACET_KERNEL_NS

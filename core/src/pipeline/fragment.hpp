@@ -1,0 +1,78 @@
+// Fragment stage (one of the per-ISA kernels, kernels.hpp).
+//
+// Takes: one covered Block of a TriangleSetup, and the draw's constant state
+// (DrawContext).
+// Gives: the block's pixels depth-tested, shaded by the plugin in a single
+// call, depth-written and blended into the framebuffer in its format.
+//
+// Depth is tested before shading (the shader cannot change depth; a
+// discarding shader only removes lanes), so a block whose lanes are all
+// hidden is never shaded; the shader sees the surviving lanes in the mask.
+// Only the varyings the shader declares are interpolated, and textures are
+// sampled only for shaders that ask for them, at the lanes it will shade.
+//
+// Small triangles cover a few pixels of each block they touch. For shaders
+// that allow it (FACET_SHADER_PACKABLE), the covered fragments of a draw's
+// blocks are packed into full batches (PackedBatch) instead, so that each
+// shader call shades 16 fragments rather than the three or four a block of
+// a small triangle has.
+#pragma once
+
+#include "pipeline/draw_context.hpp"
+#include "pipeline/kernels.hpp"
+#include "pipeline/setup.hpp"
+
+namespace facet::FACET_KERNEL_NS {
+
+// What the fragment stage needs of one triangle, worked out once for all of
+// its blocks: varying float k is v0[k] + w1 d1[k] + w2 d2[k], with the
+// perspective-correct or the screen-linear weights of vertices 1 and 2
+// (flat ones have d1 = d2 = 0: vertex 0's value).
+struct TriangleVaryings {
+    float v0[FACET_MAX_VARYING_FLOATS];
+    float d1[FACET_MAX_VARYING_FLOATS];
+    float d2[FACET_MAX_VARYING_FLOATS];
+};
+
+void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out);
+
+// Covered fragments of one draw's blocks, of one facing, waiting to be
+// shaded together: each batch of 16 is one call of the shader. Their depth
+// is written when they pass the test, so the fragments that follow test
+// against it; their colours are written, in the order the fragments came,
+// when the batch is shaded, and before any other draw writes a pixel. So
+// the image is the one that shading each block on its own gives, overlaps
+// and blending included. One per thread (a tile at a time).
+class PackedBatch {
+public:
+    // Appends the fragments of `mask` (depth-tested and written) of block b;
+    // their inputs are laid out as for a block's batch.
+    void add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
+             const float* varyings, const float* depth, const float* texels, const float* ao,
+             FrameStats& stats);
+    // Shades and writes what waits.
+    void flush(FrameStats& stats);
+    bool empty() const { return count_ == 0; }
+
+private:
+    static constexpr int N = FACET_BLOCK_LANES;
+    static constexpr int kRow = 2 * N;  // room to compress a block past a full batch
+    void append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
+                const float* texels, const float* ao);
+
+    const DrawContext* dc_ = nullptr;
+    bool front_facing_ = true;
+    int count_ = 0;
+    alignas(64) float varyings_[FACET_MAX_VARYING_FLOATS][kRow];
+    alignas(64) float texels_[FACET_MAX_TEXTURES * 4][kRow];
+    alignas(64) float depth_[kRow];
+    alignas(64) float ao_[kRow];
+    alignas(64) int32_t position_[kRow];  // x | y << 16 of each fragment's pixel
+};
+
+// Shades one covered block: through `packed` when the draw's shader allows
+// it, else on its own (first shading what `packed` holds, to keep order).
+void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
+                 const Block& b, PackedBatch& packed, FrameStats& stats);
+
+}  // namespace facet::FACET_KERNEL_NS

@@ -1,0 +1,97 @@
+// The host's side of the plugin ABI: the facet_draw a plugin sees of a draw
+// call, and the services it may call back (log, dependent texture reads).
+#include "pipeline/draw_context.hpp"
+
+#include "facet/math.hpp"
+#include "facet/plugin.hpp"
+#include "facet/texture.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cstring>
+
+namespace facet {
+
+namespace {
+
+void copy_matrix(float* dst, const glm::mat4& m) { std::memcpy(dst, glm::value_ptr(m), 64); }
+
+void host_log(int level, const char* shader, const char* message) {
+    const spdlog::level::level_enum levels[] = {spdlog::level::debug, spdlog::level::info,
+                                                spdlog::level::warn, spdlog::level::err};
+    spdlog::log(levels[std::clamp(level, 0, 3)], "[{}] {}", shader ? shader : "?",
+                message ? message : "");
+}
+
+void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
+                 uint32_t count, float* rgba) {
+    const auto* dc = static_cast<const DrawContext*>(draw->host_data);
+    if (slot >= uint32_t(dc->texture_count) || !dc->textures[slot].texture) {  // unbound: white
+        std::fill(rgba, rgba + 4 * count, 1.0f);
+        return;
+    }
+    sample_many(dc->textures[slot], u, v, int(count), rgba);
+}
+
+}  // namespace
+
+void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
+                     const TextureBinding* textures, int texture_count) {
+    dc.shader = &shader;
+    dc.fragment = shader.fragment_for(isa);
+    dc.varying_floats = shader.varying_floats();
+    dc.interpolation = shader.float_interpolation();
+    dc.perspective_only = true;
+    for (uint32_t k = 0; k < dc.varying_floats; ++k)
+        dc.perspective_only &= dc.interpolation[k] != FACET_INTERP_LINEAR;
+    dc.textures = textures;
+    dc.texture_count = textures ? std::min(texture_count, shader.texture_count()) : 0;
+    // With no texture bound, the shader gets no texels and reads white.
+    dc.sample_textures = false;
+    if (shader.needs(FACET_NEED_TEXTURES))
+        for (int s = 0; s < dc.texture_count; ++s) dc.sample_textures |= bool(textures[s].texture);
+    dc.needs_ao = shader.needs(FACET_NEED_AO);
+    dc.packable = (shader.desc().flags & FACET_SHADER_PACKABLE) &&
+                  !shader.needs(FACET_NEED_DERIVATIVES) && !shader.needs(FACET_NEED_DISCARD);
+}
+
+facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc) {
+    facet_draw d{};
+    alignas(16) static const unsigned char kNoParams[FACET_MAX_PARAMS_SIZE] = {};
+    d.host = host_services();
+    d.params = call.params ? call.params : kNoParams;  // never NULL
+    d.host_data = &dc;
+    copy_matrix(d.model, call.model);
+    copy_matrix(d.view, call.view);
+    copy_matrix(d.projection, call.projection);
+    copy_matrix(d.view_projection, call.projection * call.view);
+    copy_matrix(d.model_view_projection, call.projection * call.view * call.model);
+    copy_matrix(d.normal_matrix, glm::mat4(normal_matrix(call.model)));
+    d.camera_position[0] = call.camera_position.x;
+    d.camera_position[1] = call.camera_position.y;
+    d.camera_position[2] = call.camera_position.z;
+    d.camera_position[3] = 1.0f;
+    if (call.shader->needs(FACET_NEED_LIGHTS)) {
+        d.light_count = call.light_count;
+        d.lights = call.lights;
+    }
+    if (call.shader->needs(FACET_NEED_SHADOW_MAP)) {
+        d.shadow_map_count = call.shadow_map_count;
+        d.shadow_maps = call.shadow_maps;
+    }
+    d.viewport_width = uint32_t(width);
+    d.viewport_height = uint32_t(height);
+    d.time = call.time;
+    return d;
+}
+
+const facet_host* host_services() {
+    static const facet_host host = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host),
+                                    &host_log, &host_sample};
+    return &host;
+}
+
+}  // namespace facet

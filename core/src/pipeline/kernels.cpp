@@ -1,0 +1,63 @@
+// The Kernels table of one instruction-set path (kernels.hpp), and the tile
+// loop that joins rasterization to the fragment stage.
+#include "pipeline/kernels.hpp"
+
+#include "pipeline/draw_queue.hpp"
+#include "pipeline/fragment.hpp"
+#include "pipeline/pixels.hpp"
+#include "pipeline/rasterize.hpp"
+
+namespace facet::FACET_KERNEL_NS {
+
+void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
+                       int x_count);  // ao_kernels.cpp
+void ao_blur_rows(const AoFrame& f, int first, int count);
+void ao_upsample_rows(const AoFrame& f, int first, int count);
+
+namespace {
+
+// Rasterizes and shades one tile's triangles, in submission order.
+void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
+    int x0, y0, x1, y1;
+    g.bins.rect(tile, x0, y0, x1, y1);
+    const int samples = g.target->samples();
+    PackedBatch packed;
+    for (const uint32_t entry : g.bins.entries(tile)) {
+        const SetupChunk& chunk = g.chunks[entry >> 16];
+        const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
+        const TriangleSetup& t = chunk.setups[entry & 0xFFFFu];
+        const BlockCoverage cover(t, samples);
+        TriangleVaryings tv;
+        bool prepared = false;  // many triangles cover nothing in a tile
+        rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
+            if (!prepared) prepare_varyings(dc, t, tv);
+            prepared = true;
+            shade_block(dc, t, tv, b, packed, stats);
+        });
+    }
+    packed.flush(stats);
+}
+
+void cover(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples, EdgeWidth width,
+           std::vector<Block>& out) {
+    const BlockCoverage coverage(t, samples, width);
+    rasterize(coverage, t, x0, y0, x1, y1, [&](const Block& b) { out.push_back(b); });
+}
+
+}  // namespace
+
+}  // namespace facet::FACET_KERNEL_NS
+
+extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
+    facet::Isa::FACET_KERNEL_ISA,
+    &facet::FACET_KERNEL_NS::draw_tile,
+    &facet::FACET_KERNEL_NS::cover,
+    &facet::FACET_KERNEL_NS::clear_rows,
+    &facet::FACET_KERNEL_NS::resolve_rows,
+    &facet::FACET_KERNEL_NS::srgb8_rows,
+    &facet::FACET_KERNEL_NS::encode_pixels,
+    &facet::FACET_KERNEL_NS::decode_pixels,
+    &facet::FACET_KERNEL_NS::ao_occlusion_rows,
+    &facet::FACET_KERNEL_NS::ao_blur_rows,
+    &facet::FACET_KERNEL_NS::ao_upsample_rows,
+};

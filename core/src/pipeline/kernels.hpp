@@ -1,0 +1,121 @@
+// The hot loops, once per instruction-set path (facet/isa.hpp).
+//
+// rasterize.cpp, fragment.cpp, pixels.cpp and kernels.cpp are compiled once
+// for each path, with that path's compiler flags and in a namespace of its
+// own (FACET_KERNEL_NS: isa_portable, isa_avx2, isa_avx512), and each
+// compilation exports one table of function pointers, facet_kernels_<path>.
+// The rest of the core is built for the baseline and calls the kernels of
+// its Pipeline's path through that table: one indirect call per tile, per
+// band of rows, never per pixel.
+//
+// The build links each path's objects into one relocatable object and
+// makes every symbol but its table local (facet_isa_objects() in
+// plugins/FacetShader.cmake): otherwise the linker would keep one copy of
+// each inline function the paths share - std::min, a glm operator - and
+// the SSE2 path could end up calling the AVX-512 copy.
+#pragma once
+
+#include "pipeline/setup.hpp"
+
+#include "facet/framebuffer.hpp"
+#include "facet/isa.hpp"
+
+#include <facet/shader_abi.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace facet {
+
+struct FrameStats;
+struct DrawQueue;
+
+// One 4x4 block of a triangle's coverage (rasterize.hpp).
+struct Block {
+    int32_t x, y;                    // pixel of lane 0 (multiples of 4), adjacent
+    uint32_t mask;                   // covered lanes inside the bounding box
+    alignas(64) float bary[3][FACET_BLOCK_LANES];  // weight of vertex k at lane i
+    uint8_t samples[FACET_BLOCK_LANES];  // MSAA only: covered samples of lane i
+};
+
+// How a triangle's edge functions are evaluated inside a block (setup.hpp's
+// TriangleSetup::narrow tells which applies).
+enum class EdgeWidth {
+    automatic,  // 32-bit lanes where the triangle allows it, else 64-bit
+    wide,       // 64-bit lanes always (tests hold the two to the same coverage)
+};
+
+// What the AO pass's kernels read and write (ao.hpp): buffers of the AO
+// grid, `scale` times coarser per side than the target (texel i stands for
+// target pixel i * scale), row-major, and the target's own buffers.
+struct AoFrame {
+    static constexpr int kSteps = 4;  // march steps along each direction
+    int width = 0, height = 0;        // the AO grid
+    int scale = 1;                    // 1 or 2
+    int target_width = 0, target_height = 0;
+    int samples = 0;                  // directions per texel
+    float radius = 0.0f;              // world (view) units
+    glm::mat4 projection{1.0f};
+    const float* x = nullptr;         // view-space position of each texel's surface
+    const float* y = nullptr;
+    const float* z = nullptr;         // ... its z; 0 where nothing was drawn
+    const float* nx = nullptr;        // view-space unit normal
+    const float* ny = nullptr;
+    const float* nz = nullptr;
+    // Hemisphere directions around +Z: [16 rotations][x, y, z][samples].
+    const float* directions = nullptr;
+    float* raw = nullptr;             // visibility before the blur
+    float* blurred = nullptr;         // ... after it
+    // The target's window depth (rows target_stride floats apart), whose
+    // `background` value means nothing was drawn, and the rows of the
+    // inverse projection that give a pixel's view z: dot(z_row, ndc) /
+    // dot(w_row, ndc), ndc = (x, y, depth, 1).
+    const float* target_depth = nullptr;
+    int target_stride = 0;
+    float background = 0.0f;
+    glm::vec4 z_row{0.0f}, w_row{0.0f};
+    float* visibility = nullptr;      // per target pixel (scale 2 only)
+};
+
+struct Kernels {
+    Isa isa;
+    // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
+    // submission order (draw.cpp), adding to `stats`.
+    void (*draw_tile)(const DrawQueue& g, int tile, FrameStats& stats);
+    // The blocks of `t` with coverage inside the pixel rectangle [x0, x1] x
+    // [y0, y1] (corners multiples of 4), at `samples` per pixel, appended
+    // to `out`. For tests and tools; draw_tile does the same inline.
+    void (*cover)(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples,
+                  EdgeWidth width, std::vector<Block>& out);
+    // Framebuffer rows [first, first + count): clear; average the samples
+    // into each pixel; write 8-bit sRGB RGBA, `width * 4` bytes a row.
+    void (*clear_rows)(Framebuffer& fb, int first, int count, const glm::vec4& color,
+                       float depth);
+    void (*resolve_rows)(Framebuffer& fb, int first, int count);
+    void (*srgb8_rows)(const Framebuffer& fb, int first, int count, uint8_t* out);
+    // `count` pixels from linear RGBA to `format`'s bytes, and back: the
+    // vector codecs the kernels above use (tests hold them to the scalar
+    // ones of framebuffer.hpp).
+    void (*encode_pixels)(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out);
+    void (*decode_pixels)(ColorFormat format, const uint8_t* in, size_t count, glm::vec4* linear);
+    // AO rows [first, first + count) (ao_kernels.cpp): raw visibility
+    // (within columns [x_first, x_first + x_count), x_first a multiple of
+    // 64) and its blur, on the AO grid; the depth-aware upsample, on the
+    // target's.
+    void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
+    void (*ao_blur_rows)(const AoFrame& f, int first, int count);
+    void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
+};
+
+// The kernels of a supported path; throws Error(isa_unavailable) otherwise.
+const Kernels& kernels(Isa isa);
+
+extern "C" {
+extern const Kernels facet_kernels_portable;
+extern const Kernels facet_kernels_avx2;
+extern const Kernels facet_kernels_avx512;
+}
+
+}  // namespace facet

@@ -1,0 +1,225 @@
+// The Pipeline (facet/pipeline.hpp): queued draws go through the vertex
+// stage (vertex.cpp) and primitive assembly, clipping and setup
+// (assembly.cpp) in parallel chunks as they are queued; at flush() every
+// queued triangle is binned into tiles (bin.cpp) and the tiles rasterized
+// and shaded in parallel by the pipeline's kernels (kernels.hpp:
+// rasterize.cpp, fragment.cpp). Triangles go through in batches of at most
+// kTriangleBatch, which bounds memory however large the mesh.
+#include "facet/pipeline.hpp"
+
+#include "pipeline/assembly.hpp"
+#include "pipeline/draw_queue.hpp"
+#include "pipeline/kernels.hpp"
+#include "base/thread_pool.hpp"
+#include "pipeline/vertex.hpp"
+
+#include "facet/error.hpp"
+#include "facet/mesh.hpp"
+#include "facet/plugin.hpp"
+
+#include <algorithm>
+#include <string>
+
+namespace facet {
+
+namespace {
+
+constexpr size_t kSetupChunk = 1024;                   // triangles per setup task
+constexpr size_t kTriangleBatch = 32 * kSetupChunk;   // triangles binned at once, at most
+// (each round of setup, binning and rasterization ends with a thread idle,
+// so fewer rounds scale better; 32k setups, 6 MiB, stay in the caches)
+constexpr int kMaxQueuedDraws = 256;                   // draws binned at once, at most
+// Every queued draw's last chunk may be partly full.
+constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;
+// Bins hold chunk << 16 | index: both must fit in 16 bits (a clipped
+// triangle becomes at most kMaxClipVertices - 2 setups).
+static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
+static_assert(kMaxChunks < (1 << 16));
+
+// Bins every queued triangle and rasterizes the tiles in parallel, adding
+// the triangle and fragment counts to `stats`. The queued draws stay (a
+// draw may have more triangles to come).
+void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels, FrameStats& stats) {
+    if (g.chunks_used == 0) return;
+    g.bins.resize(g.target->width(), g.target->height());
+    for (DrawQueue::WorkerStats& w : g.worker_stats) w.stats = {};
+    g.bins.bin(g.chunks, g.chunks_used);
+    const std::vector<int>& busy = g.bins.busy();
+    pool.parallel_for(int(busy.size()), [&](int i, int worker) {
+        kernels.draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)].stats);
+    });
+    g.bins.clear();
+    for (int c = 0; c < g.chunks_used; ++c) stats += g.chunks[size_t(c)].stats;
+    for (const DrawQueue::WorkerStats& w : g.worker_stats) stats += w.stats;
+    g.chunks_used = 0;
+    g.triangles_queued = 0;
+}
+
+// Calls fn(first_row, rows) for bands of `height` rows, in parallel.
+template <class Fn>
+void for_row_bands(ThreadPool& pool, int height, Fn&& fn) {
+    constexpr int kBand = 32;
+    pool.parallel_for((height + kBand - 1) / kBand, [&](int band, int) {
+        fn(band * kBand, std::min(kBand, height - band * kBand));
+    });
+}
+
+}  // namespace
+
+// The table of a path's kernels (kernels.hpp): those the build linked in.
+const Kernels& kernels(Isa isa) {
+    switch (checked_isa(isa)) {
+#if FACET_X86_KERNELS
+        case Isa::avx2: return facet_kernels_avx2;
+        case Isa::avx512: return facet_kernels_avx512;
+#endif
+        default: return facet_kernels_portable;
+    }
+}
+
+
+Pipeline::Pipeline(int threads, std::optional<Isa> isa)
+    : pool_(std::make_unique<ThreadPool>(threads)),
+      kernels_(&facet::kernels(isa ? checked_isa(*isa) : default_isa())),
+      queue_(std::make_unique<DrawQueue>(pool_->size())) {}
+Pipeline::~Pipeline() = default;
+Pipeline::Pipeline(Pipeline&&) noexcept = default;
+Pipeline& Pipeline::operator=(Pipeline&&) noexcept = default;
+
+int Pipeline::threads() const { return pool_->size(); }
+Isa Pipeline::isa() const { return kernels_->isa; }
+
+void Pipeline::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
+    queue(call, target, stats);
+    flush(stats);
+}
+
+void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
+    if (!call.mesh || !call.shader)
+        throw Error(ErrorCode::config_invalid, "draw call without a mesh or a shader");
+    const Mesh& mesh = *call.mesh;
+    const ShaderPlugin& shader = *call.shader;
+    DrawQueue& g = *queue_;
+    if (g.chunks_used > 0 && (g.target != &target || g.draws_used == kMaxQueuedDraws))
+        rasterize_queued(g, *pool_, *kernels_, stats);
+    if (g.chunks_used == 0) g.draws_used = 0;  // every earlier draw is done
+    if (g.draws.size() == size_t(g.draws_used)) g.draws.push_back(std::make_unique<QueuedDraw>());
+    int index = g.draws_used++;
+    QueuedDraw& d = *g.draws[size_t(index)];
+    g.target = &target;
+    ++stats.draws;
+
+    d.dc = {};
+    prepare_context(d.dc, shader, kernels_->isa, call.textures, call.texture_count);
+    d.dc.state = call.state;
+    d.dc.target = &target;
+    d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
+    d.abi = make_abi_draw(call, target.width(), target.height(), d.dc);
+    d.dc.abi = &d.abi;
+    const Viewport viewport{target.width(), target.height(), target.samples(),
+                            call.state.subpixel_bits};
+    shade_vertices(mesh, shader, viewport, *pool_, d);
+    stats.vertices_shaded += mesh.vertex_count();
+
+    const CullState cull = cull_state(call.state);
+    const Assembler assembler(d, viewport, cull);
+    const size_t triangles = mesh.triangle_count();
+    for (size_t first = 0; first < triangles; first += kTriangleBatch) {
+        const size_t count = std::min(kTriangleBatch, triangles - first);
+        const int chunks = int((count + kSetupChunk - 1) / kSetupChunk);
+        if (g.triangles_queued + count > kTriangleBatch || g.chunks_used + chunks > kMaxChunks) {
+            rasterize_queued(g, *pool_, *kernels_, stats);
+            // Only this draw is left: it moves to the first slot, freeing the
+            // others (and their vertex storage) for the draws that follow.
+            std::swap(g.draws[0], g.draws[size_t(index)]);
+            index = 0;
+            g.draws_used = 1;
+        }
+        if (g.chunks.size() < size_t(g.chunks_used + chunks))
+            g.chunks.resize(size_t(g.chunks_used + chunks));
+        pool_->parallel_for(chunks, [&](int c, int) {
+            SetupChunk& chunk = g.chunks[size_t(g.chunks_used + c)];
+            chunk.setups.clear();
+            chunk.clipped_used = 0;
+            chunk.draw = index;
+            chunk.stats = {};
+            const size_t begin = first + size_t(c) * kSetupChunk;
+            assembler.run(mesh.indices.data() + 3 * begin,
+                          std::min(kSetupChunk, first + count - begin), chunk);
+        });
+        g.chunks_used += chunks;
+        g.triangles_queued += count;
+    }
+}
+
+void Pipeline::flush(FrameStats& stats) {
+    rasterize_queued(*queue_, *pool_, *kernels_, stats);
+    queue_->draws_used = 0;
+}
+
+
+void Pipeline::require_flushed(const Framebuffer& target, const char* what) const {
+    if (queue_->chunks_used > 0 && queue_->target == &target)
+        throw Error(ErrorCode::out_of_range,
+                    std::string(what) + ": draws queued for the target wait; flush() first");
+}
+
+void Pipeline::clear(Framebuffer& target, const glm::vec4& color, float depth) {
+    require_flushed(target, "Pipeline::clear");
+    const Kernels& k = *kernels_;
+    for_row_bands(*pool_, target.height(),
+                  [&](int first, int rows) { k.clear_rows(target, first, rows, color, depth); });
+}
+
+void Pipeline::resolve(Framebuffer& target) {
+    require_flushed(target, "Pipeline::resolve");
+    if (target.samples() == 1) return;
+    const Kernels& k = *kernels_;
+    for_row_bands(*pool_, target.height(),
+                  [&](int first, int rows) { k.resolve_rows(target, first, rows); });
+}
+
+void Pipeline::resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out) {
+    require_flushed(target, "Pipeline::resolve_srgb8");
+    if (target.format() != ColorFormat::rgba16f && target.format() != ColorFormat::rgba32f) {
+        target.resolve_srgb8(out);  // a copy (srgb8), or black (no colour)
+        return;
+    }
+    out.resize(size_t(target.width()) * size_t(target.height()) * 4);
+    const Kernels& k = *kernels_;
+    for_row_bands(*pool_, target.height(),
+                  [&](int first, int rows) { k.srgb8_rows(target, first, rows, out.data()); });
+}
+
+FrameStats& FrameStats::operator+=(const FrameStats& o) {
+    objects += o.objects;
+    objects_culled += o.objects_culled;
+    draws += o.draws;
+    vertices_shaded += o.vertices_shaded;
+    triangles_in += o.triangles_in;
+    triangles_culled_frustum += o.triangles_culled_frustum;
+    triangles_culled_backface += o.triangles_culled_backface;
+    triangles_culled_degenerate += o.triangles_culled_degenerate;
+    triangles_invalid += o.triangles_invalid;
+    triangles_clipped += o.triangles_clipped;
+    triangles_rasterized += o.triangles_rasterized;
+    blocks_shaded += o.blocks_shaded;
+    fragments_shaded += o.fragments_shaded;
+    fragments_depth_rejected += o.fragments_depth_rejected;
+    fragments_depth_only += o.fragments_depth_only;
+    shadow_passes += o.shadow_passes;
+    shadow_maps_reused += o.shadow_maps_reused;
+    shadow_casters_culled += o.shadow_casters_culled;
+    prepasses += o.prepasses;
+    depth_prepasses += o.depth_prepasses;
+    ao_passes += o.ao_passes;
+    milliseconds += o.milliseconds;
+    ms_shadow += o.ms_shadow;
+    ms_prepass += o.ms_prepass;
+    ms_ao += o.ms_ao;
+    ms_main += o.ms_main;
+    ms_post += o.ms_post;
+    return *this;
+}
+
+}  // namespace facet

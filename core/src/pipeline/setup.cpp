@@ -1,0 +1,140 @@
+#include "pipeline/setup.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace facet {
+
+namespace {
+
+// Rounds a window coordinate to the nearest multiple of 1 / 2^bits pixel
+// (halves away from zero), in units of the kSubpixelBits grid. NaN goes to
+// the limit rather than to an undefined integer.
+int64_t snap(double window, int bits) {
+    const double limit = kGuardBandPixels * 2.0;  // never reached after clipping
+    // Scaling by a power of two is exact; so is v - trunc(v) below 2^52.
+    const double v = std::fmax(-limit, std::fmin(window, limit)) * double(int64_t(1) << bits);
+    // Without a branch: which way a coordinate rounds is a coin toss.
+    const double r = std::trunc(v) + std::copysign(double(std::abs(v - std::trunc(v)) >= 0.5), v);
+    return int64_t(r) * (int64_t(1) << (kSubpixelBits - bits));
+}
+
+int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// Top-left rule in a y-down window with the interior on the positive side:
+// a left edge has the interior to its right (edge normal x > 0), a top edge
+// is horizontal with the interior below it.
+bool top_left(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
+
+EdgeFunction make_edge(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
+    const int64_t dx = x1 - x0, dy = y1 - y0;
+    return {int32_t(x0), int32_t(y0), int32_t(dx), int32_t(dy), top_left(dx, dy) ? 0 : -1};
+}
+
+// 2^ilogb(w) for w > 0: w with its mantissa cleared, when w is normal.
+double power_of_two_below(double w) {
+    const uint64_t bits = std::bit_cast<uint64_t>(w) & 0x7FF0000000000000u;
+    return bits ? std::bit_cast<double>(bits) : std::ldexp(1.0, std::ilogb(w));
+}
+
+// Pixels px whose centre px * 256 + 128 lies within [lo, hi] sub-pixels.
+void pixel_range(int64_t lo, int64_t hi, int& first, int& last) {
+    const int64_t half = kSubpixelOne / 2;
+    first = int(floor_div(lo - half + kSubpixelOne - 1, kSubpixelOne));
+    last = int(floor_div(hi - half, kSubpixelOne));
+}
+
+}  // namespace
+
+double Viewport::guard_ndc() const {
+    // Window x = (ndc + 1) * width / 2 must stay within +-kGuardBandPixels.
+    const double half = std::max(width, height) * 0.5;
+    return (kGuardBandPixels - 2.0 * half) / half;
+}
+
+glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
+    const double inv_w = 1.0 / clip.w;
+    return {(clip.x * inv_w + 1.0) * 0.5 * viewport.width,
+            (1.0 - clip.y * inv_w) * 0.5 * viewport.height};
+}
+
+bool project_vertex(const glm::dvec4& clip, const Viewport& viewport, WindowVertex& out) {
+    if (!(clip.w > 0.0)) return false;
+    const int bits = std::clamp(viewport.subpixel_bits, 1, kSubpixelBits);
+    const glm::dvec2 p = to_window(clip, viewport);
+    out.x = int32_t(snap(p.x, bits));
+    out.y = int32_t(snap(p.y, bits));
+    out.z = float(clip.z / clip.w);
+    out.w = clip.w;
+    return true;
+}
+
+SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
+                           const CullState& cull, TriangleSetup& out, int orientation) {
+    WindowVertex p[3];
+    for (int i = 0; i < 3; ++i)
+        if (!project_vertex(v[i].clip, viewport, p[i])) return SetupResult::degenerate;
+    const WindowVertex* const pv[3] = {&p[0], &p[1], &p[2]};
+    const float* const varyings[3] = {v[0].varyings, v[1].varyings, v[2].varyings};
+    return setup_triangle(pv, varyings, viewport, cull, out, orientation);
+}
+
+SetupResult setup_triangle(const WindowVertex* const v[3], const float* const varyings[3],
+                           const Viewport& viewport, const CullState& cull, TriangleSetup& out,
+                           int orientation) {
+    const int64_t X[3] = {v[0]->x, v[1]->x, v[2]->x}, Y[3] = {v[0]->y, v[1]->y, v[2]->y};
+    const int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area2 == 0 || (orientation != 0 && (area2 > 0) != (orientation > 0)))
+        return SetupResult::degenerate;
+
+    // y runs down the window, so a triangle counter-clockwise as seen has
+    // negative area here.
+    const bool front = cull.front_ccw ? area2 < 0 : area2 > 0;
+    if ((front && cull.cull_front) || (!front && cull.cull_back))
+        return SetupResult::culled_backface;
+
+    // Orient so the interior is on the positive side of every edge.
+    // 1/w times a power of two that brings the largest to (0.5, 1], and at
+    // least FLT_MIN: perspective weights need only the ratios, and 1/w alone
+    // overflows float for w < 2^-128 (and underflows past 2^128).
+    const double scale = power_of_two_below(std::min({v[0]->w, v[1]->w, v[2]->w}));
+    int order[3] = {0, 1, 2};
+    if (area2 < 0) std::swap(order[1], order[2]);
+    for (int k = 0; k < 3; ++k) {
+        const int a = order[k], b = order[(k + 1) % 3];
+        out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
+        out.z[k] = v[a]->z;
+        out.inv_w[k] = std::max(float(1.0 / v[a]->w * scale), std::numeric_limits<float>::min());
+        out.varyings[k] = varyings[a];
+    }
+    out.area2 = area2 < 0 ? -area2 : area2;
+    out.front_facing = front;
+    out.inv_area2 = 1.0 / double(out.area2);
+    out.narrow = true;
+    for (int k = 0; k < 3; ++k) {
+        const EdgeFunction& e = out.edge[k];
+        out.narrow &= std::abs(int64_t(e.dx)) + std::abs(int64_t(e.dy)) < kNarrowEdgeSpan;
+        // Edge k gives the weight of vertex k + 2; it grows by -dy per
+        // sub-pixel in x and by dx in y.
+        out.bary_dx[(k + 2) % 3] = float(double(-e.dy * kSubpixelOne) * out.inv_area2);
+        out.bary_dy[(k + 2) % 3] = float(double(e.dx * kSubpixelOne) * out.inv_area2);
+    }
+
+    // Samples lie less than half a pixel from the centre.
+    const int64_t reach = viewport.samples > 1 ? kSubpixelOne / 2 : 0;
+    pixel_range(std::min({X[0], X[1], X[2]}) - reach, std::max({X[0], X[1], X[2]}) + reach,
+                out.x0, out.x1);
+    pixel_range(std::min({Y[0], Y[1], Y[2]}) - reach, std::max({Y[0], Y[1], Y[2]}) + reach,
+                out.y0, out.y1);
+    out.x0 = std::max(out.x0, 0);
+    out.y0 = std::max(out.y0, 0);
+    out.x1 = std::min(out.x1, viewport.width - 1);
+    out.y1 = std::min(out.y1, viewport.height - 1);
+    if (out.x0 > out.x1 || out.y0 > out.y1) return SetupResult::no_pixels;
+    return SetupResult::ok;
+}
+
+}  // namespace facet

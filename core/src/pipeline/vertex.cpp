@@ -1,0 +1,75 @@
+// The vertex stage (vertex.hpp).
+#include "pipeline/vertex.hpp"
+
+#include "pipeline/clip.hpp"
+
+#include "facet/mesh.hpp"
+#include "facet/plugin.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+constexpr uint32_t kVertexBatch = 256;
+
+template <class T>
+const float* input(const ShaderPlugin& shader, facet_need need, const std::vector<T>& data,
+                   size_t first) {
+    if (!shader.needs(need) || data.empty()) return nullptr;
+    return glm::value_ptr(data[first]);
+}
+
+bool finite(const glm::vec4& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
+}
+
+// Outcodes of every vertex of [first, first + count), and the window
+// position of those inside the guard band: once per vertex, however many
+// triangles share it.
+void project_vertices(QueuedDraw& d, size_t first, size_t count, const Viewport& viewport) {
+    const double guard = viewport.guard_ndc();
+    for (size_t i = first; i < first + count; ++i) {
+        WindowVertex& w = d.window[i];
+        if (!finite(d.clip[i])) {
+            w.user = kInvalid;
+            continue;
+        }
+        const glm::dvec4 c(d.clip[i]);
+        w.user = outcode(c, 1.0) | outcode(c, guard) << 8;
+        if (band_code(w.user) == 0 && !project_vertex(c, viewport, w)) w.user |= kNoWindow;
+    }
+}
+
+}  // namespace
+
+void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport& viewport,
+                    ThreadPool& pool, QueuedDraw& d) {
+    const size_t vcount = mesh.vertex_count();
+    const uint32_t floats = shader.varying_floats();
+    d.clip.resize(vcount);
+    d.window.resize(vcount);
+    d.varyings.resize(vcount * floats + 1);
+    const int batches = int((vcount + kVertexBatch - 1) / kVertexBatch);
+    pool.parallel_for(batches, [&](int b, int) {
+        const size_t first = size_t(b) * kVertexBatch;
+        const facet_vertex_batch batch{
+            uint32_t(std::min<size_t>(kVertexBatch, vcount - first)),
+            glm::value_ptr(mesh.positions[first]),
+            input(shader, FACET_NEED_NORMALS, mesh.normals, first),
+            input(shader, FACET_NEED_UVS, mesh.uvs, first),
+            input(shader, FACET_NEED_COLORS, mesh.colors, first),
+            nullptr,  // tangents: no shader may ask for them yet (plugin.cpp refuses it)
+            glm::value_ptr(d.clip[first]),
+            d.varyings.data() + first * floats,
+            floats};
+        shader.desc().vertex(&d.abi, &batch);
+        project_vertices(d, first, batch.count, viewport);
+    });
+}
+
+}  // namespace facet

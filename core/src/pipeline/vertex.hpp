@@ -1,0 +1,30 @@
+// The vertex stage.
+//
+// Takes: a queued draw's mesh and shader, and the target's viewport.
+// Gives: each vertex's clip position and varyings (the plugin's vertex
+// function, kVertexBatch vertices per call, batches in parallel, with only
+// the inputs the shader asks for), and its window position and outcodes,
+// once per vertex however many triangles share it (QueuedDraw::window).
+#pragma once
+
+#include "pipeline/draw_queue.hpp"
+#include "pipeline/setup.hpp"
+#include "base/thread_pool.hpp"
+
+#include <cstdint>
+
+namespace facet {
+
+// What the vertex stage records of each vertex in WindowVertex::user: its
+// outcodes against the viewport (for rejection, view_code) and the guard
+// band (for clipping, band_code), and whether it is unusable.
+constexpr uint32_t kInvalid = 1u << 16;   // a non-finite clip position
+constexpr uint32_t kNoWindow = 1u << 17;  // w <= 0: not projected
+inline uint32_t view_code(uint32_t user) { return user & 0xFFu; }
+inline uint32_t band_code(uint32_t user) { return user >> 8 & 0xFFu; }
+
+// Shades every vertex of `mesh` into d.clip, d.varyings and d.window.
+void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport& viewport,
+                    ThreadPool& pool, QueuedDraw& d);
+
+}  // namespace facet
