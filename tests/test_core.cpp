@@ -200,14 +200,19 @@ TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
     CHECK(some.lights == 1);
 }
 
-TEST_CASE("FACET_PLUGIN_PATH is searched after the build folder", "[plugin]") {
+TEST_CASE("FACET_PLUGIN_PATH is searched after the built-in plugins' folders", "[plugin]") {
     const std::string dir = FACET_TEST_PLUGIN_DIR;
     setenv("FACET_PLUGIN_PATH", ("/nonexistent:" + dir).c_str(), 1);
     PluginRegistry registry;
     unsetenv("FACET_PLUGIN_PATH");
     const auto path = registry.search_path();
-    REQUIRE(path.size() == 3);
+    // Found beside the test program (tests/../plugins), not baked in: then
+    // where an install puts them, then the variable's two folders.
+    REQUIRE(path.size() == 4);
     CHECK(path[0].string() == FACET_BUILD_PLUGIN_DIR);
+    CHECK(path[1] == (std::filesystem::path(FACET_BUILD_PLUGIN_DIR) / "../lib/facet/plugins")
+                         .lexically_normal());
+    CHECK(path[3].string() == dir);
     CHECK(registry.get("c_plugin")->name() == "c_plugin");
     CHECK(registry.get("unlit")->origin() == std::string(FACET_BUILD_PLUGIN_DIR) + "/unlit.so");
 }

@@ -1,5 +1,7 @@
 #include "facet/rebuild.hpp"
 
+#include "facet/paths.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
@@ -124,7 +126,7 @@ std::vector<ReloadEvent> ShaderRebuilder::update() {
     return out;
 }
 
-fs::path built_in_shader_sources() { return FACET_SHADER_SOURCE_DIR; }
-fs::path build_folder() { return FACET_BUILD_DIR; }
+fs::path built_in_shader_sources() { return data_dir() / "shaders"; }
+fs::path build_folder() { return (executable_dir() / "..").lexically_normal(); }
 
 }  // namespace facet

@@ -105,7 +105,8 @@ constexpr uint32_t kSupportedNeeds = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET
 
 class PluginRegistry {
 public:
-    // Starts with the build's plugin folder, then FACET_PLUGIN_PATH.
+    // Starts with the built-in plugins' folders (facet/paths.hpp), then
+    // FACET_PLUGIN_PATH.
     PluginRegistry();
     explicit PluginRegistry(std::vector<std::filesystem::path> search_path);
     ~PluginRegistry();

@@ -131,7 +131,8 @@ Scene load_scene(const std::filesystem::path& path, PluginRegistry& registry);
 void apply_render_settings(RenderSettings& settings, const std::string& yaml,
                            const std::string& origin);
 
-// The scene facet-render uses when given none.
+// The scene facet-render uses when given none: configs/default.yaml in
+// data_dir() (facet/paths.hpp).
 std::filesystem::path default_scene_path();
 
 }  // namespace facet

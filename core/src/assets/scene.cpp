@@ -4,6 +4,7 @@
 
 #include "facet/error.hpp"
 #include "facet/framebuffer.hpp"
+#include "facet/paths.hpp"
 #include "assets/material_yaml.hpp"
 #include "assets/yaml_util.hpp"
 
@@ -23,7 +24,7 @@ glm::mat4 Camera::projection(float aspect, bool reversed_z) const {
     return perspective(glm::radians(fov_y), aspect, near, far, reversed_z);
 }
 
-fs::path default_scene_path() { return FACET_DEFAULT_SCENE; }
+fs::path default_scene_path() { return data_dir() / "configs" / "default.yaml"; }
 
 namespace {
 

@@ -1,6 +1,7 @@
 #include "facet/plugin.hpp"
 
 #include "facet/error.hpp"
+#include "facet/paths.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -288,7 +289,7 @@ std::string join_paths(const std::vector<fs::path>& paths) {
 }  // namespace
 
 PluginRegistry::PluginRegistry()
-    : build_paths_{fs::path(FACET_BUILD_PLUGIN_DIR)}, env_paths_(env_plugin_path()) {}
+    : build_paths_(built_in_plugin_dirs()), env_paths_(env_plugin_path()) {}
 
 PluginRegistry::PluginRegistry(std::vector<fs::path> search_path)
     : build_paths_(std::move(search_path)) {}

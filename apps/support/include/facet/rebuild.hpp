@@ -42,7 +42,9 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// The build's own shaders/ folder and build folder (for facet-render).
+// The built-in shaders' sources (shaders/ in data_dir(), facet/paths.hpp)
+// and the build folder that builds them: the one the running program was
+// built in (its folder's parent).
 std::filesystem::path built_in_shader_sources();
 std::filesystem::path build_folder();
 
