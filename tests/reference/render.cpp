@@ -2,9 +2,9 @@
 
 #include "raycast.hpp"
 
-#include "pipeline/draw_context.hpp"  // DrawContext, make_abi_draw
-
+#include <facet/math.hpp>
 #include <facet/renderer.hpp>
+#include <facet/texture.hpp>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -12,6 +12,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -32,7 +33,6 @@ struct Prepared {
     const ShaderPlugin* shader = nullptr;
     const Mesh* mesh = nullptr;
     std::vector<TextureBinding> textures;
-    DrawContext dc;
     facet_draw all{}, none{};
     std::vector<facet_draw> alone;  // by light
     std::vector<float> varyings;    // [vertex][varying_floats]
@@ -42,6 +42,59 @@ struct Prepared {
     bool needs_ao = false;
     double ao_radius = 0.0;
 };
+
+// The oracle's own side of the plugin ABI (it uses no private part of the
+// core): a plugin's log messages go to stderr, and its dependent texture
+// reads sample the object's textures at level 0, bilinearly, as every
+// other read of the reference does (unbound slots read white).
+void oracle_log(int, const char* shader, const char* message) {
+    std::fprintf(stderr, "[%s] %s\n", shader ? shader : "?", message ? message : "");
+}
+
+void oracle_sample(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
+                   uint32_t count, float* rgba) {
+    const auto& textures = *static_cast<const std::vector<TextureBinding>*>(draw->host_data);
+    if (slot >= textures.size() || !textures[slot].texture) {
+        std::fill(rgba, rgba + 4 * count, 1.0f);
+        return;
+    }
+    sample_many(textures[slot], u, v, int(count), rgba);
+}
+
+const facet_host kOracleHost = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host), &oracle_log,
+                                &oracle_sample};
+
+void copy_matrix(float* out, const glm::mat4& m) { std::memcpy(out, glm::value_ptr(m), 64); }
+
+// What the plugin sees of object `o` drawn with every light in `lights`.
+facet_draw make_draw(const Scene& scene, const Object& o, const std::vector<facet_light>& lights,
+                     const std::vector<TextureBinding>& textures) {
+    alignas(16) static const unsigned char kNoParams[FACET_MAX_PARAMS_SIZE] = {};
+    const RenderSettings& s = scene.settings;
+    const Material& m = *o.material;
+    const glm::mat4 model = o.transform.matrix(), view = scene.camera.view();
+    const glm::mat4 projection =
+        scene.camera.projection(float(s.width) / float(s.height), s.reversed_z);
+    facet_draw d{};
+    d.host = &kOracleHost;
+    d.params = m.block ? m.block->bytes : kNoParams;
+    d.host_data = &textures;
+    copy_matrix(d.model, model);
+    copy_matrix(d.view, view);
+    copy_matrix(d.projection, projection);
+    copy_matrix(d.view_projection, projection * view);
+    copy_matrix(d.model_view_projection, projection * view * model);
+    copy_matrix(d.normal_matrix, glm::mat4(normal_matrix(model)));
+    for (int i = 0; i < 3; ++i) d.camera_position[i] = scene.camera.position[i];
+    d.camera_position[3] = 1.0f;
+    if (m.plugin->needs(FACET_NEED_LIGHTS)) {
+        d.lights = lights.data();
+        d.light_count = uint32_t(lights.size());
+    }
+    d.viewport_width = uint32_t(s.width);
+    d.viewport_height = uint32_t(s.height);
+    return d;
+}
 
 void check_supported(const Object& o) {
     const Material& m = *o.material;
@@ -63,23 +116,11 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     p->mesh = o.mesh.get();
     p->textures = m.textures;
     for (TextureBinding& t : p->textures) t.filter = Filter::bilinear;
-    prepare_context(p->dc, *p->shader, Isa::portable, p->textures.data(), int(p->textures.size()));
     p->shadowed = s.shadows && p->shader->needs(FACET_NEED_SHADOW_MAP);
     p->needs_ao = p->shader->needs(FACET_NEED_AO);
     p->ao_radius = s.ao_radius;
 
-    DrawCall call;
-    call.mesh = p->mesh;
-    call.shader = p->shader;
-    call.params = m.block ? m.block->bytes : nullptr;
-    call.model = o.transform.matrix();
-    call.view = scene.camera.view();
-    call.projection = scene.camera.projection(float(s.width) / float(s.height), s.reversed_z);
-    call.camera_position = scene.camera.position;
-    call.lights = lights.data();
-    call.light_count = uint32_t(lights.size());
-    p->all = make_abi_draw(call, s.width, s.height, p->dc);
-    p->dc.abi = &p->all;
+    p->all = make_draw(scene, o, lights, p->textures);
     p->none = p->all;
     p->none.light_count = 0;
     for (size_t k = 0; k < lights.size(); ++k) {
@@ -112,8 +153,9 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     for (uint32_t k = 0; k < floats; ++k)
         p->has_linear |= p->shader->float_interpolation()[k] == FACET_INTERP_LINEAR;
     if (p->has_linear) {
-        const glm::dmat4 mvp = glm::dmat4(call.projection) * glm::dmat4(call.view) *
-                               glm::dmat4(call.model);
+        const glm::dmat4 mvp = glm::dmat4(glm::make_mat4(p->all.projection)) *
+                               glm::dmat4(glm::make_mat4(p->all.view)) *
+                               glm::dmat4(glm::make_mat4(p->all.model));
         for (const glm::vec3& v : mesh.positions) {
             const glm::dvec4 c = mvp * glm::dvec4(glm::dvec3(v), 1.0);
             p->window.push_back({(c.x / c.w + 1.0) * 0.5 * s.width,
