@@ -83,7 +83,9 @@ void PluginSwap::swap() {
     for (auto& [material, plugin] : swaps_) std::swap(material->plugin, plugin);
 }
 
-std::filesystem::path temp_dir(const std::string& tag) {
+namespace {
+
+std::filesystem::path fresh_folder(const std::string& tag) {
     static std::atomic<int> counter{0};
     const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
     std::filesystem::path dir = std::filesystem::temp_directory_path() /
@@ -91,6 +93,22 @@ std::filesystem::path temp_dir(const std::string& tag) {
                                  std::to_string(counter++));
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+}  // namespace
+
+TempDir::TempDir(const std::string& tag) : path(fresh_folder(tag)) {}
+
+TempDir::~TempDir() {
+    std::error_code ignored;  // a destructor must not throw
+    std::filesystem::remove_all(path, ignored);
+}
+
+std::filesystem::path TempDir::write(const std::string& name, const std::string& text) const {
+    const std::filesystem::path file = path / name;
+    std::filesystem::create_directories(file.parent_path());
+    std::ofstream(file, std::ios::binary) << text;
+    return file;
 }
 
 void write(const std::filesystem::path& file, const std::string& text) {

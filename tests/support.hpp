@@ -96,8 +96,27 @@ private:
     std::vector<std::pair<std::shared_ptr<Material>, std::shared_ptr<ShaderPlugin>>> swaps_;
 };
 
-// A fresh, empty temporary folder.
-std::filesystem::path temp_dir(const std::string& tag);
+// A fresh, empty folder under the system temp folder, named after `tag`,
+// removed with everything in it when the TempDir goes, even when a test
+// fails. The one temporary-folder fixture of the tests.
+class TempDir {
+public:
+    explicit TempDir(const std::string& tag);
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    // Writes `text` (bytes, as they are) to `name` inside the folder, making
+    // the folders on the way; returns its path.
+    std::filesystem::path write(const std::string& name, const std::string& text) const;
+
+    const std::filesystem::path path;
+};
+
+// A square of side 18 at z = 0, facing +Z, as OBJ text: it fills the view
+// of a camera at the default position.
+inline constexpr const char* kQuadObj =
+    "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n";
 
 // Writes `text` to `file`.
 void write(const std::filesystem::path& file, const std::string& text);

@@ -1,5 +1,7 @@
 // Materials and scenes from YAML: every error names its id, file, line and
 // column; good files load into the values they say.
+#include "support.hpp"
+
 #include <facet/error.hpp>
 #include <facet/material.hpp>
 #include <facet/plugin.hpp>
@@ -14,7 +16,6 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -61,14 +62,12 @@ struct TestShader {
 
 // A temp folder with a registry that knows the test shader, and files in it.
 struct Env {
-    fs::path dir;
+    facet::test::TempDir folder{"config"};
+    const fs::path& dir = folder.path;
     facet::PluginRegistry registry{std::vector<fs::path>{}};
     facet::TextureCache cache;
 
     Env() {
-        std::random_device random;
-        dir = fs::temp_directory_path() / ("facet-config-test-" + std::to_string(random()));
-        fs::create_directories(dir);
         registry.add(
             facet::ShaderPlugin::from_descriptor(facet::sdk::describe<TestShader>(), "test"));
         write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");
@@ -76,14 +75,8 @@ struct Env {
         write("px.tga",
               std::string("\0\0\2\0\0\0\0\0\0\0\0\0\1\0\1\0\x20\x28", 18) + "\x10\x20\x30\xff");
     }
-    ~Env() {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
     fs::path write(const std::string& name, const std::string& text) const {
-        fs::create_directories((dir / name).parent_path());
-        std::ofstream(dir / name, std::ios::binary) << text;
-        return dir / name;
+        return folder.write(name, text);
     }
     std::shared_ptr<facet::Material> material(const std::string& yaml) {
         return facet::load_material(write("m.yaml", yaml), registry, cache);

@@ -95,7 +95,8 @@ TEST_CASE("sRGB resolve matches the transfer function, and PNGs round-trip", "[f
     Framebuffer fb(5, 3);
     fb.clear({0.2f, 0.5f, 1.0f, 0.5f}, 0.0f);
     fb.set_pixel(4, 2, {1.0f, 0.0f, 0.0f, 1.0f});
-    const auto dir = temp_dir("png");
+    const TempDir folder("png");
+    const std::filesystem::path& dir = folder.path;
     fb.write_png(dir / "out.png");
     int w = 0, h = 0, n = 0;
     unsigned char* px = stbi_load((dir / "out.png").c_str(), &w, &h, &n, 4);
@@ -107,7 +108,6 @@ TEST_CASE("sRGB resolve matches the transfer function, and PNGs round-trip", "[f
     stbi_image_free(px);
     CHECK_THROWS_AS(fb.write_png(dir / "no-such-dir" / "x.png"), Error);
     CHECK_THROWS_AS(fb.resize(0, 10), Error);
-    std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("triangles beyond the guard band are clipped to it, others are not",
@@ -338,7 +338,8 @@ TEST_CASE("trilinear filtering picks the analytic level of detail at a grazing a
 
 TEST_CASE("JPEG textures load through stb_image, decoded from sRGB", "[texture]") {
     // A flat sRGB colour (188, 64, 32), written as a JPEG at full quality.
-    const auto dir = temp_dir("jpeg");
+    const TempDir folder("jpeg");
+    const std::filesystem::path& dir = folder.path;
     std::vector<unsigned char> pixels;
     for (int i = 0; i < 64; ++i) pixels.insert(pixels.end(), {188, 64, 32});
     REQUIRE(stbi_write_jpg((dir / "flat.jpg").c_str(), 8, 8, 3, pixels.data(), 100));
@@ -349,7 +350,6 @@ TEST_CASE("JPEG textures load through stb_image, decoded from sRGB", "[texture]"
     CHECK(texel.g == Approx(srgb_to_linear(64 / 255.0f)).margin(0.01));
     CHECK(texel.b == Approx(srgb_to_linear(32 / 255.0f)).margin(0.01));
     CHECK(tex->levels() == 4);  // 8x8 down to 1x1
-    std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("command-line sizes and cameras parse strictly", "[core][cli]") {

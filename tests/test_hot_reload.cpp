@@ -29,7 +29,8 @@ using test::write;
 // A folder with a plugin folder, a full-screen quad, a material using the
 // shader "hot" (with gain 1), and a scene.
 struct Fixture {
-    fs::path dir = test::temp_dir("reload");
+    test::TempDir folder{"reload"};
+    const fs::path& dir = folder.path;
     fs::path plugins = dir / "plugins";
     fs::path scene_file = dir / "scene.yaml";
     fs::path material_file = dir / "material.yaml";
@@ -37,11 +38,10 @@ struct Fixture {
     Fixture() {
         fs::create_directories(plugins);
         REQUIRE(compile_plugin(plugins / "hot.so", "hot", "-DFILL_RED=0.25f -DWITH_GAIN"));
-        write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+        write(dir / "quad.obj", test::kQuadObj);
         write(material_file, "shader: hot\nparams: {gain: 1}\n");
         write(scene_file, scene_text("material.yaml"));
     }
-    ~Fixture() { fs::remove_all(dir); }
 
     static std::string scene_text(const std::string& material) {
         return "render: {size: [16, 16], color_format: rgba32f}\nplugin_paths: [plugins]\n"
@@ -85,7 +85,8 @@ ReloadEvent::Kind next_kind(HotReload& reload) {
 
 TEST_CASE("the file watcher sees writes, new files and renames", "[reload][watcher]") {
     for (bool polling : {false, true}) {
-        const fs::path dir = test::temp_dir("watch");
+        const test::TempDir folder("watch");
+        const fs::path& dir = folder.path;
         FileWatcher::Options options;
         options.force_polling = polling;
         options.poll_interval = 20ms;
@@ -102,7 +103,6 @@ TEST_CASE("the file watcher sees writes, new files and renames", "[reload][watch
         }
         CHECK(seen.count(fs::canonical(dir) / "a.yaml"));
         CHECK(seen.count(fs::canonical(dir) / "b.yaml"));
-        fs::remove_all(dir);
     }
 }
 

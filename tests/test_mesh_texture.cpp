@@ -1,5 +1,7 @@
 // Mesh loading (OBJ, PLY, glTF through assimp), mesh validation, texture
 // decoding and sampling, checked against hand-computed values.
+#include "support.hpp"
+
 #include <facet/error.hpp>
 #include <facet/mesh.hpp>
 #include <facet/texture.hpp>
@@ -12,7 +14,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,23 +23,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// A fresh folder under the system temp folder, removed afterwards.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::random_device random;
-        path = fs::temp_directory_path() / ("facet-mesh-test-" + std::to_string(random()));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    fs::path write(const std::string& name, const std::string& bytes) const {
-        std::ofstream(path / name, std::ios::binary) << bytes;
-        return path / name;
-    }
-};
+using facet::test::TempDir;
 
 // An uncompressed 32-bit TGA, top row first; `rgba` holds 4 bytes per texel.
 std::string tga(int width, int height, const std::vector<uint8_t>& rgba) {
@@ -124,7 +109,7 @@ facet::ErrorCode error_code_of(const facet::Mesh& mesh) {
 // ---- meshes -----------------------------------------------------------------------
 
 TEST_CASE("OBJ quad is triangulated, joined, given normals and flipped UVs", "[mesh]") {
-    TempDir dir;
+    TempDir dir("mesh");
     const auto mesh = facet::load_mesh(dir.write("quad.obj", kQuadObj));
     REQUIRE(mesh->triangle_count() == 2);
     REQUIRE(mesh->vertex_count() == 4);
@@ -139,7 +124,7 @@ TEST_CASE("OBJ quad is triangulated, joined, given normals and flipped UVs", "[m
 }
 
 TEST_CASE("PLY quad keeps its vertex colours", "[mesh]") {
-    TempDir dir;
+    TempDir dir("mesh");
     const auto mesh = facet::load_mesh(dir.write("quad.ply", kQuadPly));
     REQUIRE(mesh->triangle_count() == 2);
     REQUIRE(mesh->colors.size() == mesh->vertex_count());
@@ -155,7 +140,7 @@ TEST_CASE("PLY quad keeps its vertex colours", "[mesh]") {
 }
 
 TEST_CASE("glTF node transforms apply to positions and normals", "[mesh]") {
-    TempDir dir;
+    TempDir dir("mesh");
     const auto mesh = facet::load_mesh(dir.write("triangle.gltf", kTriangleGltf));
     REQUIRE(mesh->triangle_count() == 1);
     // (x, y, z) turns to (z, y, -x), then moves +2 in z.
@@ -173,7 +158,7 @@ TEST_CASE("Spot loads with UVs and unit normals", "[mesh]") {
 }
 
 TEST_CASE("mesh files that cannot be read are refused", "[mesh]") {
-    TempDir dir;
+    TempDir dir("mesh");
     try {
         facet::load_mesh(dir.path / "missing.obj");
         FAIL("no error");
@@ -224,7 +209,7 @@ facet::ErrorCode mesh_error(const fs::path& file) {
 
 TEST_CASE("broken PLY files are refused, never hang or crash", "[mesh][ply]") {
     // assimp 5.2 alone loops forever on the first and crashes on the second.
-    TempDir dir;
+    TempDir dir("mesh");
     const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                                "property float y\nproperty float z\nelement face 1\n"
                                "property list uchar int vertex_indices\nend_header\n";
@@ -282,7 +267,7 @@ TEST_CASE("compute_bounds spans the positions", "[mesh]") {
 // ---- textures -----------------------------------------------------------------------
 
 TEST_CASE("sRGB textures decode colour to linear, alpha stays linear", "[texture]") {
-    TempDir dir;
+    TempDir dir("mesh");
     const fs::path file = dir.write("px.tga", tga(2, 1, {0, 128, 255, 128, 188, 10, 0, 255}));
     const auto srgb = facet::load_texture(file, true);
     REQUIRE(srgb->width == 2);
@@ -299,7 +284,7 @@ TEST_CASE("sRGB textures decode colour to linear, alpha stays linear", "[texture
 }
 
 TEST_CASE("bilinear filtering against hand-computed values", "[texture]") {
-    TempDir dir;
+    TempDir dir("mesh");
     // 2x2, red = 0, 100 / 200, 255 (codes), linear data.
     const fs::path file = dir.write(
         "2x2.tga", tga(2, 2, {0, 0, 0, 255, 100, 0, 0, 255, 200, 0, 0, 255, 255, 0, 0, 255}));
@@ -317,7 +302,7 @@ TEST_CASE("bilinear filtering against hand-computed values", "[texture]") {
 }
 
 TEST_CASE("nearest filtering and wrap modes", "[texture]") {
-    TempDir dir;
+    TempDir dir("mesh");
     using facet::Filter;
     using facet::Wrap;
     const std::vector<uint8_t> codes = {0, 51, 102, 255};  // 0, 0.2, 0.4, 1
@@ -348,7 +333,7 @@ TEST_CASE("nearest filtering and wrap modes", "[texture]") {
 }
 
 TEST_CASE("sample_many writes channel-major and matches sample", "[texture]") {
-    TempDir dir;
+    TempDir dir("mesh");
     const auto b =
         row_texture(dir, {0, 51, 102, 255}, facet::Filter::bilinear, facet::Wrap::mirror);
     const float u[3] = {0.1f, 0.55f, 0.9f}, v[3] = {0.5f, 0.5f, 0.5f};
@@ -361,7 +346,7 @@ TEST_CASE("sample_many writes channel-major and matches sample", "[texture]") {
 }
 
 TEST_CASE("the texture cache shares by file and colour space", "[texture]") {
-    TempDir dir;
+    TempDir dir("mesh");
     dir.write("a.tga", tga(1, 1, {1, 2, 3, 4}));
     facet::TextureCache cache;
     const auto a = cache.get(dir.path / "a.tga", true);
@@ -370,7 +355,7 @@ TEST_CASE("the texture cache shares by file and colour space", "[texture]") {
 }
 
 TEST_CASE("texture files that cannot be read are refused", "[texture]") {
-    TempDir dir;
+    TempDir dir("mesh");
     try {
         facet::load_texture(dir.path / "missing.png", true);
         FAIL("no error");

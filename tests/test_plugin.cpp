@@ -99,7 +99,8 @@ TEST_CASE("plugins with a mismatched ABI are refused, saying why", "[abi][plugin
 }
 
 TEST_CASE("files that are not plugins are refused", "[plugin]") {
-    const fs::path dir = test::temp_dir("plugin");
+    const test::TempDir folder("plugin");
+    const fs::path& dir = folder.path;
     std::ofstream(dir / "garbage.so") << "this is not an ELF file";
     CHECK(load_error(dir / "garbage.so") == ErrorCode::plugin_load_failed);
     // A real plugin cut short, as a half-finished compile leaves it.
@@ -108,7 +109,6 @@ TEST_CASE("files that are not plugins are refused", "[plugin]") {
     fs::resize_file(dir / "truncated.so", fs::file_size(good) / 3);
     CHECK(load_error(dir / "truncated.so") == ErrorCode::plugin_load_failed);
     CHECK(load_error(dir / "absent.so") == ErrorCode::file_not_found);
-    fs::remove_all(dir);
 }
 
 TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
@@ -155,11 +155,11 @@ TEST_CASE("the registry finds plugins on its search path, by name", "[plugin]") 
         CHECK_THAT(e.what(), Catch::Contains(kTestPlugins.string()));
     }
     // The file name and the shader's own name must agree.
-    const fs::path dir = test::temp_dir("rename");
+    const test::TempDir folder("rename");
+    const fs::path& dir = folder.path;
     fs::copy_file(kTestPlugins / "c_plugin.so", dir / "renamed.so");
     registry.add_scene_path(dir);
     CHECK_THROWS_AS(registry.get("renamed"), Error);
-    fs::remove_all(dir);
 }
 
 TEST_CASE("the default scene renders through the unlit plugin .so", "[plugin][scene]") {

@@ -26,8 +26,8 @@ namespace fs = std::filesystem;
 namespace {
 
 struct SceneDir {
-    fs::path dir = test::temp_dir("reference");
-    ~SceneDir() { fs::remove_all(dir); }
+    test::TempDir folder{"reference"};
+    const fs::path& dir = folder.path;
     Scene load(const std::string& yaml) {
         test::write(dir / "scene.yaml", yaml);
         return load_scene(dir / "scene.yaml", registry);

@@ -21,13 +21,13 @@ namespace fs = std::filesystem;
 namespace {
 
 struct SceneDir {
-    fs::path dir = test::temp_dir("shadow-ao");
+    test::TempDir folder{"shadow-ao"};
+    const fs::path& dir = folder.path;
     SceneDir() {
         std::ofstream(dir / "ground.obj")
             << "v -6 0 -6\nv 6 0 -6\nv 6 0 6\nv -6 0 6\nvn 0 1 0\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n";
         fs::copy_file(fs::path(FACET_SOURCE_DIR) / "plugins/template/cube.obj", dir / "cube.obj");
     }
-    ~SceneDir() { fs::remove_all(dir); }
 
     Scene load(const std::string& yaml) {
         std::ofstream(dir / "scene.yaml") << yaml;

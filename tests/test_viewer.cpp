@@ -55,7 +55,8 @@ Options small(const std::string& scene = "") {
     o.scene = scene;
     o.size = glm::ivec2(160, 90);
     o.threads = 1;
-    o.screenshots = test::temp_dir("shots");
+    static const test::TempDir shots("shots");  // shared by the tests that do not count them
+    o.screenshots = shots.path;
     return o;
 }
 
@@ -268,8 +269,10 @@ TEST_CASE("fly mode moves while a key is held, and stops when it is released", "
 }
 
 TEST_CASE("P saves a screenshot named by time", "[viewer]") {
+    const test::TempDir folder("shots");
     Options o = small();
-    const fs::path dir = o.screenshots;
+    o.screenshots = folder.path;
+    const fs::path& dir = folder.path;
     Viewer v(o);
     v.pump();
     key(SDLK_p);
@@ -279,7 +282,6 @@ TEST_CASE("P saves a screenshot named by time", "[viewer]") {
         pngs += e.path().extension() == ".png" && e.path().filename().string().rfind("facet-", 0) == 0;
     CHECK(pngs == 1);
     CHECK(has_message(v, "saved", false));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("bad input shows an error and keeps the last good state", "[viewer][bad]") {
@@ -288,7 +290,8 @@ TEST_CASE("bad input shows an error and keeps the last good state", "[viewer][ba
     CHECK(has_message(v, "/no/such/scene.yaml: file not found", true));
     REQUIRE(v.scene().objects.size() == 1);
 
-    const fs::path dir = test::temp_dir("view-bad");
+    const test::TempDir folder("view-bad");
+    const fs::path& dir = folder.path;
     write(dir / "broken.yaml", "camera: {position: [0, 0, 1}\n");
     SDL_Event drop{};
     drop.type = SDL_DROPFILE;
@@ -297,13 +300,13 @@ TEST_CASE("bad input shows an error and keeps the last good state", "[viewer][ba
     v.pump();
     CHECK(has_message(v, "broken.yaml:1:", true));
     CHECK(fs::equivalent(v.scene().source, fs::path(FACET_SOURCE_DIR) / "configs/default.yaml"));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("an edited material re-renders; a broken one is refused and the image stays",
           "[viewer][reload]") {
-    const fs::path dir = test::temp_dir("view-reload");
-    write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+    const test::TempDir folder("view-reload");
+    const fs::path& dir = folder.path;
+    write(dir / "quad.obj", test::kQuadObj);
     write(dir / "material.yaml", "shader: unlit\nparams: {base_color: [1, 0, 0, 1]}\n");
     write(dir / "scene.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\n"
                               "objects:\n  - {mesh: quad.obj, material: material.yaml}\n");
@@ -320,14 +323,14 @@ TEST_CASE("an edited material re-renders; a broken one is refused and the image 
     REQUIRE(pump_until(v, [&] { return has_message(v, "keeping the previous version", true); }));
     CHECK(v.frames_rendered() == frames);
     CHECK(v.framebuffer().pixel(80, 45).g > 0.99f);
-    fs::remove_all(dir);
 }
 
 TEST_CASE("a recompiled shader appears in the running viewer", "[viewer][reload]") {
-    const fs::path dir = test::temp_dir("view-shader");
+    const test::TempDir folder("view-shader");
+    const fs::path& dir = folder.path;
     fs::create_directories(dir / "plugins");
     REQUIRE(compile_plugin(dir / "plugins/hot.so", "hot", 0.25f));
-    write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+    write(dir / "quad.obj", test::kQuadObj);
     write(dir / "scene.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\n"
                               "plugin_paths: [plugins]\n"
                               "objects:\n  - {mesh: quad.obj, material: {shader: hot}}\n");
@@ -338,12 +341,12 @@ TEST_CASE("a recompiled shader appears in the running viewer", "[viewer][reload]
     REQUIRE(compile_plugin(dir / "plugins/hot.so", "hot", 0.75f));
     REQUIRE(pump_until(v, [&] { return v.framebuffer().pixel(80, 45).r > 0.7f; }));
     CHECK(has_message(v, "reloaded shader 'hot'", false));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("a scripted run's screenshot matches facet-render's image of the same view",
           "[viewer][script]") {
-    const fs::path dir = test::temp_dir("view-script");
+    const test::TempDir folder("view-script");
+    const fs::path& dir = folder.path;
     const std::string camera = "--camera -1.5,0.9,-2.4,0,0.3,0.2,40 --size 320x180 --msaa 4";
     const std::string view = std::string(FACET_VIEW_EXE) + " --frames 2 " + camera +
                              " --screenshot " + (dir / "view.png").string() + " 2>/dev/null";
@@ -369,7 +372,6 @@ TEST_CASE("a scripted run's screenshot matches facet-render's image of the same 
     INFO("max difference " << max_diff << " codes");
     CHECK(max_diff <= 1);
     CHECK(lit > 2000);  // the cow is in view
-    fs::remove_all(dir);
 }
 
 TEST_CASE("messages fade on time, and an idle viewer then sleeps", "[viewer]") {
@@ -389,7 +391,6 @@ TEST_CASE("messages fade on time, and an idle viewer then sleeps", "[viewer]") {
     CHECK(v.frames_presented() == presents + 1);  // the overlay without the message
     CHECK(v.messages().empty());
     CHECK(v.wait_ms() == -1);
-    fs::remove_all(o.screenshots);
 }
 
 TEST_CASE("fly keys never stick: both shifts, and a reset while a key is held", "[viewer]") {
@@ -424,8 +425,9 @@ TEST_CASE("fly keys never stick: both shifts, and a reset while a key is held", 
 
 TEST_CASE("a scene edit keeps the user's camera unless the file's camera changed",
           "[viewer][reload]") {
-    const fs::path dir = test::temp_dir("view-camera");
-    write(dir / "quad.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n");
+    const test::TempDir folder("view-camera");
+    const fs::path& dir = folder.path;
+    write(dir / "quad.obj", test::kQuadObj);
     const std::string objects =
         "objects:\n  - {name: a, mesh: quad.obj, material: {shader: unlit}}\n"
         "  - {name: b, mesh: quad.obj, position: [0, 0, -1], material: {shader: unlit}}\n";
@@ -452,11 +454,11 @@ TEST_CASE("a scene edit keeps the user's camera unless the file's camera changed
     write(dir / "scene.yaml", "camera: {position: [0, 1, 5], target: [0, 0, 0]}\n" + objects);
     REQUIRE(pump_until(v, [&] { return v.scene().objects.size() == 2; }));
     CHECK(v.controller().camera().position == glm::vec3(0, 1, 5));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("odd input: a dropped non-scene file, a scene with no objects", "[viewer][bad]") {
-    const fs::path dir = test::temp_dir("view-empty");
+    const test::TempDir folder("view-empty");
+    const fs::path& dir = folder.path;
     write(dir / "empty.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\nobjects: []\n");
     Viewer v(small((dir / "empty.yaml").string()));
     v.pump();
@@ -472,5 +474,4 @@ TEST_CASE("odd input: a dropped non-scene file, a scene with no objects", "[view
     v.pump();
     CHECK(has_message(v, "not a scene file", true));
     CHECK(v.scene().source == dir / "empty.yaml");
-    fs::remove_all(dir);
 }
