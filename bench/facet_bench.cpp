@@ -280,7 +280,7 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
 }
 
 // With a float target, what turning it into 8-bit sRGB for a PNG or a window
-// costs against clearing it (Renderer::resolve_srgb8, Renderer::clear): the
+// costs against clearing it (Pipeline::resolve_srgb8, Pipeline::clear): the
 // medians of `runs`, in ms, of a target of varied colours.
 void print_output_cost(const std::string& target, const glm::ivec2& size, int threads, Isa isa,
                        int runs) {

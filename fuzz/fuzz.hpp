@@ -11,7 +11,7 @@
 //   scene_yaml     load_scene() on a scene file, then one tiny render
 //   material_yaml  load_material() on a material file
 //   mesh_import    load_mesh() on an OBJ or PLY file (assimp + ply_check)
-//   raster         random clip-space triangles through Renderer::draw,
+//   raster         random clip-space triangles through Pipeline::draw,
 //                  against an exact-geometry coverage oracle
 #pragma once
 

@@ -1,4 +1,4 @@
-// Fuzz target: the material loader, load_material() (core/src/material.cpp,
+// Fuzz target: the material loader, load_material() (core/src/assets/material.cpp,
 // yaml_util.cpp, texture.cpp), against the build's real shader plugins.
 //
 // The input is a material file, written to configs/materials/ in the

@@ -1,5 +1,5 @@
-// Fuzz target: mesh import, load_mesh() (core/src/mesh.cpp: assimp, with
-// core/src/ply_check.cpp in front of assimp's PLY reader).
+// Fuzz target: mesh import, load_mesh() (core/src/assets/mesh.cpp: assimp, with
+// core/src/assets/ply_check.cpp in front of assimp's PLY reader).
 //
 // The first byte picks the file's extension, so one target covers both
 // formats: odd ('o') makes it .obj, even ('p') .ply. The rest is the file,

@@ -1,6 +1,6 @@
 // Fuzz target: primitive assembly, clipping, setup, binning, rasterization
-// and the fragment stage (core/src/draw.cpp, clip.cpp, setup.cpp, bin.cpp,
-// rasterize.cpp, fragment.cpp), through Renderer::draw, with random
+// and the fragment stage (core/src/pipeline/: vertex.cpp, assembly.cpp, clip.cpp, setup.cpp, bin.cpp,
+// rasterize.cpp, fragment.cpp), through Pipeline::draw, with random
 // clip-space vertices.
 //
 // Input: three header bytes (viewport 1..72 pixels a side, so a 64-pixel

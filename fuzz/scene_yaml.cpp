@@ -1,6 +1,6 @@
-// Fuzz target: the scene loader, load_scene() (core/src/scene.cpp,
+// Fuzz target: the scene loader, load_scene() (core/src/assets/scene.cpp,
 // yaml_util.cpp, and through it the material, mesh and texture loaders),
-// then one tiny render of each scene it accepts (core/src/renderer.cpp,
+// then one tiny render of each scene it accepts (core/src/frame/renderer.cpp,
 // shadow.cpp, ao.cpp and the pipeline).
 //
 // The input is a scene file, written to configs/scenes/ in the sandbox

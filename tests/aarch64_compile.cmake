@@ -16,7 +16,7 @@ file(CREATE_LINK /usr/include/glm "${OUT}/include/glm" SYMBOLIC)
 set(common -std=c++20 -O2 -Wall -Wextra -Werror -Wno-psabi -fPIC -I${SOURCE}/plugins/include
            -isystem ${OUT}/include)
 file(GLOB shaders "${SOURCE}/shaders/*/*.cpp")
-set(kernels pipeline/kernels pipeline/rasterize pipeline/fragment pipeline/pixels frame/ao_kernels)
+set(kernels pipeline/kernels pipeline/rasterize pipeline/fragment pipeline/pixels pipeline/ao_kernels)
 foreach(file IN LISTS kernels shaders)
   if(file IN_LIST kernels)
     set(src "${SOURCE}/core/src/${file}.cpp")

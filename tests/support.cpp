@@ -11,6 +11,8 @@
 #include <cstring>
 #include <fstream>
 
+#include <unistd.h>
+
 namespace facet::test {
 
 Mesh make_mesh(std::vector<glm::vec3> positions, std::vector<uint32_t> indices,
@@ -89,8 +91,8 @@ std::filesystem::path fresh_folder(const std::string& tag) {
     static std::atomic<int> counter{0};
     const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
     std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                ("facet-test-" + tag + "-" + std::to_string(stamp) + "-" +
-                                 std::to_string(counter++));
+                                ("facet-test-" + tag + "-" + std::to_string(getpid()) + "-" +
+                                 std::to_string(stamp) + "-" + std::to_string(counter++));
     std::filesystem::create_directories(dir);
     return dir;
 }

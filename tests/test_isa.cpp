@@ -1,6 +1,6 @@
 // Instruction-set paths (facet/isa.hpp): choosing one, and every path
 // drawing the same image as the others, bit for bit; and packed fragment
-// batches (core/src/fragment.hpp) drawing what block batches draw.
+// batches (core/src/pipeline/fragment.hpp) drawing what block batches draw.
 //
 // CTest also runs the raster, pipeline, MSAA and shader tests once per path
 // with FACET_ISA set (tests/CMakeLists.txt); this file compares the paths

@@ -1,4 +1,4 @@
-// Multisampling and wireframe through Renderer::draw, against exact and
+// Multisampling and wireframe through Pipeline::draw, against exact and
 // double-precision references: per-sample coverage of shared edges, the
 // resolve, per-sample depth, and the wireframe's distance to each edge.
 #include "support.hpp"

@@ -1,5 +1,5 @@
 // The whole pipeline (vertex stage, clipping, setup, raster, fragment, depth,
-// blend) through Renderer::draw, against double-precision references.
+// blend) through Pipeline::draw, against double-precision references.
 #include "support.hpp"
 
 #include <facet/math.hpp>

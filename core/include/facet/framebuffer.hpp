@@ -25,7 +25,7 @@
 // directly and resolve() does nothing.
 //
 // clear(), resolve() and the 8-bit output run on FACET_ISA's path (isa.hpp)
-// on the calling thread; Renderer::clear() and resolve() share the rows out
+// on the calling thread; Pipeline::clear() and resolve() share the rows out
 // to the renderer's threads.
 #pragma once
 

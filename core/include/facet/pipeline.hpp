@@ -35,9 +35,9 @@ namespace facet {
 struct Mesh;
 class ShaderPlugin;
 struct TextureBinding;
-class ThreadPool;  // core/src/thread_pool.hpp
-struct Kernels;    // core/src/kernels.hpp
-struct DrawQueue;  // core/src/draw_queue.hpp
+class ThreadPool;  // core/src/base/thread_pool.hpp
+struct Kernels;    // core/src/pipeline/kernels.hpp
+struct DrawQueue;  // core/src/pipeline/draw_queue.hpp
 
 // What a frame did and what it skipped. Triangle counts are per input
 // triangle: each ends in exactly one of culled_frustum, culled_backface,

@@ -22,7 +22,7 @@
 // bilinear upsample gives each target pixel the visibility of the texels
 // around it that lie at its depth.
 //
-// The occlusion, blur and upsample are per-ISA kernels (ao_kernels.cpp),
+// The occlusion, blur and upsample are per-ISA kernels (pipeline/ao_kernels.cpp, with the other kernels of the path),
 // kWidth texels at a time, and every stage runs on the pipeline's threads.
 #pragma once
 

@@ -36,8 +36,8 @@ private:
 
     const DrawContext& dc_;
     const QueuedDraw& draw_;  // its vertices
-    const Viewport& viewport_;
-    const CullState& cull_;
+    const Viewport viewport_;
+    const CullState cull_;
     const double guard_;  // guard-band half-width, NDC
 };
 

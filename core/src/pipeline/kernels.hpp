@@ -82,7 +82,7 @@ struct AoFrame {
 struct Kernels {
     Isa isa;
     // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
-    // submission order (draw.cpp), adding to `stats`.
+    // submission order (pipeline.cpp), adding to `stats`.
     void (*draw_tile)(const DrawQueue& g, int tile, FrameStats& stats);
     // The blocks of `t` with coverage inside the pixel rectangle [x0, x1] x
     // [y0, y1] (corners multiples of 4), at `samples` per pixel, appended

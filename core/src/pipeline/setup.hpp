@@ -113,7 +113,7 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
 struct WindowVertex {
     int32_t x, y;   // window position on the sub-pixel grid, y down
     float z;        // window depth z / w
-    uint32_t user;  // free for the caller (draw.cpp keeps clip outcodes here)
+    uint32_t user;  // free for the caller (vertex.cpp keeps clip outcodes here)
     double w;       // clip w, > 0
 };
 

@@ -95,8 +95,8 @@ enum facet_need {
     FACET_NEED_SHADOW_MAP = 1u << 6,  /* facet_draw.shadow_maps (ABI 1.1)        */
     FACET_NEED_AO = 1u << 7,          /* facet_fragment_batch.ao; the host's AO  */
                                       /*   pass takes its radius and sample count */
-                                      /*   from the material's `ao_radius` (FLOAT) */
-                                      /*   and `ao_samples` (INT), if declared    */
+                                      /*   from the scene's render settings       */
+                                      /*   (ao_radius, ao_samples)                */
     FACET_NEED_DERIVATIVES = 1u << 8, /* differences across quads: the host must */
                                       /*   keep every lane interpolated (it does) */
     FACET_NEED_BLENDING = 1u << 9,    /* output alpha is meant for blending      */
