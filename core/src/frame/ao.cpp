@@ -12,10 +12,6 @@
 
 namespace facet {
 
-AoSettings ao_settings(const RenderSettings& settings) {
-    return {settings.ao_radius, settings.ao_samples, settings.ao_half_resolution};
-}
-
 namespace {
 
 // Direction k of n, cosine-weighted over the hemisphere around +Z (a
@@ -49,8 +45,10 @@ void AoPass::make_directions(int samples) {
 }
 
 void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& view,
-                 const glm::mat4& proj, bool reversed_z, int width, int height,
-                 const AoSettings& settings, Pipeline& pipeline, FrameStats& stats) {
+                 const glm::mat4& proj, const RenderSettings& settings, Pipeline& pipeline,
+                 FrameStats& stats) {
+    const int width = settings.width, height = settings.height;
+    const bool reversed_z = settings.reversed_z;
     ThreadPool& pool = pipeline.pool();
     const Kernels& kernels = pipeline.kernels();
     auto start = std::chrono::steady_clock::now();
@@ -77,15 +75,15 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     stats.ms_prepass += elapsed_ms(start);
 
     start = std::chrono::steady_clock::now();
-    scale_ = settings.half_resolution ? 2 : 1;
+    scale_ = settings.ao_half_resolution ? 2 : 1;
     AoFrame& f = frame_;
     f.scale = scale_;
     f.width = (width + scale_ - 1) / scale_;
     f.height = (height + scale_ - 1) / scale_;
     f.target_width = width;
     f.target_height = height;
-    f.samples = settings.samples;
-    f.radius = settings.radius;
+    f.samples = settings.ao_samples;
+    f.radius = settings.ao_radius;
     f.projection = proj;
     const size_t texels = size_t(f.width) * size_t(f.height);
     for (std::vector<float>* v : {&x_, &y_, &z_, &nx_, &ny_, &nz_, &raw_, &blurred_})
@@ -94,7 +92,7 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
     f.raw = raw_.data();
     f.blurred = blurred_.data();
-    make_directions(settings.samples);
+    make_directions(settings.ao_samples);
     f.directions = directions_.data();
     const glm::mat4 inverse = glm::inverse(proj);
     f.target_depth = depth_.depth();

@@ -37,22 +37,14 @@
 
 namespace facet {
 
-struct AoSettings {
-    float radius = 0.5f;           // world units
-    int samples = 12;              // directions per texel
-    bool half_resolution = false;  // the AO grid at half the target's size per side
-};
-
-// The AO pass's settings, from the scene's render settings.
-AoSettings ao_settings(const RenderSettings& settings);
-
 class AoPass {
 public:
     // Runs the pre-pass (timed into stats.ms_prepass) and the AO, blur and
-    // upsample (stats.ms_ao). `reversed_z` tells the depth range.
+    // upsample (stats.ms_ao) for a target of the settings' size and depth
+    // range, with their ao_radius, ao_samples and ao_resolution.
     void run(const std::vector<const Object*>& objects, const glm::mat4& view,
-             const glm::mat4& proj, bool reversed_z, int width, int height,
-             const AoSettings& settings, Pipeline& pipeline, FrameStats& stats);
+             const glm::mat4& proj, const RenderSettings& settings, Pipeline& pipeline,
+             FrameStats& stats);
 
     // Ambient visibility per target pixel of the last run, row-major.
     const float* visibility() const {

@@ -129,8 +129,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         stats.ms_shadow += elapsed_ms(t);
     }
     if (needs_ao) {
-        passes_->ao.run(scratch_.opaque, call.view, call.projection, s.reversed_z, s.width,
-                        s.height, ao_settings(s), pipeline_, stats);
+        passes_->ao.run(scratch_.opaque, call.view, call.projection, s, pipeline_, stats);
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);

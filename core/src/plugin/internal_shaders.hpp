@@ -27,28 +27,6 @@ struct DepthOnly {
     }
 };
 
-// View-space normals in RGB: the AO pre-pass.
-struct ViewNormals {
-    struct Params {};
-    struct Varyings {
-        glm::vec3 normal;
-    };
-    static constexpr const char* name = "facet_view_normals";
-    static constexpr const char* version = "internal";
-    static constexpr uint32_t needs = FACET_NEED_NORMALS;
-    static constexpr facet_varying_desc varyings[] = {sdk::varying("normal", 3)};
-    static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
-                           glm::vec4& clip) {
-        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
-        return {glm::mat3(d.view()) * (d.normal_matrix() * in.normal)};
-    }
-    static glm::vec4 fragment(const Varyings& v, sdk::Fragment& f, const sdk::Draw&,
-                              const Params&) {
-        const glm::vec3 n = glm::normalize(v.normal);
-        return glm::vec4(f.front_facing ? n : -n, 1.0f);
-    }
-};
-
 template <class S>
 const ShaderPlugin& plugin() {
     static const std::shared_ptr<ShaderPlugin> p =
