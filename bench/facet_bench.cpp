@@ -30,7 +30,7 @@
 // other shaders' rows get no llvmpipe columns; a scene file when all its
 // materials are opaque, untextured phong or unlit; no row under --render),
 // in a child process that
-// sets llvmpipe's thread count (llvmpipe_worker.hpp, llvmpipe.hpp), once per
+// sets llvmpipe's thread count (llvmpipe/worker.hpp, llvmpipe/llvmpipe.hpp), once per
 // configuration (all paths' rows share it). It adds llvmpipe's median, the
 // ratio llvmpipe ms / facet ms (above 1: facet is faster) and the pixels
 // whose coverage differs (a share in the table; the CSV and JSON also give
@@ -63,10 +63,10 @@
 // the thread count and the peak resident memory while rendering that scene
 // (Linux: VmHWM, reset when the scene starts; it includes the scene itself,
 // not --llvmpipe's facet coverage pass).
-#include "meshes.hpp"
+#include "meshes.hpp"  // tests/meshes.hpp
 #include "pareto.hpp"
 #ifdef FACET_HAVE_OSMESA
-#include "llvmpipe_worker.hpp"
+#include "llvmpipe/worker.hpp"
 #endif
 
 #include <facet/command_line.hpp>
@@ -100,7 +100,7 @@ namespace {
 
 // A UV sphere of radius 1 with about `triangles` triangles.
 std::shared_ptr<Mesh> sphere(int triangles) {
-    return bench::uv_sphere(std::max(4, int(std::sqrt(triangles / 4.0))));
+    return std::make_shared<Mesh>(test::uv_sphere(std::max(4, int(std::sqrt(triangles / 4.0)))));
 }
 
 // An n x n grid of quads in the z = 0 plane over [-w, w] x [-h, h], facing +Z.
@@ -624,7 +624,7 @@ void add_options(CLI::App& app, Options& o) {
                  "also draw each configuration (phong and unlit) through Mesa's llvmpipe "
                  "(OSMesa): its time, the ratio to facet's and the coverage difference")
         ->excludes(pareto_flag);
-    // The child side of --llvmpipe (llvmpipe_worker.hpp); not for users.
+    // The child side of --llvmpipe (llvmpipe/worker.hpp); not for users.
     app.add_option("--llvmpipe-worker", o.worker_result)->group("");
     app.add_option("--llvmpipe-coverage", o.worker_mask)->group("");
 }

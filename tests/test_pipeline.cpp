@@ -1,5 +1,6 @@
 // The whole pipeline (vertex stage, clipping, setup, raster, fragment, depth,
-// blend) through Pipeline::draw, against double-precision references.
+// blend) through Pipeline::draw, against double-precision references; the guard
+// band; and what the vertex and fragment stages hand a shader.
 #include "support.hpp"
 
 #include <facet/math.hpp>
@@ -9,6 +10,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 using namespace facet;
@@ -423,4 +425,94 @@ TEST_CASE("a vertex at the clip-space origin drops its triangle cleanly", "[pipe
     CHECK(stats.triangles_rasterized == 1);  // the other triangle is unaffected
     CHECK(stats.triangles_culled_degenerate == 1);
     for (const glm::vec4& c : fb.linear()) REQUIRE(c.r <= 1.0f);
+}
+
+TEST_CASE("triangles beyond the guard band are clipped to it, others are not",
+          "[pipeline][clip]") {
+    auto shader = plugin<CountShader>();
+    const int W = 64, H = 48;
+    auto draw = [&](float extent) {
+        // Two triangles sharing the diagonal of a square `extent` NDC units wide.
+        const Mesh quad = make_mesh({{-extent, -extent, 0.5f}, {extent, -extent, 0.5f},
+                                     {extent, extent, 0.5f}, {-extent, extent, 0.5f}},
+                                    {0, 1, 2, 0, 2, 3});
+        Framebuffer fb(W, H);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        DrawCall call = clip_space_call(quad, *shader);
+        call.state.blend = BlendMode::additive;
+        FrameStats stats;
+        Pipeline().draw(call, fb, stats);
+        const std::vector<glm::vec4> px = fb.linear();
+        for (int i = 0; i < W * H; ++i) REQUIRE(px[size_t(i)].r == 1.0f);
+        return stats;
+    };
+    CHECK(draw(3.0f).triangles_clipped == 0);       // off screen, inside the guard band
+    CHECK(draw(1e4f).triangles_clipped == 0);       // ~3e5 px: still inside
+    CHECK(draw(1e5f).triangles_clipped == 2);       // ~3e6 px: clipped to the band
+    CHECK(draw(1e12f).triangles_clipped == 2);      // far beyond: still exact
+}
+
+namespace {
+
+// Records what the core handed the vertex and fragment functions.
+struct Seen {
+    bool normal = false, uv = false, color = false, texels = false;
+    uint32_t varying_floats = 0, lights = 0;
+};
+Seen g_seen;
+
+void probe_vertex(const facet_draw* d, const facet_vertex_batch* b) {
+    g_seen.normal |= b->normal != nullptr;
+    g_seen.uv |= b->uv != nullptr;
+    g_seen.color |= b->color != nullptr;
+    g_seen.varying_floats = b->varying_floats;
+    g_seen.lights = d->light_count;
+    for (uint32_t i = 0; i < b->count; ++i) {
+        std::memcpy(b->clip_position + 4 * i, b->position + 3 * i, 12);
+        b->clip_position[4 * i + 3] = 1.0f;
+        for (uint32_t k = 0; k < b->varying_floats; ++k) b->varyings[i * b->varying_floats + k] = 0;
+    }
+}
+
+void probe_fragment(const facet_draw*, facet_fragment_batch* b) {
+    g_seen.texels |= b->texels != nullptr;
+    for (int i = 0; i < 4 * FACET_BLOCK_LANES; ++i) b->color[i] = 1.0f;
+}
+
+}  // namespace
+
+TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
+    const facet_varying_desc uv = {"uv", 2, FACET_INTERP_PERSPECTIVE};
+    facet_shader_desc desc = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_shader_desc),
+                              "probe", "test", 0, 0, nullptr, 0, nullptr, 0,
+                              probe_vertex, probe_fragment, nullptr, nullptr, 0};
+    Mesh mesh = make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {0, 1, 0.5f}}, {0, 1, 2},
+                          std::vector<glm::vec4>(3, glm::vec4(1.0f)));
+    mesh.normals.assign(3, {0, 0, 1});
+    mesh.uvs.assign(3, {0, 0});
+    const facet_light light{};
+    auto run = [&] {
+        g_seen = {};
+        auto shader = ShaderPlugin::from_descriptor(&desc, "probe");
+        Framebuffer fb(8, 8);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        DrawCall call = clip_space_call(mesh, *shader);
+        call.lights = &light;
+        call.light_count = 1;
+        FrameStats stats;
+        Pipeline().draw(call, fb, stats);
+        return g_seen;
+    };
+    Seen none = run();
+    CHECK_FALSE((none.normal || none.uv || none.color || none.texels));
+    CHECK(none.varying_floats == 0);
+    CHECK(none.lights == 0);
+
+    desc.needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS;
+    desc.varying_count = 1;
+    desc.varyings = &uv;
+    Seen some = run();
+    CHECK((some.normal && some.uv && !some.color));
+    CHECK(some.varying_floats == 2);
+    CHECK(some.lights == 1);
 }

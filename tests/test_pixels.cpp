@@ -3,14 +3,18 @@
 // codecs and row kernels (kernels.hpp) against the scalar codecs, bit for
 // bit, over the values where rounding decides: each sRGB code's threshold,
 // each table bucket's edges, each half float's midpoints, and the special
-// values.
+// values. And the sRGB PNG a framebuffer writes.
 #include "pipeline/color_tables.hpp"
 #include "pipeline/kernels.hpp"
+#include "support.hpp"
 
+#include <facet/error.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/isa.hpp>
 
 #include <catch2/catch.hpp>
+
+#include <stb/stb_image.h>
 
 #include <algorithm>
 #include <bit>
@@ -21,6 +25,7 @@
 #include <vector>
 
 using namespace facet;
+using facet::test::TempDir;
 
 namespace {
 
@@ -230,4 +235,49 @@ TEST_CASE("every float from 2^-14 to 1 encodes to its sRGB code, on every path",
         }
         CHECK(code == 255);
     }
+}
+
+TEST_CASE("sRGB resolve matches the transfer function, and PNGs round-trip", "[framebuffer]") {
+    for (int code = 0; code < 256; ++code) {
+        const double encoded = code / 255.0;
+        const double linear = encoded <= 0.04045 ? encoded / 12.92
+                                                 : std::pow((encoded + 0.055) / 1.055, 2.4);
+        REQUIRE(linear_to_srgb8(float(linear)) == code);
+    }
+    CHECK(linear_to_srgb8(-1.0f) == 0);
+    CHECK(linear_to_srgb8(7.0f) == 255);
+    // Against the transfer function in double precision, rounded: every
+    // float in a dense sweep of 0..1 and on both sides of each code's edge.
+    auto reference = [](float v) {
+        const double l = v, e = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055;
+        return int(std::floor(e * 255.0 + 0.5));
+    };
+    for (int i = 0; i <= 1 << 20; ++i) {
+        const float v = float(i) / float(1 << 20);
+        REQUIRE(int(linear_to_srgb8(v)) == reference(v));
+    }
+    for (int code = 1; code < 256; ++code) {
+        const double e = (code - 0.5) / 255.0;
+        const float edge = float(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
+        for (float v = std::nextafter(edge, 0.0f), k = 0; k < 3; ++k, v = std::nextafter(v, 2.0f))
+            REQUIRE(int(linear_to_srgb8(v)) == reference(v));
+    }
+    CHECK(linear_to_srgb8(std::nanf("")) == 0);
+
+    Framebuffer fb(5, 3);
+    fb.clear({0.2f, 0.5f, 1.0f, 0.5f}, 0.0f);
+    fb.set_pixel(4, 2, {1.0f, 0.0f, 0.0f, 1.0f});
+    const TempDir folder("png");
+    const std::filesystem::path& dir = folder.path;
+    fb.write_png(dir / "out.png");
+    int w = 0, h = 0, n = 0;
+    unsigned char* px = stbi_load((dir / "out.png").c_str(), &w, &h, &n, 4);
+    REQUIRE(px);
+    CHECK((w == 5 && h == 3));
+    CHECK(int(px[0]) == linear_to_srgb8(0.2f));
+    CHECK(int(px[3]) == 128);
+    CHECK(int(px[(2 * 5 + 4) * 4]) == 255);
+    stbi_image_free(px);
+    CHECK_THROWS_AS(fb.write_png(dir / "no-such-dir" / "x.png"), Error);
+    CHECK_THROWS_AS(fb.resize(0, 10), Error);
 }

@@ -1,4 +1,5 @@
-// Plugin loading and the ABI: real .so files, good and deliberately bad.
+// Plugin loading and the ABI: real .so files, good and deliberately bad, and
+// where plugins are searched for.
 #include "support.hpp"
 
 #include <facet/error.hpp>
@@ -180,4 +181,22 @@ TEST_CASE("the default scene renders through the unlit plugin .so", "[plugin][sc
     for (int i = 0; i < fb.width() * fb.height(); ++i)
         drawn += std::memcmp(&px[4 * size_t(i)], clear, 4) != 0;
     CHECK(drawn > fb.width() * fb.height() / 20);
+}
+
+TEST_CASE("FACET_PLUGIN_PATH is searched after the built-in plugins' folders", "[plugin]") {
+    const std::string dir = FACET_TEST_PLUGIN_DIR;
+    setenv("FACET_PLUGIN_PATH", ("/nonexistent:" + dir).c_str(), 1);
+    PluginRegistry registry;
+    unsetenv("FACET_PLUGIN_PATH");
+    const auto path = registry.search_path();
+    // Found beside the test program (tests/../plugins), not baked in: then
+    // where an install puts them, then the variable's two folders.
+    REQUIRE(path.size() == 4);
+    // (Compared as files: the program's path has its symbolic links resolved.)
+    CHECK(std::filesystem::equivalent(path[0], FACET_BUILD_PLUGIN_DIR));
+    CHECK(path[1] == path[0].parent_path() / "lib/facet/plugins");
+    CHECK(path[3].string() == dir);
+    CHECK(registry.get("c_plugin")->name() == "c_plugin");
+    CHECK(std::filesystem::equivalent(registry.get("unlit")->origin(),
+                                      std::string(FACET_BUILD_PLUGIN_DIR) + "/unlit.so"));
 }

@@ -1,5 +1,5 @@
-// The lit, phong and toon plugins, loaded as the real built .so files, against
-// a double-precision reference of the formulas their sources document.
+// The unlit, lit, phong and toon plugins, loaded as the real built .so files,
+// against a double-precision reference of the formulas their sources document.
 //
 // Most tests draw one quad in perspective, through the camera matrices a
 // scene uses, with a non-uniform model transform and a different normal at
@@ -16,6 +16,7 @@
 // rounding and the 1/256-pixel vertex snap may put it on either side, and
 // the output jumps by a whole step there. Each test also checks that enough
 // pixels were compared and that they were not all black or saturated.
+#include "meshes.hpp"
 #include "support.hpp"
 
 #include <facet/isa.hpp>
@@ -507,29 +508,9 @@ Values toon_values(int bands, double outline_width) {
 
 // ---- a sphere ------------------------------------------------------------------
 
-// A unit sphere with exact normals, `stacks` x `slices` quads.
-Mesh make_sphere(int stacks, int slices) {
-    std::vector<glm::vec3> pos;
-    std::vector<uint32_t> idx;
-    for (int i = 0; i <= stacks; ++i)
-        for (int j = 0; j <= slices; ++j) {
-            const double theta = M_PI * i / stacks, phi = 2.0 * M_PI * j / slices;
-            pos.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
-                             std::sin(theta) * std::sin(phi));
-        }
-    for (int i = 0; i < stacks; ++i)
-        for (int j = 0; j < slices; ++j) {
-            const uint32_t a = uint32_t(i * (slices + 1) + j), b = a + uint32_t(slices) + 1;
-            idx.insert(idx.end(), {a, b, a + 1, a + 1, b, b + 1});
-        }
-    Mesh m = make_mesh(pos, idx);
-    m.normals = pos;
-    return m;
-}
-
 Setup sphere_setup(const std::vector<facet_light>& lights) {
     Setup s = perspective_setup({0.0f, 0.0f, 4.0f}, 96, 96, 40.0f);
-    s.mesh = make_sphere(48, 96);
+    s.mesh = uv_sphere(48);  // exact unit normals
     s.lights = lights;
     return s;
 }
@@ -762,5 +743,41 @@ TEST_CASE("toon outlines cover exactly where the sphere turns away from the view
             }
         CHECK(inside > 500);
         if (width > 0) CHECK(outline > 100);
+    }
+}
+
+TEST_CASE("unlit.so computes vertex colour x base colour x texture", "[shader][unlit]") {
+    PluginRegistry registry;
+    auto unlit = registry.get("unlit");
+    // A 2x2 texture, sampled with nearest filtering at texel centres.
+    auto tex = std::make_shared<Texture>();
+    tex->width = tex->height = 2;
+    tex->texels = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {0.5f, 0.5f, 0.5f, 0.5f}};
+    const TextureBinding bindings[1] = {{tex, Filter::nearest, Wrap::clamp}};
+    struct Block {
+        glm::vec4 base_color;
+        int32_t base_texture;
+    } params{{1.0f, 0.5f, 0.25f, 1.0f}, 1};
+    const glm::vec4 vertex_color(0.5f, 1.0f, 1.0f, 1.0f);
+    // A full-screen quad whose UVs run 0..1 across it.
+    Mesh quad = make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {1, 1, 0.5f}, {-1, 1, 0.5f}},
+                          {0, 1, 2, 0, 2, 3}, std::vector<glm::vec4>(4, vertex_color));
+    quad.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    for (bool textured : {false, true}) {
+        params.base_texture = textured;
+        Framebuffer fb(8, 8);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        DrawCall call = clip_space_call(quad, *unlit);
+        call.params = &params;
+        call.textures = textured ? bindings : nullptr;
+        call.texture_count = textured ? 1 : 0;
+        FrameStats stats;
+        Pipeline().draw(call, fb, stats);
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const glm::vec4 texel = textured ? tex->texels[(y / 4) * 2 + x / 4] : glm::vec4(1);
+                const glm::vec4 expected = vertex_color * params.base_color * texel;
+                REQUIRE(glm::all(glm::equal(fb.pixel(x, y), expected)));
+            }
     }
 }

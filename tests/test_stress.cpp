@@ -1,4 +1,5 @@
 // Numerical stress: a closed mesh seen from every side, extreme depth ranges.
+#include "meshes.hpp"
 #include "support.hpp"
 
 #include <facet/math.hpp>
@@ -114,30 +115,6 @@ size_t rss_bytes(const char* key) {
 
 // Linux: writing 5 to clear_refs resets VmHWM to the current RSS.
 bool reset_peak_rss() { return bool(std::ofstream("/proc/self/clear_refs") << "5"); }
-
-// A closed UV sphere of `rings` x 2 `rings` quads (4 rings^2 triangles),
-// with radii r around c, as positions only.
-Mesh uv_sphere(int rings, glm::vec3 r, glm::vec3 c) {
-    Mesh m;
-    const int segments = 2 * rings;
-    m.positions.reserve(size_t(rings + 1) * (segments + 1));
-    for (int i = 0; i <= rings; ++i)
-        for (int j = 0; j <= segments; ++j) {
-            const float theta = glm::pi<float>() * float(i) / float(rings);
-            const float phi = glm::two_pi<float>() * float(j % segments) / float(segments);
-            m.positions.push_back(c + r * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                                    std::sin(theta) * std::sin(phi)));
-        }
-    m.indices.reserve(size_t(rings) * segments * 6);
-    for (int i = 0; i < rings; ++i)
-        for (int j = 0; j < segments; ++j) {
-            const uint32_t a = uint32_t(i * (segments + 1) + j), b = a + 1,
-                           d = a + uint32_t(segments + 1), e = d + 1;
-            m.indices.insert(m.indices.end(), {a, d, b, b, d, e});
-        }
-    m.bounds = compute_bounds(m.positions);
-    return m;
-}
 
 }  // namespace
 

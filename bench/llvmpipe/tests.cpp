@@ -6,7 +6,7 @@
 // cannot model refused. Built with OSMesa only. Every test name contains
 // "llvmpipe", so that `ctest -R llvmpipe` runs them all.
 #include "llvmpipe.hpp"
-#include "meshes.hpp"
+#include "meshes.hpp"  // tests/meshes.hpp
 
 #include <facet/renderer.hpp>
 
@@ -233,7 +233,7 @@ constexpr int kSpherePixels = 5000;
 // colour either.
 void check_sphere(const std::shared_ptr<Material>& m, bool shaded) {
     Scene s = lit_sphere_scene();
-    s.objects = {{"sphere", bench::uv_sphere(40), {}, m, true}};
+    s.objects = {{"sphere", std::make_shared<Mesh>(test::uv_sphere(40)), {}, m, true}};
     const Framebuffer facet = render_facet(s);
     const std::vector<glm::vec4> llvmpipe = render_llvmpipe(s);
     CHECK(covered(pixels(facet)) > kSpherePixels);

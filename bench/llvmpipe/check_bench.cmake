@@ -3,14 +3,14 @@
 # worker failed), on missing or unexpected llvmpipe columns, and on more
 # than MAX_PIXELS pixels of coverage difference in any row.
 #
-#     cmake -DBENCH=path/to/facet-bench -DMAX_PIXELS=2 -P check_llvmpipe.cmake
+#     cmake -DBENCH=path/to/facet-bench -DMAX_PIXELS=2 -P check_bench.cmake
 #
 # Writes llvmpipe.csv and llvmpipe.json in the working directory.
 cmake_minimum_required(VERSION 3.25)  # CMP0007: empty CSV fields stay list elements
 
 foreach(var BENCH MAX_PIXELS)
   if(NOT DEFINED ${var})
-    message(FATAL_ERROR "check_llvmpipe.cmake: -D${var}=... is required")
+    message(FATAL_ERROR "check_bench.cmake: -D${var}=... is required")
   endif()
 endforeach()
 

@@ -387,7 +387,7 @@ void LlvmpipeRenderer::Impl::make_framebuffer() {
     // is the top row, as in facet. This also gives facet's fill rule: Mesa
     // gives a pixel centre on an edge to the triangle for which it is a left
     // edge or a bottom edge in GL's window coordinates (y up), and GL's
-    // bottom is the image's top here. (llvmpipe_tests.cpp checks this.)
+    // bottom is the image's top here. (tests.cpp checks this.)
     gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     gl.Enable(GL_DEPTH_TEST);
     gl.Viewport(0, 0, width, height);

@@ -36,7 +36,7 @@
 // rather than draw something else than facet.
 //
 // llvmpipe reads its thread count (LP_NUM_THREADS) once per process, when
-// OSMesa creates its screen; llvmpipe_worker.hpp runs each measurement in a
+// OSMesa creates its screen; worker.hpp runs each measurement in a
 // child process for that reason. Needs OSMesa (FACET_HAVE_OSMESA).
 #pragma once
 

@@ -1,5 +1,5 @@
-// Child processes for facet-bench --llvmpipe; see llvmpipe_worker.hpp.
-#include "llvmpipe_worker.hpp"
+// Child processes for facet-bench --llvmpipe; see worker.hpp.
+#include "worker.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
