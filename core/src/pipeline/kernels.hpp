@@ -1,9 +1,10 @@
 // The hot loops, once per instruction-set path (facet/isa.hpp).
 //
-// rasterize.cpp, fragment.cpp, pixels.cpp and kernels.cpp are compiled once
-// for each path, with that path's compiler flags and in a namespace of its
-// own (FACET_KERNEL_NS: isa_portable, isa_avx2, isa_avx512), and each
-// compilation exports one table of function pointers, facet_kernels_<path>.
+// rasterize.cpp, fragment.cpp, pixels.cpp, ao_kernels.cpp and kernels.cpp
+// are compiled once for each path, with that path's compiler flags and in a
+// namespace of its own (FACET_KERNEL_NS: isa_portable, isa_avx2,
+// isa_avx512), and each compilation exports one table of function
+// pointers, facet_kernels_<path>.
 // The rest of the core is built for the baseline and calls the kernels of
 // its Pipeline's path through that table: one indirect call per tile, per
 // band of rows, never per pixel.

@@ -1,8 +1,11 @@
-// Colour formats, a part of a block at a time (one of the per-ISA kernels,
-// kernels.hpp): exact encoding to and decoding from srgb8, rgba16f and
-// rgba32f, and the parts of 4x4 blocks the fragment stage reads and
+// Output: colour formats, a part of a block at a time (one of the per-ISA
+// kernels, kernels.hpp): exact encoding to and decoding from srgb8, rgba16f
+// and rgba32f, and the parts of 4x4 blocks the fragment stage reads and
 // writes. The scalar codecs of framebuffer.hpp define the results; tests
 // hold these to them on every path.
+//
+// Takes: a block's colours (linear float lanes) and a target's format.
+// Gives: the target's stored bits for them, and back.
 #pragma once
 
 #include "pipeline/color_tables.hpp"
