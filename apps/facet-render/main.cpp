@@ -6,11 +6,14 @@
 // With no scene, renders the default scene (configs/default.yaml). With
 // --watch it keeps running and renders again whenever the scene, a material
 // or a shader plugin changes (hot reload); with --rebuild it also rebuilds a
-// built-in shader when its source under shaders/ changes.
+// built-in shader when its source under shaders/ changes. Ctrl-C (SIGINT)
+// or SIGTERM stops it within a second, writing no image: exit status 130 or
+// 143.
 #include <facet/command_line.hpp>
 #include <facet/error.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/hot_reload.hpp>
+#include <facet/interrupts.hpp>
 #include <facet/isa.hpp>
 #include <facet/plugin.hpp>
 #include <facet/rebuild.hpp>
@@ -21,8 +24,6 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
-#include <atomic>
-#include <csignal>
 #include <optional>
 #include <string>
 #include <thread>
@@ -42,8 +43,6 @@ struct Options {
     bool verbose = false;
 };
 
-std::atomic<bool> g_stop{false};
-
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
     spdlog::info("rendered {}x{} in {:.2f} ms: {} objects ({} culled), {} triangles in, "
                  "{} rasterized, {} clipped, {} back-facing, {} outside, {} degenerate, "
@@ -61,7 +60,8 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
 }
 
 // Renders `scene` to the output PNG, with what the command line overrides.
-void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> size) {
+void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> size,
+            const facet::Interrupts& interrupts) {
     if (size) {
         scene.settings.width = size->x;
         scene.settings.height = size->y;
@@ -71,6 +71,7 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
     if (opt.wireframe) scene.settings.wireframe = true;
     facet::Framebuffer framebuffer;
     facet::Renderer renderer;
+    renderer.pipeline().stop_when(&interrupts.stop());
     spdlog::info("{} path on {}, {} threads", facet::isa_name(renderer.isa()), facet::cpu_name(),
                  renderer.threads());
     const facet::FrameStats stats = renderer.render(scene, framebuffer);
@@ -83,26 +84,27 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
 
 // Renders again whenever hot reload applies a change, until Ctrl-C.
 void watch(const Options& opt, facet::PluginRegistry& registry, facet::Scene& scene,
-           std::optional<glm::ivec2> size) {
+           std::optional<glm::ivec2> size, const facet::Interrupts& interrupts) {
     facet::HotReload reload(registry, scene);
     std::optional<facet::ShaderRebuilder> rebuilder;
     if (opt.rebuild)
         rebuilder.emplace(facet::built_in_shader_sources(),
                           facet::ShaderRebuilder::cmake_target(facet::build_folder()));
     spdlog::info("watching for changes (Ctrl-C to stop)");
-    while (!g_stop) {
+    while (!interrupts.stopped()) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
         if (rebuilder) rebuilder->update();  // events are logged as they happen
         if (!reload.update()) continue;
         try {
-            render(opt, scene, size);
+            render(opt, scene, size, interrupts);
         } catch (const facet::Error& e) {
+            if (e.code() == facet::ErrorCode::interrupted) return;
             spdlog::error("{}", e.what());  // e.g. the PNG could not be written; keep watching
         }
     }
 }
 
-int run(const Options& opt) {
+int run(const Options& opt, const facet::Interrupts& interrupts) {
     std::optional<glm::ivec2> size;
     if (!opt.size.empty() && !(size = facet::parse_size(opt.size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
@@ -119,14 +121,16 @@ int run(const Options& opt) {
     const std::string path =
         opt.scene.empty() ? facet::default_scene_path().string() : opt.scene;
     facet::Scene scene = facet::load_scene(path, registry);
-    render(opt, scene, size);
-    if (opt.watch) watch(opt, registry, scene, size);
-    return 0;
+    render(opt, scene, size, interrupts);
+    if (opt.watch) watch(opt, registry, scene, size, interrupts);
+    return interrupts.exit_code();
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    const facet::Interrupts interrupts("facet-render");  // before any thread starts
+    facet::report_plugin_faults();
     Options opt;
     CLI::App app{"facet-render: render a facet scene headless to a PNG"};
     app.add_option("scene", opt.scene, "scene file (YAML); default: the default scene");
@@ -145,11 +149,13 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
     spdlog::set_level(opt.verbose ? spdlog::level::debug : spdlog::level::info);
-    std::signal(SIGINT, [](int) { g_stop = true; });
-    std::signal(SIGTERM, [](int) { g_stop = true; });
     try {
-        return run(opt);
+        return run(opt, interrupts);
     } catch (const facet::Error& e) {
+        if (e.code() == facet::ErrorCode::interrupted || interrupts.stopped()) {
+            spdlog::warn("stopped; no image written");
+            return interrupts.exit_code();
+        }
         spdlog::error("{}", e.what());
     } catch (const std::exception& e) {
         spdlog::error("unexpected error: {}", e.what());

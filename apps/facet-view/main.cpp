@@ -11,6 +11,8 @@
 
 #include <facet/command_line.hpp>
 #include <facet/error.hpp>
+#include <facet/interrupts.hpp>
+#include <facet/plugin.hpp>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -43,7 +45,16 @@ int run(facet::view::Options options, const Script& script) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Before any thread starts; a signal wakes the event loop, which then
+    // sees options.stop.
+    const facet::Interrupts interrupts("facet-view", [] {
+        SDL_Event quit{};
+        quit.type = SDL_QUIT;
+        SDL_PushEvent(&quit);
+    });
+    facet::report_plugin_faults();
     facet::view::Options options;
+    options.stop = &interrupts.stop();
     Script script;
     std::string size;
     bool verbose = false;
@@ -73,8 +84,11 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        return run(std::move(options), script);
+        const int status = run(std::move(options), script);
+        return interrupts.stopped() ? interrupts.exit_code() : status;
     } catch (const facet::Error& e) {
+        if (e.code() == facet::ErrorCode::interrupted || interrupts.stopped())
+            return interrupts.exit_code();
         spdlog::error("{}", e.what());
     } catch (const std::exception& e) {
         spdlog::error("unexpected error: {}", e.what());

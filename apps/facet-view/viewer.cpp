@@ -72,6 +72,8 @@ Scene load_or_default(const Options& o, PluginRegistry& registry, std::string& e
 }  // namespace
 
 Viewer::SdlVideo::SdlVideo() {
+    // SIGINT and SIGTERM are the program's (Options::stop), not SDL's.
+    SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");
     if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0)
         throw Error(ErrorCode::display_failed, SDL_GetError());
 }
@@ -79,6 +81,7 @@ Viewer::SdlVideo::SdlVideo() {
 Viewer::SdlVideo::~SdlVideo() { SDL_QuitSubSystem(SDL_INIT_VIDEO); }
 
 Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(options_.threads) {
+    renderer_.pipeline().stop_when(options_.stop);
     for (const std::string& dir : options_.plugin_paths) registry_.add_scene_path(dir);
     if (options_.materials.empty()) options_.materials = default_scene_path().parent_path() / "materials";
     std::string error;
@@ -153,11 +156,13 @@ void Viewer::run() {
 }
 
 bool Viewer::pump() {
+    const auto stopped = [&] { return options_.stop && options_.stop->load(); };
     SDL_Event e;
     while (SDL_PollEvent(&e))
         if (!handle(e)) return false;
+    if (stopped()) return false;
     if (!frame()) ++idle_wakeups_;
-    return true;
+    return !stopped();
 }
 
 // Forever when idle; otherwise until the next thing that needs a frame.

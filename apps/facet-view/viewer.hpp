@@ -29,6 +29,7 @@
 #include <SDL.h>
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -49,6 +50,9 @@ struct Options {
     std::filesystem::path materials;       // default: configs/materials of the source tree
     std::filesystem::path screenshots = "."; // where P writes its PNGs
     std::chrono::milliseconds message_time{5000};  // how long overlay messages show
+    // While true, frames stop (Pipeline::stop_when) and pump() returns
+    // false: SIGINT and SIGTERM (facet/interrupts.hpp). Null: never.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 class Viewer {

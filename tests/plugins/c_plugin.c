@@ -6,8 +6,25 @@
  *   NO_ENTRY        exports no facet_shader_entry
  *   MISSING_SYMBOL  depends on a symbol nothing defines
  * With none of them it is a valid plugin that fills with (FILL_RED, 0.5,
- * 0.25, 1). WITH_GAIN adds a float parameter "gain" that scales red. */
+ * 0.25, 1). WITH_GAIN adds a float parameter "gain" that scales red.
+ * And faults, which the host must name (report_plugin_faults) or outlast:
+ *   FAULT_AT_LOAD, FAULT_IN_ENTRY, FAULT_IN_VERTEX, FAULT_IN_FRAGMENT
+ *                   an invalid memory access there
+ *   ABORT_IN_FRAGMENT  abort() in the fragment function
+ *   LOOP_IN_FRAGMENT   a fragment function that never returns
+ *   SLOW_FRAGMENT      a fragment function that spins ~20 us per call
+ * The last two write "probe: shading" to stderr at their first call. */
 #include <facet/shader_abi.h>
+
+#include <stdlib.h>
+#include <unistd.h>
+
+/* An invalid write the compiler must keep. */
+__attribute__((unused)) static void fault(void) { *(volatile int*)(uintptr_t)16 = 1; }
+
+#ifdef FAULT_AT_LOAD
+__attribute__((constructor)) static void at_load(void) { fault(); }
+#endif
 
 #ifdef MISSING_SYMBOL
 extern float facet_test_symbol_nobody_defines(void);
@@ -18,6 +35,9 @@ extern float facet_test_symbol_nobody_defines(void);
 #endif
 
 static void vertex(const facet_draw* draw, const facet_vertex_batch* b) {
+#ifdef FAULT_IN_VERTEX
+    fault();
+#endif
     const float* m = draw->model_view_projection;
     for (uint32_t i = 0; i < b->count; ++i) {
         const float* p = b->position + 3 * i;
@@ -42,6 +62,26 @@ static const facet_param_desc params[] = {
 
 static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
     (void)draw;
+#ifdef FAULT_IN_FRAGMENT
+    fault();
+#endif
+#ifdef ABORT_IN_FRAGMENT
+    abort();
+#endif
+#if defined(LOOP_IN_FRAGMENT) || defined(SLOW_FRAGMENT)
+    static volatile int said = 0; /* a benign race: it may be said twice */
+    if (!said) {
+        said = 1;
+        ssize_t written = write(STDERR_FILENO, "probe: shading\n", 15);
+        (void)written;
+    }
+#endif
+#ifdef LOOP_IN_FRAGMENT
+    for (volatile int forever = 1; forever;) {}
+#endif
+#ifdef SLOW_FRAGMENT
+    for (volatile int spin = 0; spin < 20000; ++spin) {}
+#endif
     for (int i = 0; i < FACET_BLOCK_LANES; ++i) {
         b->color[i] = FILL_RED * GAIN;
         b->color[FACET_BLOCK_LANES + i] = 0.5f;
@@ -72,5 +112,10 @@ static const facet_shader_desc desc = {
 #ifdef NO_ENTRY
 FACET_EXPORT const facet_shader_desc* some_other_symbol(void) { return &desc; }
 #else
-FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) { return &desc; }
+FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) {
+#ifdef FAULT_IN_ENTRY
+    fault();
+#endif
+    return &desc;
+}
 #endif

@@ -14,6 +14,7 @@ namespace facet {
 
 #define FACET_ERRORS(X)                                                      \
     X(file_not_found, "file not found")                                      \
+    X(not_a_file, "not a regular file")                                      \
     X(yaml_syntax, "YAML syntax error")                                      \
     X(config_invalid, "invalid configuration")                               \
     X(unknown_key, "unknown key")                                            \
@@ -34,7 +35,8 @@ namespace facet {
     X(texture_load_failed, "texture failed to load")                         \
     X(output_failed, "could not write output")                               \
     X(display_failed, "could not open a window")                             \
-    X(isa_unavailable, "instruction set not available on this CPU")
+    X(isa_unavailable, "instruction set not available on this CPU")          \
+    X(interrupted, "interrupted")
 
 enum class ErrorCode {
 #define FACET_ERROR_ENUM(id, text) id,

@@ -25,6 +25,7 @@
 
 #include <glm/glm.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -148,6 +149,15 @@ public:
     // clear (from an srgb8 target it is a copy).
     void resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out);
 
+    // Stops work while *stop is true (a signal or another thread sets it;
+    // null, the default: never): queue() and flush() drop what waits, and
+    // tiles not yet begun stay undrawn, so drawing ends within about a
+    // tile's work. The target then holds an unfinished image: say so
+    // (Renderer::render throws Error(interrupted)). Clear the flag to draw
+    // again. `stop` must outlive the pipeline or be replaced.
+    void stop_when(const std::atomic<bool>* stop) { stop_ = stop; }
+    bool stopped() const { return stop_ && stop_->load(std::memory_order_relaxed); }
+
     int threads() const;
     Isa isa() const;
     // For the core's own passes (shadow maps, AO), which run on the same
@@ -159,6 +169,7 @@ private:
     std::unique_ptr<ThreadPool> pool_;
     const Kernels* kernels_;
     std::unique_ptr<DrawQueue> queue_;
+    const std::atomic<bool>* stop_ = nullptr;
 };
 
 }  // namespace facet

@@ -103,6 +103,24 @@ constexpr uint32_t kSupportedNeeds = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET
                                      FACET_NEED_DERIVATIVES | FACET_NEED_BLENDING |
                                      FACET_NEED_DISCARD;
 
+// A registry loads each plugin from a private copy, in a folder of its own
+// in the temp folder (facet-plugins-PID-N), which its destructor removes.
+// The first registry a process makes removes the folders of processes that
+// no longer run (killed, or crashed). remove_private_plugin_copies()
+// removes this process's folders, for a program about to exit at once
+// (after a signal), whose destructors will not run.
+void remove_private_plugin_copies();
+
+// Makes a crash in plugin code say where it happened. Installs handlers for
+// SIGSEGV, SIGBUS, SIGILL, SIGFPE and SIGABRT that, when the crashing
+// thread is running a plugin's code, write to stderr which plugin (name and
+// file) and which of its functions: loading (its static constructors), its
+// entry point, vertex, fragment, or unloading. The process then ends as it
+// would have: the handler that was there before (the default, or a
+// sanitizer's) takes the signal. For programs, once, early in main(): a
+// library should not take its host's signals.
+void report_plugin_faults();
+
 class PluginRegistry {
 public:
     // Starts with the built-in plugins' folders (facet/paths.hpp), then

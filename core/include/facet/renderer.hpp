@@ -37,7 +37,9 @@ public:
     // casters or fitted bounds changed since the frame that drew them; the
     // AO pre-pass and AO pass only if a visible material needs AO (and
     // settings.ao allows). The statistics count the passes that ran and
-    // those skipped.
+    // those skipped. When the pipeline's stop flag is raised
+    // (Pipeline::stop_when), the frame ends early and render() throws
+    // Error(interrupted); the next render() starts afresh.
     FrameStats render(const Scene& scene, Framebuffer& target);
 
     // Forgets the shadow maps kept from earlier frames, so that the next

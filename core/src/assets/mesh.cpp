@@ -5,6 +5,7 @@
 #include "facet/error.hpp"
 #include "facet/math.hpp"
 #include "assets/ply_check.hpp"
+#include "base/files.hpp"
 
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -118,9 +119,7 @@ void check_attribute(const Mesh& mesh, size_t size, const char* name) {
 }  // namespace
 
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path) {
-    std::error_code ec;  // a name too long for the OS is a missing file too, not an exception
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw Error(ErrorCode::file_not_found, "", path.string());
+    require_regular_file(path);
     if (looks_like_ply(path)) check_ply(path);  // assimp 5.2 hangs or crashes on some bad PLY
     Assimp::Importer importer;
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,

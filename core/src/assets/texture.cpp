@@ -6,6 +6,7 @@
 
 #include "facet/error.hpp"
 #include "facet/framebuffer.hpp"
+#include "base/files.hpp"
 
 #include <spdlog/spdlog.h>
 #include <stb/stb_image.h>
@@ -119,9 +120,7 @@ glm::vec4 box(Level src, int x, int y) {
 }  // namespace
 
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
-    std::error_code ec;  // a name too long for the OS is a missing file too, not an exception
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw Error(ErrorCode::file_not_found, "", path.string());
+    require_regular_file(path);
     int width = 0, height = 0, channels = 0;
     stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);
     if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), path.string());

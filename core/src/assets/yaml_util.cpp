@@ -1,5 +1,7 @@
 #include "assets/yaml_util.hpp"
 
+#include "base/files.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -69,10 +71,9 @@ Error relocated(const Error& inner, const Context& ctx, const YAML::Node& at) {
 }
 
 YAML::Node load_file(const std::filesystem::path& path) {
+    require_regular_file(path);
     std::ifstream in(path);
-    std::error_code ec;
-    if (!in || std::filesystem::is_directory(path, ec))
-        throw Error(ErrorCode::file_not_found, "", path.string());
+    if (!in) throw Error(ErrorCode::file_not_found, "cannot be read", path.string());
     try {
         return YAML::Load(in);
     } catch (const YAML::ParserException& e) {

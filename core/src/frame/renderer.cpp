@@ -133,6 +133,10 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, target, stats);
+    if (pipeline_.stopped()) {
+        forget_shadow_maps();  // maps cut short must not be kept as if complete
+        throw Error(ErrorCode::interrupted, "the frame was stopped before it was complete");
+    }
     const auto post = std::chrono::steady_clock::now();
     pipeline_.resolve(target);
     stats.ms_post += elapsed_ms(post);

@@ -2,6 +2,7 @@
 
 #include "pipeline/pixels.hpp"
 #include "base/simd.hpp"
+#include "plugin/plugin_calls.hpp"
 
 #include "facet/plugin.hpp"
 #include "facet/texture.hpp"
@@ -371,7 +372,10 @@ void PackedBatch::flush(FrameStats& stats) {
     facet_fragment_batch batch{0, 0, mask, front_facing_ ? 1u : 0u, varyings, depth,
                                dc.sample_textures ? texels : nullptr, nullptr,
                                dc.needs_ao ? ao : nullptr, color, coord};
-    dc.fragment(dc.abi, &batch);
+    {
+        const InPlugin in_fragment(dc.shader, PluginEntry::fragment);
+        dc.fragment(dc.abi, &batch);
+    }
     stats.blocks_shaded += 1;
     stats.fragments_shaded += uint64_t(count_);
     // Opaque colours, in the order the fragments came (a pixel may come twice).
@@ -442,7 +446,10 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, depth,
                                dc.sample_textures ? texels : nullptr,
                                nullptr,  dc.needs_ao ? ao : nullptr, color, nullptr};
-    dc.fragment(dc.abi, &batch);
+    {
+        const InPlugin in_fragment(dc.shader, PluginEntry::fragment);
+        dc.fragment(dc.abi, &batch);
+    }
     stats.blocks_shaded += 1;
     stats.fragments_shaded += std::popcount(mask);
     if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);

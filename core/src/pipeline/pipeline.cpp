@@ -36,23 +36,32 @@ constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;
 static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
 static_assert(kMaxChunks < (1 << 16));
 
+// Forgets the queued triangles, drawn or not.
+void drop_queued(DrawQueue& g) {
+    g.chunks_used = 0;
+    g.triangles_queued = 0;
+}
+
 // Bins every queued triangle and rasterizes the tiles in parallel, adding
 // the triangle and fragment counts to `stats`. The queued draws stay (a
-// draw may have more triangles to come).
-void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels, FrameStats& stats) {
+// draw may have more triangles to come). Once `stop` is true, tiles not yet
+// begun are skipped.
+void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
+                      const Pipeline& stop, FrameStats& stats) {
     if (g.chunks_used == 0) return;
+    if (stop.stopped()) return drop_queued(g);
     g.bins.resize(g.target->width(), g.target->height());
     for (DrawQueue::WorkerStats& w : g.worker_stats) w.stats = {};
     g.bins.bin(g.chunks, g.chunks_used);
     const std::vector<int>& busy = g.bins.busy();
     pool.parallel_for(int(busy.size()), [&](int i, int worker) {
+        if (stop.stopped()) return;
         kernels.draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)].stats);
     });
     g.bins.clear();
     for (int c = 0; c < g.chunks_used; ++c) stats += g.chunks[size_t(c)].stats;
     for (const DrawQueue::WorkerStats& w : g.worker_stats) stats += w.stats;
-    g.chunks_used = 0;
-    g.triangles_queued = 0;
+    drop_queued(g);
 }
 
 // Calls fn(first_row, rows) for bands of `height` rows, in parallel.
@@ -97,11 +106,12 @@ void Pipeline::draw(const DrawCall& call, Framebuffer& target, FrameStats& stats
 void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stats) {
     if (!call.mesh || !call.shader)
         throw Error(ErrorCode::config_invalid, "draw call without a mesh or a shader");
+    if (stopped()) return drop_queued(*queue_);
     const Mesh& mesh = *call.mesh;
     const ShaderPlugin& shader = *call.shader;
     DrawQueue& g = *queue_;
     if (g.chunks_used > 0 && (g.target != &target || g.draws_used == kMaxQueuedDraws))
-        rasterize_queued(g, *pool_, *kernels_, stats);
+        rasterize_queued(g, *pool_, *kernels_, *this, stats);
     if (g.chunks_used == 0) g.draws_used = 0;  // every earlier draw is done
     if (g.draws.size() == size_t(g.draws_used)) g.draws.push_back(std::make_unique<QueuedDraw>());
     int index = g.draws_used++;
@@ -125,10 +135,11 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     const Assembler assembler(d, viewport, cull);
     const size_t triangles = mesh.triangle_count();
     for (size_t first = 0; first < triangles; first += kTriangleBatch) {
+        if (stopped()) return drop_queued(g);
         const size_t count = std::min(kTriangleBatch, triangles - first);
         const int chunks = int((count + kSetupChunk - 1) / kSetupChunk);
         if (g.triangles_queued + count > kTriangleBatch || g.chunks_used + chunks > kMaxChunks) {
-            rasterize_queued(g, *pool_, *kernels_, stats);
+            rasterize_queued(g, *pool_, *kernels_, *this, stats);
             // Only this draw is left: it moves to the first slot, freeing the
             // others (and their vertex storage) for the draws that follow.
             std::swap(g.draws[0], g.draws[size_t(index)]);
@@ -153,7 +164,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
 }
 
 void Pipeline::flush(FrameStats& stats) {
-    rasterize_queued(*queue_, *pool_, *kernels_, stats);
+    rasterize_queued(*queue_, *pool_, *kernels_, *this, stats);
     queue_->draws_used = 0;
 }
 

@@ -2,6 +2,7 @@
 #include "pipeline/vertex.hpp"
 
 #include "pipeline/clip.hpp"
+#include "plugin/plugin_calls.hpp"
 
 #include "facet/mesh.hpp"
 #include "facet/plugin.hpp"
@@ -67,7 +68,10 @@ void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport
             glm::value_ptr(d.clip[first]),
             d.varyings.data() + first * floats,
             floats};
-        shader.desc().vertex(&d.abi, &batch);
+        {
+            const InPlugin in_vertex(&shader, PluginEntry::vertex);
+            shader.desc().vertex(&d.abi, &batch);
+        }
         project_vertices(d, first, batch.count, viewport);
     });
 }

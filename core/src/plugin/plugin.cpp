@@ -2,6 +2,8 @@
 
 #include "facet/error.hpp"
 #include "facet/paths.hpp"
+#include "base/files.hpp"
+#include "plugin/plugin_calls.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -11,6 +13,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -171,8 +175,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
                                                  std::string_view expected_name,
                                                  const fs::path& private_copy) {
     const std::string origin = path.string();
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw Error(ErrorCode::file_not_found, "shader plugin", origin);
+    require_regular_file(path);
     std::shared_ptr<ShaderPlugin> plugin(new ShaderPlugin);
     plugin->origin_ = origin;
     fs::path file = path;
@@ -185,7 +188,10 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
     check_elf_complete(file, origin);
     // RTLD_LOCAL keeps each plugin's symbols to itself; RTLD_NOW reports a
     // missing symbol here rather than at the first draw.
-    plugin->handle_ = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+    {
+        const InPlugin loading(plugin.get(), PluginEntry::load);  // its static constructors run
+        plugin->handle_ = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+    }
     if (!plugin->handle_) refuse(ErrorCode::plugin_load_failed, origin, dlerror());
     void* handle = plugin->handle_;
     auto entry =
@@ -193,7 +199,11 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
     if (!entry)
         refuse(ErrorCode::plugin_no_entry, origin,
                "no exported symbol '" FACET_SHADER_ENTRY_SYMBOL "' (use FACET_SHADER(...))");
-    const facet_shader_desc* desc = entry();
+    const facet_shader_desc* desc = nullptr;
+    {
+        const InPlugin in_entry(plugin.get(), PluginEntry::entry_point);
+        desc = entry();
+    }
     validate_descriptor(desc, origin);
     if (!expected_name.empty() && expected_name != desc->name)
         refuse(ErrorCode::plugin_invalid, origin,
@@ -233,7 +243,10 @@ void ShaderPlugin::adopt(const facet_shader_desc* desc) {
 }
 
 ShaderPlugin::~ShaderPlugin() {
-    if (handle_) dlclose(handle_);
+    if (handle_) {
+        const InPlugin unloading(this, PluginEntry::unload);  // its static destructors run
+        dlclose(handle_);
+    }
     std::error_code ec;
     if (!private_copy_.empty()) fs::remove(private_copy_, ec);
 }
@@ -322,13 +335,56 @@ PluginRegistry::~PluginRegistry() {
     if (!private_dir_.empty()) fs::remove_all(private_dir_, ec);
 }
 
+namespace {
+
+constexpr std::string_view kPrivatePrefix = "facet-plugins-";
+
+// The process id in a private copies' folder name "facet-plugins-PID-N";
+// 0 for any other name.
+pid_t private_folder_owner(const std::string& name) {
+    unsigned long pid = 0, n = 0;
+    int end = 0;
+    if (name.rfind(kPrivatePrefix, 0) != 0 ||
+        std::sscanf(name.c_str() + kPrivatePrefix.size(), "%lu-%lu%n", &pid, &n, &end) != 2 ||
+        size_t(end) != name.size() - kPrivatePrefix.size() || pid == 0 || pid > 0x7fffffff)
+        return 0;
+    return pid_t(pid);
+}
+
+// Removes the private copies' folders whose owner `matches`; errors (another
+// user's folder, a race with another process) leave a folder alone.
+template <class Matches>
+void remove_private_folders(Matches&& matches) {
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(fs::temp_directory_path(ec), ec)) {
+        const pid_t owner = private_folder_owner(e.path().filename().string());
+        std::error_code ignored;
+        if (owner && matches(owner)) fs::remove_all(e.path(), ignored);
+    }
+}
+
+bool process_runs(pid_t pid) { return kill(pid, 0) == 0 || errno == EPERM; }
+
+}  // namespace
+
+void remove_private_plugin_copies() {
+    const pid_t self = getpid();
+    remove_private_folders([&](pid_t owner) { return owner == self; });
+}
+
 fs::path PluginRegistry::next_private_copy(const std::string& name) {
     if (private_dir_.empty()) {
         static std::atomic<unsigned> registries{0};
+        remove_private_folders([](pid_t owner) { return !process_runs(owner); });
         private_dir_ = fs::temp_directory_path() /
-                       ("facet-plugins-" + std::to_string(getpid()) + "-" +
+                       (std::string(kPrivatePrefix) + std::to_string(getpid()) + "-" +
                         std::to_string(registries++));
-        fs::create_directories(private_dir_);
+        std::error_code ec;
+        fs::create_directories(private_dir_, ec);
+        if (ec)
+            throw Error(ErrorCode::plugin_load_failed,
+                        "cannot make a folder for private copies: " + ec.message(),
+                        private_dir_.string());
     }
     return private_dir_ / (name + "." + std::to_string(++generation_) + ".so");
 }
@@ -351,6 +407,91 @@ std::shared_ptr<ShaderPlugin> PluginRegistry::get(const std::string& name) {
 
 void PluginRegistry::add(std::shared_ptr<ShaderPlugin> plugin) {
     loaded_[plugin->name()] = std::move(plugin);
+}
+
+// ---- fault reports -------------------------------------------------------------
+
+thread_local PluginCall t_plugin_call;
+
+namespace {
+
+constexpr int kFaultSignals[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
+struct sigaction g_before[NSIG];
+
+const char* entry_text(PluginEntry e) {
+    switch (e) {
+        case PluginEntry::load: return "while loading (its static constructors)";
+        case PluginEntry::entry_point: return "in its entry point (" FACET_SHADER_ENTRY_SYMBOL ")";
+        case PluginEntry::vertex: return "in its vertex function";
+        case PluginEntry::fragment: return "in its fragment function";
+        case PluginEntry::unload: return "while unloading (its static destructors)";
+        default: return "";
+    }
+}
+
+const char* signal_text(int sig) {
+    switch (sig) {
+        case SIGSEGV: return "SIGSEGV, invalid memory access";
+        case SIGBUS: return "SIGBUS, bus error";
+        case SIGILL: return "SIGILL, illegal instruction";
+        case SIGFPE: return "SIGFPE, arithmetic error";
+        case SIGABRT: return "SIGABRT, aborted";
+        default: return "a fatal signal";
+    }
+}
+
+// Only async-signal-safe calls from here on: write(), sigaction(), raise().
+void on_fault(int sig, siginfo_t* info, void*) {
+    const PluginCall call = t_plugin_call;
+    if (call.plugin) {
+        char text[1024];
+        size_t used = 0;
+        auto add = [&](const char* s) {
+            while (*s && used + 1 < sizeof text) text[used++] = *s++;
+        };
+        add("facet: shader plugin ");
+        if (call.plugin->name().empty()) {  // not known before its entry point returns
+            add(call.plugin->origin().c_str());
+        } else {
+            add("'");
+            add(call.plugin->name().c_str());
+            add("' (");
+            add(call.plugin->origin().c_str());
+            add(")");
+        }
+        add(" crashed ");
+        add(entry_text(call.entry));
+        add(": ");
+        add(signal_text(sig));
+        add("\n");
+        for (size_t done = 0; done < used;) {
+            const ssize_t n = write(STDERR_FILENO, text + done, used - done);
+            if (n <= 0) break;
+            done += size_t(n);
+        }
+    }
+    // The earlier handler takes it from here: a fault repeats when its
+    // instruction runs again; a signal sent by a call (abort, raise, kill)
+    // is sent again, and arrives when this handler returns.
+    sigaction(sig, &g_before[sig], nullptr);
+    if (info->si_code <= 0) raise(sig);
+}
+
+}  // namespace
+
+void report_plugin_faults() {
+    // A stack of its own for this thread, so that a stack overflow in a
+    // plugin can still be reported.
+    static std::vector<char> stack(size_t(1) << 16);
+    stack_t alternate{};
+    alternate.ss_sp = stack.data();
+    alternate.ss_size = stack.size();
+    sigaltstack(&alternate, nullptr);
+    struct sigaction action {};
+    action.sa_sigaction = on_fault;
+    action.sa_flags = SA_SIGINFO | SA_ONSTACK;
+    sigemptyset(&action.sa_mask);
+    for (const int sig : kFaultSignals) sigaction(sig, &action, &g_before[sig]);
 }
 
 }  // namespace facet

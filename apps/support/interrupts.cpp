@@ -1,0 +1,94 @@
+#include "facet/interrupts.hpp"
+
+#include <facet/plugin.hpp>
+
+#include <spdlog/spdlog.h>
+
+#include <pthread.h>
+#include <unistd.h>
+
+#include <csignal>
+
+namespace facet {
+
+namespace {
+
+sigset_t interrupt_signals() {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    return set;
+}
+
+// Straight to stderr: the thread that holds a logger's lock may be the one
+// that is stuck.
+void say(const std::string& text) {
+    const std::string line = text + "\n";
+    for (size_t done = 0; done < line.size();) {
+        const ssize_t n = write(STDERR_FILENO, line.data() + done, line.size() - done);
+        if (n <= 0) return;
+        done += size_t(n);
+    }
+}
+
+}  // namespace
+
+Interrupts::Interrupts(std::string program, std::function<void()> on_stop,
+                       std::chrono::milliseconds grace)
+    : program_(std::move(program)), on_stop_(std::move(on_stop)), grace_(grace) {
+    const sigset_t set = interrupt_signals();
+    pthread_sigmask(SIG_BLOCK, &set, nullptr);
+    thread_ = std::thread([this] { run(); });
+}
+
+Interrupts::~Interrupts() {
+    {
+        std::lock_guard lock(mutex_);
+        done_ = true;
+    }
+    done_changed_.notify_all();
+    // Wakes the thread if it still waits for a first signal (it sees done_).
+    pthread_kill(thread_.native_handle(), SIGTERM);
+    thread_.join();
+}
+
+int Interrupts::exit_code() const {
+    const int sig = signal_.load();
+    return sig ? 128 + sig : 0;
+}
+
+void Interrupts::run() {
+    const sigset_t set = interrupt_signals();
+    int sig = 0;
+    if (sigwait(&set, &sig) != 0) return;
+    {
+        std::lock_guard lock(mutex_);
+        if (done_) return;
+    }
+    signal_ = sig;
+    stop_ = true;
+    spdlog::warn("{}: stopping", sig == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)");
+    if (on_stop_) on_stop_();
+
+    // A second signal ends the wait early; so does the program's exit.
+    const auto deadline = std::chrono::steady_clock::now() + grace_;
+    for (;;) {
+        {
+            std::unique_lock lock(mutex_);
+            if (done_changed_.wait_until(lock, std::min(deadline, std::chrono::steady_clock::now() +
+                                                                      std::chrono::milliseconds(20)),
+                                         [&] { return done_; }))
+                return;
+        }
+        const timespec none{0, 0};
+        if (std::chrono::steady_clock::now() >= deadline || sigtimedwait(&set, nullptr, &none) > 0)
+            break;
+    }
+    say(program_ + ": still busy " + std::to_string(grace_.count()) +
+        " ms after the signal; exiting now");
+    remove_private_plugin_copies();
+    _exit(128 + sig);
+}
+
+}  // namespace facet

@@ -1,0 +1,240 @@
+// Never run away, never hang, never die silently: facet-render stopped by
+// SIGINT and SIGTERM mid-render and when stuck in a plugin, crashes in
+// plugin code named, private plugin copies cleaned up, and paths that are
+// not regular files refused. Each runs the real facet-render in a child
+// process.
+#include "support.hpp"
+
+#include <facet/error.hpp>
+#include <facet/plugin.hpp>
+#include <facet/scene.hpp>
+#include <facet/texture.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+using namespace facet;
+using namespace std::chrono_literals;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+#ifdef FACET_RENDER_EXE
+struct Finished {
+    pid_t pid = 0;
+    int status = 0;        // as waitpid() gives it
+    std::string log;       // stderr and stdout
+    double after_signal = 0.0;  // seconds from the signal to the exit
+};
+
+// Runs `args` (args[0] is the program) with output to `log_file`; sends
+// `signal` once `marker` appears in the output (or at once when marker is
+// empty), and waits at most 60 s in all.
+Finished run(const std::vector<std::string>& args, const fs::path& log_file, int signal = 0,
+             const std::string& marker = {}) {
+    Finished out;
+    out.pid = fork();
+    REQUIRE(out.pid >= 0);
+    if (out.pid == 0) {
+        const int fd = open(log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(fd, STDOUT_FILENO);
+        dup2(fd, STDERR_FILENO);
+        std::vector<char*> argv;
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        execv(argv[0], argv.data());
+        _exit(127);
+    }
+    auto read_log = [&] {
+        std::ifstream in(log_file);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const auto start = std::chrono::steady_clock::now();
+    std::optional<std::chrono::steady_clock::time_point> signalled;
+    for (;;) {
+        if (waitpid(out.pid, &out.status, WNOHANG) == out.pid) break;
+        const auto now = std::chrono::steady_clock::now();
+        if (signal && !signalled && (marker.empty() || read_log().find(marker) != std::string::npos)) {
+            kill(out.pid, signal);
+            signalled = now;
+        }
+        if (now - start > 60s) {
+            kill(out.pid, SIGKILL);
+            waitpid(out.pid, &out.status, 0);
+            FAIL("still running after 60 s: " << args[0]);
+        }
+        std::this_thread::sleep_for(2ms);
+    }
+    if (signalled)
+        out.after_signal =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - *signalled).count();
+    out.log = read_log();
+    return out;
+}
+
+// A folder with a scene that draws a full-screen quad at `size` with the
+// test plugin compiled as "probe" with `flags`.
+struct ProbeScene {
+    test::TempDir folder{"reliability"};
+    fs::path scene = folder.path / "scene.yaml";
+    fs::path plugin = folder.path / "plugins" / "probe.so";
+    fs::path image = folder.path / "out.png";
+    fs::path log = folder.path / "log.txt";
+
+    ProbeScene(const std::string& flags, int size = 64) {
+        fs::create_directories(plugin.parent_path());
+        REQUIRE(test::compile_plugin(plugin, "probe", flags));
+        folder.write("quad.obj", test::kQuadObj);
+        folder.write("scene.yaml", "render: {size: [" + std::to_string(size) + ", " +
+                                       std::to_string(size) + "]}\nplugin_paths: [plugins]\n"
+                                       "objects:\n  - {mesh: quad.obj, material: {shader: probe}}\n");
+    }
+
+    Finished render(int signal = 0, const std::string& marker = {}) const {
+        return run({FACET_RENDER_EXE, scene.string(), "-o", image.string()}, log, signal, marker);
+    }
+};
+
+bool private_copies_of(pid_t pid) {
+    const std::string prefix = "facet-plugins-" + std::to_string(pid) + "-";
+    for (const fs::directory_entry& e : fs::directory_iterator(fs::temp_directory_path()))
+        if (e.path().filename().string().rfind(prefix, 0) == 0) return true;
+    return false;
+}
+
+#endif  // FACET_RENDER_EXE
+
+}  // namespace
+
+#ifdef FACET_RENDER_EXE
+TEST_CASE("a crash in plugin code names the plugin and the function", "[reliability][plugin]") {
+    struct Case {
+        const char* flags;
+        const char* where;
+        int signal;
+    };
+    for (const Case& c : {Case{"-DFAULT_AT_LOAD", "crashed while loading (its static constructors)", SIGSEGV},
+                          Case{"-DFAULT_IN_ENTRY", "crashed in its entry point (facet_shader_entry)", SIGSEGV},
+                          Case{"-DFAULT_IN_VERTEX", "crashed in its vertex function", SIGSEGV},
+                          Case{"-DFAULT_IN_FRAGMENT", "crashed in its fragment function", SIGSEGV},
+                          Case{"-DABORT_IN_FRAGMENT", "crashed in its fragment function", SIGABRT}}) {
+        INFO(c.flags);
+        const ProbeScene s(c.flags);
+        const Finished f = s.render();
+        INFO(f.log);
+        REQUIRE(WIFSIGNALED(f.status));
+        CHECK(WTERMSIG(f.status) == c.signal);
+        // Its name is known once its entry point has returned.
+        const bool named = std::string(c.flags) != "-DFAULT_AT_LOAD" &&
+                           std::string(c.flags) != "-DFAULT_IN_ENTRY";
+        const std::string who = named ? "facet: shader plugin 'probe' (" + s.plugin.string() + ") "
+                                      : "facet: shader plugin " + s.plugin.string() + " ";
+        CHECK_THAT(f.log, Contains(who + c.where));
+        CHECK_THAT(f.log, Contains(c.signal == SIGSEGV ? "SIGSEGV" : "SIGABRT"));
+        CHECK_FALSE(fs::exists(s.image));
+    }
+}
+
+TEST_CASE("SIGINT and SIGTERM stop a render within a second, writing nothing",
+          "[reliability][signal]") {
+    struct Case {
+        const char* flags;
+        int size;
+        const char* said;
+    };
+    const Case cases[] = {
+        // Mid-render, ~20 us per block (a frame of ~4 s on 2 threads): the
+        // frame stops at its next tile, and the program leaves by main().
+        {"-DSLOW_FRAGMENT", 2048, "stopped; no image written"},
+        // Stuck in a plugin that never returns: the process exits anyway.
+        {"-DLOOP_IN_FRAGMENT", 64, "still busy 500 ms after the signal; exiting now"}};
+    for (const Case& c : cases)
+        for (const int sig : {SIGINT, SIGTERM}) {
+            INFO(c.flags << ", signal " << sig);
+            const ProbeScene s(c.flags, c.size);
+            const Finished f = s.render(sig, "probe: shading");  // once the plugin runs
+            INFO(f.log);
+            REQUIRE(WIFEXITED(f.status));
+            CHECK(WEXITSTATUS(f.status) == 128 + sig);
+            CHECK(f.after_signal < 1.0);
+            CHECK_THAT(f.log, Contains(c.said));
+            CHECK_FALSE(fs::exists(s.image));
+            CHECK_FALSE(private_copies_of(f.pid));  // by the destructors, or before _exit
+        }
+}
+
+#endif  // FACET_RENDER_EXE
+
+TEST_CASE("private plugin copies left by processes that died are removed", "[reliability][plugin]") {
+    // A process id that no longer runs: a child that has exited and been reaped.
+    const pid_t dead = fork();
+    if (dead == 0) _exit(0);
+    waitpid(dead, nullptr, 0);
+    const fs::path left = fs::temp_directory_path() / ("facet-plugins-" + std::to_string(dead) + "-0");
+    fs::create_directories(left);
+    test::write(left / "unlit.1.so", "left behind");
+    const fs::path mine = fs::temp_directory_path() / ("facet-plugins-" + std::to_string(getpid()) + "-999");
+    fs::create_directories(mine);
+    {
+        PluginRegistry registry;
+        registry.get("unlit");  // its first private copy sweeps the temp folder
+        CHECK_FALSE(fs::exists(left));
+        CHECK(fs::exists(mine));  // this process runs: kept
+    }
+    // (remove_private_plugin_copies() would take the live registries' folders
+    // of the other tests in this process too: the forced exit in the test
+    // above checks it.)
+    fs::remove_all(mine);
+}
+
+TEST_CASE("a path that names no regular file is refused, saying what it is",
+          "[reliability][config]") {
+    const test::TempDir dir("not-a-file");
+    const fs::path fifo = dir.path / "pipe.yaml";
+    REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+    fs::create_directories(dir.path / "folder.obj");
+    dir.write("quad.obj", test::kQuadObj);
+    PluginRegistry registry;
+    auto refused = [&](const std::string& scene, const std::string& named, const std::string& what) {
+        INFO(scene);
+        dir.write("scene.yaml", scene);
+        try {
+            load_scene(dir.path / "scene.yaml", registry);
+            FAIL("loaded");
+        } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::not_a_file);
+            CHECK_THAT(e.what(), Contains(named) && Contains(what));
+        }
+    };
+    // A material file that is a named pipe would block in open() forever.
+    refused("objects:\n  - {mesh: quad.obj, material: pipe.yaml}\n",
+            "pipe.yaml: it is a named pipe (FIFO)", "not a regular file");
+    refused("objects:\n  - {mesh: folder.obj, material: {shader: unlit}}\n",
+            "folder.obj: it is a folder", "not a regular file");
+    refused("objects:\n  - {mesh: /dev/zero, material: {shader: unlit}}\n",
+            "/dev/zero: it is a character device", "not a regular file");
+    auto code_of = [](auto&& load) {
+        try {
+            load();
+        } catch (const Error& e) {
+            return e.code();
+        }
+        FAIL("loaded");
+        return ErrorCode::config_invalid;
+    };
+    CHECK(code_of([&] { load_scene(fifo, registry); }) == ErrorCode::not_a_file);
+    CHECK(code_of([&] { ShaderPlugin::load(fifo); }) == ErrorCode::not_a_file);
+    CHECK(code_of([&] { load_texture(dir.path / "folder.obj", true); }) == ErrorCode::not_a_file);
+}
