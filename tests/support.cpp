@@ -11,6 +11,9 @@
 #include <cstring>
 #include <fstream>
 
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+
 #include <unistd.h>
 
 namespace facet::test {
@@ -124,6 +127,20 @@ bool compile_plugin(const std::filesystem::path& out, const std::string& name,
                             "\"' " + flags + " " + FACET_SOURCE_DIR +
                             "/tests/plugins/c_plugin.c -o " + out.string();
     return std::system(cmd.c_str()) == 0;
+}
+
+LogCapture::LogCapture() : sink_(std::make_shared<spdlog::sinks::ostream_sink_mt>(out_)) {
+    spdlog::default_logger()->sinks().push_back(sink_);
+}
+
+LogCapture::~LogCapture() {
+    auto& sinks = spdlog::default_logger()->sinks();
+    sinks.erase(std::remove(sinks.begin(), sinks.end(), sink_), sinks.end());
+}
+
+std::string LogCapture::text() const {
+    spdlog::default_logger()->flush();
+    return out_.str();
 }
 
 }  // namespace facet::test

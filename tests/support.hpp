@@ -9,8 +9,13 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
+
+namespace spdlog::sinks {
+class sink;
+}
 
 namespace facet::test {
 
@@ -117,6 +122,21 @@ public:
 // of a camera at the default position.
 inline constexpr const char* kQuadObj =
     "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3\nf 1 3 4\n";
+
+// Everything logged through spdlog's default logger while it lives, as
+// text (warnings the tests expect).
+class LogCapture {
+public:
+    LogCapture();
+    ~LogCapture();
+    LogCapture(const LogCapture&) = delete;
+    LogCapture& operator=(const LogCapture&) = delete;
+    std::string text() const;
+
+private:
+    std::ostringstream out_;
+    std::shared_ptr<spdlog::sinks::sink> sink_;
+};
 
 // Writes `text` to `file`.
 void write(const std::filesystem::path& file, const std::string& text);

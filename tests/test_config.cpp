@@ -11,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <filesystem>
@@ -385,8 +386,41 @@ TEST_CASE("scene values are checked for sense", "[scene]") {
     check("objects:\n  - {mesh: tri.obj}\n", ErrorCode::missing_key, 2, 5);
     check("objects:\n  - {mesh: tri.obj, material: {shader: test}, scale: 0}\n",
           ErrorCode::out_of_range, 2, 54);
+    // Subnormal: it flattens every triangle to nothing.
+    check("objects:\n  - {mesh: tri.obj, material: {shader: test}, scale: 1e-45}\n",
+          ErrorCode::out_of_range, 2, 54);
+    // Beyond float: at the component.
+    check("objects:\n  - {mesh: tri.obj, material: {shader: test}, scale: [1, 1e300, 1]}\n",
+          ErrorCode::out_of_range, 2, 58);
+    check("camera: {position: [0, 0, 1e39]}\n", ErrorCode::out_of_range, 1, 27);
     check("plugin_paths: [no-such-folder]\n", ErrorCode::file_not_found, 1, 16);
     check("objects: {mesh: tri.obj}\n", ErrorCode::wrong_type, 1, 10);
+}
+
+TEST_CASE("scenes that would draw nothing without a word get a warning or work", "[scene]") {
+    Env env;
+    {
+        // Each triangle overflows a float once scaled: a warning at the object.
+        const facet::test::LogCapture log;
+        env.scene("objects:\n  - {name: giant, mesh: tri.obj, material: {shader: test}, scale: 3e38}\n");
+        CHECK_THAT(log.text(), Contains((env.dir / "scene.yaml").string() +
+                                        ":2:5: object 'giant': none of its 1 triangles survives "
+                                        "its transform"));
+    }
+    {
+        const facet::test::LogCapture log;
+        env.scene("objects:\n  - {mesh: tri.obj, material: {shader: test}, scale: 2}\n");
+        CHECK_THAT(log.text(), !Contains("survives"));
+    }
+    // A tiny up vector is still a direction; a far camera is far, not at
+    // its target.
+    const facet::Scene tiny_up = env.scene("camera: {up: [0, 1e-30, 0]}\n");
+    CHECK(tiny_up.camera.up == glm::vec3(0, 1, 0));
+    const glm::mat4 view = tiny_up.camera.view();
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) CHECK(std::isfinite(view[c][r]));
+    const facet::Scene far = env.scene("camera: {position: [1e20, 0, 0], target: [0, 0, 0]}\n");
+    CHECK(far.camera.position.x == 1e20f);
 }
 
 TEST_CASE("plugin_paths reach the registry before materials load", "[scene]") {

@@ -9,6 +9,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstring>
 
 #include <cstddef>
@@ -142,6 +143,58 @@ TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
     d.params = &wrap;
     d.params_size = 16;
     CHECK(code() == ErrorCode::plugin_invalid);
+}
+
+TEST_CASE("a parameter schema that overlaps, has bad ranges or runs past its table is refused",
+          "[plugin]") {
+    facet_shader_desc d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    facet_param_desc params[2] = {sdk::float1("a", 0, 0.5f, 0.0f, 1.0f),
+                                  sdk::float1("b", 4, 0.5f, 0.0f, 1.0f)};
+    d.param_count = 2;
+    d.params = params;
+    d.params_size = 16;
+    auto why = [&]() -> std::string {
+        try {
+            ShaderPlugin::from_descriptor(&d, "test");
+        } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::plugin_invalid);
+            return e.what();
+        }
+        return "accepted";
+    };
+    CHECK(why() == "accepted");
+    params[1].type = FACET_PARAM_VEC2;
+    params[1].offset = 0;  // on top of "a"
+    CHECK_THAT(why(), Catch::Contains("parameter 1 ('b') overlaps parameter 0 ('a')"));
+    params[1] = sdk::float1("b", 4, 0.5f, 2.0f, 1.0f);
+    CHECK_THAT(why(), Catch::Contains("min above max, or NaN"));
+    params[1] = sdk::float1("b", 4, 0.5f, 0.0f, std::nanf(""));
+    CHECK_THAT(why(), Catch::Contains("min above max, or NaN"));
+    params[1] = sdk::float1("b", 4, 3.0f, 0.0f, 1.0f);
+    CHECK_THAT(why(), Catch::Contains("default 3.0") && Catch::Contains("outside its range"));
+
+    // A plugin whose param_count runs past its table: refused before the
+    // host reads a name that is not there.
+    const test::TempDir folder("params");
+    REQUIRE(test::compile_plugin(folder.path / "liar.so", "liar", "-DWITH_GAIN -DTOO_MANY_PARAMS"));
+    std::string message;
+    CHECK(load_error(folder.path / "liar.so", &message) == ErrorCode::plugin_invalid);
+    CHECK_THAT(message, Catch::Contains("param_count (24) runs past the end of its table"));
+}
+
+TEST_CASE("a plugin shadowed by another of the same name is named in a warning", "[plugin]") {
+    const test::TempDir folder("shadowed");
+    for (const char* dir : {"first", "second"}) {
+        fs::create_directories(folder.path / dir);
+        REQUIRE(test::compile_plugin(folder.path / dir / "twin.so", "twin", ""));
+    }
+    PluginRegistry registry({folder.path / "first", folder.path / "second"});
+    const test::LogCapture log;
+    CHECK(registry.get("twin")->origin() == (folder.path / "first" / "twin.so").string());
+    CHECK_THAT(log.text(), Catch::Contains("shader 'twin': " + (folder.path / "first/twin.so").string() +
+                                           " is used; " + (folder.path / "second/twin.so").string() +
+                                           ", of the same name and later on the search path, is not"));
+    CHECK(registry.shadowed("twin") == std::vector<fs::path>{folder.path / "second" / "twin.so"});
 }
 
 TEST_CASE("the registry finds plugins on its search path, by name", "[plugin]") {

@@ -52,6 +52,11 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                  s.triangles_culled_backface, s.triangles_culled_frustum,
                  s.triangles_culled_degenerate, s.triangles_invalid, s.fragments_shaded,
                  s.blocks_shaded);
+    if (s.triangles_in > 0 && s.triangles_rasterized == 0)
+        spdlog::warn("{}: nothing was drawn: every object is outside the camera's view, or each "
+                     "of its triangles is degenerate or invalid as the camera sees it (counts "
+                     "above)",
+                     scene.source.string());
     if (s.shadow_passes || s.prepasses || s.depth_prepasses || s.ao_passes)
         spdlog::info("passes: {} shadow map(s) {:.2f} ms, {} pre-pass(es) {:.2f} ms, {} AO "
                      "{:.2f} ms, main {:.2f} ms, resolve {:.2f} ms",

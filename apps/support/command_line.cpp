@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -30,18 +29,28 @@ std::optional<std::vector<double>> numbers(std::string_view text) {
     return out;
 }
 
+// One side of a size: decimal digits only (no sign, space or exponent),
+// 1..Framebuffer::kMaxSize; digits are checked before any arithmetic, so
+// that no number wraps around.
+std::optional<int> side(std::string_view digits) {
+    if (digits.empty() || digits.size() > 5) return std::nullopt;
+    int value = 0;
+    for (const char c : digits) {
+        if (c < '0' || c > '9') return std::nullopt;
+        value = value * 10 + (c - '0');
+    }
+    if (value < 1 || value > Framebuffer::kMaxSize) return std::nullopt;
+    return value;
+}
+
 }  // namespace
 
 std::optional<glm::ivec2> parse_size(std::string_view text) {
-    int width = 0, height = 0;
-    char x = 0, rest = 0;
-    const std::string s(text);
-    if (std::sscanf(s.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 ||
-        (x != 'x' && x != 'X'))
-        return std::nullopt;
-    if (width < 1 || height < 1 || width > Framebuffer::kMaxSize || height > Framebuffer::kMaxSize)
-        return std::nullopt;
-    return glm::ivec2(width, height);
+    const size_t x = text.find_first_of("xX");
+    if (x == std::string_view::npos) return std::nullopt;
+    const std::optional<int> width = side(text.substr(0, x)), height = side(text.substr(x + 1));
+    if (!width || !height) return std::nullopt;
+    return glm::ivec2(*width, *height);
 }
 
 std::optional<Camera> parse_camera(std::string_view text, const Camera& base) {

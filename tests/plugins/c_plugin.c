@@ -6,7 +6,8 @@
  *   NO_ENTRY        exports no facet_shader_entry
  *   MISSING_SYMBOL  depends on a symbol nothing defines
  * With none of them it is a valid plugin that fills with (FILL_RED, 0.5,
- * 0.25, 1). WITH_GAIN adds a float parameter "gain" that scales red.
+ * 0.25, 1). WITH_GAIN adds a float parameter "gain" that scales red;
+ * TOO_MANY_PARAMS with it claims 24 parameters for a table of one.
  * And faults, which the host must name (report_plugin_faults) or outlast:
  *   FAULT_AT_LOAD, FAULT_IN_ENTRY, FAULT_IN_VERTEX, FAULT_IN_FRAGMENT
  *                   an invalid memory access there
@@ -49,7 +50,11 @@ static void vertex(const facet_draw* draw, const facet_vertex_batch* b) {
 #ifdef WITH_GAIN
 static const facet_param_desc params[] = {
     {"gain", FACET_PARAM_FLOAT, 0, {1, 0, 0, 0}, 0, 10, 0, -1, "scales red"}};
+#ifdef TOO_MANY_PARAMS
+#define PARAM_COUNT 24
+#else
 #define PARAM_COUNT 1
+#endif
 #define PARAMS params
 #define PARAMS_SIZE 4
 #define GAIN (*(const float*)draw->params)

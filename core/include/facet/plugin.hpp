@@ -140,8 +140,11 @@ public:
     // Throws Error(unknown_shader) listing the folders searched, or the
     // load error of the file found.
     std::shared_ptr<ShaderPlugin> get(const std::string& name);
-    // Where `name` would be loaded from; empty if not found.
+    // Where `name` would be loaded from; empty if not found. get() warns,
+    // naming both files, when a plugin of the same name later on the search
+    // path is shadowed by the one found: shadowed() lists those.
     std::filesystem::path locate(const std::string& name) const;
+    std::vector<std::filesystem::path> shadowed(const std::string& name) const;
 
     // Loads `name` again from disk, as a new private copy, without touching
     // the cache: the caller checks it, then commits it with add().
@@ -154,6 +157,8 @@ public:
 
 private:
     std::filesystem::path next_private_copy(const std::string& name);
+    // Every <name>.so on the search path, in search order.
+    std::vector<std::filesystem::path> files_named(const std::string& name) const;
 
     std::vector<std::filesystem::path> build_paths_;
     std::vector<std::filesystem::path> scene_paths_;

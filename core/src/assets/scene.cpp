@@ -60,10 +60,10 @@ void check_camera(const yaml::Context& ctx, const YAML::Node& node, const Camera
            "fov_y must be between 0 and 180 degrees");
     ensure(c.ortho_height > 0.0f, ctx, where(node, "height"), ErrorCode::out_of_range,
            "height must be > 0");
+    // In double: a camera 1e20 away is far, not at its target.
     const glm::vec3 forward = unit(glm::vec3(glm::dvec3(c.target) - glm::dvec3(c.position)));
-    ensure(forward != glm::vec3(0.0f) && std::isfinite(glm::length(c.target - c.position)), ctx,
-           where(node, "target"), ErrorCode::config_invalid,
-           "the camera's target must differ from its position, by a finite distance");
+    ensure(forward != glm::vec3(0.0f), ctx, where(node, "target"), ErrorCode::config_invalid,
+           "the camera's target must differ from its position");
     ensure(glm::length(glm::cross(forward, unit(c.up))) > 1e-6f, ctx, where(node, "up"),
            ErrorCode::config_invalid, "up is zero or parallel to the view direction");
 }
@@ -83,6 +83,7 @@ Camera read_camera(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::read(ctx, node, "near", c.near);
     yaml::read(ctx, node, "far", c.far);
     check_camera(ctx, node, c);
+    c.up = unit(c.up);  // an up of length 1e-30 is a direction too, and float's squares lose it
     return c;
 }
 
@@ -234,6 +235,9 @@ glm::vec3 read_scale(const yaml::Context& ctx, const YAML::Node& node) {
         node.IsSequence() ? yaml::as<glm::vec3>(ctx, node) : glm::vec3(yaml::as<float>(ctx, node));
     ensure(s.x != 0.0f && s.y != 0.0f && s.z != 0.0f, ctx, node, ErrorCode::out_of_range,
            "scale must not be zero");
+    // Subnormal factors (below 1.2e-38) flatten every triangle to nothing.
+    ensure(std::isnormal(s.x) && std::isnormal(s.y) && std::isnormal(s.z), ctx, node,
+           ErrorCode::out_of_range, "scale is below float's normal range (1.2e-38)");
     return s;
 }
 
@@ -306,6 +310,22 @@ private:
     std::map<std::string, std::shared_ptr<Material>> materials_;
 };
 
+// Whether any triangle of `mesh`, moved to world space by `model` in float
+// as the pipeline does, has a finite, non-zero normal. Stops at the first.
+bool any_triangle_survives(const Mesh& mesh, const glm::mat4& model) {
+    const auto world = [&](uint32_t i) {
+        return glm::vec3(model * glm::vec4(mesh.positions[i], 1.0f));
+    };
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const glm::vec3 a = world(mesh.indices[t]);
+        const glm::vec3 n =
+            glm::cross(world(mesh.indices[t + 1]) - a, world(mesh.indices[t + 2]) - a);
+        const bool finite = std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z);
+        if (finite && n != glm::vec3(0.0f)) return true;
+    }
+    return false;
+}
+
 Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
     const yaml::Context& ctx = loader.ctx;
     yaml::check_map(ctx, node, "object",
@@ -320,6 +340,11 @@ Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
         o.transform.rotation = read_rotation(ctx, rotation);
     if (const YAML::Node scale = node["scale"]) o.transform.scale = read_scale(ctx, scale);
     yaml::read(ctx, node, "visible", o.visible);
+    if (o.mesh->triangle_count() > 0 && !any_triangle_survives(*o.mesh, o.transform.matrix()))
+        spdlog::warn("{}:{}:{}: object '{}': none of its {} triangles survives its transform "
+                     "(each is degenerate or overflows a float in world space); check its scale",
+                     ctx.file, yaml::line(node), yaml::column(node), o.name,
+                     o.mesh->triangle_count());
     return o;
 }
 

@@ -31,9 +31,9 @@ Error wrong_type(const Context& ctx, const YAML::Node& node, const std::string& 
 bool is_plain_scalar(const YAML::Node& node) { return node.IsScalar() && node.Tag() != "!"; }
 
 template <int N> glm::vec<N, float> as_vec(const Context& ctx, const YAML::Node& node) {
-    const std::vector<double> numbers = as_numbers(ctx, node, N, N);
+    as_numbers(ctx, node, N, N);  // N numbers
     glm::vec<N, float> v;
-    for (int i = 0; i < N; ++i) v[i] = static_cast<float>(numbers[i]);
+    for (int i = 0; i < N; ++i) v[i] = as<float>(ctx, node[i]);  // each a float
     return v;
 }
 
@@ -147,8 +147,10 @@ bool is_integer_text(const std::string& scalar) {
 
 template <> float as<float>(const Context& ctx, const YAML::Node& node) {
     const std::optional<double> value = parse_number(node);
-    if (!value || std::abs(*value) > std::numeric_limits<float>::max())
-        throw wrong_type(ctx, node, "a number");
+    if (!value) throw wrong_type(ctx, node, "a number");
+    if (std::abs(*value) > std::numeric_limits<float>::max())
+        throw error(ctx, node, ErrorCode::out_of_range,
+                    node.Scalar() + " is beyond the range of a float (3.4e38)");
     return static_cast<float>(*value);
 }
 

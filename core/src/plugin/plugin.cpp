@@ -63,6 +63,46 @@ void validate_varyings(const facet_shader_desc& d, const std::string& origin) {
                    std::to_string(FACET_MAX_VARYING_FLOATS) + ")");
 }
 
+// The shared object `address` lies in, or null (the heap, the stack).
+const void* object_of(const void* address) {
+    Dl_info info{};
+    return address && dladdr(address, &info) ? info.dli_fbase : nullptr;
+}
+
+// A descriptor that lives in a shared object (or the program) keeps its
+// tables and names there too: an entry or a name elsewhere means a count
+// that runs past its table, read before it is dereferenced.
+void check_in_object(const facet_shader_desc& d, const std::string& origin) {
+    const void* home = object_of(&d);
+    if (!home) return;  // built at run time (tests, embedders): nothing to compare with
+    for (uint32_t i = 0; i < d.param_count; ++i) {
+        const facet_param_desc* p = d.params + i;
+        if (object_of(p) != home || object_of(reinterpret_cast<const char*>(p + 1) - 1) != home ||
+            (p->name && object_of(p->name) != home))
+            refuse(ErrorCode::plugin_invalid, origin,
+                   "parameter " + std::to_string(i) + " lies outside the plugin: param_count (" +
+                       std::to_string(d.param_count) + ") runs past the end of its table");
+    }
+}
+
+// The range and defaults of a number parameter: min <= max, neither NaN,
+// and defaults within them.
+void check_param_range(const facet_param_desc& p, const std::string& what,
+                       const std::string& origin) {
+    const int components = p.type == FACET_PARAM_INT ? 1 : param_float_count(p.type);
+    if (components == 0) return;  // BOOL, TEXTURE: no range
+    if (!(p.min_value <= p.max_value))
+        refuse(ErrorCode::plugin_invalid, origin,
+               what + " has the range " + std::to_string(p.min_value) + " .. " +
+                   std::to_string(p.max_value) + " (min above max, or NaN)");
+    for (int c = 0; c < components; ++c)
+        if (!(p.default_value[c] >= p.min_value && p.default_value[c] <= p.max_value))
+            refuse(ErrorCode::plugin_invalid, origin,
+                   what + " has the default " + std::to_string(p.default_value[c]) +
+                       " outside its range " + std::to_string(p.min_value) + " .. " +
+                       std::to_string(p.max_value));
+}
+
 void validate_params(const facet_shader_desc& d, const std::string& origin) {
     if (d.param_count > FACET_MAX_PARAMS || d.params_size > FACET_MAX_PARAMS_SIZE)
         refuse(ErrorCode::plugin_invalid, origin,
@@ -70,6 +110,7 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
                    std::to_string(d.params_size) + " bytes)");
     if (d.param_count > 0 && !d.params)
         refuse(ErrorCode::plugin_invalid, origin, "param_count > 0 but no params table");
+    check_in_object(d, origin);
     int textures = 0;
     for (uint32_t i = 0; i < d.param_count; ++i) {
         const facet_param_desc& p = d.params[i];
@@ -80,6 +121,14 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
         if (p.offset % 4 != 0 || p.offset > d.params_size ||
             param_bytes(p.type) > d.params_size - p.offset)
             refuse(ErrorCode::plugin_invalid, origin, what + " lies outside the parameter block");
+        for (uint32_t j = 0; j < i; ++j) {
+            const facet_param_desc& q = d.params[j];
+            if (p.offset < q.offset + param_bytes(q.type) && q.offset < p.offset + param_bytes(p.type))
+                refuse(ErrorCode::plugin_invalid, origin,
+                       what + " overlaps parameter " + std::to_string(j) + " ('" + q.name +
+                           "') in the parameter block");
+        }
+        check_param_range(p, what, origin);
         if (p.type == FACET_PARAM_TEXTURE) {
             ++textures;
             if (p.uv_varying < 0 || uint32_t(p.uv_varying) >= d.varying_count ||
@@ -320,13 +369,25 @@ std::vector<fs::path> PluginRegistry::search_path() const {
     return all;
 }
 
-fs::path PluginRegistry::locate(const std::string& name) const {
+std::vector<fs::path> PluginRegistry::files_named(const std::string& name) const {
+    std::vector<fs::path> found;
     for (const fs::path& dir : search_path()) {
         fs::path candidate = dir / (name + ".so");
         std::error_code ec;
-        if (fs::is_regular_file(candidate, ec)) return candidate;
+        if (fs::is_regular_file(candidate, ec)) found.push_back(std::move(candidate));
     }
-    return {};
+    return found;
+}
+
+fs::path PluginRegistry::locate(const std::string& name) const {
+    std::vector<fs::path> found = files_named(name);
+    return found.empty() ? fs::path() : found.front();
+}
+
+std::vector<fs::path> PluginRegistry::shadowed(const std::string& name) const {
+    std::vector<fs::path> found = files_named(name);
+    if (!found.empty()) found.erase(found.begin());  // the one locate() finds
+    return found;
 }
 
 PluginRegistry::~PluginRegistry() {
@@ -401,6 +462,10 @@ std::shared_ptr<ShaderPlugin> PluginRegistry::load_fresh(const std::string& name
 std::shared_ptr<ShaderPlugin> PluginRegistry::get(const std::string& name) {
     if (auto it = loaded_.find(name); it != loaded_.end()) return it->second;
     std::shared_ptr<ShaderPlugin> plugin = load_fresh(name);
+    for (const fs::path& hidden : shadowed(name))
+        spdlog::warn("shader '{}': {} is used; {}, of the same name and later on the search "
+                     "path, is not",
+                     name, plugin->origin(), hidden.string());
     loaded_.emplace(name, plugin);
     return plugin;
 }
