@@ -77,6 +77,10 @@ function(facet_isa_flags ISA OUT)
   endif()
 endfunction()
 
+# The relocatable link below resolves COMDAT groups (--force-group-allocation),
+# which GNU ld does and LLVM's lld 14 (clang's CMAKE_LINKER) does not.
+find_program(FACET_GNU_LD NAMES ld.bfd ld REQUIRED)
+
 function(facet_isa_objects NAME ISA)
   cmake_parse_arguments(ARG "" "KEEP;LIKE;OUTPUT" "SOURCES;DEFINITIONS" ${ARGN})
   facet_isa_flags(${ISA} flags)
@@ -97,7 +101,7 @@ function(facet_isa_objects NAME ISA)
   set(object "${CMAKE_CURRENT_BINARY_DIR}/${NAME}.o")
   string(JOIN ", " sources ${ARG_SOURCES})  # one argument for the check below
   add_custom_command(OUTPUT "${object}"
-    COMMAND "${CMAKE_LINKER}" -r --force-group-allocation -o "${object}.all"
+    COMMAND "${FACET_GNU_LD}" -r --force-group-allocation -o "${object}.all"
             "$<TARGET_OBJECTS:${NAME}>"
     COMMAND "${CMAKE_OBJCOPY}" "--keep-global-symbol=${ARG_KEEP}" "${object}.all" "${object}.local"
     COMMAND "${CMAKE_COMMAND}" "-DFACET_CHECK_OBJECT=${object}.local" "-DOBJDUMP=${CMAKE_OBJDUMP}"

@@ -62,8 +62,11 @@ uint32_t BlockCoverage::covered(int k, int64_t at_lane0) const {
             mask |= simd::bits(lanes32_[k][p] + at >= threshold) << (p * kWidth);
         return mask;
     }
-    for (int h = 0; h < 2 * kParts; ++h)
-        mask |= simd::bits(lanes64_[k][h] + at_lane0 >= threshold_[k]) << (h * kWidth / 2);
+    for (int h = 0; h < 2 * kParts; ++h) {
+        // Cast: clang types a comparison of 64-bit lanes as long long lanes.
+        const simd::Long inside = simd::Long(lanes64_[k][h] + at_lane0 >= threshold_[k]);
+        mask |= simd::bits(inside) << (h * kWidth / 2);
+    }
     return mask;
 }
 
