@@ -1,16 +1,21 @@
 // Never run away, never hang, never die silently: facet-render stopped by
 // SIGINT and SIGTERM mid-render and when stuck in a plugin, crashes in
-// plugin code named, private plugin copies cleaned up, and paths that are
-// not regular files refused. Each runs the real facet-render in a child
-// process.
+// plugin code named, private plugin copies cleaned up, paths that are not
+// regular files refused, and the memory budget. The tests of the programs
+// run the real facet-render in a child process.
 #include "support.hpp"
 
 #include <facet/error.hpp>
+#include <facet/framebuffer.hpp>
+#include <facet/memory.hpp>
+#include <facet/mesh.hpp>
 #include <facet/plugin.hpp>
 #include <facet/scene.hpp>
 #include <facet/texture.hpp>
 
 #include <catch2/catch.hpp>
+
+#include <stb/stb_image_write.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -238,3 +243,117 @@ TEST_CASE("a path that names no regular file is refused, saying what it is",
     CHECK(code_of([&] { ShaderPlugin::load(fifo); }) == ErrorCode::not_a_file);
     CHECK(code_of([&] { load_texture(dir.path / "folder.obj", true); }) == ErrorCode::not_a_file);
 }
+
+// ---- the memory budget ----------------------------------------------------------
+
+namespace {
+
+// Sets the budget for one test; the one before comes back after it.
+struct Budget {
+    const uint64_t before = memory_budget();
+    explicit Budget(uint64_t bytes) { set_memory_budget(bytes); }
+    ~Budget() { set_memory_budget(before); }
+};
+
+}  // namespace
+
+TEST_CASE("memory sizes parse strictly", "[reliability][memory]") {
+    CHECK(parse_memory_size("1000000") == 1000000u);
+    CHECK(parse_memory_size("8G") == uint64_t(8) << 30);
+    CHECK(parse_memory_size("512m") == uint64_t(512) << 20);
+    CHECK(parse_memory_size("3K") == 3072u);
+    CHECK(parse_memory_size("16777215T") == uint64_t(16777215) << 40);
+    for (const char* bad : {"", "0", "G", "1.5G", "-1G", " 1G", "1GB", "16777216T",
+                            "18446744073709551616", "1e9"})
+        CHECK_FALSE(parse_memory_size(bad));
+    CHECK(memory_text(512) == "512 bytes");
+    CHECK(memory_text(uint64_t(3) << 29) == "1.5 GiB");
+}
+
+TEST_CASE("targets, frames, textures and meshes over the memory budget are refused, named",
+          "[reliability][memory]") {
+    const test::TempDir dir("budget");
+    const Budget budget(uint64_t(4) << 20);  // 4 MiB
+    // A target: refused before anything is allocated, the old one kept.
+    Framebuffer fb(64, 64);
+    try {
+        fb.resize(1024, 1024, ColorFormat::rgba32f, 4);
+        FAIL("allocated");
+    } catch (const Error& e) {
+        CHECK(e.code() == ErrorCode::over_budget);
+        CHECK_THAT(e.what(), Contains("a 1024x1024 target with 4 samples needs 100.0 MiB; the "
+                                      "budget is 4.0 MiB (--max-memory or FACET_MAX_MEMORY)"));
+    }
+    CHECK((fb.width() == 64 && fb.height() == 64));
+
+    // A scene's frame: at its size.
+    dir.write("quad.obj", test::kQuadObj);
+    PluginRegistry registry;
+    auto error_of = [&](const std::string& scene) {
+        dir.write("scene.yaml", scene);
+        try {
+            load_scene(dir.path / "scene.yaml", registry);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("loaded");
+    };
+    CHECK_THAT(error_of("render: {size: [2048, 2048]}\n"),
+               Contains("scene.yaml:1:16: over the memory budget: a 2048x2048 frame needs"));
+    CHECK(error_of("render: {size: [256, 256]}\n") == "loaded");
+    CHECK_THAT(error_of("render: {size: [256, 256], msaa: 8}\n"),
+               Contains("scene.yaml:1:16: over the memory budget: a 256x256 frame with 8 samples"));
+
+    // A texture: from its header, before decoding.
+    const fs::path png = dir.path / "big.png";
+    REQUIRE(stbi_write_png(png.c_str(), 1024, 1024, 4, std::vector<uint8_t>(1024 * 1024 * 4).data(),
+                           1024 * 4));
+    try {
+        load_texture(png, true);
+        FAIL("decoded");
+    } catch (const Error& e) {
+        CHECK(e.code() == ErrorCode::over_budget);
+        CHECK_THAT(e.what(), Contains("big.png: over the memory budget: a 1024x1024 texture"));
+    }
+}
+
+TEST_CASE("an OFF file whose header declares more than the file holds is refused at once",
+          "[reliability][memory]") {
+    const test::TempDir dir("off");
+    // 19 bytes that asked assimp for a billion faces (gigabytes, before any was read).
+    const fs::path huge = dir.write("huge.off", "OFF\n3 1000000000 0\n");
+    try {
+        load_mesh(huge);
+        FAIL("loaded");
+    } catch (const Error& e) {
+        CHECK(e.code() == ErrorCode::mesh_load_failed);
+        CHECK_THAT(e.what(), Contains("huge.off: mesh failed to load: OFF header: it declares 3 "
+                                      "vertices and 1000000000 faces, more than its 19 bytes can "
+                                      "hold"));
+    }
+    // The same lie under another name, and with comments: found by its keyword.
+    const fs::path named = dir.write("mesh.txt", "# a comment\nCOFF\n# another\n2000 1 0\n");
+    CHECK_THROWS_AS(load_mesh(named), Error);
+    // An honest one loads.
+    const auto quad = load_mesh(dir.write(
+        "quad.off", "OFF\n4 2 0\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n3 0 1 2\n3 0 2 3\n"));
+    CHECK(quad->triangle_count() == 2);
+}
+
+#ifdef FACET_RENDER_EXE
+TEST_CASE("facet-render names the options that ask for too much memory", "[reliability][memory]") {
+    const test::TempDir dir("budget-cli");
+    const Finished f = run({FACET_RENDER_EXE, "--size", "16384x16384", "--msaa", "8",
+                            "--max-memory", "1G", "-o", (dir.path / "x.png").string()},
+                           dir.path / "log.txt");
+    INFO(f.log);
+    REQUIRE(WIFEXITED(f.status));
+    CHECK(WEXITSTATUS(f.status) == 1);
+    CHECK_THAT(f.log, Contains("--size 16384x16384 --msaa 8: over the memory budget: a "
+                               "16384x16384 frame with 8 samples needs 19.0 GiB; the budget is "
+                               "1.0 GiB"));
+    const Finished bad = run({FACET_RENDER_EXE, "--max-memory", "lots"}, dir.path / "log.txt");
+    CHECK(WEXITSTATUS(bad.status) == 2);
+    CHECK_THAT(bad.log, Contains("--max-memory: expected a size such as 8G"));
+}
+#endif

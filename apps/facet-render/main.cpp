@@ -1,7 +1,8 @@
 // facet-render: render a scene headless to a PNG.
 //
 //     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]]
-//                  [--msaa N] [--wireframe] [--plugin-path DIR]... [--watch [--rebuild]]
+//                  [--msaa N] [--max-memory SIZE] [--wireframe] [--plugin-path DIR]...
+//                  [--watch [--rebuild]]
 //
 // With no scene, renders the default scene (configs/default.yaml). With
 // --watch it keeps running and renders again whenever the scene, a material
@@ -15,6 +16,7 @@
 #include <facet/hot_reload.hpp>
 #include <facet/interrupts.hpp>
 #include <facet/isa.hpp>
+#include <facet/memory.hpp>
 #include <facet/plugin.hpp>
 #include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
@@ -40,6 +42,7 @@ struct Options {
     std::vector<std::string> plugin_paths;
     bool watch = false;
     bool rebuild = false;
+    std::string max_memory;
     bool verbose = false;
 };
 
@@ -74,6 +77,16 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
     if (!opt.camera.empty()) scene.camera = *facet::parse_camera(opt.camera, scene.camera);
     if (opt.msaa) scene.settings.msaa = opt.msaa;
     if (opt.wireframe) scene.settings.wireframe = true;
+    if (size || opt.msaa) {  // the scene's own size was checked as it loaded
+        try {
+            facet::require_frame_within_budget(scene.settings);
+        } catch (const facet::Error& e) {
+            const std::string options = (size ? "--size " + opt.size : std::string()) +
+                                        (size && opt.msaa ? " " : "") +
+                                        (opt.msaa ? "--msaa " + std::to_string(opt.msaa) : "");
+            throw facet::Error(e.code(), e.detail(), options);
+        }
+    }
     facet::Framebuffer framebuffer;
     facet::Renderer renderer;
     renderer.pipeline().stop_when(&interrupts.stop());
@@ -110,6 +123,15 @@ void watch(const Options& opt, facet::PluginRegistry& registry, facet::Scene& sc
 }
 
 int run(const Options& opt, const facet::Interrupts& interrupts) {
+    if (!opt.max_memory.empty()) {
+        const std::optional<uint64_t> bytes = facet::parse_memory_size(opt.max_memory);
+        if (!bytes) {
+            spdlog::error("--max-memory: expected a size such as 8G, 512M or 1000000, got '{}'",
+                          opt.max_memory);
+            return 2;
+        }
+        facet::set_memory_budget(*bytes);
+    }
     std::optional<glm::ivec2> size;
     if (!opt.size.empty() && !(size = facet::parse_size(opt.size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
@@ -145,6 +167,9 @@ int main(int argc, char** argv) {
                    "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");
     app.add_option("--msaa", opt.msaa, "samples per pixel, overriding the scene's")
         ->check(CLI::IsMember({1, 2, 4, 8}));
+    app.add_option("--max-memory", opt.max_memory,
+                   "memory budget for a target, texture or mesh, e.g. 8G (default: half of RAM, "
+                   "or FACET_MAX_MEMORY)");
     app.add_flag("--wireframe", opt.wireframe, "draw triangle edges over the shading");
     app.add_option("--plugin-path", opt.plugin_paths, "extra folder to search for shaders");
     app.add_flag("--watch", opt.watch, "keep running; render again when files change");
@@ -162,6 +187,9 @@ int main(int argc, char** argv) {
             return interrupts.exit_code();
         }
         spdlog::error("{}", e.what());
+    } catch (const std::bad_alloc&) {
+        spdlog::error("out of memory; --max-memory (or FACET_MAX_MEMORY) sets the budget that "
+                      "facet checks sizes against");
     } catch (const std::exception& e) {
         spdlog::error("unexpected error: {}", e.what());
     }

@@ -1,7 +1,7 @@
 // facet-view: the SDL2 viewer.
 //
 //     facet-view [SCENE.yaml] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]] [--msaa N]
-//                [--threads N] [--plugin-path DIR]... [--rebuild]
+//                [--max-memory SIZE] [--threads N] [--plugin-path DIR]... [--rebuild]
 //                [--frames N [--screenshot out.png]]
 //
 // With no scene it opens the default scene. --frames renders N frames and
@@ -12,6 +12,7 @@
 #include <facet/command_line.hpp>
 #include <facet/error.hpp>
 #include <facet/interrupts.hpp>
+#include <facet/memory.hpp>
 #include <facet/plugin.hpp>
 
 #include <CLI/CLI.hpp>
@@ -65,6 +66,10 @@ int main(int argc, char** argv) {
                    "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");
     app.add_option("--msaa", options.msaa, "samples per pixel, overriding the scene's")
         ->check(CLI::IsMember({1, 2, 4, 8}));
+    std::string max_memory;
+    app.add_option("--max-memory", max_memory,
+                   "memory budget for a target, texture or mesh, e.g. 8G (default: half of RAM, "
+                   "or FACET_MAX_MEMORY)");
     app.add_option("--threads", options.threads, "render threads; 0: one per hardware thread")
         ->check(CLI::Range(0, 256));
     app.add_option("--plugin-path", options.plugin_paths, "extra folder to search for shaders");
@@ -78,6 +83,15 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
     spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+    if (!max_memory.empty()) {
+        const std::optional<uint64_t> bytes = facet::parse_memory_size(max_memory);
+        if (!bytes) {
+            spdlog::error("--max-memory: expected a size such as 8G, 512M or 1000000, got '{}'",
+                          max_memory);
+            return 2;
+        }
+        facet::set_memory_budget(*bytes);
+    }
     if (!size.empty() && !(options.size = facet::parse_size(size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
                       facet::Framebuffer::kMaxSize, size);

@@ -36,7 +36,8 @@ namespace facet {
     X(output_failed, "could not write output")                               \
     X(display_failed, "could not open a window")                             \
     X(isa_unavailable, "instruction set not available on this CPU")          \
-    X(interrupted, "interrupted")
+    X(interrupted, "interrupted")                                            \
+    X(over_budget, "over the memory budget")
 
 enum class ErrorCode {
 #define FACET_ERROR_ENUM(id, text) id,

@@ -84,9 +84,19 @@ public:
 
     // Reallocates; contents are undefined until the next clear(). `samples`
     // is 1, 2, 4 or 8; a size or sample count outside the limits throws
-    // Error(out_of_range).
+    // Error(out_of_range), and a target over the memory budget
+    // (facet/memory.hpp) Error(over_budget), before anything is allocated.
     void resize(int width, int height, ColorFormat format = ColorFormat::rgba32f,
                 int samples = 1);
+    // What resize() allocates for such a target: colour and depth, with its
+    // samples.
+    static uint64_t storage_bytes(int width, int height, ColorFormat format, int samples);
+    // What a frame of that size costs a program that renders it and keeps
+    // its 8-bit image (a PNG, a window): the target, and the image.
+    static uint64_t frame_bytes(int width, int height, ColorFormat format, int samples) {
+        const uint64_t image = uint64_t(width) * uint64_t(height) * 4;
+        return storage_bytes(width, height, format, samples) + image;
+    }
     // clear(), resolve() and resolve_srgb8() run on the calling thread, on
     // the default instruction-set path (default_isa(), which throws for a
     // bad FACET_ISA); Renderer's versions use all its threads and its path.

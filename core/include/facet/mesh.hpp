@@ -37,7 +37,9 @@ struct Mesh {
 
 // Loads OBJ, glTF 2.0, PLY and the other formats assimp reads. All meshes in
 // the file are merged into one, with their node transforms applied.
-// Throws Error(file_not_found | mesh_load_failed | mesh_invalid).
+// Throws Error(file_not_found | not_a_file | mesh_load_failed | mesh_invalid);
+// an OFF or PLY header that declares more than its file holds is
+// mesh_load_failed before assimp allocates for it.
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path);
 
 // Checks the invariants above: array sizes, index range, finite positions.

@@ -131,6 +131,12 @@ Scene load_scene(const std::filesystem::path& path, PluginRegistry& registry);
 void apply_render_settings(RenderSettings& settings, const std::string& yaml,
                            const std::string& origin);
 
+// Throws Error(over_budget) when the frame `settings` ask for (its target,
+// with its samples, and its 8-bit image) is over the memory budget
+// (facet/memory.hpp). Loading a scene checks it at the size; a program
+// that overrides size or samples checks again.
+void require_frame_within_budget(const RenderSettings& settings);
+
 // The scene facet-render uses when given none: configs/default.yaml in
 // data_dir() (facet/paths.hpp).
 std::filesystem::path default_scene_path();

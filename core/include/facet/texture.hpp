@@ -43,7 +43,8 @@ struct Texture {
 // at least 1; each texel the mean of the 2x2 (or fewer) texels it covers).
 void generate_mipmaps(Texture& texture);
 
-// Throws Error(file_not_found | texture_load_failed).
+// Throws Error(file_not_found | not_a_file | texture_load_failed), or
+// Error(over_budget) when its header gives a size over the memory budget.
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb);
 
 // Loads each (file, srgb) pair once and hands out the shared copy.

@@ -4,6 +4,7 @@
 
 #include "facet/error.hpp"
 #include "facet/math.hpp"
+#include "assets/off_check.hpp"
 #include "assets/ply_check.hpp"
 #include "base/files.hpp"
 
@@ -121,6 +122,7 @@ void check_attribute(const Mesh& mesh, size_t size, const char* name) {
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path) {
     require_regular_file(path);
     if (looks_like_ply(path)) check_ply(path);  // assimp 5.2 hangs or crashes on some bad PLY
+    if (looks_like_off(path)) check_off(path);  // and allocates for any count an OFF declares
     Assimp::Importer importer;
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);

@@ -4,6 +4,7 @@
 
 #include "facet/error.hpp"
 #include "facet/framebuffer.hpp"
+#include "facet/memory.hpp"
 #include "facet/paths.hpp"
 #include "assets/material_yaml.hpp"
 #include "assets/yaml_util.hpp"
@@ -173,6 +174,14 @@ void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSetting
                                                     {{"srgb8", ColorFormat::srgb8},
                                                      {"rgba16f", ColorFormat::rgba16f},
                                                      {"rgba32f", ColorFormat::rgba32f}});
+    // The frame these settings ask for must fit the memory budget: said at
+    // the size (or the sample count) that makes it too big.
+    const YAML::Node at = node["size"] ? node["size"] : node["msaa"] ? node["msaa"] : node;
+    try {
+        require_frame_within_budget(s);
+    } catch (const Error& e) {
+        throw yaml::relocated(e, ctx, at);
+    }
 }
 
 // ---- lights --------------------------------------------------------------------
@@ -359,6 +368,13 @@ void for_each_item(const yaml::Context& ctx, const YAML::Node& map, const std::s
 }
 
 }  // namespace
+
+void require_frame_within_budget(const RenderSettings& s) {
+    const uint64_t bytes = Framebuffer::frame_bytes(s.width, s.height, s.color_format, s.msaa);
+    const std::string samples = s.msaa > 1 ? " with " + std::to_string(s.msaa) + " samples" : "";
+    require_within_budget(bytes, "a " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                     " frame" + samples);
+}
 
 Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     Loader loader(path, registry);

@@ -6,6 +6,7 @@
 
 #include "facet/error.hpp"
 #include "facet/framebuffer.hpp"
+#include "facet/memory.hpp"
 #include "base/files.hpp"
 
 #include <spdlog/spdlog.h>
@@ -122,6 +123,16 @@ glm::vec4 box(Level src, int x, int y) {
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
     require_regular_file(path);
     int width = 0, height = 0, channels = 0;
+    // Its size from the header, against the budget, before decoding: the
+    // decoded 8-bit image, then float RGBA texels with their mipmaps (a
+    // third more).
+    if (stbi_info(path.string().c_str(), &width, &height, &channels) && width > 0 && height > 0) {
+        const uint64_t texels = uint64_t(width) * uint64_t(height);
+        require_within_budget(texels * 4 + texels * sizeof(glm::vec4) * 4 / 3,
+                              "a " + std::to_string(width) + "x" + std::to_string(height) +
+                                  " texture",
+                              path.string());
+    }
     stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);
     if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), path.string());
 

@@ -143,7 +143,7 @@ Isa default_isa() {
 std::string cpu_name() {
 #if FACET_X86
     unsigned regs[12] = {};
-    if (__get_cpuid_max(0x80000000, nullptr) >= 0x80000004) {
+    if (unsigned(__get_cpuid_max(0x80000000, nullptr)) >= 0x80000004u) {
         for (unsigned leaf = 0; leaf < 3; ++leaf)
             __get_cpuid(0x80000002 + leaf, &regs[4 * leaf], &regs[4 * leaf + 1],
                         &regs[4 * leaf + 2], &regs[4 * leaf + 3]);

@@ -4,6 +4,7 @@
 #include "pipeline/kernels.hpp"
 
 #include "facet/error.hpp"
+#include "facet/memory.hpp"
 
 #include <stb/stb_image_write.h>
 
@@ -173,6 +174,13 @@ glm::ivec2 sample_offset(int n, int s) {
     }
 }
 
+uint64_t Framebuffer::storage_bytes(int width, int height, ColorFormat format, int samples) {
+    // As resize() lays it out: rows of a multiple of 16 pixels, a multiple of 4 rows.
+    const uint64_t pixels = uint64_t((width + 15) & ~15) * uint64_t((height + 3) & ~3);
+    const uint64_t per_pixel = uint64_t(bytes_per_pixel(format)) + sizeof(float);  // colour, depth
+    return pixels * per_pixel * uint64_t(samples > 1 ? 1 + samples : 1);
+}
+
 void Framebuffer::resize(int width, int height, ColorFormat format, int samples) {
     if (width <= 0 || height <= 0 || width > kMaxSize || height > kMaxSize)
         throw Error(ErrorCode::out_of_range,
@@ -181,6 +189,9 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples)
     if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
         throw Error(ErrorCode::out_of_range,
                     "MSAA sample count " + std::to_string(samples) + " (must be 1, 2, 4 or 8)");
+    require_within_budget(storage_bytes(width, height, format, samples),
+                          "a " + std::to_string(width) + "x" + std::to_string(height) + " target" +
+                              (samples > 1 ? " with " + std::to_string(samples) + " samples" : ""));
     width_ = width;
     height_ = height;
     stride_ = (width + 15) & ~15;  // 64 bytes of depth: rows start on cache lines

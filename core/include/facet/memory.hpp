@@ -1,0 +1,32 @@
+// The memory budget: the most that facet allocates for one thing a user
+// asks for (a render target, a texture, a mesh), checked before it is
+// allocated, so that a size typed by mistake is an error that names it
+// rather than a machine brought down by the out-of-memory killer.
+//
+// The budget is half of physical memory unless FACET_MAX_MEMORY says
+// otherwise (bytes, or a number with a K, M, G or T suffix: "8G"), or a
+// program sets it (facet-render and facet-view: --max-memory).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace facet {
+
+uint64_t memory_budget();
+void set_memory_budget(uint64_t bytes);
+
+// "8G", "512M", "1000000": bytes (K = 1024); nothing for anything else
+// (a zero, a sign, a fraction, a number past 2^64).
+std::optional<uint64_t> parse_memory_size(std::string_view text);
+
+// "1.5 GiB", "12 MiB", "512 bytes".
+std::string memory_text(uint64_t bytes);
+
+// Throws Error(over_budget) when `bytes` is more than the budget: "`what`
+// needs N, over the memory budget of M", at `file` when given.
+void require_within_budget(uint64_t bytes, const std::string& what, const std::string& file = {});
+
+}  // namespace facet

@@ -1,0 +1,82 @@
+#include "facet/memory.hpp"
+
+#include "facet/error.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+
+namespace facet {
+
+namespace {
+
+uint64_t physical_memory() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) : uint64_t(8) << 30;
+}
+
+uint64_t default_budget() {
+    if (const char* env = std::getenv("FACET_MAX_MEMORY"); env && *env) {
+        if (const std::optional<uint64_t> bytes = parse_memory_size(env)) return *bytes;
+        std::fprintf(stderr, "facet: FACET_MAX_MEMORY='%s' is not a size such as 8G; ignored\n",
+                     env);
+    }
+    return physical_memory() / 2;
+}
+
+std::atomic<uint64_t>& budget() {
+    static std::atomic<uint64_t> bytes{default_budget()};
+    return bytes;
+}
+
+}  // namespace
+
+uint64_t memory_budget() { return budget().load(); }
+void set_memory_budget(uint64_t bytes) { budget() = bytes; }
+
+std::optional<uint64_t> parse_memory_size(std::string_view text) {
+    if (text.empty()) return std::nullopt;
+    int shift = 0;
+    switch (text.back()) {
+        case 'K': case 'k': shift = 10; break;
+        case 'M': case 'm': shift = 20; break;
+        case 'G': case 'g': shift = 30; break;
+        case 'T': case 't': shift = 40; break;
+        default: break;
+    }
+    if (shift) text.remove_suffix(1);
+    if (text.empty() || text.size() > 19) return std::nullopt;
+    uint64_t value = 0;
+    for (const char c : text) {
+        if (c < '0' || c > '9') return std::nullopt;
+        value = value * 10 + uint64_t(c - '0');
+    }
+    if (value == 0 || value > (~uint64_t(0) >> shift)) return std::nullopt;
+    return value << shift;
+}
+
+std::string memory_text(uint64_t bytes) {
+    const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+    double value = double(bytes);
+    int unit = 0;
+    while (value >= 1024.0 && unit < 4) {
+        value /= 1024.0;
+        ++unit;
+    }
+    char text[32];
+    std::snprintf(text, sizeof text, unit == 0 ? "%.0f %s" : "%.1f %s", value, units[unit]);
+    return text;
+}
+
+void require_within_budget(uint64_t bytes, const std::string& what, const std::string& file) {
+    const uint64_t limit = memory_budget();
+    if (bytes <= limit) return;
+    throw Error(ErrorCode::over_budget,
+                what + " needs " + memory_text(bytes) + "; the budget is " + memory_text(limit) +
+                    " (--max-memory or FACET_MAX_MEMORY)",
+                file);
+}
+
+}  // namespace facet
