@@ -360,7 +360,6 @@ struct Fragment {
     glm::vec2 coord;     // pixel centre, window coordinates
     float depth;         // window depth, 0..1
     bool front_facing;
-    float shadow;        // light visibility (1 when no shadow map was asked for)
     float ao;            // ambient visibility (1 when no AO was asked for)
     bool discarded = false;
 
@@ -385,7 +384,6 @@ struct WideFragment {
     wide::Vec2 coord;    // pixel centres, window coordinates
     wide::Float depth;   // window depth, 0..1
     bool front_facing;   // the same for every lane: one triangle
-    wide::Float shadow;  // 1 (reserved, as Fragment::shadow)
     wide::Float ao;      // ambient visibility (1 when no AO was asked for)
     wide::Mask discarded{};
 
@@ -511,7 +509,6 @@ void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
             frag.coord = {column + (float(b->x) + 0.5f), row + (float(b->y + first / 4) + 0.5f)};
         frag.depth = load(b->depth + first, 0.0f);
         frag.front_facing = b->front_facing != 0;
-        frag.shadow = load(b->shadow ? b->shadow + first : nullptr, 1.0f);
         frag.ao = load(b->ao ? b->ao + first : nullptr, 1.0f);
         frag.texels_ = b->texels ? b->texels + first : nullptr;
         frag.texture_count_ = texture_count<S>();
@@ -559,9 +556,7 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
         const glm::vec2 centre = coord ? glm::vec2(coord[i], coord[N + i])
                                        : glm::vec2(float(b->x + i % 4) + 0.5f,
                                                    float(b->y + i / 4) + 0.5f);
-        Fragment frag{centre,
-                      b->depth[i], b->front_facing != 0,
-                      b->shadow ? b->shadow[i] : 1.0f, b->ao ? b->ao[i] : 1.0f};
+        Fragment frag{centre, b->depth[i], b->front_facing != 0, b->ao ? b->ao[i] : 1.0f};
         frag.texels_ = b->texels;
         frag.texture_count_ = texture_count<S>();
         frag.lane_ = i;

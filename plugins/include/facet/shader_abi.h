@@ -27,11 +27,14 @@
  *   - facet_host (the host's service table) follows the same rule in the
  *     other direction: a plugin checks host->struct_size before using a field
  *     appended after v1.0.
- *   - Structs the host builds and passes in (facet_draw, the batches,
- *     facet_light) may also grow at their end in a minor version; a plugin
+ *   - Structs the host builds and passes in one at a time (facet_draw, the
+ *     batches) may also grow at their end in a minor version; a plugin
  *     reads a field added after v1.0 only if host->abi_minor says it exists.
- *   - Tables the plugin provides (facet_varying_desc, facet_param_desc) are
- *     frozen for a major version.
+ *   - Structs that come as arrays are frozen for a major version, since a
+ *     plugin indexes them with the size it was built with: the tables the
+ *     plugin provides (facet_varying_desc, facet_param_desc) and those the
+ *     host passes (facet_light, facet_shadow_map). Anything new about a
+ *     light or a map comes in a new struct.
  *
  * THREADING
  *   Shaders are stateless and reentrant: the host calls the batch functions
@@ -165,7 +168,8 @@ typedef struct facet_param_desc {
 } facet_param_desc;
 
 /* ------------------------------------------------------------------------ */
-/* Lights, as the host passes them (world space). */
+/* Lights, as the host passes them (world space): an array
+ * (facet_draw.lights), so frozen for ABI 1 (VERSIONING RULES). */
 
 enum facet_light_type {
     FACET_LIGHT_DIRECTIONAL = 0,
@@ -190,7 +194,8 @@ typedef struct facet_light {
 /* Shadow maps (ABI 1.1): depth seen from a shadow-casting light, rendered by
  * the host before the main pass when a visible material needs them. A
  * shader filters them itself (see facet::sdk::shadow_visibility), so its
- * own parameters choose the kernel and the bias. */
+ * own parameters choose the kernel and the bias. An array
+ * (facet_draw.shadow_maps), so frozen for ABI 1. */
 
 enum facet_shadow_projection { FACET_SHADOW_ORTHOGRAPHIC = 0, FACET_SHADOW_PERSPECTIVE = 1 };
 
@@ -282,8 +287,8 @@ typedef struct facet_fragment_batch {
     const float* varyings;  /* [varying_floats][16]                         */
     const float* depth;     /* [16] window depth, 0..1                       */
     const float* texels;    /* [texture slot][4][16] linear RGBA, or NULL    */
-    const float* shadow;    /* reserved, NULL: shadows come from             */
-                            /*   facet_draw.shadow_maps (ABI 1.1)             */
+    const float* shadow;    /* reserved: always NULL, never read; shadows    */
+                            /*   come from facet_draw.shadow_maps (ABI 1.1)   */
     const float* ao;        /* [16] ambient visibility 0..1 (screen-space AO, */
                             /*   blurred) if FACET_NEED_AO, else NULL          */
     float* color;           /* out: [4][16] linear RGBA                      */
