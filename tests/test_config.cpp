@@ -416,11 +416,20 @@ TEST_CASE("scenes that would draw nothing without a word get a warning or work",
     // its target.
     const facet::Scene tiny_up = env.scene("camera: {up: [0, 1e-30, 0]}\n");
     CHECK(tiny_up.camera.up == glm::vec3(0, 1, 0));
-    const glm::mat4 view = tiny_up.camera.view();
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) CHECK(std::isfinite(view[c][r]));
+    auto finite = [](const glm::mat4& m) {
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                if (!std::isfinite(m[c][r])) return false;
+        return true;
+    };
+    CHECK(finite(tiny_up.camera.view()));
     const facet::Scene far = env.scene("camera: {position: [1e20, 0, 0], target: [0, 0, 0]}\n");
     CHECK(far.camera.position.x == 1e20f);
+    const glm::mat4 view = far.camera.view();  // float's squares overflow; double's do not
+    REQUIRE(finite(view));
+    const glm::vec4 origin = view * glm::vec4(0, 0, 0, 1);
+    CHECK(origin.z == Approx(-1e20f));  // straight ahead, 1e20 away
+    CHECK(std::abs(origin.x) < 1e13f);
 }
 
 TEST_CASE("plugin_paths reach the registry before materials load", "[scene]") {

@@ -50,15 +50,22 @@ struct Finished {
 Finished run(const std::vector<std::string>& args, const fs::path& log_file, int signal = 0,
              const std::string& marker = {}) {
     Finished out;
+    std::vector<char*> argv;  // made before the fork: the child only calls what is safe there
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
     out.pid = fork();
     REQUIRE(out.pid >= 0);
     if (out.pid == 0) {
         const int fd = open(log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         dup2(fd, STDOUT_FILENO);
         dup2(fd, STDERR_FILENO);
-        std::vector<char*> argv;
-        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
+        // The signals as a program started from a shell has them, even when
+        // these tests run in the background (SIGINT ignored) or blocked.
+        std::signal(SIGINT, SIG_DFL);
+        std::signal(SIGTERM, SIG_DFL);
+        sigset_t none;
+        sigemptyset(&none);
+        sigprocmask(SIG_SETMASK, &none, nullptr);
         execv(argv[0], argv.data());
         _exit(127);
     }
@@ -286,23 +293,23 @@ TEST_CASE("targets, frames, textures and meshes over the memory budget are refus
     }
     CHECK((fb.width() == 64 && fb.height() == 64));
 
-    // A scene's frame: at its size.
-    dir.write("quad.obj", test::kQuadObj);
-    PluginRegistry registry;
-    auto error_of = [&](const std::string& scene) {
-        dir.write("scene.yaml", scene);
+    // A frame: its target and its 8-bit image.
+    auto frame_error = [](int width, int height, int samples) {
+        RenderSettings s;
+        s.width = width;
+        s.height = height;
+        s.msaa = samples;
         try {
-            load_scene(dir.path / "scene.yaml", registry);
+            require_frame_within_budget(s);
         } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::over_budget);
             return std::string(e.what());
         }
-        return std::string("loaded");
+        return std::string("within");
     };
-    CHECK_THAT(error_of("render: {size: [2048, 2048]}\n"),
-               Contains("scene.yaml:1:16: over the memory budget: a 2048x2048 frame needs"));
-    CHECK(error_of("render: {size: [256, 256]}\n") == "loaded");
-    CHECK_THAT(error_of("render: {size: [256, 256], msaa: 8}\n"),
-               Contains("scene.yaml:1:16: over the memory budget: a 256x256 frame with 8 samples"));
+    CHECK_THAT(frame_error(2048, 2048, 1), Contains("a 2048x2048 frame needs 48.0 MiB"));
+    CHECK(frame_error(256, 256, 1) == "within");
+    CHECK_THAT(frame_error(256, 256, 8), Contains("a 256x256 frame with 8 samples needs 4.8 MiB"));
 
     // A texture: from its header, before decoding.
     const fs::path png = dir.path / "big.png";
@@ -332,8 +339,23 @@ TEST_CASE("an OFF file whose header declares more than the file holds is refused
                                       "hold"));
     }
     // The same lie under another name, and with comments: found by its keyword.
-    const fs::path named = dir.write("mesh.txt", "# a comment\nCOFF\n# another\n2000 1 0\n");
-    CHECK_THROWS_AS(load_mesh(named), Error);
+    // The same lie in the other spellings: under another name with comments,
+    // NOFF (normals: no dimension line), nOFF (a dimension line first), the
+    // longest keyword, and a .off file with no keyword at all.
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+             {"mesh.txt", "# a comment\nCOFF\n# another\n2000 1 0\n"},
+             {"normals.off", "NOFF\n4000000000 1 0\n"},
+             {"dimension.off", "nOFF\n3\n4000000 1 0\n"},
+             {"long.off", "STCN4nOFF\n4\n4000000 1 0\n"},
+             {"bare.off", "3 1000000000 0\n"}}) {
+        INFO(name);
+        try {
+            load_mesh(dir.write(name, text));
+            FAIL("loaded");
+        } catch (const Error& e) {
+            CHECK_THAT(e.what(), Contains("more than its"));
+        }
+    }
     // An honest one loads.
     const auto quad = load_mesh(dir.write(
         "quad.off", "OFF\n4 2 0\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n3 0 1 2\n3 0 2 3\n"));
@@ -352,6 +374,20 @@ TEST_CASE("facet-render names the options that ask for too much memory", "[relia
     CHECK_THAT(f.log, Contains("--size 16384x16384 --msaa 8: over the memory budget: a "
                                "16384x16384 frame with 8 samples needs 19.0 GiB; the budget is "
                                "1.0 GiB"));
+    // A scene's own size, named by its file; overridden, it is no obstacle.
+    test::write(dir.path / "quad.obj", test::kQuadObj);
+    test::write(dir.path / "big.yaml", "render: {size: [16384, 16384], msaa: 8}\n"
+                                       "objects:\n  - {mesh: quad.obj, material: {shader: unlit}}\n");
+    const Finished scene = run({FACET_RENDER_EXE, (dir.path / "big.yaml").string(), "--max-memory",
+                                "1G", "-o", (dir.path / "x.png").string()},
+                               dir.path / "log.txt");
+    CHECK(WEXITSTATUS(scene.status) == 1);
+    CHECK_THAT(scene.log, Contains("big.yaml (render: size, msaa): over the memory budget"));
+    const Finished small = run({FACET_RENDER_EXE, (dir.path / "big.yaml").string(), "--size",
+                                "64x64", "--max-memory", "1G", "-o", (dir.path / "x.png").string()},
+                               dir.path / "log.txt");
+    INFO(small.log);
+    CHECK(WEXITSTATUS(small.status) == 0);
     const Finished bad = run({FACET_RENDER_EXE, "--max-memory", "lots"}, dir.path / "log.txt");
     CHECK(WEXITSTATUS(bad.status) == 2);
     CHECK_THAT(bad.log, Contains("--max-memory: expected a size such as 8G"));

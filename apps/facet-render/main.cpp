@@ -77,15 +77,15 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
     if (!opt.camera.empty()) scene.camera = *facet::parse_camera(opt.camera, scene.camera);
     if (opt.msaa) scene.settings.msaa = opt.msaa;
     if (opt.wireframe) scene.settings.wireframe = true;
-    if (size || opt.msaa) {  // the scene's own size was checked as it loaded
-        try {
-            facet::require_frame_within_budget(scene.settings);
-        } catch (const facet::Error& e) {
-            const std::string options = (size ? "--size " + opt.size : std::string()) +
-                                        (size && opt.msaa ? " " : "") +
-                                        (opt.msaa ? "--msaa " + std::to_string(opt.msaa) : "");
-            throw facet::Error(e.code(), e.detail(), options);
-        }
+    try {
+        facet::require_frame_within_budget(scene.settings);
+    } catch (const facet::Error& e) {  // named by what asked for the frame
+        const std::string options = (size ? "--size " + opt.size : std::string()) +
+                                    (size && opt.msaa ? " " : "") +
+                                    (opt.msaa ? "--msaa " + std::to_string(opt.msaa) : "");
+        throw facet::Error(e.code(), e.detail(),
+                           options.empty() ? scene.source.string() + " (render: size, msaa)"
+                                           : options);
     }
     facet::Framebuffer framebuffer;
     facet::Renderer renderer;

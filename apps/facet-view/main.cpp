@@ -19,6 +19,8 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <atomic>
+
 namespace {
 
 struct Script {
@@ -27,6 +29,7 @@ struct Script {
 };
 
 int run(facet::view::Options options, const Script& script) {
+    const std::atomic<bool>* stop = options.stop;
     facet::view::Viewer viewer(std::move(options));
     if (script.frames <= 0) {
         viewer.run();
@@ -36,7 +39,7 @@ int run(facet::view::Options options, const Script& script) {
         viewer.invalidate();
         if (!viewer.pump()) break;
     }
-    if (!script.screenshot.empty()) {
+    if (!script.screenshot.empty() && !(stop && stop->load())) {  // not a frame cut short
         viewer.save_screenshot(script.screenshot);
         spdlog::info("wrote {}", script.screenshot);
     }

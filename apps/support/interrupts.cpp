@@ -38,7 +38,7 @@ Interrupts::Interrupts(std::string program, std::function<void()> on_stop,
                        std::chrono::milliseconds grace)
     : program_(std::move(program)), on_stop_(std::move(on_stop)), grace_(grace) {
     const sigset_t set = interrupt_signals();
-    pthread_sigmask(SIG_BLOCK, &set, nullptr);
+    pthread_sigmask(SIG_BLOCK, &set, &before_);
     thread_ = std::thread([this] { run(); });
 }
 
@@ -51,6 +51,7 @@ Interrupts::~Interrupts() {
     // Wakes the thread if it still waits for a first signal (it sees done_).
     pthread_kill(thread_.native_handle(), SIGTERM);
     thread_.join();
+    pthread_sigmask(SIG_SETMASK, &before_, nullptr);  // a signal from now on acts as it did
 }
 
 int Interrupts::exit_code() const {
@@ -82,8 +83,13 @@ void Interrupts::run() {
                 return;
         }
         const timespec none{0, 0};
-        if (std::chrono::steady_clock::now() >= deadline || sigtimedwait(&set, nullptr, &none) > 0)
-            break;
+        const bool again = sigtimedwait(&set, nullptr, &none) > 0;
+        {
+            // The destructor's wake-up is no second signal.
+            std::lock_guard lock(mutex_);
+            if (done_) return;
+        }
+        if (again || std::chrono::steady_clock::now() >= deadline) break;
     }
     say(program_ + ": still busy " + std::to_string(grace_.count()) +
         " ms after the signal; exiting now");

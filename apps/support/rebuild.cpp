@@ -4,6 +4,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -21,14 +28,46 @@ struct Result {
     std::string output;
 };
 
-// Runs `command` through the shell, capturing stdout and stderr.
+// Runs `command` through the shell, capturing stdout and stderr. The child
+// starts with no signal blocked and the default actions, whatever this
+// thread has (Interrupts blocks SIGINT and SIGTERM in every thread), so
+// that Ctrl-C reaches the build too.
 Result run(const std::string& command) {
+    int out[2];
+    if (pipe2(out, O_CLOEXEC) != 0) return {-1, "cannot start: " + command};
+    posix_spawn_file_actions_t files;
+    posix_spawn_file_actions_init(&files);
+    posix_spawn_file_actions_adddup2(&files, out[1], STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&files, out[1], STDERR_FILENO);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t none, defaults;
+    sigemptyset(&none);
+    sigemptyset(&defaults);
+    sigaddset(&defaults, SIGINT);
+    sigaddset(&defaults, SIGTERM);
+    posix_spawnattr_setsigmask(&attributes, &none);
+    posix_spawnattr_setsigdefault(&attributes, &defaults);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+    pid_t pid = 0;
+    const int failed = posix_spawn(&pid, "/bin/sh", &files, &attributes,
+                                   const_cast<char* const*>(argv), environ);
+    posix_spawn_file_actions_destroy(&files);
+    posix_spawnattr_destroy(&attributes);
+    close(out[1]);
     Result r;
-    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (!pipe) return {-1, "cannot start: " + command};
+    if (failed) {
+        close(out[0]);
+        return {-1, "cannot start: " + command};
+    }
     char buffer[4096];
-    for (size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) r.output.append(buffer, n);
-    r.status = pclose(pipe);
+    for (ssize_t n; (n = read(out[0], buffer, sizeof buffer)) != 0;) {
+        if (n > 0) r.output.append(buffer, size_t(n));
+        else if (errno != EINTR) break;
+    }
+    close(out[0]);
+    while (waitpid(pid, &r.status, 0) < 0 && errno == EINTR) {}
     return r;
 }
 

@@ -133,8 +133,9 @@ void apply_render_settings(RenderSettings& settings, const std::string& yaml,
 
 // Throws Error(over_budget) when the frame `settings` ask for (its target,
 // with its samples, and its 8-bit image) is over the memory budget
-// (facet/memory.hpp). Loading a scene checks it at the size; a program
-// that overrides size or samples checks again.
+// (facet/memory.hpp). Programs check it once the command line has had its
+// say (a scene's size may be overridden); Framebuffer::resize checks the
+// target itself in any case.
 void require_frame_within_budget(const RenderSettings& settings);
 
 // The scene facet-render uses when given none: configs/default.yaml in

@@ -37,7 +37,8 @@ std::string lower(std::string s) {
 
 bool is_off_keyword(const std::string& word) {
     const std::string w = lower(word);
-    return w.size() >= 3 && w.size() <= 8 && w.compare(w.size() - 3, 3, "off") == 0;
+    // OFF with any of its prefixes: ST, C, N, 4, n (STCN4nOFF is the longest).
+    return w.size() >= 3 && w.size() <= 12 && w.compare(w.size() - 3, 3, "off") == 0;
 }
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& why) {
@@ -57,11 +58,17 @@ void check_off(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     constexpr size_t kHeader = 4096;
     size_t read = 0;
-    const std::string keyword = next_word(in, read, kHeader);
-    if (!is_off_keyword(keyword)) return;  // not OFF after all: assimp decides
     std::string word = next_word(in, read, kHeader);
-    if (lower(word) == "binary") fail(path, "binary OFF is not supported");
-    if (lower(keyword).find("noff") != std::string::npos) word = next_word(in, read, kHeader);
+    if (is_off_keyword(word)) {
+        // "nOFF" (lower-case n; NOFF is normals) puts a dimension first.
+        const bool dimension = word.find("nOFF") != std::string::npos;
+        word = next_word(in, read, kHeader);
+        if (lower(word) == "binary") fail(path, "binary OFF is not supported");
+        if (dimension) word = next_word(in, read, kHeader);
+    } else if (lower(path.extension().string()) != ".off") {
+        return;  // not OFF after all: assimp decides
+    }
+    // A .off file may start with its counts, without the keyword.
     unsigned long long counts[2] = {};
     for (int i = 0; i < 2; ++i) {
         if (i > 0) word = next_word(in, read, kHeader);

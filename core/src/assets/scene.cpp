@@ -174,14 +174,6 @@ void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSetting
                                                     {{"srgb8", ColorFormat::srgb8},
                                                      {"rgba16f", ColorFormat::rgba16f},
                                                      {"rgba32f", ColorFormat::rgba32f}});
-    // The frame these settings ask for must fit the memory budget: said at
-    // the size (or the sample count) that makes it too big.
-    const YAML::Node at = node["size"] ? node["size"] : node["msaa"] ? node["msaa"] : node;
-    try {
-        require_frame_within_budget(s);
-    } catch (const Error& e) {
-        throw yaml::relocated(e, ctx, at);
-    }
 }
 
 // ---- lights --------------------------------------------------------------------

@@ -21,11 +21,16 @@ glm::quat euler_degrees(const glm::vec3& degrees) {
     return qz * qy * qx;
 }
 
-glm::mat4 look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up) {
-    const glm::vec3 f = glm::normalize(target - eye);
-    const glm::vec3 s = glm::normalize(glm::cross(f, up));
-    const glm::vec3 u = glm::cross(s, f);
-    glm::mat4 m(1.0f);
+namespace {
+
+// look_at in precision T.
+template <class T>
+glm::mat<4, 4, T> look_at_in(const glm::vec<3, T>& eye, const glm::vec<3, T>& target,
+                             const glm::vec<3, T>& up) {
+    const glm::vec<3, T> f = glm::normalize(target - eye);
+    const glm::vec<3, T> s = glm::normalize(glm::cross(f, up));
+    const glm::vec<3, T> u = glm::cross(s, f);
+    glm::mat<4, 4, T> m(T(1));
     m[0][0] = s.x; m[1][0] = s.y; m[2][0] = s.z;
     m[0][1] = u.x; m[1][1] = u.y; m[2][1] = u.z;
     m[0][2] = -f.x; m[1][2] = -f.y; m[2][2] = -f.z;
@@ -33,6 +38,23 @@ glm::mat4 look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3
     m[3][1] = -glm::dot(u, eye);
     m[3][2] = glm::dot(f, eye);
     return m;
+}
+
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+}  // namespace
+
+glm::mat4 look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up) {
+    const glm::mat4 m = look_at_in<float>(eye, target, up);
+    if (finite(m)) return m;
+    // Float's squares overflow past about 1.8e19 (a camera 1e20 away) and
+    // underflow below 1e-19: the same matrix, worked out in double.
+    return glm::mat4(look_at_in<double>(glm::dvec3(eye), glm::dvec3(target), glm::dvec3(up)));
 }
 
 // Both projections write z_clip = a * z_view + b * w_view, chosen so that

@@ -1,5 +1,7 @@
 #include "base/thread_pool.hpp"
 
+#include "base/signal_stack.hpp"
+
 namespace facet {
 
 ThreadPool::ThreadPool(int threads) {
@@ -43,6 +45,7 @@ void ThreadPool::run(int n, Trampoline call, void* fn) {
 }
 
 void ThreadPool::work(int worker) {
+    const SignalStack signal_stack;  // plugin code runs here: a fault can still be named
     unsigned seen = 0;
     std::unique_lock lock(mutex_);
     while (true) {

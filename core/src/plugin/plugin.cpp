@@ -3,11 +3,13 @@
 #include "facet/error.hpp"
 #include "facet/paths.hpp"
 #include "base/files.hpp"
+#include "base/signal_stack.hpp"
 #include "plugin/plugin_calls.hpp"
 
 #include <spdlog/spdlog.h>
 
 #include <dlfcn.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <elf.h>
 
@@ -69,12 +71,14 @@ const void* object_of(const void* address) {
     return address && dladdr(address, &info) ? info.dli_fbase : nullptr;
 }
 
-// A descriptor that lives in a shared object (or the program) keeps its
-// tables and names there too: an entry or a name elsewhere means a count
-// that runs past its table, read before it is dereferenced.
+// A table that lives in the plugin's shared object (or the program) keeps
+// its entries and their names there too: an entry or a name elsewhere means
+// a count that runs past the table, found before a name is read.
 void check_in_object(const facet_shader_desc& d, const std::string& origin) {
     const void* home = object_of(&d);
-    if (!home) return;  // built at run time (tests, embedders): nothing to compare with
+    // A descriptor or a table built at run time (tests, embedders, generated
+    // schemas): nothing to compare with.
+    if (!home || d.param_count == 0 || object_of(d.params) != home) return;
     for (uint32_t i = 0; i < d.param_count; ++i) {
         const facet_param_desc* p = d.params + i;
         if (object_of(p) != home || object_of(reinterpret_cast<const char*>(p + 1) - 1) != home ||
@@ -374,7 +378,13 @@ std::vector<fs::path> PluginRegistry::files_named(const std::string& name) const
     for (const fs::path& dir : search_path()) {
         fs::path candidate = dir / (name + ".so");
         std::error_code ec;
-        if (fs::is_regular_file(candidate, ec)) found.push_back(std::move(candidate));
+        if (!fs::is_regular_file(candidate, ec)) continue;
+        // A folder named twice (FACET_PLUGIN_PATH and the build's) is one file.
+        const bool seen = std::any_of(found.begin(), found.end(), [&](const fs::path& f) {
+            std::error_code e;
+            return fs::equivalent(f, candidate, e);
+        });
+        if (!seen) found.push_back(std::move(candidate));
     }
     return found;
 }
@@ -412,15 +422,21 @@ pid_t private_folder_owner(const std::string& name) {
     return pid_t(pid);
 }
 
-// Removes the private copies' folders whose owner `matches`; errors (another
-// user's folder, a race with another process) leave a folder alone.
+// Removes this user's private copies' folders whose process `matches`;
+// errors (a race with another process) leave a folder alone. (A process
+// in another PID namespace that shares the temp folder, under the same
+// user, would look dead from here: containers should not share /tmp.)
 template <class Matches>
 void remove_private_folders(Matches&& matches) {
     std::error_code ec;
     for (const fs::directory_entry& e : fs::directory_iterator(fs::temp_directory_path(ec), ec)) {
         const pid_t owner = private_folder_owner(e.path().filename().string());
+        struct stat info {};
+        if (!owner || lstat(e.path().c_str(), &info) != 0 || info.st_uid != getuid() ||
+            !S_ISDIR(info.st_mode) || !matches(owner))
+            continue;
         std::error_code ignored;
-        if (owner && matches(owner)) fs::remove_all(e.path(), ignored);
+        fs::remove_all(e.path(), ignored);
     }
 }
 
@@ -545,13 +561,9 @@ void on_fault(int sig, siginfo_t* info, void*) {
 }  // namespace
 
 void report_plugin_faults() {
-    // A stack of its own for this thread, so that a stack overflow in a
-    // plugin can still be reported.
-    static std::vector<char> stack(size_t(1) << 16);
-    stack_t alternate{};
-    alternate.ss_sp = stack.data();
-    alternate.ss_size = stack.size();
-    sigaltstack(&alternate, nullptr);
+    // A stack of its own for this thread (the pool's workers make theirs),
+    // so that a stack overflow in a plugin can still be reported.
+    static const SignalStack stack;
     struct sigaction action {};
     action.sa_sigaction = on_fault;
     action.sa_flags = SA_SIGINFO | SA_ONSTACK;

@@ -13,6 +13,8 @@
 // exits at once with the same code.
 #pragma once
 
+#include <signal.h>
+
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -48,6 +50,7 @@ private:
     std::mutex mutex_;
     std::condition_variable done_changed_;
     bool done_ = false;  // the program has left main(): under mutex_
+    sigset_t before_;    // the calling thread's mask, restored by the destructor
     std::thread thread_;
 };
 
