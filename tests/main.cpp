@@ -1,7 +1,8 @@
 // The test programs' main: Catch2's, except that a program started with
 // FACET_ISA naming a path this CPU lacks runs nothing and exits 77, which
 // CTest reports as skipped (tests/CMakeLists.txt runs the raster, pipeline
-// and shader tests once per path).
+// and shader tests once per path). With FACET_TEST_SKIP_BEST set too, the
+// CPU's best path is skipped the same way: the main run drew on it.
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 
@@ -9,10 +10,17 @@
 #include <facet/isa.hpp>
 
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 int main(int argc, char** argv) {
     try {
-        facet::default_isa();
+        const facet::Isa isa = facet::default_isa();
+        if (std::getenv("FACET_TEST_SKIP_BEST") && isa == facet::best_isa()) {
+            std::fprintf(stderr, "the %s path is this CPU's best, which the main run covers: "
+                                 "skipped\n", std::string(facet::isa_name(isa)).c_str());
+            return 77;
+        }
     } catch (const facet::Error& e) {
         const bool unavailable = e.code() == facet::ErrorCode::isa_unavailable;
         std::fprintf(stderr, "%s%s\n", e.what(), unavailable ? ": skipped" : "");
