@@ -28,6 +28,7 @@ struct Element {
     std::string name;
     uint64_t count = 0;
     std::vector<Property> properties;
+    int line = 0;  // of its header line
 };
 
 struct Header {
@@ -90,6 +91,7 @@ void parse_header_line(const std::string& text, Header& h, const std::filesystem
             count.size() > 10 || std::stoull(count) > kMaxCount)
             fail(path, "element '" + e.name + "' has no valid count ('" + count + "')", line);
         e.count = std::stoull(count);
+        e.line = line;
         h.elements.push_back(e);
     } else if (word == "property") {
         if (h.elements.empty()) fail(path, "property before any element", line);
@@ -107,7 +109,15 @@ Header parse_header(std::istream& in, const std::filesystem::path& path) {
     for (int line = 2; line <= kMaxHeaderLines; ++line) {
         if (!std::getline(in, text)) fail(path, "header has no end_header", line);
         if (!text.empty() && text.back() == '\r') text.pop_back();
-        if (text == "end_header") return h;
+        if (text == "end_header") {
+            // Entries without properties take no bytes, so the file's size
+            // does not bound their count, and assimp 5.2 steps through each.
+            for (const Element& e : h.elements)
+                if (e.properties.empty() && e.count > 0)
+                    fail(path, "element '" + e.name + "' has " + std::to_string(e.count) +
+                                   " entries but no properties", e.line);
+            return h;
+        }
         parse_header_line(text, h, path, line);
     }
     fail(path, "header longer than " + std::to_string(kMaxHeaderLines) + " lines");
