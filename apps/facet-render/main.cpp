@@ -16,7 +16,6 @@
 #include <facet/hot_reload.hpp>
 #include <facet/interrupts.hpp>
 #include <facet/isa.hpp>
-#include <facet/memory.hpp>
 #include <facet/plugin.hpp>
 #include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
@@ -123,15 +122,7 @@ void watch(const Options& opt, facet::PluginRegistry& registry, facet::Scene& sc
 }
 
 int run(const Options& opt, const facet::Interrupts& interrupts) {
-    if (!opt.max_memory.empty()) {
-        const std::optional<uint64_t> bytes = facet::parse_memory_size(opt.max_memory);
-        if (!bytes) {
-            spdlog::error("--max-memory: expected a size such as 8G, 512M or 1000000, got '{}'",
-                          opt.max_memory);
-            return 2;
-        }
-        facet::set_memory_budget(*bytes);
-    }
+    if (!facet::apply_max_memory(opt.max_memory)) return 2;
     std::optional<glm::ivec2> size;
     if (!opt.size.empty() && !(size = facet::parse_size(opt.size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",

@@ -12,7 +12,6 @@
 #include <facet/command_line.hpp>
 #include <facet/error.hpp>
 #include <facet/interrupts.hpp>
-#include <facet/memory.hpp>
 #include <facet/plugin.hpp>
 
 #include <CLI/CLI.hpp>
@@ -86,15 +85,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
     spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
-    if (!max_memory.empty()) {
-        const std::optional<uint64_t> bytes = facet::parse_memory_size(max_memory);
-        if (!bytes) {
-            spdlog::error("--max-memory: expected a size such as 8G, 512M or 1000000, got '{}'",
-                          max_memory);
-            return 2;
-        }
-        facet::set_memory_budget(*bytes);
-    }
+    if (!facet::apply_max_memory(max_memory)) return 2;
     if (!size.empty() && !(options.size = facet::parse_size(size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
                       facet::Framebuffer::kMaxSize, size);

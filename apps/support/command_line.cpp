@@ -1,6 +1,9 @@
 #include "facet/command_line.hpp"
 
 #include "facet/framebuffer.hpp"
+#include "facet/memory.hpp"
+
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
@@ -65,6 +68,17 @@ std::optional<Camera> parse_camera(std::string_view text, const Camera& base) {
         !(c.fov_y > 0.0f && c.fov_y < 180.0f))
         return std::nullopt;  // no view direction, looking along up, or a bad fov
     return c;
+}
+
+bool apply_max_memory(std::string_view text) {
+    if (text.empty()) return true;
+    const std::optional<uint64_t> bytes = parse_memory_size(text);
+    if (!bytes) {
+        spdlog::error("--max-memory: expected a size such as 8G, 512M or 1000000, got '{}'", text);
+        return false;
+    }
+    set_memory_budget(*bytes);
+    return true;
 }
 
 }  // namespace facet
