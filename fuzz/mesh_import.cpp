@@ -7,6 +7,9 @@
 // 'a' .off, 'b' .stl, 'c' .gltf, 'd' .glb, 'e' .dae, 'f' .3ds. The rest is
 // the file, written to the sandbox (support.hpp). assimp chooses the reader
 // by extension first, then by content, so any name can reach any reader.
+// The import runs in this process (MeshImport::in_process), where libFuzzer
+// sees its coverage; facet's programs run it in a child process, which
+// turns the importer's crashes into errors.
 //
 // Checks:
 //  - load_mesh() returns a mesh or throws facet::Error with one of the ids
@@ -80,7 +83,7 @@ void mesh_import(const uint8_t* data, size_t size) {
                           size - 1);
     std::shared_ptr<const Mesh> mesh;
     try {
-        mesh = load_mesh(input.path());
+        mesh = load_mesh(input.path(), MeshImport::in_process);
     } catch (const Error& e) {
         check(e.code() == ErrorCode::file_not_found || e.code() == ErrorCode::not_a_file ||
                   e.code() == ErrorCode::mesh_load_failed || e.code() == ErrorCode::mesh_invalid,

@@ -35,12 +35,27 @@ struct Mesh {
     size_t triangle_count() const { return indices.size() / 3; }
 };
 
+// How load_mesh() runs the importer.
+enum class MeshImport {
+    // In a child process, limited to the memory budget (facet/memory.hpp)
+    // and to 30 s plus 1 s per MiB of file: an importer that crashes,
+    // aborts, allocates without bound or loops ends the child, and the load
+    // is an error naming the file. The default.
+    isolated,
+    // In this process, unguarded: for callers that isolate it themselves,
+    // and for the fuzzer (which must see the importer's coverage).
+    in_process,
+};
+
 // Loads OBJ, glTF 2.0, PLY and the other formats assimp reads. All meshes in
 // the file are merged into one, with their node transforms applied.
 // Throws Error(file_not_found | not_a_file | mesh_load_failed | mesh_invalid);
 // an OFF or PLY header that declares more than its file holds is
-// mesh_load_failed before assimp allocates for it.
-std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path);
+// mesh_load_failed before assimp allocates for it. Isolated, an import
+// that needs more than the memory budget is Error(over_budget), and one
+// that crashes or runs out of time is mesh_load_failed.
+std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path,
+                                      MeshImport how = MeshImport::isolated);
 
 // Checks the invariants above: array sizes, index range, finite positions.
 // Throws Error(mesh_invalid) naming the first problem.

@@ -7,6 +7,8 @@
 #include "assets/off_check.hpp"
 #include "assets/ply_check.hpp"
 #include "base/files.hpp"
+#include "base/isolated.hpp"
+#include "facet/memory.hpp"
 
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -16,6 +18,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <cmath>
+#include <cstring>
 
 namespace facet {
 
@@ -117,22 +120,104 @@ void check_attribute(const Mesh& mesh, size_t size, const char* name) {
                                 std::to_string(mesh.vertex_count()) + " vertices");
 }
 
-}  // namespace
 
-std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path) {
-    require_regular_file(path);
-    if (looks_like_ply(path)) check_ply(path);  // assimp 5.2 hangs or crashes on some bad PLY
-    if (looks_like_off(path)) check_off(path);  // and allocates for any count an OFF declares
+// The importer proper: assimp, flattened into one mesh. Unguarded.
+Mesh import_mesh(const std::filesystem::path& path) {
     Assimp::Importer importer;
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const aiScene* scene = importer.ReadFile(path.string(), kImportFlags);
     if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
         throw Error(ErrorCode::mesh_load_failed, importer.GetErrorString(), path.string());
+    Mesh mesh;
+    mesh.source = path.string();
+    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), mesh);
+    return mesh;
+}
 
-    auto mesh = std::make_shared<Mesh>();
-    mesh->source = path.string();
-    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), *mesh);
+// A mesh's arrays as bytes, to come back from the child process: each
+// array's length, then its elements.
+template <typename T>
+void put_array(std::string& out, const std::vector<T>& v) {
+    const uint64_t n = v.size();
+    out.append(reinterpret_cast<const char*>(&n), sizeof n);
+    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+template <typename T>
+void get_array(std::string_view& in, std::vector<T>& v) {
+    uint64_t n = 0;
+    if (in.size() < sizeof n) throw std::length_error("a truncated mesh");
+    std::memcpy(&n, in.data(), sizeof n);
+    in.remove_prefix(sizeof n);
+    if (n > in.size() / sizeof(T)) throw std::length_error("a truncated mesh");
+    v.resize(n);
+    std::memcpy(v.data(), in.data(), n * sizeof(T));
+    in.remove_prefix(n * sizeof(T));
+}
+
+std::string to_bytes(const Mesh& m) {
+    std::string out;
+    put_array(out, m.positions);
+    put_array(out, m.normals);
+    put_array(out, m.uvs);
+    put_array(out, m.colors);
+    put_array(out, m.indices);
+    return out;
+}
+
+void from_bytes(std::string_view in, Mesh& m) {
+    get_array(in, m.positions);
+    get_array(in, m.normals);
+    get_array(in, m.uvs);
+    get_array(in, m.colors);
+    get_array(in, m.indices);
+}
+
+// 30 s, and 1 s more per MiB: assimp reads tens of MiB a second.
+std::chrono::milliseconds import_time_limit(const std::filesystem::path& path) {
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    return std::chrono::milliseconds(30000 + (ec ? 0 : size / 1024 * 1000 / 1024));
+}
+
+// import_mesh() in a child process, limited in memory and time.
+Mesh import_isolated(const std::filesystem::path& path) {
+    const IsolationLimits limits{memory_budget(), import_time_limit(path)};
+    const IsolatedResult r = run_isolated([&] { return to_bytes(import_mesh(path)); }, limits);
+    const std::string file = path.string();
+    switch (r.end) {
+        case IsolatedResult::End::finished: {
+            Mesh mesh;
+            mesh.source = file;
+            from_bytes(r.output, mesh);
+            return mesh;
+        }
+        case IsolatedResult::End::error: throw *r.error;
+        case IsolatedResult::End::out_of_memory:
+            throw Error(ErrorCode::over_budget,
+                        "importing it needs more than the memory budget of " +
+                            memory_text(limits.memory) +
+                            " (set it with --max-memory or FACET_MAX_MEMORY)",
+                        file);
+        case IsolatedResult::End::out_of_time:
+            throw Error(ErrorCode::mesh_load_failed,
+                        "the importer did not finish within its limit of " +
+                            std::to_string(limits.time.count() / 1000) + " s",
+                        file);
+        case IsolatedResult::End::crashed: break;
+    }
+    throw Error(ErrorCode::mesh_load_failed, "the importer failed: " + r.output, file);
+}
+
+}  // namespace
+
+std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImport how) {
+    require_regular_file(path);
+    if (looks_like_ply(path)) check_ply(path);  // clear errors for bad PLY and OFF headers,
+    if (looks_like_off(path)) check_off(path);  // without starting the importer
+    auto mesh = std::make_shared<Mesh>(how == MeshImport::isolated ? import_isolated(path)
+                                                                    : import_mesh(path));
     validate_mesh(*mesh);
     mesh->bounds = compute_bounds(mesh->positions);
     spdlog::info("mesh {}: {} vertices, {} triangles{}{}", mesh->source, mesh->vertex_count(),

@@ -1,0 +1,264 @@
+#include "base/isolated.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <new>
+#include <system_error>
+#include <thread>
+
+namespace facet {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The child's account, first byte first: 'K' and the output; 'E' and an
+// Error; 'M' (out of memory); 'X' and the message of another exception.
+void put_u32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
+void put_text(std::string& out, const std::string& text) {
+    put_u32(out, uint32_t(text.size()));
+    out.append(text);
+}
+
+class Reader {
+public:
+    explicit Reader(std::string_view bytes) : rest_(bytes) {}
+    uint32_t u32() {
+        uint32_t v = 0;
+        if (rest_.size() >= 4) std::memcpy(&v, rest_.data(), 4);
+        rest_.remove_prefix(std::min<size_t>(4, rest_.size()));
+        return v;
+    }
+    std::string text() {
+        const size_t n = std::min<size_t>(u32(), rest_.size());
+        std::string out(rest_.substr(0, n));
+        rest_.remove_prefix(n);
+        return out;
+    }
+
+private:
+    std::string_view rest_;
+};
+
+std::string encode(const Error& e) {
+    std::string out = "E";
+    put_u32(out, uint32_t(e.code()));
+    put_u32(out, uint32_t(e.line()));
+    put_u32(out, uint32_t(e.column()));
+    put_text(out, e.file());
+    put_text(out, e.detail());
+    return out;
+}
+
+Error decode(std::string_view bytes) {
+    Reader in(bytes);
+    const auto code = ErrorCode(in.u32());
+    const int line = int(in.u32());
+    const int column = int(in.u32());
+    std::string file = in.text();
+    return Error(code, in.text(), std::move(file), line, column);
+}
+
+// Bytes of address space this process has mapped (VmSize).
+uint64_t mapped_bytes() {
+    std::ifstream statm("/proc/self/statm");
+    uint64_t pages = 0;
+    statm >> pages;
+    return pages * uint64_t(sysconf(_SC_PAGESIZE));
+}
+
+void write_all(int fd, std::string_view bytes) {
+    while (!bytes.empty()) {
+        const ssize_t n = write(fd, bytes.data(), bytes.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;
+        bytes.remove_prefix(size_t(n));
+    }
+}
+
+[[noreturn]] void run_child(const std::function<std::string()>& work,
+                            const IsolationLimits& limits, int result_fd, int stderr_fd) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    // The signals a program's interrupt handling blocks (facet::Interrupts)
+    // act again, by default: Ctrl-C ends the child with its parent.
+    sigset_t interrupts;
+    sigemptyset(&interrupts);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        std::signal(sig, SIG_DFL);
+        sigaddset(&interrupts, sig);
+    }
+    pthread_sigmask(SIG_UNBLOCK, &interrupts, nullptr);
+    dup2(stderr_fd, STDERR_FILENO);
+    if (limits.memory) {
+        const rlim_t cap = rlim_t(mapped_bytes() + limits.memory);
+        const rlimit limit{cap, cap};
+        setrlimit(RLIMIT_AS, &limit);
+    }
+    std::string account;
+    try {
+        account = "K" + work();
+    } catch (const Error& e) {
+        account = encode(e);
+    } catch (const std::bad_alloc&) {
+        account = "M";
+    } catch (const std::exception& e) {
+        account = std::string("X") + e.what();
+    } catch (...) {
+        account = "Xan exception that is not a std::exception";
+    }
+    write_all(result_fd, account);
+    _exit(0);
+}
+
+// Keeps the last `kKept` bytes the child wrote to stderr.
+constexpr size_t kKept = 4096;
+
+void keep_tail(std::string& tail, const char* data, size_t n) {
+    tail.append(data, n);
+    if (tail.size() > kKept) tail.erase(0, tail.size() - kKept);
+}
+
+// The last line of `text` that is not empty.
+std::string last_line(std::string text) {
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    const size_t start = text.find_last_of('\n');
+    return start == std::string::npos ? text : text.substr(start + 1);
+}
+
+std::string describe_exit(int status, const std::string& said) {
+    std::string out;
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        out = std::string("it ended on signal ") + std::to_string(sig) + " (" + strsignal(sig) + ")";
+    } else {
+        out = "it exited with status " + std::to_string(WEXITSTATUS(status)) +
+              " before giving a result";
+    }
+    const std::string line = last_line(said);
+    if (!line.empty()) out += "; it said: " + line;
+    return out;
+}
+
+}  // namespace
+
+IsolatedResult run_isolated(const std::function<std::string()>& work,
+                            const IsolationLimits& limits) {
+    int result_pipe[2], stderr_pipe[2];
+    if (pipe2(result_pipe, O_CLOEXEC) != 0) throw std::system_error(errno, std::generic_category(), "pipe");
+    if (pipe2(stderr_pipe, O_CLOEXEC) != 0) {
+        close(result_pipe[0]);
+        close(result_pipe[1]);
+        throw std::system_error(errno, std::generic_category(), "pipe");
+    }
+    const pid_t child = fork();
+    if (child == 0) {
+        close(result_pipe[0]);
+        close(stderr_pipe[0]);
+        run_child(work, limits, result_pipe[1], stderr_pipe[1]);
+    }
+    close(result_pipe[1]);
+    close(stderr_pipe[1]);
+    if (child < 0) {
+        close(result_pipe[0]);
+        close(stderr_pipe[0]);
+        throw std::system_error(errno, std::generic_category(), "fork");
+    }
+
+    const bool timed = limits.time.count() > 0;
+    const Clock::time_point deadline = Clock::now() + limits.time;
+    auto left_ms = [&] {
+        if (!timed) return -1;
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+        return int(std::clamp<int64_t>(left.count(), 0, 1 << 30));
+    };
+
+    // Read both pipes until the child closes them (it exits) or time is up.
+    std::string account, said;
+    pollfd fds[2] = {{result_pipe[0], POLLIN, 0}, {stderr_pipe[0], POLLIN, 0}};
+    bool out_of_time = false;
+    while (fds[0].fd >= 0 || fds[1].fd >= 0) {
+        const int wait = left_ms();
+        if (timed && wait == 0) {
+            out_of_time = true;
+            break;
+        }
+        const int ready = poll(fds, 2, wait);
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready < 0) break;
+        for (pollfd& p : fds) {
+            if (p.fd < 0 || !(p.revents & (POLLIN | POLLHUP | POLLERR))) continue;
+            char buffer[65536];
+            const ssize_t n = read(p.fd, buffer, sizeof buffer);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {
+                close(p.fd);
+                p.fd = -1;
+            } else if (&p == &fds[0]) {
+                account.append(buffer, size_t(n));
+            } else {
+                keep_tail(said, buffer, size_t(n));
+            }
+        }
+    }
+    for (pollfd& p : fds)
+        if (p.fd >= 0) close(p.fd);
+
+    // The pipes are closed when the child exits; it may take a moment more
+    // to be reaped.
+    if (out_of_time) kill(child, SIGKILL);
+    int status = 0;
+    for (;;) {
+        const pid_t done = waitpid(child, &status, WNOHANG);
+        if (done == child) break;
+        if (done < 0 && errno != EINTR) break;
+        if (!out_of_time && timed && left_ms() == 0) {
+            out_of_time = true;
+            kill(child, SIGKILL);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+
+    IsolatedResult result;
+    if (out_of_time) {
+        result.end = IsolatedResult::End::out_of_time;
+        result.output = "it did not finish within " + std::to_string(limits.time.count()) + " ms";
+        return result;
+    }
+    const bool clean = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (!clean || account.empty()) {
+        result.end = IsolatedResult::End::crashed;
+        result.output = describe_exit(status, said);
+        return result;
+    }
+    const std::string_view body = std::string_view(account).substr(1);
+    switch (account[0]) {
+        case 'K':
+            result.output = std::string(body);
+            break;
+        case 'E':
+            result.end = IsolatedResult::End::error;
+            result.error = decode(body);
+            result.output = result.error->what();
+            break;
+        case 'M':
+            result.end = IsolatedResult::End::out_of_memory;
+            result.output = "it ran out of memory";
+            break;
+        default:
+            result.end = IsolatedResult::End::crashed;
+            result.output = "it threw " + std::string(body);
+    }
+    return result;
+}
+
+}  // namespace facet
