@@ -186,6 +186,40 @@ TEST_CASE("bad plugins are refused and the old version keeps rendering", "[reloa
         }
 }
 
+TEST_CASE("a new version that crashes or hangs in its trial frame is refused, never loaded here",
+          "[reload]") {
+    // Loaded in this process, any of these would end the test run.
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"-DFAULT_AT_LOAD", "trial frame failed: it ended on signal"},
+        {"-DFAULT_IN_ENTRY", "trial frame failed: it ended on signal"},
+        {"-DFAULT_IN_VERTEX", "trial frame failed: it ended on signal"},
+        {"-DFAULT_IN_FRAGMENT", "trial frame failed: it ended on signal"},
+        {"-DABORT_IN_FRAGMENT", "trial frame failed: it ended on signal"},
+        {"-DLOOP_IN_FRAGMENT", "trial frame failed: it did not finish within 2000 ms"},
+    };
+    for (const auto& [flag, reason] : bad) {
+        INFO(flag);
+        Fixture f;
+        PluginRegistry registry(std::vector<fs::path>{});
+        Scene scene = load_scene(f.scene_file, registry);
+        HotReload::Options options = fast(false);
+        options.trial_time = 2000ms;
+        HotReload reload(registry, scene, options);
+        Renderer renderer;
+        REQUIRE(red(renderer, scene) == 0.25f);
+        REQUIRE(compile_plugin(f.plugins / "hot.so", "hot", flag + " -DWITH_GAIN"));
+        const std::vector<ReloadEvent> events = next_events(reload);
+        REQUIRE(events.size() == 1);
+        CHECK(events[0].kind == ReloadEvent::Kind::plugin_refused);
+        CHECK_THAT(events[0].message, Catch::Contains("shader 'hot', keeping the old one") &&
+                                          Catch::Contains(reason));
+        CHECK(red(renderer, scene) == 0.25f);
+        REQUIRE(compile_plugin(f.plugins / "hot.so", "hot", "-DFILL_RED=0.5f -DWITH_GAIN"));
+        CHECK(next_kind(reload) == ReloadEvent::Kind::plugin_reloaded);
+        CHECK(red(renderer, scene) == 0.5f);
+    }
+}
+
 TEST_CASE("material and scene edits apply at the next frame; broken edits keep the old",
           "[reload]") {
     for (bool polling : {false, true}) {

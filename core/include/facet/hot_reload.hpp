@@ -5,10 +5,15 @@
 // call it between frames, on the thread that renders. For a changed plugin
 // it
 //   1. waits until the file has stopped changing (`settle`),
-//   2. loads a private, versioned copy of it (PluginRegistry::load_fresh),
-//   3. checks the ABI, and the parameter schema against every material
+//   2. renders a small trial frame of the scene with the new version, in a
+//      child process with a time limit (base/isolated.hpp), when a material
+//      of the scene uses the plugin: a version that crashes (in its
+//      constructors, entry point, vertex or fragment function) or does not
+//      finish is refused with the reason, and this process never loads it,
+//   3. loads a private, versioned copy of it (PluginRegistry::load_fresh),
+//   4. checks the ABI, and the parameter schema against every material
 //      that uses the plugin,
-//   4. swaps the new version in for all those materials.
+//   5. swaps the new version in for all those materials.
 // The old library is unloaded when the last reference to it goes: materials
 // and frames hold shared_ptrs, so never while a frame still uses it.
 // Anything that fails (a plugin that will not load, a schema that no longer
@@ -57,6 +62,10 @@ public:
     struct Options {
         FileWatcher::Options watcher;
         std::chrono::milliseconds settle{100};  // quiet time before a file counts as written
+        // The trial frame: its width (its height follows the scene's
+        // aspect), and how long it may take. 0 ms: no trial.
+        int trial_width = 160;
+        std::chrono::milliseconds trial_time{5000};
     };
 
     // Watches `scene` (loaded from scene.source with `registry`). Both must
@@ -93,6 +102,7 @@ private:
     bool reload_plugin(const std::string& name);
     bool reload_material(const std::filesystem::path& file);
     bool reload_scene();
+    std::string trial_frame(const std::string& name);
     void report(ReloadEvent::Kind kind, std::string subject, std::string message);
 
     PluginRegistry& registry_;

@@ -98,7 +98,10 @@ void write_all(int fd, std::string_view bytes) {
         sigaddset(&interrupts, sig);
     }
     pthread_sigmask(SIG_UNBLOCK, &interrupts, nullptr);
+    // Its stderr comes back to the parent; stdout would only mix into the
+    // parent's.
     dup2(stderr_fd, STDERR_FILENO);
+    if (const int null = open("/dev/null", O_WRONLY | O_CLOEXEC); null >= 0) dup2(null, STDOUT_FILENO);
     if (limits.memory) {
         const rlim_t cap = rlim_t(mapped_bytes() + limits.memory);
         const rlimit limit{cap, cap};

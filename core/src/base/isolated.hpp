@@ -17,7 +17,7 @@
 // process may have held (glibc's allocator is safe; a logger may not be:
 // the child's log lines are kept back and dropped). It dies with this
 // process (PR_SET_PDEATHSIG), and signals such as Ctrl-C reach it with
-// their default action.
+// their default action. Its stdout goes to /dev/null.
 #pragma once
 
 #include "facet/error.hpp"
