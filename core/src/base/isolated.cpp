@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -131,11 +132,20 @@ void keep_tail(std::string& tail, const char* data, size_t n) {
     if (tail.size() > kKept) tail.erase(0, tail.size() - kKept);
 }
 
-// The last line of `text` that is not empty.
-std::string last_line(std::string text) {
-    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-    const size_t start = text.find_last_of('\n');
-    return start == std::string::npos ? text : text.substr(start + 1);
+// The last line of `text` with a word in it (not a rule of '='s).
+std::string last_line(const std::string& text) {
+    size_t end = text.size();
+    while (end > 0) {
+        const size_t start = text.find_last_of('\n', end - 1);
+        const size_t from = start == std::string::npos ? 0 : start + 1;
+        std::string line = text.substr(from, end - from);
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (std::any_of(line.begin(), line.end(), [](char c) { return std::isalpha(uint8_t(c)); }))
+            return line;
+        if (start == std::string::npos) break;
+        end = start;
+    }
+    return {};
 }
 
 std::string describe_exit(int status, const std::string& said) {
