@@ -490,3 +490,21 @@ TEST_CASE("a mesh imported in a child process is the mesh imported here",
     CHECK(isolated->indices == here->indices);
     CHECK(isolated->source == here->source);
 }
+
+TEST_CASE("an import that needs more memory than the budget is refused, naming the file",
+          "[reliability][isolation][mesh][memory]") {
+    const fs::path file = fs::path(FACET_SOURCE_DIR) / "assets" / "spot" / "spot.obj";
+    const Budget tiny(64 << 10);
+    try {
+        load_mesh(file);
+        FAIL("no error");
+    } catch (const Error& e) {
+#if defined(__SANITIZE_ADDRESS__)
+        CHECK(e.code() == ErrorCode::mesh_load_failed);  // the sanitizer aborts the child
+#else
+        CHECK(e.code() == ErrorCode::over_budget);
+        CHECK_THAT(e.detail(), Contains("importing it needs more than the memory budget"));
+#endif
+        CHECK(e.file() == file.string());
+    }
+}

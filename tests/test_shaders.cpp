@@ -349,8 +349,9 @@ int max_difference(const Framebuffer& a, const Framebuffer& b) {
 TextureBinding checker_texture() {
     auto tex = std::make_shared<Texture>();
     tex->width = tex->height = 2;
-    tex->texels = {{1.0, 0.8, 0.6, 1.0}, {0.5, 0.9, 1.0, 1.0},
-                   {0.9, 0.4, 0.7, 1.0}, {0.7, 1.0, 0.5, 1.0}};
+    for (const glm::vec4 c : {glm::vec4(1.0, 0.8, 0.6, 1.0), glm::vec4(0.5, 0.9, 1.0, 1.0),
+                              glm::vec4(0.9, 0.4, 0.7, 1.0), glm::vec4(0.7, 1.0, 0.5, 1.0)})
+        tex->texels.push_back(encode_texel(c, false));
     return {tex, Filter::nearest, Wrap::clamp};
 }
 
@@ -359,7 +360,7 @@ std::optional<dvec4> ref_texel(const Setup& s, const TextureBinding* t, const Hi
     std::vector<dvec2> uvs(s.mesh.uvs.begin(), s.mesh.uvs.end());
     const dvec2 uv = interpolate(h, uvs);
     if (std::abs(uv.x - 0.5) < 0.01 || std::abs(uv.y - 0.5) < 0.01) return std::nullopt;
-    return dvec4(t->texture->texels[(uv.y >= 0.5) * 2 + (uv.x >= 0.5)]);
+    return dvec4(t->texture->linear((uv.y >= 0.5) * 2 + (uv.x >= 0.5)));
 }
 
 // ---- lit -----------------------------------------------------------------------
@@ -752,7 +753,7 @@ TEST_CASE("unlit.so computes vertex colour x base colour x texture", "[shader][u
     // A 2x2 texture, sampled with nearest filtering at texel centres.
     auto tex = std::make_shared<Texture>();
     tex->width = tex->height = 2;
-    tex->texels = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {0.5f, 0.5f, 0.5f, 0.5f}};
+    tex->texels = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {128, 128, 128, 128}};
     const TextureBinding bindings[1] = {{tex, Filter::nearest, Wrap::clamp}};
     struct Block {
         glm::vec4 base_color;
@@ -775,7 +776,7 @@ TEST_CASE("unlit.so computes vertex colour x base colour x texture", "[shader][u
         Pipeline().draw(call, fb, stats);
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x) {
-                const glm::vec4 texel = textured ? tex->texels[(y / 4) * 2 + x / 4] : glm::vec4(1);
+                const glm::vec4 texel = textured ? tex->linear((y / 4) * 2 + x / 4) : glm::vec4(1);
                 const glm::vec4 expected = vertex_color * params.base_color * texel;
                 REQUIRE(glm::all(glm::equal(fb.pixel(x, y), expected)));
             }

@@ -1,14 +1,19 @@
-// Textures: loaded through stb_image (PNG, JPEG, TGA, ...), stored as linear
-// float RGBA, sampled with a filter and a wrap mode.
+// Textures: loaded through stb_image (PNG, JPEG, TGA, ...), stored as the
+// files give them, 8 bits a channel (RGBA), sampled with a filter and a wrap
+// mode.
 //
-// Colour textures are sRGB-encoded in their files and decoded to linear
-// light at load, so filtering happens in linear light; data textures
-// (normals, masks) are taken as they are. A mipmap chain (2x2 box filter in
-// linear light, down to 1x1) is generated at load for trilinear filtering.
+// Colour textures are sRGB-encoded in their files and kept so; a texel is
+// decoded to linear light as it is read, so filtering happens in linear
+// light. Data textures (normals, masks) are taken as they are. Alpha is
+// always linear. A mipmap chain (2x2 box filter in linear light, each level
+// encoded again as its texture is, down to 1x1) is generated at load for
+// trilinear filtering. A texture costs 4 bytes a texel, and a third more
+// for its mipmaps.
 #pragma once
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -22,25 +27,40 @@ namespace facet {
 enum class Filter { nearest, bilinear, trilinear };
 enum class Wrap { repeat, clamp, mirror };
 
+// A texel as stored: red, green, blue (sRGB-encoded in an sRGB texture) and
+// alpha (linear), 8 bits each.
+struct Texel8 {
+    uint8_t r = 0, g = 0, b = 0, a = 0;
+    bool operator==(const Texel8&) const = default;
+};
+
+// Linear RGBA -> the nearest texel of an sRGB (or linear) texture, each
+// channel clamped to 0..1; and back.
+Texel8 encode_texel(glm::vec4 linear, bool srgb);
+glm::vec4 decode_texel(Texel8 texel, bool srgb);
+
 struct MipLevel {
     int width = 0;
     int height = 0;
-    std::vector<glm::vec4> texels;
+    std::vector<Texel8> texels;
 };
 
 struct Texture {
     std::string source;
-    int width = 0;                  // level 0
+    int width = 0;                // level 0
     int height = 0;
     bool srgb = false;
-    std::vector<glm::vec4> texels;  // level 0: linear RGBA, row-major, top row first
-    std::vector<MipLevel> mips;     // levels 1, 2, ... down to 1x1 (may be empty)
+    std::vector<Texel8> texels;   // level 0, row-major, top row first
+    std::vector<MipLevel> mips;   // levels 1, 2, ... down to 1x1 (may be empty)
 
     int levels() const { return 1 + int(mips.size()); }
+    // Texel i of level 0, decoded to linear RGBA.
+    glm::vec4 linear(size_t i) const { return decode_texel(texels[i], srgb); }
 };
 
 // Fills texture.mips from level 0 (each level half the size, rounded down,
-// at least 1; each texel the mean of the 2x2 (or fewer) texels it covers).
+// at least 1; each texel the mean, in linear light, of the 2x2 (or fewer)
+// texels it covers, encoded as the texture is).
 void generate_mipmaps(Texture& texture);
 
 // Throws Error(file_not_found | not_a_file | texture_load_failed), or

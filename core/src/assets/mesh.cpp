@@ -19,6 +19,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <new>
+#include <string_view>
 
 namespace facet {
 
@@ -127,8 +129,13 @@ Mesh import_mesh(const std::filesystem::path& path) {
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const aiScene* scene = importer.ReadFile(path.string(), kImportFlags);
-    if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
+    if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+        // assimp catches what its readers throw and keeps only the message:
+        // an allocation that failed is told by its what().
+        if (importer.GetErrorString() == std::string_view(std::bad_alloc().what()))
+            throw std::bad_alloc();
         throw Error(ErrorCode::mesh_load_failed, importer.GetErrorString(), path.string());
+    }
     Mesh mesh;
     mesh.source = path.string();
     append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), mesh);

@@ -1,4 +1,5 @@
-// Texture loading (stb_image, decoded to linear float RGBA) and sampling.
+// Texture loading (stb_image, kept as 8-bit RGBA) and sampling, which
+// decodes each texel to linear light as it reads it.
 //
 // Texel (i, j) covers [i, i+1) x [j, j+1) in texel units, so its centre is at
 // uv ((i + 0.5) / width, (j + 0.5) / height); uv (0, 0) is the top-left corner.
@@ -16,18 +17,32 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 
 namespace facet {
 
 namespace {
 
-// 8-bit code -> linear value, for colour channels.
-std::array<float, 256> decode_table(bool srgb) {
-    std::array<float, 256> table;
-    for (int i = 0; i < 256; ++i)
-        table[i] = srgb ? srgb_to_linear(float(i) / 255.0f) : float(i) / 255.0f;
-    return table;
+// 8-bit code -> linear value: sRGB-encoded colour channels (the exact
+// curve, in double, rounded once to float), and linear channels (alpha,
+// and the colour of data textures). Built from nothing but <cmath>, so
+// that they are ready before any other static initialiser could load a
+// texture.
+using DecodeTable = std::array<float, 256>;
+
+DecodeTable make_table(bool srgb) {
+    DecodeTable t;
+    for (int i = 0; i < 256; ++i) {
+        const double v = i / 255.0;
+        t[i] = float(!srgb ? v : v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
+    }
+    return t;
 }
+
+const DecodeTable kSrgbDecode = make_table(true);
+const DecodeTable kLinearDecode = make_table(false);
+
+const DecodeTable& decode_table(bool srgb) { return srgb ? kSrgbDecode : kLinearDecode; }
 
 int wrap_index(int i, int n, Wrap wrap) {
     switch (wrap) {
@@ -62,7 +77,7 @@ Split split(float x) {
 struct Level {
     int width;
     int height;
-    const glm::vec4* texels;
+    const Texel8* texels;
 };
 
 Level level(const Texture& t, int i) {
@@ -73,7 +88,8 @@ Level level(const Texture& t, int i) {
 
 class Sampler {
 public:
-    Sampler(Level level, Wrap wrap) : t_(level), wrap_(wrap) {}
+    Sampler(Level level, Wrap wrap, bool srgb)
+        : t_(level), wrap_(wrap), colour_(decode_table(srgb)) {}
 
     glm::vec4 nearest(glm::vec2 uv) const {
         return texel(split(uv.x * t_.width).index, split(uv.y * t_.height).index);
@@ -90,45 +106,56 @@ public:
     }
 
 private:
-    const glm::vec4& texel(int x, int y) const {
+    glm::vec4 texel(int x, int y) const {
         const size_t row = static_cast<size_t>(wrap_index(y, t_.height, wrap_));
-        return t_.texels[row * t_.width + wrap_index(x, t_.width, wrap_)];
+        const Texel8 t = t_.texels[row * t_.width + wrap_index(x, t_.width, wrap_)];
+        return {colour_[t.r], colour_[t.g], colour_[t.b], kLinearDecode[t.a]};
     }
 
     Level t_;
     Wrap wrap_;
+    const DecodeTable& colour_;
 };
 
 glm::vec4 trilinear(const Texture& t, Wrap wrap, glm::vec2 uv, float lod) {
     const float l = std::clamp(std::isnan(lod) ? 0.0f : lod, 0.0f, float(t.levels() - 1));
     const int lo = int(l);
-    const glm::vec4 a = Sampler(level(t, lo), wrap).bilinear(uv);
+    const glm::vec4 a = Sampler(level(t, lo), wrap, t.srgb).bilinear(uv);
     if (lo + 1 >= t.levels() || l == float(lo)) return a;
-    return glm::mix(a, Sampler(level(t, lo + 1), wrap).bilinear(uv), l - float(lo));
+    return glm::mix(a, Sampler(level(t, lo + 1), wrap, t.srgb).bilinear(uv), l - float(lo));
 }
 
-// The mean of the up-to-2x2 texels of `src` that texel (x, y) of the next
-// level covers.
-glm::vec4 box(Level src, int x, int y) {
+// The mean, in linear light, of the up-to-2x2 texels of `src` that texel
+// (x, y) of the next level covers.
+glm::vec4 box(Level src, int x, int y, bool srgb) {
     glm::vec4 sum(0.0f);
     int n = 0;
     for (int j = 2 * y; j < std::min(2 * y + 2, src.height); ++j)
         for (int i = 2 * x; i < std::min(2 * x + 2, src.width); ++i, ++n)
-            sum += src.texels[size_t(j) * src.width + i];
+            sum += decode_texel(src.texels[size_t(j) * src.width + i], srgb);
     return sum / float(n);
 }
 
 }  // namespace
 
+Texel8 encode_texel(glm::vec4 linear, bool srgb) {
+    auto colour = [srgb](float v) { return srgb ? linear_to_srgb8(v) : unorm8(v); };
+    return {colour(linear.r), colour(linear.g), colour(linear.b), unorm8(linear.a)};
+}
+
+glm::vec4 decode_texel(Texel8 t, bool srgb) {
+    const DecodeTable& colour = decode_table(srgb);
+    return {colour[t.r], colour[t.g], colour[t.b], kLinearDecode[t.a]};
+}
+
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
     require_regular_file(path);
     int width = 0, height = 0, channels = 0;
     // Its size from the header, against the budget, before decoding: the
-    // decoded 8-bit image, then float RGBA texels with their mipmaps (a
-    // third more).
+    // decoded image, and the texture with its mipmaps (a third more).
     if (stbi_info(path.string().c_str(), &width, &height, &channels) && width > 0 && height > 0) {
         const uint64_t texels = uint64_t(width) * uint64_t(height);
-        require_within_budget(texels * 4 + texels * sizeof(glm::vec4) * 4 / 3,
+        require_within_budget(texels * 4 + texels * sizeof(Texel8) * 4 / 3,
                               "a " + std::to_string(width) + "x" + std::to_string(height) +
                                   " texture",
                               path.string());
@@ -142,11 +169,8 @@ std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, b
     texture->height = height;
     texture->srgb = srgb;
     texture->texels.resize(size_t(width) * height);
-    const std::array<float, 256> colour = decode_table(srgb);
-    for (size_t i = 0; i < texture->texels.size(); ++i) {
-        const stbi_uc* p = pixels + 4 * i;
-        texture->texels[i] = {colour[p[0]], colour[p[1]], colour[p[2]], float(p[3]) / 255.0f};
-    }
+    static_assert(sizeof(Texel8) == 4);
+    std::memcpy(texture->texels.data(), pixels, texture->texels.size() * sizeof(Texel8));
     stbi_image_free(pixels);
     generate_mipmaps(*texture);
     spdlog::info("texture {}: {}x{}, {} channels{}, {} levels", texture->source, width, height,
@@ -174,7 +198,8 @@ void generate_mipmaps(Texture& texture) {
         next.texels.resize(size_t(next.width) * next.height);
         for (int y = 0; y < next.height; ++y)
             for (int x = 0; x < next.width; ++x)
-                next.texels[size_t(y) * next.width + x] = box(src, x, y);
+                next.texels[size_t(y) * next.width + x] =
+                    encode_texel(box(src, x, y, texture.srgb), texture.srgb);
         texture.mips.push_back(std::move(next));
         src = level(texture, texture.levels() - 1);
     }
@@ -188,7 +213,7 @@ float level_of_detail(const Texture& t, glm::vec2 duv_dx, glm::vec2 duv_dy) {
 
 glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv) {
     if (!binding.texture) return glm::vec4(1.0f);  // nothing bound reads as white
-    const Sampler sampler(level(*binding.texture, 0), binding.wrap);
+    const Sampler sampler(level(*binding.texture, 0), binding.wrap, binding.texture->srgb);
     return binding.filter == Filter::nearest ? sampler.nearest(uv) : sampler.bilinear(uv);
 }
 
