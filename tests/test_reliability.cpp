@@ -309,9 +309,16 @@ TEST_CASE("targets, frames, textures and meshes over the memory budget are refus
         }
         return std::string("within");
     };
-    CHECK_THAT(frame_error(2048, 2048, 1), Contains("a 2048x2048 frame needs 48.0 MiB"));
+    CHECK_THAT(frame_error(2048, 2048, 1), Contains("a 2048x2048 frame needs 80.0 MiB"));
     CHECK(frame_error(256, 256, 1) == "within");
-    CHECK_THAT(frame_error(256, 256, 8), Contains("a 256x256 frame with 8 samples needs 4.8 MiB"));
+    CHECK_THAT(frame_error(256, 256, 8), Contains("a 256x256 frame with 8 samples needs 5.2 MiB"));
+    {
+        // The issue's case: on 24 GiB (a budget of 12), this frame and its
+        // PNG grew past 14 GB.
+        const Budget half(uint64_t(12) << 30);
+        CHECK_THAT(frame_error(16384, 16384, 4),
+                   Contains("a 16384x16384 frame with 4 samples needs 13.0 GiB"));
+    }
 
     // A texture: from its header, before decoding.
     const fs::path png = dir.path / "big.png";
@@ -374,7 +381,7 @@ TEST_CASE("facet-render names the options that ask for too much memory", "[relia
     REQUIRE(WIFEXITED(f.status));
     CHECK(WEXITSTATUS(f.status) == 1);
     CHECK_THAT(f.log, Contains("--size 16384x16384 --msaa 8: over the memory budget: a "
-                               "16384x16384 frame with 8 samples needs 19.0 GiB; the budget is "
+                               "16384x16384 frame with 8 samples needs 21.0 GiB; the budget is "
                                "1.0 GiB"));
     // A scene's own size, named by its file; overridden, it is no obstacle.
     test::write(dir.path / "quad.obj", test::kQuadObj);

@@ -92,10 +92,12 @@ public:
     // samples.
     static uint64_t storage_bytes(int width, int height, ColorFormat format, int samples);
     // What a frame of that size costs a program that renders it and keeps
-    // its 8-bit image (a PNG, a window): the target, and the image.
+    // its 8-bit image: the target, the image, and twice the image again for
+    // what takes it from there (the PNG encoder's filtered rows and its
+    // compressed output; a window's texture).
     static uint64_t frame_bytes(int width, int height, ColorFormat format, int samples) {
         const uint64_t image = uint64_t(width) * uint64_t(height) * 4;
-        return storage_bytes(width, height, format, samples) + image;
+        return storage_bytes(width, height, format, samples) + 3 * image;
     }
     // clear(), resolve() and resolve_srgb8() run on the calling thread, on
     // the default instruction-set path (default_isa(), which throws for a
