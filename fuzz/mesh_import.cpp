@@ -56,16 +56,6 @@ void check_geometry(const Mesh& m) {
         check(std::abs(glm::length(n) - 1.0f) < 1e-3f, "a loaded mesh has a non-unit normal");
 }
 
-// Known bug "ply-empty-face": PLY faces of fewer than three vertices (a
-// face list of one index, say) trip an assertion in assimp's
-// triangulation, which aborts; the preflight refuses only empty lists.
-// Telling such a face apart needs the body, so the target skips every PLY
-// file with a list.
-bool has_lists(const uint8_t* data, size_t size) {
-    const std::string_view text(reinterpret_cast<const char*>(data), size);
-    return text.substr(0, text.find("end_header")).find("list") != std::string_view::npos;
-}
-
 // The extension each first byte picks, by its value modulo 8: 'o' (111)
 // is .obj and 'p' (112) .ply, as when the target knew only those two; the
 // others are the formats assimp reads that facet's seeds cover.
@@ -77,8 +67,6 @@ constexpr const char* kExtensions[8] = {".ply", ".off", ".stl", ".gltf", ".glb",
 void mesh_import(const uint8_t* data, size_t size) {
     if (size == 0) return;
     const char* extension = kExtensions[data[0] % 8];
-    const bool ply = extension == std::string_view(".ply");
-    if (ply && known("ply-empty-face") && has_lists(data + 1, size - 1)) return;
     const InputFile input(sandbox() / "meshes" / (std::string("input") + extension), data + 1,
                           size - 1);
     std::shared_ptr<const Mesh> mesh;

@@ -20,8 +20,9 @@ constexpr uint64_t kMaxCount = uint64_t(1) << 32;
 enum class Format { ascii, binary_le, binary_be };
 
 struct Property {
-    int size = 0;        // bytes of a scalar, or of each list item
-    int count_size = 0;  // bytes of a list's count; 0 for a scalar
+    int size = 0;          // bytes of a scalar, or of each list item
+    int count_size = 0;    // bytes of a list's count; 0 for a scalar
+    bool indices = false;  // a face's vertex_indices (or vertex_index) list
 };
 
 struct Element {
@@ -67,6 +68,7 @@ Property parse_property(std::istringstream& in, const std::filesystem::path& pat
         if (!p.size) fail(path, "unknown property type '" + type + "'", line);
     }
     if (name.empty()) fail(path, "property without a name", line);
+    p.indices = p.count_size && (name == "vertex_indices" || name == "vertex_index");
     return p;
 }
 
@@ -123,6 +125,17 @@ Header parse_header(std::istream& in, const std::filesystem::path& path) {
     fail(path, "header longer than " + std::to_string(kMaxHeaderLines) + " lines");
 }
 
+// A face of fewer than three vertices is no polygon (points and lines are
+// PLY's "edge" elements), and assimp 5.2's triangulation aborts on one.
+void check_list(uint64_t count, const Element& e, const Property& p, uint64_t i,
+                const std::filesystem::path& path) {
+    if (e.name != "face" || (count >= 3 && p.indices) || (count > 0 && !p.indices)) return;
+    const std::string what = !p.indices ? " entries in a list"
+                             : count == 1 ? " vertex index; a face needs at least 3"
+                                          : " vertex indices; a face needs at least 3";
+    fail(path, "face " + std::to_string(i) + " has " + std::to_string(count) + what);
+}
+
 uint64_t read_count(std::istream& in, uint64_t pos, int size, bool big_endian) {
     unsigned char b[8] = {};
     in.seekg(std::streamoff(pos));
@@ -144,7 +157,7 @@ void walk_binary(std::istream& in, const Header& h, const std::filesystem::path&
                 uint64_t bytes = uint64_t(p.size);
                 if (p.count_size && pos + p.count_size <= size) {
                     const uint64_t count = read_count(in, pos, p.count_size, big);
-                    if (count == 0 && e.name == "face") fail(path, "face " + std::to_string(i) + " has no vertices");
+                    check_list(count, e, p, i, path);
                     bytes *= count;
                     pos += uint64_t(p.count_size);
                 }
@@ -167,7 +180,7 @@ void walk_ascii(std::istream& in, const Header& h, const std::filesystem::path& 
                         std::stoull(token) > kMaxCount)
                         fail(path, "bad list count in element '" + e.name + "' " + std::to_string(i));
                     tokens = std::stoull(token);
-                    if (tokens == 0 && e.name == "face") fail(path, "face " + std::to_string(i) + " has no vertices");
+                    check_list(tokens, e, p, i, path);
                 }
                 for (uint64_t t = 0; t < tokens; ++t)
                     if (!(in >> token))
@@ -179,11 +192,20 @@ void walk_ascii(std::istream& in, const Header& h, const std::filesystem::path& 
 }  // namespace
 
 bool looks_like_ply(const std::filesystem::path& path) {
+    // assimp picks its PLY reader by the extension (then reads whatever the
+    // file holds: a .ply starting with a blank line hung it), or by "ply"
+    // in any case at the start, after white space.
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = char(std::tolower(uint8_t(c)));
+    if (extension == ".ply") return true;
     std::ifstream in(path, std::ios::binary);
-    char magic[3] = {};
-    in.read(magic, 3);  // what assimp's PLY reader takes: "ply" in any case
-    return in && std::tolower(magic[0]) == 'p' && std::tolower(magic[1]) == 'l' &&
-           std::tolower(magic[2]) == 'y';
+    char c = 0;
+    while (in.get(c) && std::isspace(uint8_t(c))) {
+    }
+    char rest[2] = {};
+    in.read(rest, 2);
+    return in && std::tolower(uint8_t(c)) == 'p' && std::tolower(uint8_t(rest[0])) == 'l' &&
+           std::tolower(uint8_t(rest[1])) == 'y';
 }
 
 void check_ply(const std::filesystem::path& path) {
