@@ -148,7 +148,7 @@ template <typename T>
 void put_array(std::string& out, const std::vector<T>& v) {
     const uint64_t n = v.size();
     out.append(reinterpret_cast<const char*>(&n), sizeof n);
-    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
 template <typename T>
@@ -159,7 +159,7 @@ void get_array(std::string_view& in, std::vector<T>& v) {
     in.remove_prefix(sizeof n);
     if (n > in.size() / sizeof(T)) throw std::length_error("a truncated mesh");
     v.resize(n);
-    std::memcpy(v.data(), in.data(), n * sizeof(T));
+    if (n) std::memcpy(v.data(), in.data(), n * sizeof(T));
     in.remove_prefix(n * sizeof(T));
 }
 
