@@ -404,88 +404,33 @@ TEST_CASE("facet-render names the options that ask for too much memory", "[relia
 #endif
 
 // ---------------------------------------------------------------------------
-// Work in a child process (base/isolated.hpp), which mesh import and the
-// hot-reload trial frame use.
+// Work in facet-sandbox (base/isolated.hpp), in which mesh import runs (and
+// the hot-reload trial frame: test_hot_reload.cpp).
 
 namespace {
 
-using End = IsolatedResult::End;
-
-IsolationLimits limits(uint64_t memory, std::chrono::milliseconds time) { return {memory, time}; }
+// What load_mesh(file, how) threw.
+std::string load_error(const fs::path& file, MeshImport how) {
+    try {
+        load_mesh(file, how);
+    } catch (const Error& e) {
+        return std::string(error_name(e.code())) + ": " + e.what();
+    }
+    return "no error";
+}
 
 }  // namespace
 
-TEST_CASE("isolated work returns its bytes, however many", "[reliability][isolation]") {
-    std::string big(9 << 20, '\0');  // more than a pipe holds, with every byte value
-    for (size_t i = 0; i < big.size(); ++i) big[i] = char(i * 7 + i / 251);
-    const IsolatedResult r = run_isolated([&] { return big; }, limits(0, 20s));
-    CHECK(r.end == End::finished);
-    CHECK(r.output == big);
+TEST_CASE("an import error in facet-sandbox comes back as the error raised here",
+          "[reliability][isolation][mesh]") {
+    const test::TempDir dir("isolation");
+    const fs::path file = dir.write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n");
+    const std::string here = load_error(file, MeshImport::in_process);
+    CHECK_THAT(here, Contains("mesh_load_failed") && Contains(file.string()));
+    CHECK(load_error(file, MeshImport::isolated) == here);
 }
 
-TEST_CASE("an Error thrown in isolated work comes back whole", "[reliability][isolation]") {
-    const IsolatedResult r = run_isolated(
-        []() -> std::string {
-            throw Error(ErrorCode::mesh_invalid, "triangle 3 uses vertex 9", "a.obj", 12, 4);
-        },
-        limits(0, 20s));
-    REQUIRE(r.end == End::error);
-    REQUIRE(r.error);
-    CHECK(r.error->code() == ErrorCode::mesh_invalid);
-    CHECK(r.error->file() == "a.obj");
-    CHECK(r.error->line() == 12);
-    CHECK(r.error->column() == 4);
-    CHECK(r.error->detail() == "triangle 3 uses vertex 9");
-}
-
-TEST_CASE("isolated work that crashes is reported with what it said last",
-          "[reliability][isolation]") {
-    const IsolatedResult r = run_isolated(
-        []() -> std::string {
-            const char said[] = "first line\nthe importer gave up\n";
-            CHECK(write(STDERR_FILENO, said, sizeof said - 1) > 0);
-            std::signal(SIGABRT, SIG_DFL);  // not the sanitizers' or Catch's handler
-            std::abort();
-        },
-        limits(0, 20s));
-    CHECK(r.end == End::crashed);
-    CHECK_THAT(r.output, Contains("signal 6") && Contains("the importer gave up") &&
-                             !Contains("first line"));
-}
-
-TEST_CASE("isolated work is held to its memory limit", "[reliability][isolation][memory]") {
-    const IsolatedResult r = run_isolated(
-        [] {
-            std::vector<std::unique_ptr<char[]>> blocks;
-            for (int i = 0; i < 1024; ++i) {  // 16 GiB, touched, were it allowed
-                blocks.emplace_back(new char[16 << 20]);
-                std::memset(blocks.back().get(), 1, 16 << 20);
-            }
-            return std::string("allocated everything");
-        },
-        limits(256 << 20, 60s));
-#if defined(__SANITIZE_ADDRESS__)
-    CHECK(r.end == End::crashed);  // AddressSanitizer reports the failed allocation and aborts
-#else
-    CHECK(r.end == End::out_of_memory);
-#endif
-}
-
-TEST_CASE("isolated work that runs past its time limit is killed",
-          "[reliability][isolation]") {
-    const auto start = std::chrono::steady_clock::now();
-    const IsolatedResult r = run_isolated(
-        [] {
-            for (volatile bool forever = true; forever;) {
-            }
-            return std::string();
-        },
-        limits(0, 300ms));
-    CHECK(r.end == End::out_of_time);
-    CHECK(std::chrono::steady_clock::now() - start < 5s);
-}
-
-TEST_CASE("a mesh imported in a child process is the mesh imported here",
+TEST_CASE("a mesh imported in facet-sandbox is the mesh imported here",
           "[reliability][isolation][mesh]") {
     const fs::path file = fs::path(FACET_SOURCE_DIR) / "assets" / "spot" / "spot.obj";
     const auto isolated = load_mesh(file);

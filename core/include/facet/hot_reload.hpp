@@ -5,9 +5,9 @@
 // call it between frames, on the thread that renders. For a changed plugin
 // it
 //   1. waits until the file has stopped changing (`settle`),
-//   2. renders a small trial frame of the scene with the new version, in a
-//      child process with a time limit (base/isolated.hpp), when a material
-//      of the scene uses the plugin: a version that crashes (in its
+//   2. renders a small trial frame of the scene file with the new version,
+//      in facet-sandbox with a time limit (`trial_time`; core/src/base/
+//      isolated.hpp), when a material of the scene uses the plugin: a version that crashes (in its
 //      constructors, entry point, vertex or fragment function) or does not
 //      finish is refused with the reason, and this process never loads it,
 //   3. loads a private, versioned copy of it (PluginRegistry::load_fresh),

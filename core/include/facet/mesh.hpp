@@ -37,10 +37,12 @@ struct Mesh {
 
 // How load_mesh() runs the importer.
 enum class MeshImport {
-    // In a child process, limited to the memory budget (facet/memory.hpp)
-    // and to 30 s plus 1 s per MiB of file: an importer that crashes,
-    // aborts, allocates without bound or loops ends the child, and the load
-    // is an error naming the file. The default.
+    // In another process (facet-sandbox, in ../libexec beside the
+    // program), limited to the memory budget (facet/memory.hpp) and to 30 s
+    // plus 1 s per MiB of file: an importer that crashes, aborts, allocates
+    // without bound or loops ends that process, and the load is an error
+    // naming the file. The default; without facet-sandbox installed, it
+    // imports in this process, with a warning.
     isolated,
     // In this process, unguarded: for callers that isolate it themselves,
     // and for the fuzzer (which must see the importer's coverage).

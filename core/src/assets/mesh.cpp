@@ -4,6 +4,7 @@
 
 #include "facet/error.hpp"
 #include "facet/math.hpp"
+#include "assets/mesh_import.hpp"
 #include "assets/off_check.hpp"
 #include "assets/ply_check.hpp"
 #include "base/files.hpp"
@@ -188,11 +189,17 @@ std::chrono::milliseconds import_time_limit(const std::filesystem::path& path) {
     return std::chrono::milliseconds(30000 + (ec ? 0 : size / 1024 * 1000 / 1024));
 }
 
-// import_mesh() in a child process, limited in memory and time.
+// import_mesh() in facet-sandbox, limited in memory and time; in this
+// process, with a warning, where the sandbox is not installed.
 Mesh import_isolated(const std::filesystem::path& path) {
-    const IsolationLimits limits{memory_budget(), import_time_limit(path)};
-    const IsolatedResult r = run_isolated([&] { return to_bytes(import_mesh(path)); }, limits);
     const std::string file = path.string();
+    if (!sandbox_program()) {
+        spdlog::warn("{}: facet-sandbox is not installed beside this program; importing in this "
+                     "process, without limits", file);
+        return import_mesh(path);
+    }
+    const IsolationLimits limits{memory_budget(), import_time_limit(path)};
+    const IsolatedResult r = run_sandboxed("import", {file}, limits);
     switch (r.end) {
         case IsolatedResult::End::finished: {
             Mesh mesh;
@@ -218,6 +225,10 @@ Mesh import_isolated(const std::filesystem::path& path) {
 }
 
 }  // namespace
+
+std::string import_mesh_bytes(const std::filesystem::path& path) {
+    return to_bytes(import_mesh(path));
+}
 
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImport how) {
     require_regular_file(path);

@@ -1,7 +1,10 @@
 #include "base/isolated.hpp"
 
+#include "facet/paths.hpp"
+
 #include <fcntl.h>
 #include <poll.h>
+#include <spawn.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -87,43 +90,6 @@ void write_all(int fd, std::string_view bytes) {
     }
 }
 
-[[noreturn]] void run_child(const std::function<std::string()>& work,
-                            const IsolationLimits& limits, int result_fd, int stderr_fd) {
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    // The signals a program's interrupt handling blocks (facet::Interrupts)
-    // act again, by default: Ctrl-C ends the child with its parent.
-    sigset_t interrupts;
-    sigemptyset(&interrupts);
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
-        std::signal(sig, SIG_DFL);
-        sigaddset(&interrupts, sig);
-    }
-    pthread_sigmask(SIG_UNBLOCK, &interrupts, nullptr);
-    // Its stderr comes back to the parent; stdout would only mix into the
-    // parent's.
-    dup2(stderr_fd, STDERR_FILENO);
-    if (const int null = open("/dev/null", O_WRONLY | O_CLOEXEC); null >= 0) dup2(null, STDOUT_FILENO);
-    if (limits.memory) {
-        const rlim_t cap = rlim_t(mapped_bytes() + limits.memory);
-        const rlimit limit{cap, cap};
-        setrlimit(RLIMIT_AS, &limit);
-    }
-    std::string account;
-    try {
-        account = "K" + work();
-    } catch (const Error& e) {
-        account = encode(e);
-    } catch (const std::bad_alloc&) {
-        account = "M";
-    } catch (const std::exception& e) {
-        account = std::string("X") + e.what();
-    } catch (...) {
-        account = "Xan exception that is not a std::exception";
-    }
-    write_all(result_fd, account);
-    _exit(0);
-}
-
 // Keeps the last `kKept` bytes the child wrote to stderr.
 constexpr size_t kKept = 4096;
 
@@ -164,27 +130,89 @@ std::string describe_exit(int status, const std::string& said) {
 
 }  // namespace
 
-IsolatedResult run_isolated(const std::function<std::string()>& work,
-                            const IsolationLimits& limits) {
+std::optional<std::filesystem::path> sandbox_program() {
+    const std::filesystem::path program =
+        (executable_dir() / ".." / "libexec" / "facet-sandbox").lexically_normal();
+    if (access(program.c_str(), X_OK) != 0) return std::nullopt;
+    return program;
+}
+
+int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    // The account has stdout to itself: whatever else writes there (a
+    // logger, a plugin) goes to stderr.
+    const int account_fd = dup(STDOUT_FILENO);
+    dup2(STDERR_FILENO, STDOUT_FILENO);
+    if (memory) {
+        const rlim_t cap = rlim_t(mapped_bytes() + memory);
+        const rlimit limit{cap, cap};
+        setrlimit(RLIMIT_AS, &limit);
+    }
+    std::string account;
+    try {
+        const std::string output = work();
+        account.reserve(output.size() + 1);
+        account.push_back('K');
+        account.append(output);
+    } catch (const Error& e) {
+        account = encode(e);
+    } catch (const std::bad_alloc&) {
+        account = "M";
+    } catch (const std::exception& e) {
+        account = std::string("X") + e.what();
+    } catch (...) {
+        account = "Xan exception that is not a std::exception";
+    }
+    write_all(account_fd, account);
+    close(account_fd);
+    return 0;
+}
+
+IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::string>& args,
+                             const IsolationLimits& limits) {
+    const std::optional<std::filesystem::path> program = sandbox_program();
+    if (!program) throw std::system_error(ENOENT, std::generic_category(), "facet-sandbox");
+    std::vector<std::string> words = {program->string(), job, std::to_string(limits.memory)};
+    words.insert(words.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+
     int result_pipe[2], stderr_pipe[2];
-    if (pipe2(result_pipe, O_CLOEXEC) != 0) throw std::system_error(errno, std::generic_category(), "pipe");
+    if (pipe2(result_pipe, O_CLOEXEC) != 0)
+        throw std::system_error(errno, std::generic_category(), "pipe");
     if (pipe2(stderr_pipe, O_CLOEXEC) != 0) {
         close(result_pipe[0]);
         close(result_pipe[1]);
         throw std::system_error(errno, std::generic_category(), "pipe");
     }
-    const pid_t child = fork();
-    if (child == 0) {
-        close(result_pipe[0]);
-        close(stderr_pipe[0]);
-        run_child(work, limits, result_pipe[1], stderr_pipe[1]);
-    }
+    posix_spawn_file_actions_t files;
+    posix_spawn_file_actions_init(&files);
+    posix_spawn_file_actions_addopen(&files, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_adddup2(&files, result_pipe[1], STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&files, stderr_pipe[1], STDERR_FILENO);
+    // The signals a program's interrupt handling blocks (facet::Interrupts)
+    // act again, by default: Ctrl-C ends the sandbox with its parent.
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t none, defaults;
+    sigemptyset(&none);
+    sigemptyset(&defaults);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaddset(&defaults, sig);
+    posix_spawnattr_setsigmask(&attributes, &none);
+    posix_spawnattr_setsigdefault(&attributes, &defaults);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    pid_t child = -1;
+    const int spawned =
+        posix_spawn(&child, argv[0], &files, &attributes, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&files);
+    posix_spawnattr_destroy(&attributes);
     close(result_pipe[1]);
     close(stderr_pipe[1]);
-    if (child < 0) {
+    if (spawned != 0) {
         close(result_pipe[0]);
         close(stderr_pipe[0]);
-        throw std::system_error(errno, std::generic_category(), "fork");
+        throw std::system_error(spawned, std::generic_category(), "posix_spawn facet-sandbox");
     }
 
     const bool timed = limits.time.count() > 0;

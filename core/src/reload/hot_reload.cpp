@@ -2,13 +2,11 @@
 
 #include "facet/error.hpp"
 #include "facet/memory.hpp"
-#include "facet/renderer.hpp"
 #include "base/isolated.hpp"
 
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cmath>
 #include <set>
 
 namespace facet {
@@ -139,39 +137,30 @@ bool HotReload::reload_plugin(const std::string& name) {
 }
 
 // Why a trial frame with the new version of `name` failed; "" when it
-// rendered, or when no material of the scene uses the plugin. The child
-// loads, binds and renders as reload_plugin() then does here; what it
-// changes (the scene, the registry) goes with it. An Error (a plugin that
+// rendered, or when no material of the scene uses the plugin. facet-sandbox
+// loads the scene file with this registry's plugin folders (so the new
+// version, which it loads first) and renders it. An Error (a plugin that
 // will not load, a schema that no longer fits) is thrown as it was thrown
 // there.
 std::string HotReload::trial_frame(const std::string& name) {
-    std::vector<Material*> users;
-    for (Material* m : materials_of(scene_))
-        if (m->shader == name) users.push_back(m);
-    if (users.empty() || options_.trial_time.count() <= 0) return {};
-    RenderSettings& settings = scene_.settings;
+    const std::vector<Material*> all = materials_of(scene_);
+    const bool used =
+        std::any_of(all.begin(), all.end(), [&](const Material* m) { return m->shader == name; });
+    if (!used || options_.trial_time.count() <= 0) return {};
+    if (!sandbox_program()) {
+        spdlog::warn("hot reload: facet-sandbox is not installed beside this program; shader "
+                     "'{}' is loaded without a trial frame", name);
+        return {};
+    }
     const int width = std::max(1, options_.trial_width);
-    const int height =
-        std::max(1, int(std::lround(double(width) * settings.height / std::max(1, settings.width))));
-    const IsolatedResult r = run_isolated(
-        [&] {
-            std::shared_ptr<ShaderPlugin> fresh = registry_.load_fresh(name);
-            for (Material* m : users) bind(*m, fresh, textures_);
-            registry_.add(fresh);
-            settings.width = width;
-            settings.height = height;
-            settings.msaa = 1;
-            settings.shadow_map_size = std::min(settings.shadow_map_size, 512);
-            Renderer renderer(1);  // no threads: the child has only this one
-            Framebuffer target;
-            renderer.render(scene_, target);
-            return std::string();
-        },
-        {memory_budget(), options_.trial_time});
+    std::vector<std::string> args = {canonical_or_same(scene_.source).string(), name,
+                                     std::to_string(width)};
+    for (const fs::path& folder : registry_.search_path()) args.push_back(folder.string());
+    const IsolatedResult r =
+        run_sandboxed("trial", args, {memory_budget(), options_.trial_time});
     if (r.end == IsolatedResult::End::finished) return {};
     if (r.end == IsolatedResult::End::error) throw *r.error;
-    return "its " + std::to_string(width) + "x" + std::to_string(height) +
-           " trial frame failed: " + r.output;
+    return "its " + std::to_string(width) + " pixels wide trial frame failed: " + r.output;
 }
 
 bool HotReload::reload_material(const fs::path& file) {
