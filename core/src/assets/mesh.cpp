@@ -193,6 +193,7 @@ std::chrono::milliseconds import_time_limit(const std::filesystem::path& path) {
 // process, with a warning, where the sandbox is not installed.
 Mesh import_isolated(const std::filesystem::path& path) {
     const std::string file = path.string();
+    if (in_sandbox()) return import_mesh(path);  // a trial frame's scene, limited already
     if (!sandbox_program()) {
         spdlog::warn("{}: facet-sandbox is not installed beside this program; importing in this "
                      "process, without limits", file);

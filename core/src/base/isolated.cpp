@@ -128,7 +128,12 @@ std::string describe_exit(int status, const std::string& said) {
     return out;
 }
 
+// Set in facet-sandbox once it serves its job.
+bool g_in_sandbox = false;
+
 }  // namespace
+
+bool in_sandbox() { return g_in_sandbox; }
 
 std::optional<std::filesystem::path> sandbox_program() {
     const std::filesystem::path program =
@@ -143,11 +148,15 @@ int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory) {
     // logger, a plugin) goes to stderr.
     const int account_fd = dup(STDOUT_FILENO);
     dup2(STDERR_FILENO, STDOUT_FILENO);
+    // The soft limit only: a sanitizer runtime starting in a process this
+    // one spawns sets limits of its own, and fails on a hard one.
     if (memory) {
-        const rlim_t cap = rlim_t(mapped_bytes() + memory);
-        const rlimit limit{cap, cap};
+        rlimit limit{};
+        getrlimit(RLIMIT_AS, &limit);
+        limit.rlim_cur = std::min<rlim_t>(rlim_t(mapped_bytes() + memory), limit.rlim_max);
         setrlimit(RLIMIT_AS, &limit);
     }
+    g_in_sandbox = true;
     std::string account;
     try {
         const std::string output = work();

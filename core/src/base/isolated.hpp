@@ -59,8 +59,12 @@ std::optional<std::filesystem::path> sandbox_program();
 IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::string>& args,
                              const IsolationLimits& limits);
 
-// In facet-sandbox: limits this process's address space to what it maps
-// now plus `memory` (0: no limit), runs `work`, and writes the account
+// True in facet-sandbox while it serves its job: work it would isolate
+// (the trial frame's mesh imports) is isolated already.
+bool in_sandbox();
+
+// In facet-sandbox: limits this process's address space (the soft limit)
+// to what it maps now plus `memory` (0: no limit), runs `work`, and writes the account
 // run_sandboxed() reads to stdout. Returns the exit status.
 int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory);
 
