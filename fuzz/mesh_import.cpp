@@ -8,7 +8,7 @@
 // the file, written to the sandbox (support.hpp). assimp chooses the reader
 // by extension first, then by content, so any name can reach any reader.
 // The import runs in this process (MeshImport::in_process), where libFuzzer
-// sees its coverage; facet's programs run it in a child process, which
+// sees its coverage; facet's programs run it in facet-sandbox, which
 // turns the importer's crashes into errors.
 //
 // Checks:

@@ -143,7 +143,7 @@ Mesh import_mesh(const std::filesystem::path& path) {
     return mesh;
 }
 
-// A mesh's arrays as bytes, to come back from the child process: each
+// A mesh's arrays as bytes, to come back from facet-sandbox: each
 // array's length, then its elements.
 template <typename T>
 void put_array(std::string& out, const std::vector<T>& v) {

@@ -64,9 +64,18 @@ std::string encode(const Error& e) {
     return out;
 }
 
+constexpr uint32_t kErrorCodes = 0
+#define FACET_COUNT_ERROR(id, text) +1
+    FACET_ERRORS(FACET_COUNT_ERROR)
+#undef FACET_COUNT_ERROR
+    ;
+
+// An id past the table (an account garbled on the way) reads as an import
+// failure rather than indexing past error_text()'s table.
 Error decode(std::string_view bytes) {
     Reader in(bytes);
-    const auto code = ErrorCode(in.u32());
+    const uint32_t id = in.u32();
+    const auto code = id < kErrorCodes ? ErrorCode(id) : ErrorCode::mesh_load_failed;
     const int line = int(in.u32());
     const int column = int(in.u32());
     std::string file = in.text();
