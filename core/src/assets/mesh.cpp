@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstring>
 #include <new>
+#include <stdexcept>
 #include <string_view>
 
 namespace facet {
@@ -205,7 +206,12 @@ Mesh import_isolated(const std::filesystem::path& path) {
         case IsolatedResult::End::finished: {
             Mesh mesh;
             mesh.source = file;
-            from_bytes(r.output, mesh);
+            try {
+                from_bytes(r.output, mesh);
+            } catch (const std::length_error&) {
+                throw Error(ErrorCode::mesh_load_failed, "the importer's result was cut short",
+                            file);
+            }
             return mesh;
         }
         case IsolatedResult::End::error: throw *r.error;
