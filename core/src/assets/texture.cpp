@@ -23,26 +23,28 @@ namespace facet {
 
 namespace {
 
-// 8-bit code -> linear value: sRGB-encoded colour channels (the exact
-// curve, in double, rounded once to float), and linear channels (alpha,
-// and the colour of data textures). Built from nothing but <cmath>, so
-// that they are ready before any other static initialiser could load a
-// texture.
+// 8-bit code -> linear value: sRGB-encoded colour channels (as the colour
+// target decodes them, srgb8_to_linear), and linear channels (alpha, and
+// the colour of data textures). Built at first use: srgb8_to_linear's own
+// table is initialised with its file, in an order no other file knows.
 using DecodeTable = std::array<float, 256>;
 
-DecodeTable make_table(bool srgb) {
-    DecodeTable t;
-    for (int i = 0; i < 256; ++i) {
-        const double v = i / 255.0;
-        t[i] = float(!srgb ? v : v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
-    }
-    return t;
+struct DecodeTables {
+    DecodeTable srgb;
+    DecodeTable linear;
+};
+
+const DecodeTables& decode_tables() {
+    static const DecodeTables tables = [] {
+        DecodeTables t;
+        for (int i = 0; i < 256; ++i) {
+            t.srgb[i] = srgb8_to_linear(uint8_t(i));
+            t.linear[i] = float(i) / 255.0f;
+        }
+        return t;
+    }();
+    return tables;
 }
-
-const DecodeTable kSrgbDecode = make_table(true);
-const DecodeTable kLinearDecode = make_table(false);
-
-const DecodeTable& decode_table(bool srgb) { return srgb ? kSrgbDecode : kLinearDecode; }
 
 int wrap_index(int i, int n, Wrap wrap) {
     switch (wrap) {
@@ -88,8 +90,9 @@ Level level(const Texture& t, int i) {
 
 class Sampler {
 public:
-    Sampler(Level level, Wrap wrap, bool srgb)
-        : t_(level), wrap_(wrap), colour_(decode_table(srgb)) {}
+    Sampler(Level level, Wrap wrap, bool srgb, const DecodeTables& tables = decode_tables())
+        : t_(level), wrap_(wrap), colour_(srgb ? tables.srgb : tables.linear),
+          alpha_(tables.linear) {}
 
     glm::vec4 nearest(glm::vec2 uv) const {
         return texel(split(uv.x * t_.width).index, split(uv.y * t_.height).index);
@@ -109,12 +112,13 @@ private:
     glm::vec4 texel(int x, int y) const {
         const size_t row = static_cast<size_t>(wrap_index(y, t_.height, wrap_));
         const Texel8 t = t_.texels[row * t_.width + wrap_index(x, t_.width, wrap_)];
-        return {colour_[t.r], colour_[t.g], colour_[t.b], kLinearDecode[t.a]};
+        return {colour_[t.r], colour_[t.g], colour_[t.b], alpha_[t.a]};
     }
 
     Level t_;
     Wrap wrap_;
     const DecodeTable& colour_;
+    const DecodeTable& alpha_;
 };
 
 glm::vec4 trilinear(const Texture& t, Wrap wrap, glm::vec2 uv, float lod) {
@@ -144,8 +148,9 @@ Texel8 encode_texel(glm::vec4 linear, bool srgb) {
 }
 
 glm::vec4 decode_texel(Texel8 t, bool srgb) {
-    const DecodeTable& colour = decode_table(srgb);
-    return {colour[t.r], colour[t.g], colour[t.b], kLinearDecode[t.a]};
+    const DecodeTables& tables = decode_tables();
+    const DecodeTable& colour = srgb ? tables.srgb : tables.linear;
+    return {colour[t.r], colour[t.g], colour[t.b], tables.linear[t.a]};
 }
 
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
