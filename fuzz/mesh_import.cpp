@@ -12,8 +12,10 @@
 // turns the importer's crashes into errors. So an input on which assimp
 // itself crashes (a null pointer in its Collada reader, say) is handled:
 // each input is first imported in a fork, and one that ends the fork is
-// passed over. facet's own code before and after assimp (the PLY and OFF
-// preflights, the flattening, the checks) runs in either.
+// passed over, as is one that allocates past a limit there (as the
+// sandbox's memory budget refuses it). facet's own code before and after
+// assimp (the PLY and OFF preflights, the flattening, the checks) runs in
+// either.
 //
 // Checks:
 //  - load_mesh() returns a mesh or throws facet::Error with one of the ids
@@ -36,13 +38,16 @@
 #endif
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <string_view>
 
@@ -79,11 +84,28 @@ void check_geometry(const Mesh& m) {
 constexpr const char* kExtensions[8] = {".ply", ".off", ".stl", ".gltf", ".glb", ".dae", ".3ds",
                                         ".obj"};
 
+// What the fork below may map beyond what it maps at the start: as
+// facet-sandbox's memory budget does, it turns an allocation for whatever
+// count a file declares (assimp's Collada reader reserves a float_array's
+// `count`) into a failed allocation there. Without it that allocation would
+// reach libFuzzer's malloc limit (2 GiB under scripts/fuzz), which writes an
+// oom finding even from a fork. Half the limit leaves room for this
+// process to repeat an import that fitted.
+constexpr uint64_t kForkMemory = uint64_t(1) << 30;
+
+uint64_t mapped_bytes() {
+    std::ifstream statm("/proc/self/statm");
+    uint64_t pages = 0;
+    statm >> pages;
+    return pages * uint64_t(sysconf(_SC_PAGESIZE));
+}
+
 // True if importing `file` in this process would end it: a crash or an
-// abort (or a sanitizer's report) inside assimp. Tried in a fork, with the
-// fuzzer's and the sanitizers' crash reporting off and stderr silenced, so
-// that its end is not taken for a finding. The fuzz programs have one
-// thread, so the fork holds no lock another thread took.
+// abort (or a sanitizer's report) inside assimp, or an allocation past
+// kForkMemory. Tried in a fork, with the fuzzer's and the sanitizers' crash
+// reporting off and stderr silenced, so that its end is not taken for a
+// finding. The fuzz programs have one thread, so the fork holds no lock
+// another thread took.
 bool import_crashes(const std::filesystem::path& file) {
     const pid_t child = fork();
     if (child < 0) return false;
@@ -97,6 +119,10 @@ bool import_crashes(const std::filesystem::path& file) {
         plain.sa_handler = SIG_DFL;
         for (const int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) sigaction(sig, &plain, nullptr);
         if (const int null = open("/dev/null", O_WRONLY); null >= 0) dup2(null, STDERR_FILENO);
+        rlimit limit{};
+        getrlimit(RLIMIT_AS, &limit);
+        limit.rlim_cur = std::min<rlim_t>(rlim_t(mapped_bytes() + kForkMemory), limit.rlim_max);
+        setrlimit(RLIMIT_AS, &limit);
         try {
             load_mesh(file, MeshImport::in_process);
         } catch (...) {
