@@ -267,6 +267,38 @@ inline wide::Float shadow_depth(const facet_shadow_map& sm, const wide::Float& d
     return f * (d - n) / (d * (f - n));
 }
 
+// The taps of a (2R + 1)^2 kernel around texels (cx, cy) of a map: how many
+// see the light, per lane. A tap off the map counts as lit; Inside says
+// that every kernel of a lane in `seen` lies on the map, so that no tap
+// needs the test.
+struct Taps {
+    const float* map;
+    int width, height;
+    wide::Mask cx, cy, seen;
+
+    template <int R, bool Inside>
+    wide::Mask lit(const wide::Float (&depth)[8][8]) const {
+        using namespace wide;
+        const Mask centre = cy * width + cx;
+        Mask count{};
+        for (int dy = -R; dy <= R; ++dy)
+            for (int dx = -R; dx <= R; ++dx) {
+                const int i = std::max(std::abs(dx), std::abs(dy));
+                const int j = std::min(std::abs(dx), std::abs(dy));
+                if constexpr (Inside) {
+                    const Float stored = gather(map, centre + (dy * width + dx), seen, 0.0f);
+                    count -= depth[i][j] <= stored;  // a comparison is 0 or -1
+                } else {
+                    const Mask x = cx + dx, y = cy + dy;
+                    const Mask on_map = seen & (x >= 0) & (y >= 0) & (x < width) & (y < height);
+                    const Float stored = gather(map, centre + (dy * width + dx), on_map, 0.0f);
+                    count -= !on_map || depth[i][j] <= stored;
+                }
+            }
+        return count;
+    }
+};
+
 inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec3& p,
                                      const wide::Float& n_dot_l, int kernel, float bias,
                                      float slope_bias) {
@@ -307,20 +339,20 @@ inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec
     const int width = int(sm.width), height = int(sm.height);
     const Mask inside = !seen || ((cx >= r) & (cy >= r) & (cx < width - r) & (cy < height - r));
     const bool all_inside = bits(inside) == (1u << kLanes) - 1u;
-    const Mask centre = cy * width + cx;
-    Float lit = splat(0.0f);
-    for (int dy = -r; dy <= r; ++dy)
-        for (int dx = -r; dx <= r; ++dx) {
-            Mask on_map = seen;
-            if (!all_inside) {
-                const Mask x = cx + dx, y = cy + dy;
-                on_map &= (x >= 0) & (y >= 0) & (x < width) & (y < height);
-            }
-            const Float stored = gather(sm.depth, centre + (dy * width + dx), on_map, 0.0f);
-            const int i = std::max(std::abs(dx), std::abs(dy)), j = std::min(std::abs(dx), std::abs(dy));
-            lit += select(!on_map || depth[i][j] <= stored, splat(1.0f), splat(0.0f));
-        }
-    return select(seen, lit / float((2 * r + 1) * (2 * r + 1)), splat(1.0f));
+    const Taps taps{sm.depth, width, height, cx, cy, seen};
+    Mask lit;
+    switch (r) {  // each kernel's loops unrolled
+        case 0: lit = all_inside ? taps.lit<0, true>(depth) : taps.lit<0, false>(depth); break;
+        case 1: lit = all_inside ? taps.lit<1, true>(depth) : taps.lit<1, false>(depth); break;
+        case 2: lit = all_inside ? taps.lit<2, true>(depth) : taps.lit<2, false>(depth); break;
+        case 3: lit = all_inside ? taps.lit<3, true>(depth) : taps.lit<3, false>(depth); break;
+        case 4: lit = all_inside ? taps.lit<4, true>(depth) : taps.lit<4, false>(depth); break;
+        case 5: lit = all_inside ? taps.lit<5, true>(depth) : taps.lit<5, false>(depth); break;
+        case 6: lit = all_inside ? taps.lit<6, true>(depth) : taps.lit<6, false>(depth); break;
+        default: lit = all_inside ? taps.lit<7, true>(depth) : taps.lit<7, false>(depth); break;
+    }
+    return select(seen, __builtin_convertvector(lit, Float) / float((2 * r + 1) * (2 * r + 1)),
+                  splat(1.0f));
 }
 #endif
 
