@@ -271,6 +271,7 @@ inline wide::Float shadow_depth(const facet_shadow_map& sm, const wide::Float& d
 // see the light, per lane. A tap off the map counts as lit; Inside says
 // that every kernel of a lane in `seen` lies on the map, so that no tap
 // needs the test.
+namespace detail {
 struct Taps {
     const float* map;
     int width, height;
@@ -298,6 +299,7 @@ struct Taps {
         return count;
     }
 };
+}  // namespace detail
 
 inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec3& p,
                                      const wide::Float& n_dot_l, int kernel, float bias,
@@ -339,7 +341,7 @@ inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec
     const int width = int(sm.width), height = int(sm.height);
     const Mask inside = !seen || ((cx >= r) & (cy >= r) & (cx < width - r) & (cy < height - r));
     const bool all_inside = bits(inside) == (1u << kLanes) - 1u;
-    const Taps taps{sm.depth, width, height, cx, cy, seen};
+    const detail::Taps taps{sm.depth, width, height, cx, cy, seen};
     Mask lit;
     switch (r) {  // each kernel's loops unrolled
         case 0: lit = all_inside ? taps.lit<0, true>(depth) : taps.lit<0, false>(depth); break;
