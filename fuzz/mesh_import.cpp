@@ -28,6 +28,8 @@
 //    or one per vertex, and bounds that are exactly the positions' extent.
 #include "support.hpp"
 
+#include "base/isolated.hpp"
+
 #include <facet/error.hpp>
 #include <facet/mesh.hpp>
 
@@ -38,16 +40,13 @@
 #endif
 
 #include <fcntl.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <string_view>
 
@@ -93,13 +92,6 @@ constexpr const char* kExtensions[8] = {".ply", ".off", ".stl", ".gltf", ".glb",
 // process to repeat an import that fitted.
 constexpr uint64_t kForkMemory = uint64_t(1) << 30;
 
-uint64_t mapped_bytes() {
-    std::ifstream statm("/proc/self/statm");
-    uint64_t pages = 0;
-    statm >> pages;
-    return pages * uint64_t(sysconf(_SC_PAGESIZE));
-}
-
 // True if importing `file` in this process would end it: a crash or an
 // abort (or a sanitizer's report) inside assimp, or an allocation past
 // kForkMemory. Tried in a fork, with the fuzzer's and the sanitizers' crash
@@ -119,10 +111,7 @@ bool import_crashes(const std::filesystem::path& file) {
         plain.sa_handler = SIG_DFL;
         for (const int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) sigaction(sig, &plain, nullptr);
         if (const int null = open("/dev/null", O_WRONLY); null >= 0) dup2(null, STDERR_FILENO);
-        rlimit limit{};
-        getrlimit(RLIMIT_AS, &limit);
-        limit.rlim_cur = std::min<rlim_t>(rlim_t(mapped_bytes() + kForkMemory), limit.rlim_max);
-        setrlimit(RLIMIT_AS, &limit);
+        limit_address_space(kForkMemory);
         try {
             load_mesh(file, MeshImport::in_process);
         } catch (...) {

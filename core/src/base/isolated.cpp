@@ -151,20 +151,20 @@ std::optional<std::filesystem::path> sandbox_program() {
     return program;
 }
 
+void limit_address_space(uint64_t memory) {
+    rlimit limit{};
+    getrlimit(RLIMIT_AS, &limit);
+    limit.rlim_cur = std::min<rlim_t>(rlim_t(mapped_bytes() + memory), limit.rlim_max);
+    setrlimit(RLIMIT_AS, &limit);
+}
+
 int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     // The account has stdout to itself: whatever else writes there (a
     // logger, a plugin) goes to stderr.
     const int account_fd = dup(STDOUT_FILENO);
     dup2(STDERR_FILENO, STDOUT_FILENO);
-    // The soft limit only: a sanitizer runtime starting in a process this
-    // one spawns sets limits of its own, and fails on a hard one.
-    if (memory) {
-        rlimit limit{};
-        getrlimit(RLIMIT_AS, &limit);
-        limit.rlim_cur = std::min<rlim_t>(rlim_t(mapped_bytes() + memory), limit.rlim_max);
-        setrlimit(RLIMIT_AS, &limit);
-    }
+    if (memory) limit_address_space(memory);
     g_in_sandbox = true;
     std::string account;
     try {

@@ -63,8 +63,14 @@ IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::stri
 // (the trial frame's mesh imports) is isolated already.
 bool in_sandbox();
 
-// In facet-sandbox: limits this process's address space (the soft limit)
-// to what it maps now plus `memory` (0: no limit), runs `work`, and writes the account
+// Limits this process's address space (the soft limit only: a sanitizer
+// runtime starting in a process this one spawns sets limits of its own, and
+// fails on a hard one) to what it maps now plus `memory` bytes. An
+// allocation past it fails, as std::bad_alloc or a sanitizer's report.
+void limit_address_space(uint64_t memory);
+
+// In facet-sandbox: limits this process's address space to what it maps
+// now plus `memory` (0: no limit), runs `work`, and writes the account
 // run_sandboxed() reads to stdout. Returns the exit status.
 int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory);
 
