@@ -3,6 +3,7 @@
 #include "reference/raycast.hpp"
 #include "support.hpp"
 
+#include <facet/frame_report.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/math.hpp>
 #include <facet/renderer.hpp>
@@ -11,6 +12,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -457,6 +459,59 @@ TEST_CASE("a shadow map is drawn again only when its casters, its light or its f
         scene.settings.shadows = true;
         frame(0, 2);
     }
+}
+
+TEST_CASE("the frame report says which passes ran, which were skipped and why, and the early "
+          "depth test's count, as the frame's statistics have them",
+          "[shadow][skip][report]") {
+    SceneDir sd;
+    Scene scene = sd.load(
+        camera(96, 72) +
+        "lights:\n"
+        "  - {type: directional, direction: [0.7, -1, 0.5], intensity: 0.5, casts_shadow: true}\n"
+        "objects:\n  - {mesh: ground.obj, material: " + std::string(kShadowed) + "}\n" +
+        "  - {name: cube, mesh: cube.obj, position: [0, 0.8, 0], material: " + kShadowed + "}\n" +
+        "  - {name: behind, mesh: cube.obj, position: [0, 0.8, -1.5], material: " + kShadowed +
+        "}\n" +
+        "  - {name: far, mesh: cube.obj, position: [9, 9, 12], material: " + kShadowed + "}\n");
+    Renderer renderer(2);
+    Framebuffer fb;
+    const auto has = [](const std::vector<std::string>& parts, const std::string& part) {
+        return std::find(parts.begin(), parts.end(), part) != parts.end();
+    };
+    const FrameStats first = renderer.render(scene, fb);
+    const std::vector<std::string> ran = passes_run(first);
+    REQUIRE(ran.size() == 1);
+    CHECK(ran[0].rfind("1 shadow map ", 0) == 0);
+    std::vector<std::string> skipped = work_skipped(first, scene.settings, Counts::full);
+    CHECK(has(skipped, "AO (not needed)"));
+    CHECK(has(skipped, "1 object out of view"));
+    // The cube behind the first hides part of itself from the early depth test.
+    REQUIRE(first.fragments_depth_rejected > 0);
+    CHECK(has(skipped, std::to_string(first.fragments_depth_rejected) +
+                           " fragments hidden (early depth test)"));
+    CHECK(has(skipped, std::to_string(first.fragments_depth_only) +
+                           " depth-only fragments (no shader)"));
+    CHECK_FALSE(has(skipped, "shadow maps (off)"));
+
+    // Nothing moved: the map is kept, and no pass ran.
+    const FrameStats second = renderer.render(scene, fb);
+    CHECK(passes_run(second).empty());
+    skipped = work_skipped(second, scene.settings, Counts::full);
+    CHECK(has(skipped, "1 shadow map unchanged"));
+    CHECK_FALSE(has(skipped, "shadow maps (not needed)"));
+
+    scene.settings.shadows = false;
+    const FrameStats off = renderer.render(scene, fb);
+    CHECK(has(work_skipped(off, scene.settings, Counts::full), "shadow maps (off)"));
+
+    // No material asks for shadows: not needed, whatever the settings say.
+    scene.settings.shadows = true;
+    for (Object& o : scene.objects) o.visible = o.name == "far";
+    const FrameStats none = renderer.render(scene, fb);
+    CHECK(has(work_skipped(none, scene.settings, Counts::full), "shadow maps (not needed)"));
+    CHECK(count_text(12'345'678, Counts::short_form) == "12.3M");
+    CHECK(count_text(12'345'678, Counts::full) == "12345678");
 }
 
 TEST_CASE("a PCF tap pushed past a perspective map's near plane is lit, not shadowed",

@@ -12,6 +12,7 @@
 // 143.
 #include <facet/command_line.hpp>
 #include <facet/error.hpp>
+#include <facet/frame_report.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/hot_reload.hpp>
 #include <facet/interrupts.hpp>
@@ -59,11 +60,12 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                      "of its triangles is degenerate or invalid as the camera sees it (counts "
                      "above)",
                      scene.source.string());
-    if (s.shadow_passes || s.prepasses || s.depth_prepasses || s.ao_passes)
-        spdlog::info("passes: {} shadow map(s) {:.2f} ms, {} pre-pass(es) {:.2f} ms, {} AO "
-                     "{:.2f} ms, main {:.2f} ms, resolve {:.2f} ms",
-                     s.shadow_passes, s.ms_shadow, s.prepasses + s.depth_prepasses,
-                     s.ms_prepass, s.ao_passes, s.ms_ao, s.ms_main, s.ms_post);
+    std::vector<std::string> ran = facet::passes_run(s);
+    ran.push_back(fmt::format("main {:.2f} ms", s.ms_main));
+    if (scene.settings.msaa > 1) ran.push_back(fmt::format("resolve {:.2f} ms", s.ms_post));
+    spdlog::info("passes: {}", facet::join(ran, ""));
+    spdlog::info("skipped: {}",
+                 facet::join(facet::work_skipped(s, scene.settings, facet::Counts::full), "nothing"));
 }
 
 // Renders `scene` to the output PNG, with what the command line overrides.

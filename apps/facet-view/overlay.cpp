@@ -1,5 +1,7 @@
 #include "overlay.hpp"
 
+#include <facet/frame_report.hpp>
+
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
@@ -8,39 +10,12 @@ namespace facet::view {
 
 namespace {
 
-// 12345678 -> "12.3M", 45678 -> "45.7k": counts fit the panel's width.
-std::string count(uint64_t n) {
-    if (n >= 10'000'000) return fmt::format("{:.1f}M", double(n) / 1e6);
-    if (n >= 100'000) return fmt::format("{:.1f}k", double(n) / 1e3);
-    return std::to_string(n);
-}
-
-// Why an optional pass did not run this frame, or "" if it ran.
-std::string pass_skip(const char* name, bool enabled, bool needed, uint64_t ran) {
-    if (ran) return "";
-    if (!needed) return std::string(name) + " (not needed)";
-    if (!enabled) return std::string(name) + " (off)";
-    return "";
-}
+std::string count(uint64_t n) { return count_text(n, Counts::short_form); }
 
 std::string skipped_line(const OverlayInfo& i) {
-    const FrameStats& s = i.stats;
-    std::vector<std::string> parts;
-    for (const std::string& p :
-         {pass_skip("shadow", i.settings.shadows, i.shadows_needed, s.shadow_passes),
-          pass_skip("AO", i.settings.ao, i.ao_needed, s.ao_passes)})
-        if (!p.empty()) parts.push_back(p);
-    if (s.fragments_depth_only)
-        parts.push_back(count(s.fragments_depth_only) + " depth-only fragments (no shader)");
-    if (s.shadow_maps_reused)
-        parts.push_back(count(s.shadow_maps_reused) + " shadow maps unchanged");
-    if (s.shadow_casters_culled)
-        parts.push_back(count(s.shadow_casters_culled) + " casters out of light");
-    if (s.objects_culled) parts.push_back(count(s.objects_culled) + " objects out of view");
+    std::vector<std::string> parts = work_skipped(i.stats, i.settings, Counts::short_form);
     parts.push_back(count(i.idle_wakeups) + " idle wake-ups");
-    std::string out = "skipped   ";
-    for (size_t k = 0; k < parts.size(); ++k) out += (k ? ", " : "") + parts[k];
-    return out;
+    return "skipped   " + join(parts, "");
 }
 
 }  // namespace

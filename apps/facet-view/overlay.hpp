@@ -29,8 +29,6 @@ struct OverlayInfo {
     int threads = 1;
     Isa isa = Isa::portable;     // the renderer's instruction-set path
     RenderSettings settings;     // as rendered (size, MSAA, wireframe, passes)
-    bool shadows_needed = false; // a visible material asks for shadow maps
-    bool ao_needed = false;      // a visible material asks for AO
     uint64_t idle_wakeups = 0;   // times the viewer woke and found nothing to render
     std::string selected;        // "name: material"
     bool flying = false;

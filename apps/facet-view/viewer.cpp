@@ -230,12 +230,6 @@ void Viewer::render() {
     info_.threads = renderer_.threads();
     info_.isa = renderer_.isa();
     info_.settings = settings_;
-    info_.shadows_needed = info_.ao_needed = false;
-    for (const Object& o : scene_.objects) {
-        if (!o.visible || !o.material || !o.material->plugin) continue;
-        info_.shadows_needed |= o.material->plugin->needs(FACET_NEED_SHADOW_MAP);
-        info_.ao_needed |= o.material->plugin->needs(FACET_NEED_AO);
-    }
     info_.frame_ms = ms_since(start);
 }
 

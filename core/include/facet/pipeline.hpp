@@ -68,6 +68,10 @@ struct FrameStats {
     uint64_t prepasses = 0;                    // depth pre-pass, for AO
     uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
     uint64_t ao_passes = 0;                    // SSAO and its blur
+    // What the visible materials asked for, whether or not the render
+    // settings let the pass run (so an app can say why a pass was skipped).
+    bool shadows_needed = false;
+    bool ao_needed = false;
     double milliseconds = 0.0;                 // Renderer::render() wall time
     double ms_shadow = 0.0;                    // ... spent in shadow passes
     double ms_prepass = 0.0;                   // ... in both kinds of pre-pass

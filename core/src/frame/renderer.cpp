@@ -116,6 +116,8 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
             continue;
         }
         const ShaderPlugin& shader = *o.material->plugin;
+        stats.shadows_needed |= shader.needs(FACET_NEED_SHADOW_MAP);
+        stats.ao_needed |= shader.needs(FACET_NEED_AO);
         needs_shadow |= s.shadows && shader.needs(FACET_NEED_SHADOW_MAP);
         needs_ao |= s.ao && shader.needs(FACET_NEED_AO);
         if (o.material->blend == BlendMode::opaque) scratch_.opaque.push_back(&o);
