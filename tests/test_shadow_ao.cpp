@@ -1,5 +1,6 @@
 // Shadows and ambient occlusion against the exact ray caster, and the frame
 // plan's skips. Scenes are YAML, rendered through the real shadow.so / ao.so.
+#include "pipeline/kernels.hpp"
 #include "reference/raycast.hpp"
 #include "support.hpp"
 
@@ -534,4 +535,218 @@ TEST_CASE("a PCF tap pushed past a perspective map's near plane is lit, not shad
     sdk::wide::Vec3 wp{sdk::wide::splat(p.x), sdk::wide::splat(p.y), sdk::wide::splat(p.z)};
     const sdk::wide::Float v = sdk::shadow_visibility(sm, wp, sdk::wide::splat(0.1f), 15, 1.0f, 1.5f);
     for (int i = 0; i < sdk::wide::kLanes; ++i) CHECK(v[i] == 1.0f);
+}
+
+// ---- 16-bit distance maps (ABI 1.3) -----------------------------------------
+
+namespace {
+
+// A square map of `size` texels as facet_shadow_distances, with its border,
+// every texel `fill` (the border 65535).
+struct DistanceMap {
+    int size;
+    std::vector<uint16_t> texels;
+    facet_shadow_distances abi{};
+    DistanceMap(int size_, uint16_t fill) : size(size_) {
+        const int stride = size + 2 * FACET_SHADOW_BORDER;
+        texels.assign(size_t(stride) * size_t(stride), uint16_t(65535));
+        abi = {texels.data() + FACET_SHADOW_BORDER * (stride + 1), uint32_t(stride), 0};
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) at(x, y) = fill;
+    }
+    uint16_t& at(int x, int y) {
+        return texels[size_t(y + FACET_SHADOW_BORDER) * abi.stride + size_t(x + FACET_SHADOW_BORDER)];
+    }
+};
+
+facet_shadow_map map_header(int size, uint32_t projection, const glm::mat4& vp) {
+    facet_shadow_map sm{};
+    sm.projection = projection;
+    sm.width = sm.height = uint32_t(size);
+    sm.near_plane = 0.5f;
+    sm.far_plane = 8.0f;
+    sm.texel_size = projection == FACET_SHADOW_ORTHOGRAPHIC ? 4.0f / float(size)
+                                                           : 2.0f * std::tan(glm::radians(30.0f)) / float(size);
+    std::memcpy(sm.view_projection, &vp[0][0], sizeof sm.view_projection);
+    return sm;
+}
+
+// The lanes of a wide call, from scalar values.
+sdk::wide::Float lanes(const std::vector<float>& v, size_t first) {
+    sdk::wide::Float f;
+    for (int i = 0; i < sdk::wide::kLanes; ++i) f[i] = v[first + size_t(i)];
+    return f;
+}
+
+}  // namespace
+
+TEST_CASE("the filters' tap distances are std::sqrt of whole numbers", "[shadow]") {
+    constexpr sdk::detail::TapDistances taps{};
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j) CHECK(taps.at[i][j] == std::sqrt(float(i * i + j * j)));
+}
+
+TEST_CASE("16-bit distance maps: the wide filter counts the taps the scalar one does, which are "
+          "those a double-precision reading of the definition lights",
+          "[shadow]") {
+    // An orthographic and a perspective map over a noisy field of casters,
+    // and receivers around their surfaces, at every kernel size.
+    const int size = 64;
+    const glm::mat4 ortho = glm::mat4(glm::vec4(0.5f, 0, 0, 0), glm::vec4(0, 0.5f, 0, 0),
+                                      glm::vec4(0, 0, -1.0f / 7.5f, 0),
+                                      glm::vec4(0, 0, -0.5f / 7.5f, 1));
+    const glm::mat4 persp = perspective(glm::radians(60.0f), 1.0f, 0.5f, 8.0f, false);
+    for (uint32_t projection : {uint32_t(FACET_SHADOW_ORTHOGRAPHIC), uint32_t(FACET_SHADOW_PERSPECTIVE)}) {
+        INFO("projection " << projection);
+        const facet_shadow_map sm = map_header(size, projection,
+                                               projection == FACET_SHADOW_ORTHOGRAPHIC ? ortho : persp);
+        DistanceMap dm(size, 0);
+        uint32_t seed = 12345;
+        const auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) dm.at(x, y) = uint16_t(20000 + next() % 4000);
+        const sdk::ShadowMap m{&sm, &dm.abi};
+        const float scale = 65535.0f / (sm.far_plane - sm.near_plane);
+        // Receivers: points along the light's axis at distances around the
+        // casters', spread over the map and a little past its edges.
+        const size_t n = 64 * size_t(sdk::wide::kLanes);
+        std::vector<float> px(n), py(n), pz(n), nl(n);
+        for (size_t i = 0; i < n; ++i) {
+            const float u = float(next() % 2200) / 1000.0f - 1.1f, v = float(next() % 2200) / 1000.0f - 1.1f;
+            const float distance = sm.near_plane + (20000.0f + float(next() % 4400) - 200.0f) / scale;
+            if (projection == FACET_SHADOW_ORTHOGRAPHIC) {  // x = 0.5 px, y = 0.5 py, z = -distance
+                px[i] = 2.0f * u, py[i] = 2.0f * v, pz[i] = -distance;
+            } else {  // ndc = (x, y) / distance * cot(30 degrees)
+                const float t = std::tan(glm::radians(30.0f));
+                px[i] = u * distance * t, py[i] = v * distance * t, pz[i] = -distance;
+            }
+            nl[i] = float(next() % 1000) / 1000.0f;
+        }
+        for (int kernel = 1; kernel <= 15; kernel += 2) {
+            INFO("kernel " << kernel);
+            int settled = 0, checked = 0;
+            for (size_t first = 0; first < n; first += size_t(sdk::wide::kLanes)) {
+                const sdk::wide::Vec3 wp{lanes(px, first), lanes(py, first), lanes(pz, first)};
+                const sdk::wide::Float wide =
+                    sdk::shadow_visibility(m, wp, lanes(nl, first), kernel, 1.0f, 1.5f);
+                for (int l = 0; l < sdk::wide::kLanes; ++l) {
+                    const size_t i = first + size_t(l);
+                    const glm::vec3 p(px[i], py[i], pz[i]);
+                    const float scalar = sdk::shadow_visibility(m, p, nl[i], kernel, 1.0f, 1.5f);
+                    REQUIRE(wide[l] == scalar);
+                    // The definition in double: the centre texel, and each tap lit
+                    // where its stored distance is at least the tap's.
+                    const glm::dvec4 c = glm::dmat4(projection == FACET_SHADOW_ORTHOGRAPHIC ? ortho : persp) *
+                                         glm::dvec4(glm::dvec3(p), 1.0);
+                    const double w = projection == FACET_SHADOW_ORTHOGRAPHIC ? 1.0 : c.w;
+                    const double q = projection == FACET_SHADOW_ORTHOGRAPHIC
+                                         ? c.z * 65535.0
+                                         : (c.w - sm.near_plane) * double(scale);
+                    const double fx = std::floor((c.x / w * 0.5 + 0.5) * size);
+                    const double fy = std::floor((0.5 - c.y / w * 0.5) * size);
+                    ++checked;
+                    if (fx < 0 || fy < 0 || fx >= size || fy >= size) {
+                        REQUIRE(scalar == 1.0f);
+                        continue;
+                    }
+                    const double cos_t = std::clamp(double(nl[i]), 0.1, 1.0);
+                    const double tan_t = std::sqrt(1.0 - cos_t * cos_t) / cos_t;
+                    const double texel = double(sm.texel_size) * double(scale) *
+                                         (projection == FACET_SHADOW_ORTHOGRAPHIC ? 1.0 : w);
+                    // Taps within float rounding of a whole unit may go either way.
+                    const int r = kernel / 2;
+                    int lit_min = 0, lit_max = 0;
+                    for (int dy = -r; dy <= r; ++dy)
+                        for (int dx = -r; dx <= r; ++dx) {
+                            const double tap = q - texel * (1.0 + 1.5 * tan_t) -
+                                               texel * tan_t * std::sqrt(double(dx * dx + dy * dy));
+                            const int tx = int(fx) + dx, ty = int(fy) + dy;
+                            const bool on_map = tx >= 0 && ty >= 0 && tx < size && ty < size;
+                            const double stored = on_map ? double(dm.at(tx, ty)) : 65535.0;
+                            lit_min += stored >= std::ceil(std::clamp(tap + 0.01, 0.0, 65535.0));
+                            lit_max += stored >= std::ceil(std::clamp(tap - 0.01, 0.0, 65535.0));
+                        }
+                    const float count = scalar * float(kernel * kernel);
+                    REQUIRE(count >= float(lit_min) - 1e-3f);
+                    REQUIRE(count <= float(lit_max) + 1e-3f);
+                    settled += lit_min == lit_max;
+                }
+            }
+            CHECK(settled > checked / 2);
+        }
+    }
+}
+
+TEST_CASE("16-bit distance maps: taps in front of a perspective map's near plane and past its "
+          "edge are lit",
+          "[shadow]") {
+    const int size = 16;
+    const glm::mat4 vp = perspective(glm::radians(170.0f), 1.0f, 0.1f, 10.0f, false);
+    facet_shadow_map sm = map_header(size, FACET_SHADOW_PERSPECTIVE, vp);
+    sm.near_plane = 0.1f;
+    sm.far_plane = 10.0f;
+    sm.texel_size = 2.0f * std::tan(glm::radians(85.0f)) / float(size);
+    // Nothing drawn: a grazing receiver's outer taps move in front of the light.
+    DistanceMap empty(size, 65535);
+    const glm::vec3 p(0.05f, 0.0f, -2.0f);
+    CHECK(sdk::shadow_visibility(sdk::ShadowMap{&sm, &empty.abi}, p, 0.1f, 15, 1.0f, 1.5f) == 1.0f);
+    // A map of 64 texels over 60 degrees with everything at its near plane:
+    // all shadowed, but for the taps past the edge of the map, which read
+    // its border.
+    const facet_shadow_map narrow =
+        map_header(64, FACET_SHADOW_PERSPECTIVE, perspective(glm::radians(60.0f), 1.0f, 0.5f, 8.0f, false));
+    DistanceMap wall(64, 0);
+    const sdk::ShadowMap m{&narrow, &wall.abi};
+    CHECK(sdk::shadow_visibility(m, p, 1.0f, 3, 1.0f, 1.5f) == 0.0f);
+    // The centre of the corner texel (0, 0): of a 3x3 kernel, 5 taps lie
+    // past the edge.
+    const float t = std::tan(glm::radians(30.0f)), centre = 1.0f - 1.0f / 64.0f;
+    const glm::vec3 corner(-centre * t * 2.0f, centre * t * 2.0f, -2.0f);
+    CHECK(sdk::shadow_visibility(m, corner, 1.0f, 3, 1.0f, 1.5f) == 5.0f / 9.0f);
+    sdk::wide::Vec3 wc{sdk::wide::splat(corner.x), sdk::wide::splat(corner.y), sdk::wide::splat(corner.z)};
+    const sdk::wide::Float v = sdk::shadow_visibility(m, wc, sdk::wide::splat(1.0f), 3, 1.0f, 1.5f);
+    for (int i = 0; i < sdk::wide::kLanes; ++i) CHECK(v[i] == 5.0f / 9.0f);
+}
+
+TEST_CASE("16-bit distance maps: every path turns window depth into the same distances, each "
+          "the exact distance rounded up",
+          "[shadow][isa]") {
+    const int size = 64;
+    std::vector<float> depth(size_t(size) * size);
+    uint32_t seed = 7;
+    for (float& z : depth) {
+        seed = seed * 1664525u + 1013904223u;
+        z = float(seed >> 8) / float(1u << 24);  // [0, 1)
+    }
+    depth[5] = 1.0f;  // nothing drawn
+    depth[6] = 0.0f;  // at the near plane
+    for (bool orthographic : {true, false}) {
+        INFO((orthographic ? "orthographic" : "perspective"));
+        std::vector<std::vector<uint16_t>> out;
+        for (Isa isa : supported_isas()) {
+            std::vector<uint16_t>& d = out.emplace_back(depth.size(), 0);
+            ShadowDistanceRows rows;
+            rows.depth = depth.data();
+            rows.depth_stride = size;
+            rows.distances = d.data();
+            rows.distance_stride = size;
+            rows.width = size;
+            rows.orthographic = orthographic;
+            rows.near_plane = 0.01f;
+            rows.far_plane = 8.0f;
+            kernels(isa).shadow_distance_rows(rows, 0, size);
+            CHECK(d == out.front());
+        }
+        const std::vector<uint16_t>& d = out.front();
+        CHECK(d[5] == 65535);
+        CHECK(d[6] == 0);
+        for (size_t i = 0; i < depth.size(); ++i) {
+            const double z = depth[i], n = 0.01, f = 8.0;
+            const double distance = orthographic ? n + z * (f - n) : n * f / (f - z * (f - n));
+            const double exact = (distance - n) / (f - n) * 65535.0;
+            // Rounded up, within the float arithmetic's error in distance.
+            REQUIRE(double(d[i]) >= exact - 1e-6 * exact - 1e-3);
+            REQUIRE(double(d[i]) < exact + 1.0 + 1e-6 * exact);
+        }
+    }
 }

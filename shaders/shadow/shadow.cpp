@@ -53,9 +53,9 @@ struct Shadow {
             const Incident in = incident_light(d.light(i), v.position);
             const float n_dot_l = glm::dot(n, in.to_light);
             if (n_dot_l <= 0.0f || in.radiance == glm::vec3(0.0f)) continue;  // nothing to shadow
-            const facet_shadow_map* map = d.shadow_map(i);
-            const float visible = map ? shadow_visibility(*map, v.position, n_dot_l,
-                                                          p.pcf_kernel, p.bias, p.slope_bias)
+            const ShadowMap map = d.shadow(i);
+            const float visible = map ? shadow_visibility(map, v.position, n_dot_l, p.pcf_kernel,
+                                                          p.bias, p.slope_bias)
                                       : 1.0f;
             light += in.radiance * (n_dot_l * visible);
         }
@@ -84,9 +84,9 @@ struct Shadow {
                                 (in.radiance.x != 0.0f || in.radiance.y != 0.0f ||
                                  in.radiance.z != 0.0f);
             if (!any(facing)) continue;  // nothing to shadow
-            const facet_shadow_map* map = d.shadow_map(i);
-            const Float visible = map ? shadow_visibility(*map, v.position, n_dot_l,
-                                                          p.pcf_kernel, p.bias, p.slope_bias)
+            const ShadowMap map = d.shadow(i);
+            const Float visible = map ? shadow_visibility(map, v.position, n_dot_l, p.pcf_kernel,
+                                                          p.bias, p.slope_bias)
                                       : splat(1.0f);
             light += select(facing, in.radiance * (n_dot_l * visible), Vec3(splat(0.0f)));
         }

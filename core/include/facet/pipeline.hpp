@@ -110,6 +110,7 @@ struct DrawCall {
     uint32_t light_count = 0;
     const facet_shadow_map* shadow_maps = nullptr;  // for FACET_NEED_SHADOW_MAP
     uint32_t shadow_map_count = 0;
+    const facet_shadow_distances* shadow_distances = nullptr;  // the same maps, or null
     const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
     float time = 0.0f;
     PipelineState state;

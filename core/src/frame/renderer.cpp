@@ -128,6 +128,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         render_shadow_maps(scene, scratch_.casters, pipeline_, passes_->shadow, stats);
         call.shadow_maps = passes_->shadow.abi.data();
         call.shadow_map_count = uint32_t(passes_->shadow.abi.size());
+        call.shadow_distances = passes_->shadow.distances.data();
         stats.ms_shadow += elapsed_ms(t);
     }
     if (needs_ao) {

@@ -2,6 +2,8 @@
 
 #include "pipeline/clip.hpp"
 #include "plugin/internal_shaders.hpp"
+#include "base/thread_pool.hpp"
+#include "pipeline/kernels.hpp"
 
 #include "facet/math.hpp"
 
@@ -143,6 +145,31 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
     frame.fragments_depth_only += stats.fragments_depth_only;
 }
 
+// The map's window depths as distances (facet_shadow_distances), on all
+// threads, into `texels`, whose border of FACET_SHADOW_BORDER texels reads
+// 65535 (set when it is made).
+void make_distances(const facet_shadow_map& sm, const Framebuffer& depth, Pipeline& pipeline,
+                    std::vector<uint16_t>& texels) {
+    constexpr int kBorder = FACET_SHADOW_BORDER;
+    const int size = int(sm.width), stride = size + 2 * kBorder;
+    if (texels.size() != size_t(stride) * size_t(stride))
+        texels.assign(size_t(stride) * size_t(stride), uint16_t(65535));
+    ShadowDistanceRows rows;
+    rows.depth = depth.depth();
+    rows.depth_stride = depth.stride();
+    rows.distances = texels.data() + size_t(kBorder) * size_t(stride) + kBorder;
+    rows.distance_stride = stride;
+    rows.width = size;
+    rows.orthographic = sm.projection == FACET_SHADOW_ORTHOGRAPHIC;
+    rows.near_plane = sm.near_plane;
+    rows.far_plane = sm.far_plane;
+    const Kernels& kernels = pipeline.kernels();
+    constexpr int kBand = 32;
+    pipeline.pool().parallel_for((size + kBand - 1) / kBand, [&](int band, int) {
+        kernels.shadow_distance_rows(rows, band * kBand, std::min(kBand, size - band * kBand));
+    });
+}
+
 }  // namespace
 
 void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
@@ -153,12 +180,15 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
     const int size = (scene.settings.shadow_map_size + 15) & ~15;
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
     maps.abi.clear();
+    maps.distances.clear();
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Light& light = scene.lights[i];
         if (!light.casts_shadow || light.type == LightType::point) continue;
         facet_shadow_map& sm = maps.abi.emplace_back();
         const size_t k = maps.abi.size() - 1;
+        facet_shadow_distances& distances = maps.distances.emplace_back();
         if (maps.depth.size() <= k) maps.depth.emplace_back();
+        if (maps.distance_texels.size() <= k) maps.distance_texels.emplace_back();
         if (maps.key.size() <= k) maps.key.resize(k + 1);  // empty: nothing drawn yet
         Framebuffer& depth = maps.depth[k];
         glm::mat4 view, proj;
@@ -177,10 +207,15 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
             if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
             pipeline.clear(depth, glm::vec4(0.0f), 1.0f);
             draw_depth(maps.key[k], view, proj, pipeline, depth, stats);
+            make_distances(sm, depth, pipeline, maps.distance_texels[k]);
             ++stats.shadow_passes;
             stats.shadow_casters_culled += culled;
         }
         sm.depth = depth.depth();
+        const int stride = size + 2 * FACET_SHADOW_BORDER;
+        distances = {maps.distance_texels[k].data() +
+                         size_t(FACET_SHADOW_BORDER) * size_t(stride + 1),
+                     uint32_t(stride), 0};
     }
 }
 

@@ -39,11 +39,15 @@ struct ShadowMapKey {
 };
 
 // The maps of one frame: `abi` is the contiguous array shaders receive, and
-// abi[i].depth points into depth[i], whose contents key[i] describes.
-// Storage is reused from frame to frame.
+// abi[i].depth points into depth[i], whose contents key[i] describes;
+// `distances` is the same array of maps as 16-bit distances from the light
+// (ABI 1.3), each in distance_texels[i], with its border. Storage is reused
+// from frame to frame.
 struct ShadowMaps {
     std::vector<facet_shadow_map> abi;
+    std::vector<facet_shadow_distances> distances;
     std::vector<Framebuffer> depth;
+    std::vector<std::vector<uint16_t>> distance_texels;
     std::vector<ShadowMapKey> key;
     ShadowMapKey next;               // scratch: this frame's key of one map
     std::vector<glm::vec3> corners;  // scratch for fitting

@@ -81,6 +81,7 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
     if (call.shader->needs(FACET_NEED_SHADOW_MAP)) {
         d.shadow_map_count = call.shadow_map_count;
         d.shadow_maps = call.shadow_maps;
+        d.shadow_distances = call.shadow_distances;
     }
     d.viewport_width = uint32_t(width);
     d.viewport_height = uint32_t(height);

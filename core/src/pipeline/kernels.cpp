@@ -13,6 +13,7 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
                        int x_count);  // ao_kernels.cpp
 void ao_blur_rows(const AoFrame& f, int first, int count);
 void ao_upsample_rows(const AoFrame& f, int first, int count);
+void shadow_distance_rows(const ShadowDistanceRows& rows, int first, int count);  // shadow_kernels.cpp
 
 namespace {
 
@@ -60,4 +61,5 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::ao_occlusion_rows,
     &facet::FACET_KERNEL_NS::ao_blur_rows,
     &facet::FACET_KERNEL_NS::ao_upsample_rows,
+    &facet::FACET_KERNEL_NS::shadow_distance_rows,
 };

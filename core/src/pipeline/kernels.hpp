@@ -1,7 +1,7 @@
 // The hot loops, once per instruction-set path (facet/isa.hpp).
 //
-// rasterize.cpp, fragment.cpp, pixels.cpp, ao_kernels.cpp and kernels.cpp
-// are compiled once for each path, with that path's compiler flags and in a
+// rasterize.cpp, fragment.cpp, pixels.cpp, ao_kernels.cpp, shadow_kernels.cpp
+// and kernels.cpp are compiled once for each path, with that path's compiler flags and in a
 // namespace of its own (FACET_KERNEL_NS: isa_portable, isa_avx2,
 // isa_avx512), and each compilation exports one table of function
 // pointers, facet_kernels_<path>.
@@ -80,6 +80,19 @@ struct AoFrame {
     float* visibility = nullptr;      // per target pixel (scale 2 only)
 };
 
+// What the shadow pass's kernel reads and writes (frame/shadow.hpp): a
+// shadow map's window depths and the same texels as 16-bit distances
+// (facet_shadow_distances), both row-major.
+struct ShadowDistanceRows {
+    const float* depth = nullptr;  // window depth, 0..1, standard (near 0)
+    int depth_stride = 0;          // floats from one row to the next
+    uint16_t* distances = nullptr; // texel (0, 0) of the distances
+    int distance_stride = 0;       // texels from one row to the next
+    int width = 0;                 // a multiple of 16
+    bool orthographic = true;
+    float near_plane = 0.0f, far_plane = 1.0f;
+};
+
 struct Kernels {
     Isa isa;
     // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
@@ -108,6 +121,9 @@ struct Kernels {
     void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
     void (*ao_blur_rows)(const AoFrame& f, int first, int count);
     void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
+    // Shadow map rows [first, first + count): window depth to distance
+    // (shadow_kernels.cpp).
+    void (*shadow_distance_rows)(const ShadowDistanceRows& rows, int first, int count);
 };
 
 // The kernels of a supported path; throws Error(isa_unavailable) otherwise.

@@ -358,6 +358,268 @@ inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec
 }
 #endif
 
+// ---- shadow maps as distances (ABI 1.3) ----------------------------------------
+
+// A light's shadow map as the host gives it (Draw::shadow): the map, and,
+// from a host of ABI 1.3, the same map as 16-bit distances from the light
+// (facet_shadow_distances), which the filters below read when it is there:
+// half the bytes of a float map, read four texels a gather, no conversion per
+// tap, and no bounds test (the map's border reads as lit).
+struct ShadowMap {
+    const facet_shadow_map* map = nullptr;
+    const facet_shadow_distances* distances = nullptr;  // null: filter `map`
+    explicit operator bool() const { return map != nullptr; }
+};
+
+namespace detail {
+// sqrt(i * i + j * j), the distance in texels of the taps at |dx| = i and
+// |dy| = j from a kernel's centre, rounded to float (tests hold the table
+// to std::sqrt): constants for the filters below, each of which makes the
+// table a local constexpr (a namespace-scope one would be a symbol shared
+// by the per-path builds, which facet_isa_objects cannot make local).
+struct TapDistances {
+    float at[8][8];
+    constexpr TapDistances() : at{} {
+        for (int i = 0; i < 8; ++i)
+            for (int j = 0; j < 8; ++j) {
+                const double n = double(i * i + j * j);
+                double r = n > 1.0 ? n / 2.0 : n;
+                for (int k = 0; k < 64 && r > 0.0; ++k) r = 0.5 * (r + n / r);
+                at[i][j] = float(r);
+            }
+    }
+};
+
+// A tap is lit where the stored distance is at least its threshold: the
+// tap's distance (in the map's units of 1/65535 of near..far) rounded up,
+// within 0..65535 (in front of the near plane everything is lit; at or
+// past the far plane, and for NaN, only where nothing was drawn).
+inline int32_t tap_threshold(float q) {
+    if (!(q == q)) return 65535;
+    return int32_t(std::ceil(std::clamp(q, 0.0f, 65535.0f)));
+}
+}  // namespace detail
+
+// Percentage-closer filtering as shadow_visibility(facet_shadow_map) does,
+// over a map's distances (ABI 1.3) when the host gives them, else over its
+// window depths. In distance units the receiver and its taps are straight
+// lines in the bias, so each class of tap (by its distance from the centre)
+// costs one subtraction, and a perspective map's point needs one division.
+// A point whose centre texel is off the map is lit; taps past the map's edge
+// read its border, which is lit.
+inline float shadow_visibility(const ShadowMap& m, glm::vec3 p, float n_dot_l, int kernel,
+                               float bias, float slope_bias) {
+    if (!m.distances) return shadow_visibility(*m.map, p, n_dot_l, kernel, bias, slope_bias);
+    const facet_shadow_map& sm = *m.map;
+    const float* v = sm.view_projection;  // column-major
+    const auto row = [&](int r) { return (v[r] * p.x + v[4 + r] * p.y) + (v[8 + r] * p.z + v[12 + r]); };
+    const float scale = 65535.0f / (sm.far_plane - sm.near_plane);
+    float x = row(0), y = row(1), q, texel;  // texel: a texel's world size, in map units
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) {
+        q = row(2) * 65535.0f;  // window depth is the distance, 0..1
+        texel = sm.texel_size * scale;
+    } else {
+        const float w = row(3);  // the distance along the light's axis
+        if (!(w > 0.0f)) return 1.0f;
+        const float inv_w = 1.0f / w;
+        x = x * inv_w;
+        y = y * inv_w;
+        q = (w - sm.near_plane) * scale;
+        texel = (sm.texel_size * scale) * w;
+    }
+    if (!(q <= 65535.0f)) return 1.0f;  // past the far plane
+    const float fx = std::floor((x * 0.5f + 0.5f) * float(sm.width));
+    const float fy = std::floor((0.5f - y * 0.5f) * float(sm.height));
+    if (!(fx >= 0.0f && fx < float(sm.width) && fy >= 0.0f && fy < float(sm.height))) return 1.0f;
+    const float cos_t = glm::clamp(n_dot_l, 0.1f, 1.0f);
+    const float tan_t = std::sqrt(1.0f - cos_t * cos_t) / cos_t;
+    const float receiver = q - texel * (bias + slope_bias * tan_t);
+    const float step = texel * tan_t;  // a tap k texels away sees the receiver k * step deeper
+    const int r = std::clamp(kernel, 1, 15) / 2;
+    constexpr detail::TapDistances kTaps{};
+    const uint16_t* centre = m.distances->texels + ptrdiff_t(fy) * m.distances->stride + ptrdiff_t(fx);
+    int lit = 0;
+    for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+            const int i = std::max(std::abs(dx), std::abs(dy)), j = std::min(std::abs(dx), std::abs(dy));
+            const int32_t threshold = detail::tap_threshold(receiver - step * kTaps.at[i][j]);
+            lit += int32_t(centre[ptrdiff_t(dy) * m.distances->stride + dx]) >= threshold;
+        }
+    return float(lit) / float((2 * r + 1) * (2 * r + 1));
+}
+
+#if FACET_SDK_WIDE
+namespace detail {
+inline wide::Mask tap_threshold(const wide::Float& q) {
+    using namespace wide;
+    const Float c = ceil(clamp(q, 0.0f, 65535.0f));
+    return __builtin_convertvector(select(q == q, c, splat(65535.0f)), Mask);
+}
+
+// Four 16-bit values in each 64-bit lane, half a call's lanes at a time:
+// half 0 holds lanes 0, 1, 4, 5, 8, 9, ... and half 1 lanes 2, 3, 6, 7, ...,
+// the order in which x86 interleaves two registers within each 128 bits, so
+// that moving lanes between the layouts costs one instruction.
+using Quad16 = uint16_t __attribute__((vector_size(4 * wide::kLanes)));
+using QuadCounts = int16_t __attribute__((vector_size(4 * wide::kLanes)));
+
+// The lanes of `half` of (lo, hi) as 64-bit lanes lo | hi << 32.
+inline wide::Quads interleave(const wide::Mask& lo, const wide::Mask& hi, int half) {
+    using wide::Mask;
+#if FACET_WIDE_LANES == 16
+    const Mask v = half ? __builtin_shufflevector(lo, hi, 2, 18, 3, 19, 6, 22, 7, 23, 10, 26, 11,
+                                                  27, 14, 30, 15, 31)
+                        : __builtin_shufflevector(lo, hi, 0, 16, 1, 17, 4, 20, 5, 21, 8, 24, 9,
+                                                  25, 12, 28, 13, 29);
+#elif FACET_WIDE_LANES == 8
+    const Mask v = half ? __builtin_shufflevector(lo, hi, 2, 10, 3, 11, 6, 14, 7, 15)
+                        : __builtin_shufflevector(lo, hi, 0, 8, 1, 9, 4, 12, 5, 13);
+#else
+    const Mask v = half ? __builtin_shufflevector(lo, hi, 2, 6, 3, 7)
+                        : __builtin_shufflevector(lo, hi, 0, 4, 1, 5);
+#endif
+    return std::bit_cast<wide::Quads>(v);
+}
+
+// The lanes of `half` of v.
+inline wide::HalfIndex half_lanes(const wide::Mask& v, int half) {
+#if FACET_WIDE_LANES == 16
+    return half ? __builtin_shufflevector(v, v, 2, 3, 6, 7, 10, 11, 14, 15)
+                : __builtin_shufflevector(v, v, 0, 1, 4, 5, 8, 9, 12, 13);
+#elif FACET_WIDE_LANES == 8
+    return half ? __builtin_shufflevector(v, v, 2, 3, 6, 7) : __builtin_shufflevector(v, v, 0, 1, 4, 5);
+#else
+    return half ? __builtin_shufflevector(v, v, 2, 3) : __builtin_shufflevector(v, v, 0, 1);
+#endif
+}
+
+// Back: the low 32 bits of each 64-bit lane of the two halves, in lane order.
+inline wide::Mask join_halves(const wide::Quads& a, const wide::Quads& b) {
+    using wide::Mask;
+    const Mask x = std::bit_cast<Mask>(a), y = std::bit_cast<Mask>(b);
+#if FACET_WIDE_LANES == 16
+    return __builtin_shufflevector(x, y, 0, 2, 16, 18, 4, 6, 20, 22, 8, 10, 24, 26, 12, 14, 28, 30);
+#elif FACET_WIDE_LANES == 8
+    return __builtin_shufflevector(x, y, 0, 2, 8, 10, 4, 6, 12, 14);
+#else
+    return __builtin_shufflevector(x, y, 0, 2, 4, 6);
+#endif
+}
+
+// How many taps of a (2R + 1)^2 kernel around each lane's centre texel are
+// lit, with `receiver` the centre tap's distance and `step` how much
+// deeper each texel further out sees it. A row is read four texels at a time
+// from the kernel's first column, so one gather element brings up to four
+// taps and one comparison of 16-bit quarters tests them; the texels past
+// the kernel get threshold 0, always lit, and are taken off at the end.
+template <int R>
+inline wide::Mask lit_distances(const facet_shadow_distances& d, const wide::Mask& cx,
+                                const wide::Mask& cy, const wide::Float& receiver,
+                                const wide::Float& step) {
+    using namespace wide;
+    constexpr int kQuads = (2 * R + 1 + 3) / 4;  // per row
+    constexpr int kExtra = 4 * kQuads - (2 * R + 1);
+    constexpr TapDistances kTaps{};
+    Mask threshold[R + 1][R + 1];
+#pragma GCC unroll 16
+    for (int i = 0; i <= R; ++i)
+#pragma GCC unroll 16
+        for (int j = 0; j <= i; ++j)
+            threshold[i][j] = tap_threshold(receiver - step * kTaps.at[i][j]);
+    const auto tap = [&](int dx, int ay) {
+        const int ax = dx < 0 ? -dx : dx;
+        return ax > R ? Mask{} : threshold[std::max(ax, ay)][std::min(ax, ay)];
+    };
+    // Thresholds of quad k of a row |dy| = ay away, for each half of the lanes.
+    Quad16 packed[R + 1][kQuads][2];
+#pragma GCC unroll 16
+    for (int ay = 0; ay <= R; ++ay)
+#pragma GCC unroll 16
+        for (int k = 0; k < kQuads; ++k) {
+            const int dx = 4 * k - R;
+            const Mask lo = tap(dx, ay) | tap(dx + 1, ay) << 16;
+            const Mask hi = tap(dx + 2, ay) | tap(dx + 3, ay) << 16;
+            for (int h = 0; h < 2; ++h) packed[ay][k][h] = std::bit_cast<Quad16>(interleave(lo, hi, h));
+        }
+    const int stride = int(d.stride);
+    const Mask first = cy * stride + (cx - R);  // the kernel's first texel in its middle row
+    const HalfIndex start[2] = {half_lanes(first, 0), half_lanes(first, 1)};
+    QuadCounts count[2] = {};
+#pragma GCC unroll 16
+    for (int dy = -R; dy <= R; ++dy)
+#pragma GCC unroll 16
+        for (int k = 0; k < kQuads; ++k)
+            for (int h = 0; h < 2; ++h) {
+                const Quad16 texels = std::bit_cast<Quad16>(
+                    gather_quads(d.texels, start[h] + (dy * stride + 4 * k)));
+                count[h] -= texels >= packed[dy < 0 ? -dy : dy][k][h];  // 0 or -1
+            }
+    // Each 64-bit lane's four counts, added: 16-bit pairs, then 32-bit pairs.
+    Quads sum[2];
+    for (int h = 0; h < 2; ++h) {
+        const Mask c = std::bit_cast<Mask>(count[h]);
+        const Mask pairs = (c & 0xFFFF) + ((c >> 16) & 0xFFFF);
+        sum[h] = std::bit_cast<Quads>(pairs) + (std::bit_cast<Quads>(pairs) >> 32);
+    }
+    return join_halves(sum[0], sum[1]) - kExtra * (2 * R + 1);
+}
+}  // namespace detail
+
+inline wide::Float shadow_visibility(const ShadowMap& m, const wide::Vec3& p,
+                                     const wide::Float& n_dot_l, int kernel, float bias,
+                                     float slope_bias) {
+    using namespace wide;
+    if (!m.distances) return shadow_visibility(*m.map, p, n_dot_l, kernel, bias, slope_bias);
+    const facet_shadow_map& sm = *m.map;
+    const float* v = sm.view_projection;  // column-major
+    const auto row = [&](int r) {
+        return (v[r] * p.x + v[4 + r] * p.y) + (v[8 + r] * p.z + splat(v[12 + r]));
+    };
+    const float scale = 65535.0f / (sm.far_plane - sm.near_plane);
+    Float x = row(0), y = row(1), q, texel;
+    Mask seen;
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) {
+        q = row(2) * 65535.0f;
+        texel = splat(sm.texel_size * scale);
+        seen = q <= 65535.0f;
+    } else {
+        const Float w = row(3);
+        const Float inv_w = 1.0f / w;
+        x = x * inv_w;
+        y = y * inv_w;
+        q = (w - sm.near_plane) * scale;
+        texel = (sm.texel_size * scale) * w;
+        seen = w > 0.0f && q <= 65535.0f;
+    }
+    const float width = float(sm.width), height = float(sm.height);
+    const Float fx = floor((x * 0.5f + 0.5f) * width), fy = floor((0.5f - y * 0.5f) * height);
+    seen &= fx >= 0.0f && fx < width && fy >= 0.0f && fy < height;  // false for NaN
+    if (!any(seen)) return splat(1.0f);
+    // Lanes off the map read around texel (0, 0), inside the border.
+    const Mask cx = __builtin_convertvector(select(seen, fx, splat(0.0f)), Mask);
+    const Mask cy = __builtin_convertvector(select(seen, fy, splat(0.0f)), Mask);
+    const Float cos_t = clamp(n_dot_l, 0.1f, 1.0f);
+    const Float tan_t = sqrt(1.0f - cos_t * cos_t) / cos_t;
+    const Float receiver = q - texel * (bias + slope_bias * tan_t);
+    const Float step = texel * tan_t;
+    const int r = std::clamp(kernel, 1, 15) / 2;
+    const facet_shadow_distances& d = *m.distances;
+    Mask lit;
+    switch (r) {  // each kernel's loops unrolled
+        case 0: lit = detail::lit_distances<0>(d, cx, cy, receiver, step); break;
+        case 1: lit = detail::lit_distances<1>(d, cx, cy, receiver, step); break;
+        case 2: lit = detail::lit_distances<2>(d, cx, cy, receiver, step); break;
+        case 3: lit = detail::lit_distances<3>(d, cx, cy, receiver, step); break;
+        case 4: lit = detail::lit_distances<4>(d, cx, cy, receiver, step); break;
+        case 5: lit = detail::lit_distances<5>(d, cx, cy, receiver, step); break;
+        case 6: lit = detail::lit_distances<6>(d, cx, cy, receiver, step); break;
+        default: lit = detail::lit_distances<7>(d, cx, cy, receiver, step); break;
+    }
+    return select(seen, __builtin_convertvector(lit, Float) / float((2 * r + 1) * (2 * r + 1)),
+                  splat(1.0f));
+}
+#endif
+
 // ---- what a shader function sees -------------------------------------------
 
 struct VertexIn {
@@ -386,6 +648,13 @@ struct Draw {
         for (uint32_t k = 0; k < raw->shadow_map_count; ++k)
             if (raw->shadow_maps[k].light == i) return &raw->shadow_maps[k];
         return nullptr;
+    }
+    // The same with its distances (ABI 1.3), for shadow_visibility; false
+    // if light `i` casts no shadow.
+    ShadowMap shadow(uint32_t i) const {
+        const facet_shadow_map* map = shadow_map(i);
+        if (!map || raw->host->abi_minor < 3 || !raw->shadow_distances) return {map, nullptr};
+        return {map, &raw->shadow_distances[map - raw->shadow_maps]};
     }
 };
 

@@ -57,7 +57,7 @@ extern "C" {
 #endif
 
 #define FACET_ABI_MAJOR 1
-#define FACET_ABI_MINOR 2
+#define FACET_ABI_MINOR 3
 
 /* The one symbol a plugin exports. */
 #define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
@@ -212,6 +212,26 @@ typedef struct facet_shadow_map {
                                      /*   nearest caster, top row first          */
 } facet_shadow_map;
 
+/* v1.3: the same map as distances from the light, which a filter can read
+ * with a fraction of the memory traffic and no conversion per tap (see
+ * facet::sdk::shadow_visibility). A texel holds the distance of the
+ * nearest caster along the light's axis (orthographic: window depth;
+ * perspective: clip w), as (distance - near_plane) / (far_plane -
+ * near_plane) * 65535 rounded up: 0 at the near plane, 65535 at the far
+ * plane and wherever nothing was drawn. Around the map lies a border of
+ * FACET_SHADOW_BORDER texels on every side that reads 65535, so that a
+ * kernel centred on the map never reads past its storage: texel (x, y),
+ * for -FACET_SHADOW_BORDER <= x < width + FACET_SHADOW_BORDER and the same
+ * for y, is texels[y * stride + x]. An array parallel to
+ * facet_draw.shadow_maps, so frozen for ABI 1. */
+#define FACET_SHADOW_BORDER 8
+
+typedef struct facet_shadow_distances {
+    const uint16_t* texels;  /* texel (0, 0), top row first                 */
+    uint32_t stride;         /* texels from one row to the next             */
+    uint32_t reserved;       /* 0                                           */
+} facet_shadow_distances;
+
 /* ------------------------------------------------------------------------ */
 /* Host services, passed with every draw. */
 
@@ -256,6 +276,8 @@ struct facet_draw {
     /* v1.1 */
     uint32_t shadow_map_count;     /* 0 unless FACET_NEED_SHADOW_MAP         */
     const facet_shadow_map* shadow_maps;
+    /* v1.3: shadow_maps[i] as distances, or NULL */
+    const facet_shadow_distances* shadow_distances;
 };
 
 /* A batch of vertices. Inputs are arrays indexed by vertex; an input the

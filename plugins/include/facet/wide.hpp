@@ -65,6 +65,7 @@ using Mask = int32_t __attribute__((vector_size(4 * kLanes)));
 
 inline Float splat(float v) { return Float{} + v; }
 inline Float select(const Mask& m, const Float& a, const Float& b) { return m ? a : b; }
+inline Mask select(const Mask& m, const Mask& a, const Mask& b) { return m ? a : b; }
 // As std::min and std::max: a when the two are unordered (a NaN a stays).
 inline Float min(const Float& a, const Float& b) { return b < a ? b : a; }
 inline Float max(const Float& a, const Float& b) { return a < b ? b : a; }
@@ -87,20 +88,35 @@ inline Float sqrt(const Float& x) {
 #endif
 }
 
-// As std::floor and std::ceil (though a zero result may be +0 where they
-// give -0). Floats of magnitude 2^23 or more are whole already and stay as
-// they are, as do NaN and infinities.
+// As std::floor and std::ceil, but a zero result is always +0 (they may
+// give -0), so that every path gives the same bits. Floats of magnitude
+// 2^23 or more are whole already and stay as they are, as do NaN and
+// infinities. One rounding instruction where the path has one.
 inline Float floor(const Float& x) {
+#if defined(__AVX512F__)
+    const __m512 v = std::bit_cast<__m512>(x);  // masked: GCC 12 warns of the plain form
+    return std::bit_cast<Float>(_mm512_mask_roundscale_ps(v, 0xFFFF, v, 0x09)) + 0.0f;
+#elif defined(__AVX__)
+    return std::bit_cast<Float>(_mm256_round_ps(std::bit_cast<__m256>(x), 0x09)) + 0.0f;
+#else
     const Mask small = x < 8388608.0f && x > -8388608.0f;  // false for NaN
     const Float t = __builtin_convertvector(
         __builtin_convertvector(select(small, x, splat(0.0f)), Mask), Float);  // truncated
     return select(small, select(t > x, t - 1.0f, t), x);
+#endif
 }
 inline Float ceil(const Float& x) {
+#if defined(__AVX512F__)
+    const __m512 v = std::bit_cast<__m512>(x);  // masked: GCC 12 warns of the plain form
+    return std::bit_cast<Float>(_mm512_mask_roundscale_ps(v, 0xFFFF, v, 0x0A)) + 0.0f;
+#elif defined(__AVX__)
+    return std::bit_cast<Float>(_mm256_round_ps(std::bit_cast<__m256>(x), 0x0A)) + 0.0f;
+#else
     const Mask small = x < 8388608.0f && x > -8388608.0f;
     const Float t = __builtin_convertvector(
         __builtin_convertvector(select(small, x, splat(0.0f)), Mask), Float);
     return select(small, select(t < x, t + 1.0f, t), x);
+#endif
 }
 
 // base[index[i]] for each lane of `m`, `otherwise` for the others (whose
@@ -118,6 +134,27 @@ inline Float gather(const float* base, const Mask& index, const Mask& m, float o
 #else
     Float r;
     for (int i = 0; i < kLanes; ++i) r[i] = m[i] ? base[index[i]] : otherwise;
+    return r;
+#endif
+}
+
+// For kLanes / 2 lanes, as many 64-bit lanes: the four 16-bit values
+// base[index[i]] .. base[index[i] + 3] of each, the first in the lowest
+// bits; every index and the three after it must be inside the array.
+using Quads = uint64_t __attribute__((vector_size(4 * kLanes)));
+using HalfIndex = int32_t __attribute__((vector_size(2 * kLanes)));
+inline Quads gather_quads(const uint16_t* base, const HalfIndex& index) {
+#if defined(__AVX512F__)
+    // The masked form: GCC 12 warns that the plain one's source is undefined.
+    return std::bit_cast<Quads>(_mm512_mask_i32gather_epi64(
+        _mm512_setzero_si512(), 0xFF, std::bit_cast<__m256i>(index), base, 2));
+#elif defined(__AVX2__)
+    return std::bit_cast<Quads>(_mm256_i32gather_epi64(reinterpret_cast<const long long*>(base),
+                                                       std::bit_cast<__m128i>(index), 2));
+#else
+    static_assert(std::endian::native == std::endian::little);  // the first value lowest
+    Quads r;
+    for (int i = 0; i < kLanes / 2; ++i) std::memcpy(&r[i], base + index[i], 8);
     return r;
 #endif
 }
