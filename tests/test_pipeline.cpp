@@ -1,6 +1,7 @@
 // The whole pipeline (vertex stage, clipping, setup, raster, fragment, depth,
 // blend) through Pipeline::draw, against double-precision references; the guard
 // band; and what the vertex and fragment stages hand a shader.
+#include "meshes.hpp"
 #include "support.hpp"
 
 #include <facet/math.hpp>
@@ -258,6 +259,46 @@ TEST_CASE("depth test keeps the nearest surface in either draw order", "[pipelin
             if (red_first) CHECK(stats.fragments_depth_rejected > 100);  // blue was hidden
         }
     }
+}
+
+TEST_CASE("a depth-only draw writes the depths a shaded draw writes, and rejects the same "
+          "fragments, on every path",
+          "[pipeline][depth][isa]") {
+    // Two overlapping spheres of small triangles and a large quad behind
+    // them, so that blocks are partly and wholly covered, tested and hidden.
+    auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const Mesh a = uv_sphere(24, glm::vec3(0.9f), glm::vec3(-0.3f, 0.1f, -3.0f));
+    const Mesh b = uv_sphere(17, glm::vec3(0.7f), glm::vec3(0.4f, -0.2f, -2.6f));
+    const Mesh back = make_mesh({{-3, -3, -4}, {3, -3, -4}, {3, 3, -4.5f}, {-3, 3, -4.5f}},
+                                {0, 1, 2, 0, 2, 3});
+    for (Isa isa : supported_isas())
+        for (bool reversed : {true, false}) {
+            INFO(isa_name(isa) << (reversed ? ", reversed depth" : ", standard depth"));
+            const glm::mat4 proj =
+                perspective(glm::radians(50.0f), float(W) / H, 0.1f, 100.0f, reversed);
+            Framebuffer shaded(W, H), depth_only(W, H, ColorFormat::none);
+            FrameStats with_shader, without;
+            for (Framebuffer* fb : {&shaded, &depth_only}) {
+                fb->clear(glm::vec4(0.0f), reversed ? 0.0f : 1.0f);
+                Pipeline pipeline(1, isa);
+                DrawCall call = clip_space_call(a, *shader);
+                call.projection = proj;
+                call.state.cull = CullMode::none;
+                call.state.depth_compare = reversed ? DepthCompare::greater : DepthCompare::less;
+                call.state.color_write = fb == &shaded;
+                for (const Mesh* m : {&back, &a, &b}) {
+                    call.mesh = m;
+                    pipeline.queue(call, *fb, fb == &shaded ? with_shader : without);
+                }
+                pipeline.flush(fb == &shaded ? with_shader : without);
+            }
+            CHECK(without.fragments_shaded == 0);
+            CHECK(without.fragments_depth_only == with_shader.fragments_shaded);
+            CHECK(without.fragments_depth_rejected == with_shader.fragments_depth_rejected);
+            CHECK(without.fragments_depth_rejected > 100);
+            for (int y = 0; y < H; ++y)
+                for (int x = 0; x < W; ++x) REQUIRE(depth_only.depth_at(x, y) == shaded.depth_at(x, y));
+        }
 }
 
 TEST_CASE("interpenetrating triangles resolve per pixel", "[pipeline][depth]") {

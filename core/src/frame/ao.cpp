@@ -60,13 +60,15 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
     call.projection = proj;
-    call.state.cull = CullMode::none;
+    call.state.front_ccw = settings.front_ccw;
     call.state.depth_compare = reversed_z ? DepthCompare::greater : DepthCompare::less;
     call.state.color_write = false;
     FrameStats pass;
     for (const Object* o : objects) {
         call.mesh = o->mesh.get();
         call.model = o->transform.matrix();
+        // The faces the main pass draws, and only those: the surfaces the camera sees.
+        call.state.cull = o->material->cull.value_or(settings.cull);
         pipeline.queue(call, depth_, pass);
     }
     pipeline.flush(pass);

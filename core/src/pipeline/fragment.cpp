@@ -1,6 +1,7 @@
 #include "pipeline/fragment.hpp"
 
 #include "pipeline/pixels.hpp"
+#include "pipeline/rasterize.hpp"
 #include "base/simd.hpp"
 #include "plugin/plugin_calls.hpp"
 
@@ -402,6 +403,44 @@ void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVar
         out.d1[k] = flat ? 0.0f : t.varyings[1][k] - v0;
         out.d2[k] = flat ? 0.0f : t.varyings[2][k] - v0;
     }
+}
+
+bool depth_only(const DrawContext& dc) {
+    return !dc.state.color_write && !dc.shader->needs(FACET_NEED_DISCARD) &&
+           dc.target->samples() == 1;
+}
+
+void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
+                     int x0, int y0, int x1, int y1, FrameStats& stats) {
+    Framebuffer& fb = *dc.target;
+    const size_t stride = size_t(fb.stride());
+    const DepthCompare compare = dc.state.depth_compare;
+    const bool write = dc.state.depth_write;
+    const float z0 = t.z[0], d1 = t.z[1] - t.z[0], d2 = t.z[2] - t.z[0];
+    uint64_t written = 0, rejected = 0;
+    cover.for_each_block_narrow(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask,
+                                                    const Float* b1, const Float* b2) {
+        float* depth = fb.depth() + pixel_index(fb, bx, by);
+        uint32_t pass = 0;
+        for (int p = 0; p < kParts; ++p) {
+            const uint32_t lanes = simd::part_mask(mask, p);
+            if (!lanes) continue;
+            // interpolate_depth's arithmetic, from the same weights.
+            Float z = z0 + b1[p] * d1 + b2[p] * d2;
+            z = z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
+            const uint32_t passed =
+                compare == DepthCompare::always
+                    ? lanes
+                    : lanes & depth_passes(compare, z, simd::load_part(depth, stride, p));
+            if (passed && write)
+                simd::store_part<4>(reinterpret_cast<uint8_t*>(depth), stride * 4, p, &z, passed);
+            pass |= passed << (p * kWidth);
+        }
+        written += uint64_t(std::popcount(pass));
+        rejected += uint64_t(std::popcount(mask) - std::popcount(pass));
+    });
+    stats.fragments_depth_only += written;
+    stats.fragments_depth_rejected += rejected;
 }
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,

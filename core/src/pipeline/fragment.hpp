@@ -70,6 +70,19 @@ private:
     alignas(64) int32_t position_[kRow];  // x | y << 16 of each fragment's pixel
 };
 
+// Whether a draw writes depth only, with no shader call: no colour, no
+// discard, one sample per pixel (shadow maps, pre-passes).
+bool depth_only(const DrawContext& dc);
+
+class BlockCoverage;
+
+// A depth-only draw of narrow triangle t (cover.narrow()) within the tile
+// [x0, x1] x [y0, y1]: each covered block depth-tested and written, with
+// the depths shade_block would give, in one pass with nothing stored
+// between the stages.
+void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
+                     int x0, int y0, int x1, int y1, FrameStats& stats);
+
 // Shades one covered block: through `packed` when the draw's shader allows
 // it, else on its own (first shading what `packed` holds, to keep order).
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,

@@ -28,6 +28,11 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
         const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
         const TriangleSetup& t = chunk.setups[entry & 0xFFFFu];
         const BlockCoverage cover(t, samples);
+        if (cover.narrow() && depth_only(dc)) {
+            if (!packed.empty()) packed.flush(stats);  // what came first is written first
+            draw_depth_only(dc, cover, t, x0, y0, x1, y1, stats);
+            continue;
+        }
         TriangleVaryings tv;
         bool prepared = false;  // many triangles cover nothing in a tile
         rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {

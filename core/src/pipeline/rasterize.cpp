@@ -51,25 +51,6 @@ BlockCoverage::BlockCoverage(const TriangleSetup& t, int samples, EdgeWidth widt
     }
 }
 
-// Lanes where edge k is at or above its threshold, given its value at lane
-// 0. Narrow triangles only reach here for blocks the edge crosses, where
-// every lane's value fits 32 bits (setup.hpp).
-uint32_t BlockCoverage::covered(int k, int64_t at_lane0) const {
-    uint32_t mask = 0;
-    if (narrow_) {
-        const int32_t at = int32_t(at_lane0), threshold = int32_t(threshold_[k]);
-        for (int p = 0; p < kParts; ++p)
-            mask |= simd::bits(lanes32_[k][p] + at >= threshold) << (p * kWidth);
-        return mask;
-    }
-    for (int h = 0; h < 2 * kParts; ++h) {
-        // Cast: clang types a comparison of 64-bit lanes as long long lanes.
-        const simd::Long inside = simd::Long(lanes64_[k][h] + at_lane0 >= threshold_[k]);
-        mask |= simd::bits(inside) << (h * kWidth / 2);
-    }
-    return mask;
-}
-
 // Per-lane sample coverage: bit s of lane_samples[i] is set when every edge
 // covers lane i's sample s; edges not in `partial` cover every sample.
 // Returns the lanes with any sample covered.
