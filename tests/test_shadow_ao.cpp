@@ -750,3 +750,50 @@ TEST_CASE("16-bit distance maps: every path turns window depth into the same dis
         }
     }
 }
+
+TEST_CASE("the AO pass's normals take the neighbour nearer in depth on each axis, so that no "
+          "normal straddles an edge, the same on every path",
+          "[ao][isa]") {
+    // A 32x24 grid of view positions: a plane tilted about x (z = -2 - 0.1 y)
+    // left of column 12, and one far behind it (z = -6, facing the camera)
+    // from column 12 on; nothing drawn in the last row.
+    const int w = 32, h = 24, pad = w + 16;
+    std::vector<float> x(w * h + 2 * pad), y(w * h + 2 * pad), z(w * h + 2 * pad);
+    for (int j = 0; j < h - 1; ++j)
+        for (int i = 0; i < w; ++i) {
+            const size_t k = size_t(pad + j * w + i);
+            x[k] = 0.01f * float(i);
+            y[k] = -0.01f * float(j);
+            z[k] = i < 12 ? -2.0f - 0.1f * float(j) : -6.0f;
+        }
+    std::vector<std::vector<float>> normals;
+    for (Isa isa : supported_isas()) {
+        INFO(isa_name(isa));
+        std::vector<float> nx(w * h), ny(w * h), nz(w * h);
+        AoFrame f;
+        f.width = w, f.height = h;
+        f.x = x.data() + pad, f.y = y.data() + pad, f.z = z.data() + pad;
+        f.nx = nx.data(), f.ny = ny.data(), f.nz = nz.data();
+        kernels(isa).ao_normal_rows(f, 0, h);
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                const size_t k = size_t(j * w + i);
+                const glm::vec3 n(nx[k], ny[k], nz[k]);
+                INFO("texel " << i << ", " << j);
+                REQUIRE(glm::length(n) == Approx(1.0f).epsilon(1e-5));
+                if (j == h - 1) {
+                    CHECK(n == glm::vec3(0, 0, 1));  // nothing drawn
+                } else if (i < 12) {
+                    // The tilted plane's normal turned to the camera: also in
+                    // column 11, whose right neighbour is far behind, and in
+                    // row 22, which has no neighbour below.
+                    const glm::vec3 expected = glm::normalize(glm::vec3(0.0f, -0.1f, 0.01f));
+                    CHECK(glm::length(n - expected) < 1e-4f);
+                } else {
+                    CHECK(glm::length(n - glm::vec3(0, 0, 1)) < 1e-4f);  // column 12 too
+                }
+            }
+        normals.push_back(nx), normals.push_back(ny), normals.push_back(nz);
+    }
+    for (size_t i = 3; i < normals.size(); ++i) CHECK(normals[i] == normals[i % 3]);
+}

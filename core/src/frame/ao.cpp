@@ -88,9 +88,10 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     f.radius = settings.ao_radius;
     f.projection = proj;
     const size_t texels = size_t(f.width) * size_t(f.height);
-    for (std::vector<float>* v : {&x_, &y_, &z_, &nx_, &ny_, &nz_, &raw_, &blurred_})
-        v->resize(texels);
-    f.x = x_.data(), f.y = y_.data(), f.z = z_.data();
+    for (std::vector<float>* v : {&nx_, &ny_, &nz_, &raw_, &blurred_}) v->resize(texels);
+    const size_t pad = size_t(f.width) + 16;  // a row and a vector, on either side
+    for (std::vector<float>* v : {&x_, &y_, &z_}) v->assign(texels + 2 * pad, 0.0f);
+    f.x = x_.data() + pad, f.y = y_.data() + pad, f.z = z_.data() + pad;
     f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
     f.raw = raw_.data();
     f.blurred = blurred_.data();
@@ -100,6 +101,8 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     f.target_depth = depth_.depth();
     f.target_stride = depth_.stride();
     f.background = background;
+    f.x_row = {inverse[0][0], inverse[1][0], inverse[2][0], inverse[3][0]};
+    f.y_row = {inverse[0][1], inverse[1][1], inverse[2][1], inverse[3][1]};
     f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
     f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
     if (scale_ > 1) {
@@ -113,8 +116,8 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
             fn(band * kBand, std::min(kBand, rows - band * kBand));
         });
     };
-    bands(f.height, [&](int first, int count) { surface_rows(inverse, first, count); });
-    bands(f.height, [&](int first, int count) { normal_rows(first, count); });
+    bands(f.height, [&](int first, int count) { kernels.ao_position_rows(f, first, count); });
+    bands(f.height, [&](int first, int count) { kernels.ao_normal_rows(f, first, count); });
     // Occlusion in tiles, whose marches' loads (up to `radius` away) stay
     // within a few hundred kilobytes; row bands as wide as the image would
     // reach over several megabytes and miss the cache.
@@ -131,76 +134,6 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
         bands(height, [&](int first, int count) { kernels.ao_upsample_rows(f, first, count); });
     stats.ao_passes += 1;
     stats.ms_ao += elapsed_ms(start);
-}
-
-// View-space positions of AO rows [first, first + count): each texel's
-// target pixel unprojected from the pre-pass depth (z = 0: nothing drawn).
-void AoPass::surface_rows(const glm::mat4& inverse, int first, int count) {
-    const AoFrame& f = frame_;
-    for (int j = first; j < first + count; ++j)
-        for (int i = 0; i < f.width; ++i) {
-            const size_t k = size_t(j) * size_t(f.width) + size_t(i);
-            const int px = std::min(i * f.scale, f.target_width - 1);
-            const int py = std::min(j * f.scale, f.target_height - 1);
-            const float d = depth_.depth_at(px, py);
-            if (d == f.background) {
-                x_[k] = y_[k] = z_[k] = 0.0f;
-                continue;
-            }
-            const glm::vec4 ndc((float(px) + 0.5f) / float(f.target_width) * 2.0f - 1.0f,
-                                1.0f - (float(py) + 0.5f) / float(f.target_height) * 2.0f, d,
-                                1.0f);
-            const glm::vec4 p = inverse * ndc;
-            x_[k] = p.x / p.w;
-            y_[k] = p.y / p.w;
-            z_[k] = p.z / p.w;
-        }
-}
-
-// Normals of AO rows [first, first + count): the cross product of the
-// position's steps to a neighbour along each axis, taking the neighbour
-// nearer in depth, turned towards the camera. A texel with no neighbour on
-// an axis faces the camera.
-void AoPass::normal_rows(int first, int count) {
-    const AoFrame& f = frame_;
-    const auto at = [&](int i, int j) {
-        const size_t k = size_t(j) * size_t(f.width) + size_t(i);
-        return glm::vec3(x_[k], y_[k], z_[k]);
-    };
-    // The step from p along one axis: to the neighbour at +1 or from the one
-    // at -1, whichever is nearer in depth; none if neither is a surface.
-    const auto step = [&](const glm::vec3& p, int i, int j, int di, int dj, glm::vec3& out) {
-        bool found = false;
-        float best = INFINITY;
-        for (int side : {1, -1}) {
-            const int ni = i + side * di, nj = j + side * dj;
-            if (ni < 0 || nj < 0 || ni >= f.width || nj >= f.height) continue;
-            const glm::vec3 q = at(ni, nj);
-            if (q.z == 0.0f || std::abs(q.z - p.z) >= best) continue;
-            best = std::abs(q.z - p.z);
-            out = float(side) * (q - p);
-            found = true;
-        }
-        return found;
-    };
-    for (int j = first; j < first + count; ++j)
-        for (int i = 0; i < f.width; ++i) {
-            const size_t k = size_t(j) * size_t(f.width) + size_t(i);
-            const glm::vec3 p = at(i, j);
-            glm::vec3 n(0.0f, 0.0f, 1.0f);
-            glm::vec3 du, dv;
-            if (p.z != 0.0f) {
-                n = -p;  // facing the camera, unless both steps exist
-                if (step(p, i, j, 1, 0, du) && step(p, i, j, 0, 1, dv)) {
-                    const glm::vec3 c = glm::cross(du, dv);
-                    if (glm::dot(c, c) > 0.0f) n = glm::dot(c, p) > 0.0f ? -c : c;
-                }
-                n = glm::normalize(n);
-            }
-            nx_[k] = n.x;
-            ny_[k] = n.y;
-            nz_[k] = n.z;
-        }
 }
 
 }  // namespace facet

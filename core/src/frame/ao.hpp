@@ -52,14 +52,14 @@ public:
     }
 
 private:
-    void surface_rows(const glm::mat4& proj, int first, int count);
-    void normal_rows(int first, int count);
     void make_directions(int samples);
 
     Framebuffer depth_;  // the pre-pass, at the target's size
     int scale_ = 1;
     AoFrame frame_;
-    std::vector<float> x_, y_, z_, nx_, ny_, nz_;  // per AO texel
+    // Per AO texel; the positions with a row and a vector of padding on
+    // either side, which the normals' neighbour loads may read.
+    std::vector<float> x_, y_, z_, nx_, ny_, nz_;
     std::vector<float> directions_;
     int direction_samples_ = 0;  // what directions_ holds
     std::vector<float> raw_, blurred_, visibility_;

@@ -38,10 +38,120 @@ Int to_int(const Float& v) { return __builtin_convertvector(v, Int); }
 // depth difference r: 1/2 at 2%, about 1/10 at 6%.
 Float depth_weight(const Float& relative) { return 1.0f / (1.0f + 2500.0f * relative * relative); }
 
+// Lanes 0, 0, 1, 1, 2, 2, ... of v, and lanes 1, 1, 2, 2, 3, 3, ...: the
+// texels of pixels 2 i and 2 i + 1 at half size, and of their right
+// neighbours.
+Float spread_pairs(const Float& v) {
+#if FACET_SIMD_WIDTH == 16
+    return __builtin_shufflevector(v, v, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
+#elif FACET_SIMD_WIDTH == 8
+    return __builtin_shufflevector(v, v, 0, 0, 1, 1, 2, 2, 3, 3);
+#else
+    return __builtin_shufflevector(v, v, 0, 0, 1, 1);
+#endif
+}
+Float spread_next(const Float& v) {
+#if FACET_SIMD_WIDTH == 16
+    return __builtin_shufflevector(v, v, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8);
+#elif FACET_SIMD_WIDTH == 8
+    return __builtin_shufflevector(v, v, 1, 1, 2, 2, 3, 3, 4, 4);
+#else
+    return __builtin_shufflevector(v, v, 1, 1, 2, 2);
+#endif
+}
+
 // How far above the surface marches start at half resolution, in radii.
 constexpr float kLift = 0.06f;
 
 }  // namespace
+
+// View positions of AO rows [first, first + count): each texel's target
+// pixel (i * scale, j * scale) unprojected from the pre-pass depth through
+// the inverse projection's rows; 0 where nothing was drawn.
+void ao_position_rows(const AoFrame& f, int first, int count) {
+    Int lane;
+    for (int i = 0; i < kWidth; ++i) lane[i] = i;
+    const float to_ndc_x = 2.0f / float(f.target_width), to_ndc_y = 2.0f / float(f.target_height);
+    for (int j = first; j < first + count; ++j) {
+        const int py = std::min(j * f.scale, f.target_height - 1);
+        const float* depth = f.target_depth + size_t(py) * size_t(f.target_stride);
+        const float ndc_y = 1.0f - (float(py) + 0.5f) * to_ndc_y;
+        const size_t row = size_t(j) * size_t(f.width);
+        for (int i0 = 0; i0 < f.width; i0 += kWidth) {
+            Int px = (lane + i0) * f.scale;
+            px = px < f.target_width - 1 ? px : Int{} + (f.target_width - 1);
+            const Float d = simd::gather(depth, px);
+            const Int surface = d != f.background;
+            const Float ndc_x = (simd::to_float(px) + 0.5f) * to_ndc_x - 1.0f;
+            const auto dot = [&](const glm::vec4& r) {
+                return (r.x * ndc_x + (r.y * ndc_y + r.w)) + r.z * d;
+            };
+            const Float inv_w = 1.0f / dot(f.w_row);
+            store_row(f.x + row, i0, f.width, select(surface, dot(f.x_row) * inv_w, Float{}));
+            store_row(f.y + row, i0, f.width, select(surface, dot(f.y_row) * inv_w, Float{}));
+            store_row(f.z + row, i0, f.width, select(surface, dot(f.z_row) * inv_w, Float{}));
+        }
+    }
+}
+
+// Normals of AO rows [first, first + count): the cross product of the
+// position's steps to a neighbour along each axis, taking the neighbour
+// nearer in depth (the one after it on a tie), turned towards the camera.
+// A texel with no neighbour on an axis faces the camera; one where nothing
+// was drawn gets +Z.
+void ao_normal_rows(const AoFrame& f, int first, int count) {
+    Int lane;
+    for (int i = 0; i < kWidth; ++i) lane[i] = i;
+    struct Step {
+        Int found;
+        Float x, y, z;
+    };
+    // The step from p (lanes of texel k on) to the neighbours `apart`
+    // texels before and after, where `after` and `before` say they exist.
+    // The positions are padded by a row and a vector on either side, so the
+    // loads stay in their storage; what they read past the grid is masked.
+    const auto step = [&](size_t k, ptrdiff_t apart, Int after, Int before, const Float& px,
+                          const Float& py, const Float& pz) {
+        const Float ax = simd::load<Float>(f.x + k + apart), ay = simd::load<Float>(f.y + k + apart),
+                    az = simd::load<Float>(f.z + k + apart);
+        const Float bx = simd::load<Float>(f.x + k - apart), by = simd::load<Float>(f.y + k - apart),
+                    bz = simd::load<Float>(f.z + k - apart);
+        after &= az != 0.0f;
+        before &= bz != 0.0f;
+        const Float da = select(az - pz < 0.0f, pz - az, az - pz);
+        const Float db = select(bz - pz < 0.0f, pz - bz, bz - pz);
+        const Int take_before = before & (~after | (db < da));
+        return Step{after | before, select(take_before, px - bx, ax - px),
+                    select(take_before, py - by, ay - py), select(take_before, pz - bz, az - pz)};
+    };
+    for (int j = first; j < first + count; ++j) {
+        const size_t row = size_t(j) * size_t(f.width);
+        for (int i0 = 0; i0 < f.width; i0 += kWidth) {
+            const Int i = lane + i0;
+            const Int in_row = i < f.width;
+            const size_t k = row + size_t(i0);
+            const Float px = simd::load<Float>(f.x + k), py = simd::load<Float>(f.y + k),
+                        pz = simd::load<Float>(f.z + k);
+            const Int all = Int{} - 1;
+            const Step u = step(k, 1, in_row & (i + 1 < f.width), in_row & (i > 0), px, py, pz);
+            const Step v = step(k, ptrdiff_t(f.width), in_row & (j + 1 < f.height ? all : Int{}),
+                                in_row & (j > 0 ? all : Int{}), px, py, pz);
+            const Float cx = u.y * v.z - u.z * v.y, cy = u.z * v.x - u.x * v.z,
+                        cz = u.x * v.y - u.y * v.x;
+            const Int crossed = u.found & v.found & ((cx * cx + cy * cy + cz * cz) > 0.0f);
+            const Int away = (cx * px + cy * py + cz * pz) > 0.0f;
+            Float nx = select(crossed, select(away, -cx, cx), -px);
+            Float ny = select(crossed, select(away, -cy, cy), -py);
+            Float nz = select(crossed, select(away, -cz, cz), -pz);
+            const Int surface = in_row & (pz != 0.0f);
+            const Float inv =
+                1.0f / simd::sqrt(select(surface, nx * nx + ny * ny + nz * nz, Float{} + 1.0f));
+            store_row(f.nx + row, i0, f.width, select(surface, nx * inv, Float{}));
+            store_row(f.ny + row, i0, f.width, select(surface, ny * inv, Float{}));
+            store_row(f.nz + row, i0, f.width, select(surface, nz * inv, Float{} + 1.0f));
+        }
+    }
+}
 
 // Ambient visibility of AO rows [first, first + count), before the blur:
 // the share of the texel's `samples` directions whose march is not blocked,
@@ -216,9 +326,23 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
             const Float inv_z = 1.0f / select(surface, z, Float{} + 1.0f);
             Float sum = Float{}, weight = Float{}, nearest = Float{} + 1.0f,
                   closest = Float{} + INFINITY;
+            // At half size a vector of pixels spans half as many texels,
+            // in order: two loads and a spread of each, where they lie within
+            // the row; else gathers.
+            const int base = x0 / 2;
+            const bool spread = f.scale == 2 && base + kWidth <= f.width;
             for (int corner = 0; corner < 4; ++corner) {
-                const Int k = columns[corner & 1] + (corner & 2 ? j1 : j0) * f.width;
-                const Float zt = simd::gather(f.z, k), at = simd::gather(f.blurred, k);
+                Float zt, at;
+                const int texel_row = (corner & 2 ? j1 : j0) * f.width;
+                if (spread) {
+                    const Float zs = simd::load<Float>(f.z + texel_row + base);
+                    const Float as = simd::load<Float>(f.blurred + texel_row + base);
+                    zt = corner & 1 ? spread_next(zs) : spread_pairs(zs);
+                    at = corner & 1 ? spread_next(as) : spread_pairs(as);
+                } else {
+                    const Int k = columns[corner & 1] + texel_row;
+                    zt = simd::gather(f.z, k), at = simd::gather(f.blurred, k);
+                }
                 const Float wx = corner & 1 ? fx : 1.0f - fx;
                 const float wy = corner & 2 ? fy : 1.0f - fy;
                 const Float difference = (zt - z) * inv_z;

@@ -9,6 +9,8 @@
 
 namespace facet::FACET_KERNEL_NS {
 
+void ao_position_rows(const AoFrame& f, int first, int count);  // ao_kernels.cpp
+void ao_normal_rows(const AoFrame& f, int first, int count);
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
                        int x_count);  // ao_kernels.cpp
 void ao_blur_rows(const AoFrame& f, int first, int count);
@@ -63,6 +65,8 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::srgb8_rows,
     &facet::FACET_KERNEL_NS::encode_pixels,
     &facet::FACET_KERNEL_NS::decode_pixels,
+    &facet::FACET_KERNEL_NS::ao_position_rows,
+    &facet::FACET_KERNEL_NS::ao_normal_rows,
     &facet::FACET_KERNEL_NS::ao_occlusion_rows,
     &facet::FACET_KERNEL_NS::ao_blur_rows,
     &facet::FACET_KERNEL_NS::ao_upsample_rows,

@@ -59,24 +59,24 @@ struct AoFrame {
     int samples = 0;                  // directions per texel
     float radius = 0.0f;              // world (view) units
     glm::mat4 projection{1.0f};
-    const float* x = nullptr;         // view-space position of each texel's surface
-    const float* y = nullptr;
-    const float* z = nullptr;         // ... its z; 0 where nothing was drawn
-    const float* nx = nullptr;        // view-space unit normal
-    const float* ny = nullptr;
-    const float* nz = nullptr;
+    float* x = nullptr;               // view-space position of each texel's surface
+    float* y = nullptr;
+    float* z = nullptr;               // ... its z; 0 where nothing was drawn
+    float* nx = nullptr;              // view-space unit normal
+    float* ny = nullptr;
+    float* nz = nullptr;
     // Hemisphere directions around +Z: [16 rotations][x, y, z][samples].
     const float* directions = nullptr;
     float* raw = nullptr;             // visibility before the blur
     float* blurred = nullptr;         // ... after it
     // The target's window depth (rows target_stride floats apart), whose
     // `background` value means nothing was drawn, and the rows of the
-    // inverse projection that give a pixel's view z: dot(z_row, ndc) /
-    // dot(w_row, ndc), ndc = (x, y, depth, 1).
+    // inverse projection that give a pixel's view position: x = dot(x_row,
+    // ndc) / dot(w_row, ndc) and so on, ndc = (x, y, depth, 1).
     const float* target_depth = nullptr;
     int target_stride = 0;
     float background = 0.0f;
-    glm::vec4 z_row{0.0f}, w_row{0.0f};
+    glm::vec4 x_row{0.0f}, y_row{0.0f}, z_row{0.0f}, w_row{0.0f};
     float* visibility = nullptr;      // per target pixel (scale 2 only)
 };
 
@@ -114,10 +114,15 @@ struct Kernels {
     // ones of framebuffer.hpp).
     void (*encode_pixels)(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out);
     void (*decode_pixels)(ColorFormat format, const uint8_t* in, size_t count, glm::vec4* linear);
-    // AO rows [first, first + count) (ao_kernels.cpp): raw visibility
+    // AO rows [first, first + count) (ao_kernels.cpp): the view position of
+    // each texel's surface, then its normal (the positions of the rows
+    // around it must be done);
     // (within columns [x_first, x_first + x_count), x_first a multiple of
     // 64) and its blur, on the AO grid; the depth-aware upsample, on the
     // target's.
+    void (*ao_position_rows)(const AoFrame& f, int first, int count);
+    void (*ao_normal_rows)(const AoFrame& f, int first, int count);
+    // raw visibility
     void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
     void (*ao_blur_rows)(const AoFrame& f, int first, int count);
     void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
