@@ -89,6 +89,10 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     f.projection = proj;
     const size_t texels = size_t(f.width) * size_t(f.height);
     for (std::vector<float>* v : {&nx_, &ny_, &nz_, &raw_, &blurred_}) v->resize(texels);
+    f.key_stride = f.width + 2;  // with a border of one texel, 0
+    key_.assign(size_t(f.key_stride) * size_t(f.height + 2), 0.0f);
+    f.key = key_.data() + f.key_stride + 1;
+    f.perspective = proj[2][3] != 0.0f;
     const size_t pad = size_t(f.width) + 16;  // a row and a vector, on either side
     for (std::vector<float>* v : {&x_, &y_, &z_}) v->assign(texels + 2 * pad, 0.0f);
     f.x = x_.data() + pad, f.y = y_.data() + pad, f.z = z_.data() + pad;

@@ -59,7 +59,7 @@ private:
     AoFrame frame_;
     // Per AO texel; the positions with a row and a vector of padding on
     // either side, which the normals' neighbour loads may read.
-    std::vector<float> x_, y_, z_, nx_, ny_, nz_;
+    std::vector<float> x_, y_, z_, nx_, ny_, nz_, key_;
     std::vector<float> directions_;
     int direction_samples_ = 0;  // what directions_ holds
     std::vector<float> raw_, blurred_, visibility_;

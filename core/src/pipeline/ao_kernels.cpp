@@ -61,7 +61,7 @@ Float spread_next(const Float& v) {
 }
 
 // How far above the surface marches start at half resolution, in radii.
-constexpr float kLift = 0.06f;
+constexpr float kLift = 0.07f;
 
 }  // namespace
 
@@ -89,7 +89,10 @@ void ao_position_rows(const AoFrame& f, int first, int count) {
             const Float inv_w = 1.0f / dot(f.w_row);
             store_row(f.x + row, i0, f.width, select(surface, dot(f.x_row) * inv_w, Float{}));
             store_row(f.y + row, i0, f.width, select(surface, dot(f.y_row) * inv_w, Float{}));
-            store_row(f.z + row, i0, f.width, select(surface, dot(f.z_row) * inv_w, Float{}));
+            const Float z = select(surface, dot(f.z_row) * inv_w, Float{});
+            store_row(f.z + row, i0, f.width, z);
+            store_row(f.key + size_t(j) * size_t(f.key_stride), i0, f.width,
+                      f.perspective ? select(surface, -1.0f / select(surface, z, Float{} - 1.0f), Float{}) : z);
         }
     }
 }
@@ -153,22 +156,20 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
     }
 }
 
-// Ambient visibility of AO rows [first, first + count), before the blur:
-// the share of the texel's `samples` directions whose march is not blocked,
-// over columns [x_first, x_first + x_count) (x_first a multiple of 64).
-// Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
-// are texels of one row 4 apart, which share that turn, so that their
-// marches stay side by side on the screen and each step's loads fall on a
-// few cache lines. A lane stops marching when it leaves the screen or
-// passes behind the camera, and a direction when every lane has.
-void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
+namespace {
+
+// The marches of ao_occlusion_rows for one path and projection.
+template <bool Perspective>
+void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     const glm::mat4& P = f.projection;
     // Texel i stands for target pixel i * scale, whose centre is at
     // i * scale + 1/2: target x X falls to texel floor((X + (scale - 1) / 2) / scale).
     const float sx_scale = 0.5f * float(f.target_width) / float(f.scale);
     const float sy_scale = 0.5f * float(f.target_height) / float(f.scale);
     const float offset = 0.5f * float(f.scale - 1) / float(f.scale);
-    const float step = f.radius / float(AoFrame::kSteps);
+    constexpr float kFixed = 65536.0f;  // screen positions in 16.16 fixed point
+    constexpr float kStep = 1.0f / float(AoFrame::kSteps);
+    const float tol = 0.02f * f.radius, reach = f.radius;
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = 4 * i;
     const int x_end = std::min(x_first + x_count, f.width);
@@ -206,37 +207,72 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int 
                     const Float cpx = P[0][0] * ox + P[1][0] * oy + P[2][0] * oz + P[3][0];
                     const Float cpy = P[0][1] * ox + P[1][1] * oy + P[2][1] * oz + P[3][1];
                     const Float cpw = P[0][3] * ox + P[1][3] * oy + P[2][3] * oz + P[3][3];
+                    const Float k0 = Perspective ? 1.0f / cpw : oz;  // the start's key
+                    // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
+                    const Float nx0 = Perspective ? cpx * k0 : cpx, ny0 = Perspective ? cpy * k0 : cpy;
+                    const Int sx0 = to_int(((nx0 + 1.0f) * sx_scale + offset) * kFixed);
+                    const Int sy0 = to_int(((1.0f - ny0) * sy_scale + offset) * kFixed);
+                    // The clip-space frame, reach long: a direction's end is the
+                    // start plus a mix of these, with the direction's weights.
+                    const auto clip = [&](const Float& vx, const Float& vy, const Float& vz, int c) {
+                        return reach * (P[0][c] * vx + P[1][c] * vy + P[2][c] * vz);
+                    };
+                    const Float tcx = clip(tx, ty, tz, 0), tcy = clip(tx, ty, tz, 1), tcw = clip(tx, ty, tz, 3);
+                    const Float bcx = clip(bx, by, bz, 0), bcy = clip(bx, by, bz, 1), bcw = clip(bx, by, bz, 3);
+                    const Float ncx = clip(nx, ny, nz, 0), ncy = clip(nx, ny, nz, 1), ncw = clip(nx, ny, nz, 3);
                     const float* turn = f.directions + size_t(3 * f.samples) *
                                                            size_t(phase * 4 + (y & 3));
-                    open = Float{};
                     for (int k = 0; k < f.samples; ++k) {
                         const float hx = turn[k], hy = turn[f.samples + k],
                                     hz = turn[2 * f.samples + k];
-                        const Float dx = tx * hx + bx * hy + nx * hz,
-                                    dy = ty * hx + by * hy + ny * hz,
-                                    dz = tz * hx + bz * hy + nz * hz;
-                        const Float cdx = P[0][0] * dx + P[1][0] * dy + P[2][0] * dz;
-                        const Float cdy = P[0][1] * dx + P[1][1] * dy + P[2][1] * dz;
-                        const Float cdw = P[0][3] * dx + P[1][3] * dy + P[2][3] * dz;
-                        // Which steps are blocked never decides what to load
-                        // next, so the steps' loads overlap.
-                        Int active = surface, blocked = Int{};
-                        for (int s = 1; s <= AoFrame::kSteps && simd::bits(active); ++s) {
-                            const float t = step * float(s);
-                            const Float cw = cpw + t * cdw;
-                            const Float inv_w = 1.0f / cw;  // lanes with cw <= 0 drop out
-                            const Float sx = ((cpx + t * cdx) * inv_w + 1.0f) * sx_scale + offset;
-                            const Float sy = (1.0f - (cpy + t * cdy) * inv_w) * sy_scale + offset;
-                            // On the grid (NaN is not): then truncating is flooring.
-                            active &= (cw > 0.0f) & (sx >= 0.0f) & (sy >= 0.0f) &
-                                      (sx < float(f.width)) & (sy < float(f.height));
-                            const Int index = to_int(select(active, sy, Float{})) * f.width +
-                                              to_int(select(active, sx, Float{}));
-                            const Float there = simd::gather(f.z, index);  // nearer is larger
-                            const Float behind = there - (oz + t * dz);
-                            blocked |= active & (there != 0.0f) & (behind > 0.02f * f.radius) &
-                                       (behind < f.radius);
+                        // The direction's end, `reach` away, projected once: on
+                        // the screen the march is a straight segment, stepped
+                        // evenly, along which 1 / w is linear too.
+                        const Float cex = cpx + (tcx * hx + bcx * hy + ncx * hz);
+                        const Float cey = cpy + (tcy * hx + bcy * hy + ncy * hz);
+                        Int ahead = surface;
+                        Float k1, nx1 = cex, ny1 = cey;
+                        if constexpr (Perspective) {
+                            const Float cew = cpw + (tcw * hx + bcw * hy + ncw * hz);
+                            ahead &= cew > 0.0f;  // a march behind the camera sees nothing
+                            k1 = 1.0f / select(ahead, cew, Float{} + 1.0f);
+                            nx1 = cex * k1, ny1 = cey * k1;
+                        } else {
+                            k1 = oz + reach * (tz * hx + bz * hy + nz * hz);
                         }
+                        // A step in fixed point, within +-2^27 so that four of
+                        // them stay in int range (a longer one leaves the grid
+                        // at its first step either way); none for NaN.
+                        const auto fixed_step = [&](const Float& v) {
+                            const Float c = v < -134217728.0f ? Float{} - 134217728.0f
+                                            : v > 134217728.0f ? Float{} + 134217728.0f : v;
+                            return to_int(select(ahead & (v == v), c, Float{}));
+                        };
+                        const Int dsx = fixed_step((nx1 - nx0) * (sx_scale * kStep * kFixed));
+                        const Int dsy = fixed_step((ny0 - ny1) * (sy_scale * kStep * kFixed));
+                        const Float dk = (k1 - k0) * kStep;
+                        Int sx = sx0, sy = sy0;
+                        Int blocked = Int{};
+                        for (int s = 1; s <= AoFrame::kSteps; ++s) {
+                            sx += dsx, sy += dsy;
+                            // Off the grid, the border: its key 0 blocks nothing.
+                            Int ix = sx >> 16, iy = sy >> 16;
+                            ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
+                            iy = iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy;
+                            const Float there = simd::gather(f.key, iy * f.key_stride + ix);
+                            const Float here = k0 + float(s) * dk;  // the march's key
+                            // The surface nearer than the march by tol .. reach: in
+                            // view units (1/there - 1/here for keys 1/w), but
+                            // compared without a division.
+                            const Float gap = there - here;
+                            if constexpr (Perspective) {
+                                const Float both = there * here;
+                                blocked |= (gap > tol * both) & (gap < reach * both);
+                            } else {
+                                blocked |= (there != 0.0f) & (gap > tol) & (gap < reach);
+                            }
+                        }
+                        blocked &= ahead;
                         open += select(blocked, Float{}, Float{} + 1.0f);
                     }
                 }
@@ -246,6 +282,22 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int 
                     if (x0 + phase + 4 * i < x_end) f.raw[row + x0 + phase + 4 * i] = visible[i];
             }
     }
+}
+
+}  // namespace
+
+// Ambient visibility of AO rows [first, first + count), before the blur:
+// the share of the texel's `samples` directions whose march is not blocked,
+// over columns [x_first, x_first + x_count) (x_first a multiple of 64).
+// Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
+// are texels of one row 4 apart, which share that turn, so that their
+// marches stay side by side on the screen and each step's loads fall on a
+// few cache lines. A direction's march reaches `radius` along it in
+// AoFrame::kSteps even steps of its segment on the screen, in fixed point,
+// and compares keys (1 / w) rather than depths: no division per step.
+void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
+    if (f.perspective) occlusion_rows<true>(f, first, count, x_first, x_count);
+    else occlusion_rows<false>(f, first, count, x_first, x_count);
 }
 
 // AO rows [first, first + count) of `raw` averaged over the 4x4 window

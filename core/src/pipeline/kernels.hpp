@@ -62,6 +62,13 @@ struct AoFrame {
     float* x = nullptr;               // view-space position of each texel's surface
     float* y = nullptr;
     float* z = nullptr;               // ... its z; 0 where nothing was drawn
+    // What the marches compare, per texel: 1 / -z with a perspective
+    // projection, z with an orthographic one; 0 where nothing was drawn,
+    // and in a border of one texel around the grid: texel (i, j) at
+    // key[j * key_stride + i], for -1 <= i <= width and -1 <= j <= height.
+    float* key = nullptr;
+    int key_stride = 0;
+    bool perspective = true;
     float* nx = nullptr;              // view-space unit normal
     float* ny = nullptr;
     float* nz = nullptr;
