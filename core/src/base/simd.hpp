@@ -77,6 +77,20 @@ inline Int row(int part) {
     return r;
 }
 
+// The bits set in v: one instruction where the path has it; the baseline
+// x86-64 path has none, and there the compiler's builtin is a call into
+// libgcc, once per block or batch, so it adds them up in place.
+inline int popcount(uint32_t v) {
+#if defined(__POPCNT__) || defined(__aarch64__)
+    return __builtin_popcount(v);
+#else
+    v = v - ((v >> 1) & 0x55555555u);
+    v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+    v = (v + (v >> 4)) & 0x0F0F0F0Fu;
+    return int((v * 0x01010101u) >> 24);
+#endif
+}
+
 // The lanes of part p in a 16-bit block mask, and back.
 inline uint32_t part_mask(uint32_t mask, int part) { return mask >> (part * kWidth) & kPartMask; }
 
@@ -192,13 +206,13 @@ inline constexpr CompressTable kCompress{};
 // past the packed values may be overwritten.
 class Compressor {
 public:
-    explicit Compressor(uint32_t mask) : count_(__builtin_popcount(mask)) {
+    explicit Compressor(uint32_t mask) : count_(popcount(mask)) {
 #if FACET_SIMD_WIDTH == 16
         mask_ = __mmask16(mask);
 #elif FACET_SIMD_WIDTH == 8
         std::memcpy(&index_[0], kCompress.index[mask & 0xFFu], sizeof index_[0]);
         std::memcpy(&index_[1], kCompress.index[mask >> 8], sizeof index_[1]);
-        first_ = __builtin_popcount(mask & 0xFFu);
+        first_ = popcount(mask & 0xFFu);
 #else
         for (uint32_t m = mask, n = 0; m; m &= m - 1) lane_[n++] = uint8_t(__builtin_ctz(m));
 #endif

@@ -316,9 +316,9 @@ void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, 
     dc_ = &dc;
     front_facing_ = front_facing;
     const int room = N - count_;
-    if (std::popcount(mask) > room) {  // the first `room` fragments fill this batch
+    if (simd::popcount(mask) > room) {  // the first `room` fragments fill this batch
         uint32_t first = 0;
-        for (uint32_t m = mask; std::popcount(first) < room; m &= m - 1) first |= m & (0u - m);
+        for (uint32_t m = mask; simd::popcount(first) < room; m &= m - 1) first |= m & (0u - m);
         append(b, first, varyings, depth, texels, ao);
         flush(stats);
         mask &= ~first;
@@ -436,8 +436,8 @@ void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const Tr
                 simd::store_part<4>(reinterpret_cast<uint8_t*>(depth), stride * 4, p, &z, passed);
             pass |= passed << (p * kWidth);
         }
-        written += uint64_t(std::popcount(pass));
-        rejected += uint64_t(std::popcount(mask) - std::popcount(pass));
+        written += uint64_t(simd::popcount(pass));
+        rejected += uint64_t(simd::popcount(mask) - simd::popcount(pass));
     });
     stats.fragments_depth_only += written;
     stats.fragments_depth_rejected += rejected;
@@ -449,7 +449,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     Float z[kParts];
     SampleDepth sd;
     const uint32_t mask = msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, t, b, z);
-    stats.fragments_depth_rejected += std::popcount(b.mask) - std::popcount(mask);
+    stats.fragments_depth_rejected += simd::popcount(b.mask) - simd::popcount(mask);
     if (!mask) return;
     // Packed batches write depth before they shade, and opaque colours only.
     const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
@@ -459,7 +459,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
         else write_pixels(dc, b, z, nullptr, mask);
-        stats.fragments_depth_only += std::popcount(mask);
+        stats.fragments_depth_only += simd::popcount(mask);
         return;
     }
 
@@ -490,7 +490,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         dc.fragment(dc.abi, &batch);
     }
     stats.blocks_shaded += 1;
-    stats.fragments_shaded += std::popcount(mask);
+    stats.fragments_shaded += simd::popcount(mask);
     if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);
     if (msaa) write_samples(dc, b, sd, color, batch.mask & mask);  // a shader may only clear bits
     else write_pixels(dc, b, z, color, batch.mask & mask);
