@@ -91,8 +91,9 @@ void ao_position_rows(const AoFrame& f, int first, int count) {
             store_row(f.y + row, i0, f.width, select(surface, dot(f.y_row) * inv_w, Float{}));
             const Float z = select(surface, dot(f.z_row) * inv_w, Float{});
             store_row(f.z + row, i0, f.width, z);
+            const Float inv_depth = -1.0f / select(surface, z, Float{} - 1.0f);
             store_row(f.key + size_t(j) * size_t(f.key_stride), i0, f.width,
-                      f.perspective ? select(surface, -1.0f / select(surface, z, Float{} - 1.0f), Float{}) : z);
+                      f.perspective ? select(surface, inv_depth, Float{}) : z);
         }
     }
 }
@@ -115,9 +116,11 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
     // loads stay in their storage; what they read past the grid is masked.
     const auto step = [&](size_t k, ptrdiff_t apart, Int after, Int before, const Float& px,
                           const Float& py, const Float& pz) {
-        const Float ax = simd::load<Float>(f.x + k + apart), ay = simd::load<Float>(f.y + k + apart),
+        const Float ax = simd::load<Float>(f.x + k + apart),
+                    ay = simd::load<Float>(f.y + k + apart),
                     az = simd::load<Float>(f.z + k + apart);
-        const Float bx = simd::load<Float>(f.x + k - apart), by = simd::load<Float>(f.y + k - apart),
+        const Float bx = simd::load<Float>(f.x + k - apart),
+                    by = simd::load<Float>(f.y + k - apart),
                     bz = simd::load<Float>(f.z + k - apart);
         after &= az != 0.0f;
         before &= bz != 0.0f;
@@ -209,17 +212,22 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                     const Float cpw = P[0][3] * ox + P[1][3] * oy + P[2][3] * oz + P[3][3];
                     const Float k0 = Perspective ? 1.0f / cpw : oz;  // the start's key
                     // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
-                    const Float nx0 = Perspective ? cpx * k0 : cpx, ny0 = Perspective ? cpy * k0 : cpy;
+                    const Float nx0 = Perspective ? cpx * k0 : cpx;
+                    const Float ny0 = Perspective ? cpy * k0 : cpy;
                     const Int sx0 = to_int(((nx0 + 1.0f) * sx_scale + offset) * kFixed);
                     const Int sy0 = to_int(((1.0f - ny0) * sy_scale + offset) * kFixed);
                     // The clip-space frame, reach long: a direction's end is the
                     // start plus a mix of these, with the direction's weights.
-                    const auto clip = [&](const Float& vx, const Float& vy, const Float& vz, int c) {
+                    const auto clip = [&](const Float& vx, const Float& vy, const Float& vz,
+                                          int c) {
                         return reach * (P[0][c] * vx + P[1][c] * vy + P[2][c] * vz);
                     };
-                    const Float tcx = clip(tx, ty, tz, 0), tcy = clip(tx, ty, tz, 1), tcw = clip(tx, ty, tz, 3);
-                    const Float bcx = clip(bx, by, bz, 0), bcy = clip(bx, by, bz, 1), bcw = clip(bx, by, bz, 3);
-                    const Float ncx = clip(nx, ny, nz, 0), ncy = clip(nx, ny, nz, 1), ncw = clip(nx, ny, nz, 3);
+                    const Float tcx = clip(tx, ty, tz, 0), tcy = clip(tx, ty, tz, 1),
+                                tcw = clip(tx, ty, tz, 3);
+                    const Float bcx = clip(bx, by, bz, 0), bcy = clip(bx, by, bz, 1),
+                                bcw = clip(bx, by, bz, 3);
+                    const Float ncx = clip(nx, ny, nz, 0), ncy = clip(nx, ny, nz, 1),
+                                ncw = clip(nx, ny, nz, 3);
                     const float* turn = f.directions + size_t(3 * f.samples) *
                                                            size_t(phase * 4 + (y & 3));
                     for (int k = 0; k < f.samples; ++k) {

@@ -412,7 +412,9 @@ inline float shadow_visibility(const ShadowMap& m, glm::vec3 p, float n_dot_l, i
     if (!m.distances) return shadow_visibility(*m.map, p, n_dot_l, kernel, bias, slope_bias);
     const facet_shadow_map& sm = *m.map;
     const float* v = sm.view_projection;  // column-major
-    const auto row = [&](int r) { return (v[r] * p.x + v[4 + r] * p.y) + (v[8 + r] * p.z + v[12 + r]); };
+    const auto row = [&](int r) {
+        return (v[r] * p.x + v[4 + r] * p.y) + (v[8 + r] * p.z + v[12 + r]);
+    };
     const float scale = 65535.0f / (sm.far_plane - sm.near_plane);
     float x = row(0), y = row(1), q, texel;  // texel: a texel's world size, in map units
     if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) {
@@ -437,13 +439,15 @@ inline float shadow_visibility(const ShadowMap& m, glm::vec3 p, float n_dot_l, i
     const float step = texel * tan_t;  // a tap k texels away sees the receiver k * step deeper
     const int r = std::clamp(kernel, 1, 15) / 2;
     constexpr detail::TapDistances kTaps{};
-    const uint16_t* centre = m.distances->texels + ptrdiff_t(fy) * m.distances->stride + ptrdiff_t(fx);
+    const ptrdiff_t stride = m.distances->stride;
+    const uint16_t* centre = m.distances->texels + ptrdiff_t(fy) * stride + ptrdiff_t(fx);
     int lit = 0;
     for (int dy = -r; dy <= r; ++dy)
         for (int dx = -r; dx <= r; ++dx) {
-            const int i = std::max(std::abs(dx), std::abs(dy)), j = std::min(std::abs(dx), std::abs(dy));
+            const int i = std::max(std::abs(dx), std::abs(dy));
+            const int j = std::min(std::abs(dx), std::abs(dy));
             const int32_t threshold = detail::tap_threshold(receiver - step * kTaps.at[i][j]);
-            lit += int32_t(centre[ptrdiff_t(dy) * m.distances->stride + dx]) >= threshold;
+            lit += int32_t(centre[dy * stride + dx]) >= threshold;
         }
     return float(lit) / float((2 * r + 1) * (2 * r + 1));
 }
@@ -487,7 +491,8 @@ inline wide::HalfIndex half_lanes(const wide::Mask& v, int half) {
     return half ? __builtin_shufflevector(v, v, 2, 3, 6, 7, 10, 11, 14, 15)
                 : __builtin_shufflevector(v, v, 0, 1, 4, 5, 8, 9, 12, 13);
 #elif FACET_WIDE_LANES == 8
-    return half ? __builtin_shufflevector(v, v, 2, 3, 6, 7) : __builtin_shufflevector(v, v, 0, 1, 4, 5);
+    return half ? __builtin_shufflevector(v, v, 2, 3, 6, 7)
+                : __builtin_shufflevector(v, v, 0, 1, 4, 5);
 #else
     return half ? __builtin_shufflevector(v, v, 2, 3) : __builtin_shufflevector(v, v, 0, 1);
 #endif
@@ -539,7 +544,8 @@ inline wide::Mask lit_distances(const facet_shadow_distances& d, const wide::Mas
             const int dx = 4 * k - R;
             const Mask lo = tap(dx, ay) | tap(dx + 1, ay) << 16;
             const Mask hi = tap(dx + 2, ay) | tap(dx + 3, ay) << 16;
-            for (int h = 0; h < 2; ++h) packed[ay][k][h] = std::bit_cast<Quad16>(interleave(lo, hi, h));
+            for (int h = 0; h < 2; ++h)
+                packed[ay][k][h] = std::bit_cast<Quad16>(interleave(lo, hi, h));
         }
     const int stride = int(d.stride);
     const Mask first = cy * stride + (cx - R);  // the kernel's first texel in its middle row
