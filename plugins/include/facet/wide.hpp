@@ -154,7 +154,11 @@ inline Quads gather_quads(const uint16_t* base, const HalfIndex& index) {
 #else
     static_assert(std::endian::native == std::endian::little);  // the first value lowest
     Quads r;
-    for (int i = 0; i < kLanes / 2; ++i) std::memcpy(&r[i], base + index[i], 8);
+    for (int i = 0; i < kLanes / 2; ++i) {
+        uint64_t q;
+        std::memcpy(&q, base + index[i], 8);
+        r[i] = q;
+    }
     return r;
 #endif
 }
