@@ -9,7 +9,11 @@
 // with the ray caster's hard shadow (0 or 1). AO: every object gets an
 // `ao` material showing only ambient visibility (radius and samples from
 // the demo's ao material), compared with ray-traced AO at the same surface
-// point, with the AO computed at every pixel and at half resolution. Errors
+// point, with the AO computed at every pixel and at half resolution. The
+// showcase scene's three lights (directional, spot, and a point light's cube
+// map) are measured the same way through a diffuse-only `phong`, the
+// visibility every lit shader receives (facet::sdk::Receiving), and its AO
+// through phong's ambient term. Errors
 // are over pixels where both see the same object. Single thread; times are
 // medians over --runs frames, each drawing every shadow map it needs.
 #include "reference/raycast.hpp"
@@ -132,10 +136,31 @@ Error ao_error(const Scene& scene, const Timed& t, double radius, int rays) {
 
 void row(const std::string& pass, double ms, const Error& e) {
     if (e.pixels == 0) {
-        std::printf("%-36s %10.2f %10s %10s %10s\n", pass.c_str(), ms, "-", "-", "-");
+        std::printf("%-44s %10.2f %10s %10s %10s\n", pass.c_str(), ms, "-", "-", "-");
         return;
     }
-    std::printf("%-36s %10.2f %10.4f %10.4f %10d\n", pass.c_str(), ms, e.rmse, e.max, e.pixels);
+    std::printf("%-44s %10.2f %10.4f %10.4f %10d\n", pass.c_str(), ms, e.rmse, e.max, e.pixels);
+}
+
+const char* light_name(LightType t) {
+    switch (t) {
+    case LightType::directional: return "directional";
+    case LightType::point: return "point, cube";
+    case LightType::spot: return "spot";
+    }
+    return "?";
+}
+
+// A row for each shadow-casting light of `scene`.
+void shadow_rows(const Scene& scene, const std::string& label, int runs) {
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        if (!l.casts_shadow) continue;
+        double ms = 0;
+        const Error e = shadow_error(scene, i, runs, ms);
+        const int size = l.shadow_map_size ? l.shadow_map_size : scene.settings.shadow_map_size;
+        row(label + ": " + light_name(l.type) + " " + std::to_string(size) + "^2", ms, e);
+    }
 }
 
 }  // namespace
@@ -155,7 +180,7 @@ int main(int argc, char** argv) {
     const std::string configs = std::string(FACET_SOURCE_DIR) + "/configs/scenes/";
     std::printf("facet-bench-shadow-ao: %dx%d, 1 thread, median of %d frames, %d AO rays\n",
                 width, height, runs, rays);
-    std::printf("%-36s %10s %10s %10s %10s\n", "pass", "ms", "RMSE", "max", "pixels");
+    std::printf("%-44s %10s %10s %10s %10s\n", "pass", "ms", "RMSE", "max", "pixels");
 
     Scene shadow = load_scene(configs + "shadow.yaml", registry);
     shadow.settings.width = width;
@@ -163,14 +188,27 @@ int main(int argc, char** argv) {
     shadow.settings.color_format = ColorFormat::rgba32f;  // light visibility is a float
     override_materials(shadow, registry, "shadow",
                        {number("base_color", {1, 1, 1, 1}), number("ambient", {0, 0, 0})});
-    for (size_t i = 0; i < shadow.lights.size(); ++i) {
-        if (!shadow.lights[i].casts_shadow) continue;
-        double ms = 0;
-        const Error e = shadow_error(shadow, i, runs, ms);
-        const std::string name = std::string("shadow map (") +
-                                 (shadow.lights[i].type == LightType::spot ? "spot" : "directional") +
-                                 ", " + std::to_string(shadow.settings.shadow_map_size) + "^2)";
-        row(name, ms, e);
+    shadow_rows(shadow, "shadow", runs);
+
+    Scene showcase = load_scene(configs + "showcase.yaml", registry);
+    showcase.settings.width = width;
+    showcase.settings.height = height;
+    showcase.settings.color_format = ColorFormat::rgba32f;
+    override_materials(showcase, registry, "phong",
+                       {number("ambient", {0, 0, 0}), number("diffuse", {1, 1, 1}),
+                        number("specular", {0, 0, 0}), number("emission", {0, 0, 0})});
+    shadow_rows(showcase, "phong, showcase", runs);
+    // Its AO, through phong's ambient term alone.
+    override_materials(showcase, registry, "phong",
+                       {number("ambient", {1, 1, 1}), number("diffuse", {0, 0, 0}),
+                        number("specular", {0, 0, 0}), number("emission", {0, 0, 0}),
+                        number("ambient_occlusion", {1})});
+    showcase.lights.clear();
+    {
+        const Timed t = render(showcase, runs);
+        row("phong, showcase: SSAO (" + std::to_string(showcase.settings.ao_samples) +
+                " dirs, " + (showcase.settings.ao_half_resolution ? "half res)" : "full res)"),
+            t.ao, ao_error(showcase, t, showcase.settings.ao_radius, rays));
     }
 
     Scene ao = load_scene(configs + "ao.yaml", registry);

@@ -394,11 +394,28 @@ Reference lit_reference(const Setup& s, const Values& p, const TextureBinding* t
     };
 }
 
+// The shadow and AO parameters (facet::sdk::Receiving) at their defaults,
+// added to a lit shader's own: the setups here have no shadow maps and no AO,
+// which the tests in test_shadow_ao.cpp cover.
+Values receiving(Values v) {
+    v["receive_shadows"] = {1.0};
+    v["shadow_kernel"] = {3.0};
+    v["shadow_bias"] = {1.0};
+    v["shadow_slope_bias"] = {1.5};
+    v["ambient_occlusion"] = {0.0};
+    return v;
+}
+
+Values with_ao(Values v) {
+    v["ambient_occlusion"] = {1.0};
+    return v;
+}
+
 Values lit_values(bool per_pixel, bool textured) {
-    return {{"base_color", {0.9, 0.75, 0.6, 0.8}},
+    return receiving({{"base_color", {0.9, 0.75, 0.6, 0.8}},
             {"ambient", {0.05, 0.06, 0.08}},
             {"base_texture", {double(textured)}},
-            {"per_pixel", {double(per_pixel)}}};
+            {"per_pixel", {double(per_pixel)}}});
 }
 
 // ---- phong ---------------------------------------------------------------------
@@ -430,13 +447,13 @@ Reference phong_reference(const Setup& s, const Values& p, const TextureBinding*
 }
 
 Values phong_values(bool blinn, double shininess, bool textured) {
-    return {{"ambient", {0.02, 0.02, 0.03}},
+    return receiving({{"ambient", {0.02, 0.02, 0.03}},
             {"diffuse", {0.55, 0.45, 0.35}},
             {"specular", {0.4, 0.4, 0.45}},
             {"emission", {0.03, 0.0, 0.01}},
             {"shininess", {shininess}},
             {"blinn", {double(blinn)}},
-            {"base_texture", {double(textured)}}};
+            {"base_texture", {double(textured)}}});
 }
 
 // ---- toon ----------------------------------------------------------------------
@@ -495,7 +512,7 @@ std::optional<ToonRef> ref_toon(const Setup& s, const Values& p, const dvec3& po
 }
 
 Values toon_values(int bands, double outline_width) {
-    return {{"base_color", {0.8, 0.45, 0.3}},
+    return receiving({{"base_color", {0.8, 0.45, 0.3}},
             {"ambient", {0.06, 0.06, 0.08}},
             {"bands", {double(bands)}},
             {"specular_color", {0.5, 0.5, 0.45}},
@@ -504,7 +521,7 @@ Values toon_values(int bands, double outline_width) {
             {"rim_color", {0.1, 0.15, 0.25}},
             {"rim_threshold", {0.45}},
             {"outline_color", {0.02, 0.01, 0.0}},
-            {"outline_width", {outline_width}}};
+            {"outline_width", {outline_width}}});
 }
 
 // ---- a sphere ------------------------------------------------------------------
@@ -615,13 +632,21 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit,
         {"phong", phong_values(true, 400, false), false},
         {"phong", phong_values(false, 1, true), true},
         {"phong", phong_values(true, 6000, true), true},
-        {"unlit", {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {0.0}}}, false},
-        {"unlit", {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {1.0}}}, true},
+        {"unlit",
+         {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {0.0}}, {"ambient_occlusion", {0.0}}},
+         false},
+        {"unlit",
+         {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {1.0}}, {"ambient_occlusion", {0.0}}},
+         true},
         {"lit", lit_values(true, false), false},
         {"lit", lit_values(false, false), false},
         {"lit", lit_values(true, true), true},
         {"toon", toon_values(3, 0.42), false},
-        {"toon", toon_values(7, 0.0), false}};
+        {"toon", toon_values(7, 0.0), false},
+        // The version that receives shadows and AO (none here: AO reads 1).
+        {"phong", with_ao(phong_values(true, 40, true)), true},
+        {"lit", with_ao(lit_values(false, false)), false},
+        {"toon", with_ao(toon_values(3, 0.42)), false}};
     for (const Case& c : cases) {
         INFO(c.shader << ", textured " << c.textured);
         const auto wide = registry.get(c.shader);

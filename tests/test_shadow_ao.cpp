@@ -4,9 +4,11 @@
 #include "reference/raycast.hpp"
 #include "support.hpp"
 
+#include <facet/error.hpp>
 #include <facet/frame_report.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/math.hpp>
+#include <facet/plugin.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 #include <facet/shader.hpp>
@@ -62,48 +64,62 @@ bool in_inner_cone(const Light& l, const glm::dvec3& p) {
            std::cos(glm::radians(double(l.spot_inner)));
 }
 
+// Renders a cube over the ground in `material`, which shows only the light
+// (zero exactly where it is blocked), lit by `light` alone, and requires
+// every ground pixel away from the penumbra to be lit or dark as the ray
+// caster's hard shadow says.
+void check_hard_shadows(const std::string& material, const std::string& light) {
+    SceneDir sd;
+    const Scene scene = sd.load(camera(200, 150) + "lights: [" + light + "]\nobjects:\n" +
+                                "  - {mesh: ground.obj, material: " + material + "}\n" +
+                                "  - {mesh: cube.obj, position: [0, 0.8, 0], material: " +
+                                material + "}\n");
+    Framebuffer fb;
+    const FrameStats stats = Renderer().render(scene, fb);
+    CHECK(stats.shadow_passes == (scene.lights[0].type == LightType::point ? 6u : 1u));
+    const reference::RayCaster rc(scene);
+    const Light& l = scene.lights[0];
+    int lit = 0, dark = 0;
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
+            if (!hit || hit->object != 0) continue;       // ground only
+            if (!in_inner_cone(l, hit->point)) continue;  // the cone, not a shadow, darkens
+            const bool truth = rc.lit(l, hit->point, hit->normal);
+            // Skip the penumbra band: a neighbour a pixel away disagrees.
+            bool edge = false;
+            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                const auto n = rc.camera_hit(scene, x + 0.5 + dx, y + 0.5 + dy);
+                edge |= !n || n->object != 0 || rc.lit(l, n->point, n->normal) != truth;
+            }
+            if (edge) continue;
+            // Lit ground shows n.l times the spot cone; shadow shows 0.
+            REQUIRE((fb.pixel(x, y).r > 0.02f) == truth);
+            (truth ? lit : dark) += 1;
+        }
+    CHECK(lit > 500);
+    CHECK(dark > 200);
+}
+
+const char* const kDirectional =
+    "{type: directional, direction: [0.7, -1, 0.5], color: [1, 1, 1], intensity: 1, "
+    "casts_shadow: true}";
+const char* const kSpot =
+    "{type: spot, position: [1.2, 3.2, 1.0], direction: [-0.35, -1, -0.3], color: [1, 1, 1], "
+    "intensity: 1, spot_inner: 40, spot_outer: 45, casts_shadow: true}";
+// Above a corner of the cube: the ground around it falls in five of the cube
+// map's faces.
+const char* const kPoint =
+    "{type: point, position: [0.9, 2.4, 0.7], color: [1, 1, 1], intensity: 1, "
+    "casts_shadow: true, shadow_map_size: 512}";
+
 }  // namespace
 
 TEST_CASE("shadow maps classify lit and shadowed points as the ray caster does",
           "[shadow]") {
-    const char* lights[] = {
-        "{type: directional, direction: [0.7, -1, 0.5], color: [1, 1, 1], intensity: 1, "
-        "casts_shadow: true}",
-        "{type: spot, position: [1.2, 3.2, 1.0], direction: [-0.35, -1, -0.3], color: [1, 1, 1], "
-        "intensity: 1, spot_inner: 40, spot_outer: 45, casts_shadow: true}"};
-    for (const char* light : lights) {
+    for (const char* light : {kDirectional, kSpot, kPoint}) {
         INFO(light);
-        SceneDir sd;
-        const Scene scene = sd.load(camera(200, 150) + "lights: [" + light + "]\nobjects:\n" +
-                                    "  - {mesh: ground.obj, material: " + kShadowed + "}\n" +
-                                    "  - {mesh: cube.obj, position: [0, 0.8, 0], material: " +
-                                    kShadowed + "}\n");
-        Framebuffer fb;
-        const FrameStats stats = Renderer().render(scene, fb);
-        CHECK(stats.shadow_passes == 1);
-        const reference::RayCaster rc(scene);
-        const Light& l = scene.lights[0];
-        int lit = 0, dark = 0;
-        for (int y = 0; y < fb.height(); ++y)
-            for (int x = 0; x < fb.width(); ++x) {
-                const auto hit = rc.camera_hit(scene, x + 0.5, y + 0.5);
-                if (!hit || hit->object != 0) continue;  // ground only
-                if (!in_inner_cone(l, hit->point)) continue;  // the cone, not a shadow, darkens
-                const bool truth = rc.lit(l, hit->point, hit->normal);
-                // Skip the penumbra band: a neighbour a pixel away disagrees.
-                bool edge = false;
-                for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                    const auto n = rc.camera_hit(scene, x + 0.5 + dx, y + 0.5 + dy);
-                    edge |= !n || n->object != 0 || rc.lit(l, n->point, n->normal) != truth;
-                }
-                if (edge) continue;
-                // Lit ground shows n.l times the spot cone; shadow shows 0.
-                const bool facet_lit = fb.pixel(x, y).r > 0.02f;
-                REQUIRE(facet_lit == truth);
-                (truth ? lit : dark) += 1;
-            }
-        CHECK(lit > 500);
-        CHECK(dark > 200);
+        check_hard_shadows(kShadowed, light);
     }
 }
 
@@ -264,7 +280,7 @@ TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visibl
     CHECK(plain.ao_passes == 0);
     const FrameStats shadowed =
         stats_for(unlit + "  - {mesh: cube.obj, material: " + kShadowed + "}\n");
-    CHECK(shadowed.shadow_passes == 2);  // directional and spot; point lights cast no map
+    CHECK(shadowed.shadow_passes == 8);  // directional, spot and the point light's six faces
     CHECK(shadowed.ao_passes == 0);
     const FrameStats hidden = stats_for(
         unlit + "  - {mesh: cube.obj, visible: false, material: " + kShadowed + "}\n" +
@@ -285,7 +301,7 @@ TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visibl
     Framebuffer fb;
     Renderer renderer;
     const FrameStats on = renderer.render(both, fb);
-    CHECK(on.shadow_passes == 2);
+    CHECK(on.shadow_passes == 8);
     CHECK(on.ao_passes == 1);
     both.settings.shadows = false;
     const FrameStats no_shadows = renderer.render(both, fb);
@@ -796,4 +812,136 @@ TEST_CASE("the AO pass's normals take the neighbour nearer in depth on each axis
         normals.push_back(nx), normals.push_back(ny), normals.push_back(nz);
     }
     for (size_t i = 3; i < normals.size(); ++i) CHECK(normals[i] == normals[i % 3]);
+}
+
+// ---- shadows and AO as services of every lit shader (ABI 1.3) --------------
+
+TEST_CASE("phong, toon and lit receive shadows from directional, spot and point lights as the "
+          "ray caster casts them",
+          "[shadow]") {
+    // Materials that show only the light: their colour is zero exactly where
+    // the light is blocked.
+    const std::pair<const char*, const char*> materials[] = {
+        {"phong", "{shader: phong, params: {ambient: [0, 0, 0], diffuse: [1, 1, 1], "
+                  "specular: [0, 0, 0], shadow_kernel: 1}}"},
+        {"toon", "{shader: toon, params: {base_color: [1, 1, 1], ambient: [0, 0, 0], bands: 16, "
+                 "specular_color: [0, 0, 0], rim_color: [0, 0, 0], outline_width: 0, "
+                 "shadow_kernel: 1}}"},
+        {"lit", "{shader: lit, params: {base_color: [1, 1, 1, 1], ambient: [0, 0, 0], "
+                "shadow_kernel: 1}}"},
+        {"lit per vertex", "{shader: lit, params: {base_color: [1, 1, 1, 1], ambient: [0, 0, 0], "
+                           "per_pixel: false, shadow_kernel: 1}}"}};
+    for (const auto& [shader, material] : materials)
+        for (const char* light : {kDirectional, kSpot, kPoint}) {
+            INFO(shader << ", " << light);
+            check_hard_shadows(material, light);
+        }
+}
+
+TEST_CASE("shadow maps and AO are drawn only for the visible materials that use them",
+          "[shadow][ao][skip]") {
+    SceneDir sd;
+    const auto frame = [&](const std::string& params) {
+        const Scene scene = sd.load(
+            camera(96, 72) +
+            "lights: [{type: directional, direction: [0.7, -1, 0.5], casts_shadow: true}]\n"
+            "objects:\n  - {mesh: ground.obj, material: {shader: phong, params: {" + params +
+            "}}}\n  - {mesh: cube.obj, position: [0, 0.8, 0], material: {shader: phong, "
+            "params: {" + params + "}}}\n");
+        Framebuffer fb;
+        return Renderer().render(scene, fb);
+    };
+    const FrameStats both = frame("ambient_occlusion: 1");  // shadows on by default
+    CHECK(both.shadows_needed);
+    CHECK(both.shadow_passes == 1);
+    CHECK(both.ao_needed);
+    CHECK(both.ao_passes == 1);
+    const FrameStats neither = frame("receive_shadows: false");  // AO off by default
+    CHECK_FALSE(neither.shadows_needed);
+    CHECK(neither.shadow_passes == 0);
+    CHECK_FALSE(neither.ao_needed);
+    CHECK(neither.ao_passes == 0);
+    CHECK(neither.prepasses == 0);
+}
+
+namespace {
+
+// Shaders whose parameter says it uses a pass it cannot, or says it with a
+// type the host cannot read that way.
+template <uint32_t Needs, uint32_t Type, uint32_t Flag>
+struct FlagProbe {
+    struct Params {
+        float value;
+    };
+    struct Varyings {};
+    static constexpr const char* name = "flag_probe";
+    static constexpr const char* version = "1";
+    static constexpr uint32_t needs = Needs;
+    static constexpr facet_param_desc with_flag() {
+        facet_param_desc p = sdk::float1("value", 0, 0.0f, 0.0f, 1.0f);
+        p.type = Type;
+        p.flags = Flag;
+        return p;
+    }
+    static constexpr facet_param_desc params[] = {with_flag()};
+    static Varyings vertex(const sdk::VertexIn&, const sdk::Draw&, const Params&, glm::vec4& c) {
+        c = glm::vec4(0.0f);
+        return {};
+    }
+    static glm::vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
+        return glm::vec4(1.0f);
+    }
+};
+
+template <class S>
+bool accepted() {
+    try {
+        ShaderPlugin::from_descriptor(sdk::describe<S>(), "test");
+        return true;
+    } catch (const Error& e) {
+        CHECK(e.code() == ErrorCode::plugin_invalid);
+        return false;
+    }
+}
+
+}  // namespace
+
+TEST_CASE("a parameter that says whether a pass is used must be of a type the host reads, for "
+          "a pass the shader needs",
+          "[shadow][ao][plugin]") {
+    CHECK(accepted<FlagProbe<FACET_NEED_SHADOW_MAP, FACET_PARAM_BOOL, FACET_PARAM_USES_SHADOWS>>());
+    CHECK(accepted<FlagProbe<FACET_NEED_AO, FACET_PARAM_FLOAT, FACET_PARAM_USES_AO>>());
+    CHECK(accepted<FlagProbe<FACET_NEED_AO, FACET_PARAM_BOOL, FACET_PARAM_USES_AO>>());
+    CHECK_FALSE(
+        accepted<FlagProbe<FACET_NEED_SHADOW_MAP, FACET_PARAM_FLOAT, FACET_PARAM_USES_SHADOWS>>());
+    CHECK_FALSE(
+        accepted<FlagProbe<FACET_NEED_LIGHTS, FACET_PARAM_BOOL, FACET_PARAM_USES_SHADOWS>>());
+    CHECK_FALSE(accepted<FlagProbe<FACET_NEED_AO, FACET_PARAM_INT, FACET_PARAM_USES_AO>>());
+    CHECK_FALSE(accepted<FlagProbe<FACET_NEED_LIGHTS, FACET_PARAM_FLOAT, FACET_PARAM_USES_AO>>());
+}
+
+TEST_CASE("a light's shadow_map_size is checked, and a point light's cube is six maps",
+          "[shadow][config]") {
+    SceneDir sd;
+    const std::string objects =
+        "objects:\n  - {mesh: ground.obj, material: " + std::string(kShadowed) + "}\n";
+    try {
+        sd.load(camera(64, 48) +
+                "lights:\n  - {type: point, position: [0, 2, 0], casts_shadow: true,\n"
+                "     shadow_map_size: 8}\n" + objects);
+        FAIL("a shadow map of 8 texels was accepted");
+    } catch (const Error& e) {
+        CHECK(e.code() == ErrorCode::out_of_range);
+        CHECK(e.line() == 5);
+        CHECK(std::string(e.what()).find("shadow_map_size") != std::string::npos);
+    }
+    Scene scene = sd.load(camera(64, 48) +
+                          "lights:\n  - {type: point, position: [0, 2, 0], casts_shadow: true, "
+                          "shadow_map_size: 64}\n" + objects);
+    Renderer renderer;
+    Framebuffer fb;
+    CHECK(renderer.render(scene, fb).shadow_passes == 6);
+    CHECK(renderer.render(scene, fb).shadow_maps_reused == 6);
+    scene.lights[0].position.x += 0.1f;  // every face sees it move
+    CHECK(renderer.render(scene, fb).shadow_passes == 6);
 }

@@ -9,6 +9,12 @@
 // default) the normal and the world position are interpolated and E is
 // evaluated per fragment. Without it E is evaluated per vertex (Gouraud) and
 // interpolated; the texture is still sampled per fragment.
+//
+// With receive_shadows (the default) the term of each light that casts
+// shadows is times the share of it its shadow map lets through, evaluated
+// per fragment even without per_pixel; with ambient_occlusion above 0 the
+// ambient term is times AO to that power, per fragment too
+// (facet::sdk::Receiving).
 #include <facet/shader.hpp>
 
 #include <cstddef>
@@ -23,21 +29,22 @@ struct Lit {
         glm::vec3 ambient;
         int32_t base_texture;  // 1 if bound
         int32_t per_pixel;     // bool
+        Receiving receive;
     };
     struct Varyings {
         glm::vec3 position;    // world space
         glm::vec3 normal;      // world space, unit at the vertices
         glm::vec2 uv;
-        glm::vec3 irradiance;  // E of the vertex (per_pixel off only)
+        glm::vec3 irradiance;  // per_pixel off: the vertex's E from unshadowed lights
     };
 
     static constexpr const char* name = "lit";
     static constexpr const char* version = "1.0";
-    static constexpr uint32_t needs =
-        FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS | FACET_NEED_TEXTURES;
+    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS |
+                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
     static constexpr facet_varying_desc varyings[] = {
         varying("position", 3), varying("normal", 3), varying("uv", 2), varying("irradiance", 3)};
-    static constexpr facet_param_desc params[] = {
+    static constexpr auto params = with_receiving(std::array{
         color4("base_color", offsetof(Params, base_color), {0.8f, 0.8f, 0.8f, 1.0f},
                "linear RGBA albedo; alpha is the output alpha"),
         color3("ambient", offsetof(Params, ambient), {0.03f, 0.03f, 0.03f},
@@ -46,15 +53,29 @@ struct Lit {
                 "colour texture (sRGB) multiplying base_color"),
         boolean("per_pixel", offsetof(Params, per_pixel), true,
                 "light each fragment (true) or each vertex, interpolated (false)"),
-    };
+    }, offsetof(Params, receive));
 
-    // Irradiance at p with unit normal n: ambient plus every light's Lambert term.
+    // Which lights a sum of Lambert terms takes: every one, those whose
+    // shadow this material receives (each times its visibility), or the others.
+    enum class Lights { all, shadowed, unshadowed };
+    static bool shadowed(const Draw& d, uint32_t i, const Params& params) {
+        return params.receive.shadows && d.has_shadow(i);
+    }
+
+    // Irradiance at p with unit normal n from the lights `which` selects.
     static glm::vec3 irradiance(const glm::vec3& p, const glm::vec3& n, const Draw& d,
-                                const Params& params) {
-        glm::vec3 e = params.ambient;
+                                const Params& params, Lights which) {
+        glm::vec3 e(0.0f);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
+            if (which != Lights::all && (which == Lights::shadowed) != shadowed(d, i, params))
+                continue;
             const Incident in = incident_light(d.light(i), p);
-            e += in.radiance * glm::max(glm::dot(n, in.to_light), 0.0f);
+            const float n_l = glm::dot(n, in.to_light);
+            if (n_l <= 0.0f) continue;
+            const float v = which == Lights::unshadowed
+                                ? 1.0f
+                                : light_visibility(d, i, params.receive, p, n_l);
+            e += in.radiance * (n_l * v);
         }
         return e;
     }
@@ -63,14 +84,18 @@ struct Lit {
         clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
         const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
         const glm::vec3 n = glm::normalize(d.normal_matrix() * in.normal);
-        const glm::vec3 e = p.per_pixel ? glm::vec3(0.0f) : irradiance(world, n, d, p);
+        const glm::vec3 e =
+            p.per_pixel ? glm::vec3(0.0f) : irradiance(world, n, d, p, Lights::unshadowed);
         return {world, n, in.uv, e};
     }
 
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         const glm::vec4 albedo = p.base_color * f.texture(0);
+        const glm::vec3 n = glm::normalize(v.normal);
         const glm::vec3 e =
-            p.per_pixel ? irradiance(v.position, glm::normalize(v.normal), d, p) : v.irradiance;
+            p.ambient * ambient_visibility(f, p.receive) +
+            (p.per_pixel ? irradiance(v.position, n, d, p, Lights::all)
+                         : v.irradiance + irradiance(v.position, n, d, p, Lights::shadowed));
         return {glm::vec3(albedo) * e, albedo.a};
     }
 
@@ -83,23 +108,50 @@ struct Lit {
         wide::Vec3 irradiance;
     };
 
+    // Irradiance from the lights `which` selects, each light's term times its
+    // visibility if Shadows.
+    template <bool Shadows>
     static wide::Vec3 irradiance(const wide::Vec3& p, const wide::Vec3& n, const Draw& d,
-                                 const Params& params) {
+                                 const Params& params, Lights which) {
         using namespace wide;
-        Vec3 e(params.ambient);
+        Vec3 e(splat(0.0f));
         for (uint32_t i = 0; i < d.light_count(); ++i) {
+            if (which != Lights::all && (which == Lights::shadowed) != shadowed(d, i, params))
+                continue;
             const WideIncident in = incident_light(d.light(i), p);
-            e += in.radiance * max(dot(n, in.to_light), splat(0.0f));
+            const Float n_l = max(dot(n, in.to_light), splat(0.0f));
+            if constexpr (Shadows) {
+                if (!any(n_l > 0.0f)) continue;
+                e += in.radiance * (n_l * light_visibility(d, i, params.receive, p, n_l));
+            } else {
+                e += in.radiance * n_l;
+            }
         }
         return e;
     }
 
+    // Two versions: one that receives shadows and AO, and one for draws that
+    // receive neither (facet::sdk::receives), where per-vertex lighting is all
+    // in v.irradiance.
     static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw& d,
                                     const Params& p) {
+        return receives(d, p.receive) ? shade<true>(v, f, d, p) : shade<false>(v, f, d, p);
+    }
+
+    template <bool Receives>
+    static wide::Vec4 shade(const WideVaryings& v, WideFragment& f, const Draw& d,
+                            const Params& p) {
         using namespace wide;
         const Vec4 albedo = Vec4(p.base_color) * f.texture(0);
-        const Vec3 e =
-            p.per_pixel ? irradiance(v.position, normalize(v.normal), d, p) : v.irradiance;
+        Vec3 e(p.ambient);
+        if constexpr (Receives) e = e * ambient_visibility(f, p.receive);
+        if (p.per_pixel)
+            e += irradiance<Receives>(v.position, normalize(v.normal), d, p, Lights::all);
+        else if (Receives)
+            e += v.irradiance +
+                 irradiance<Receives>(v.position, normalize(v.normal), d, p, Lights::shadowed);
+        else
+            e += v.irradiance;
         return {rgb(albedo) * e, albedo.w};
     }
 };

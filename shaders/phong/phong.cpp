@@ -10,7 +10,10 @@
 //
 // n is the interpolated normal, normalised per fragment; v points from the
 // fragment to the camera. `radiance` is color * intensity * attenuation *
-// spot factor (facet::sdk::incident_light). All colours are linear.
+// spot factor (facet::sdk::incident_light). All colours are linear. With
+// receive_shadows (the default) each light's term is times the share of it
+// its shadow map lets through, if it casts shadows; with ambient_occlusion
+// above 0, ambient is times AO to that power (facet::sdk::Receiving).
 #include <facet/shader.hpp>
 
 #include <cmath>
@@ -29,6 +32,7 @@ struct Phong {
         float shininess;
         int32_t blinn;         // bool
         int32_t base_texture;  // 1 if bound
+        Receiving receive;
     };
     struct Varyings {
         glm::vec3 position;  // world space
@@ -38,11 +42,11 @@ struct Phong {
 
     static constexpr const char* name = "phong";
     static constexpr const char* version = "1.0";
-    static constexpr uint32_t needs =
-        FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS | FACET_NEED_TEXTURES;
+    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS |
+                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
     static constexpr facet_varying_desc varyings[] = {
         varying("position", 3), varying("normal", 3), varying("uv", 2)};
-    static constexpr facet_param_desc params[] = {
+    static constexpr auto params = with_receiving(std::array{
         color3("ambient", offsetof(Params, ambient), {0.02f, 0.02f, 0.02f},
                "linear RGB added everywhere"),
         color3("diffuse", offsetof(Params, diffuse), {0.6f, 0.6f, 0.6f},
@@ -57,7 +61,7 @@ struct Phong {
                 "Blinn-Phong (half vector) instead of Phong (reflected vector)"),
         texture("base_texture", offsetof(Params, base_texture), 2, true,
                 "colour texture (sRGB) multiplying diffuse"),
-    };
+    }, offsetof(Params, receive));
 
     // The specular lobe s for unit n, L, v (n.L > 0).
     static float lobe(const glm::vec3& n, const glm::vec3& l, const glm::vec3& v, const Params& p) {
@@ -77,12 +81,13 @@ struct Phong {
         const glm::vec3 n = glm::normalize(v.normal);
         const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
         const glm::vec3 kd = p.diffuse * glm::vec3(f.texture(0));
-        glm::vec3 c = p.emission + p.ambient;
+        glm::vec3 c = p.emission + p.ambient * ambient_visibility(f, p.receive);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
             const float n_l = glm::dot(n, in.to_light);
             if (n_l <= 0.0f || in.radiance == glm::vec3(0.0f)) continue;
-            c += in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p));
+            c += in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p)) *
+                 light_visibility(d, i, p.receive, v.position, n_l);
         }
         return {c, 1.0f};
     }
@@ -105,20 +110,30 @@ struct Phong {
         return pow(max(c, splat(0.0f)), p.shininess);
     }
 
+    // Two versions: one that receives shadows and AO, and one for draws that
+    // receive neither (facet::sdk::receives).
     static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw& d,
                                     const Params& p) {
+        return receives(d, p.receive) ? shade<true>(v, f, d, p) : shade<false>(v, f, d, p);
+    }
+
+    template <bool Receives>
+    static wide::Vec4 shade(const WideVaryings& v, WideFragment& f, const Draw& d,
+                            const Params& p) {
         using namespace wide;
         const Vec3 n = normalize(v.normal);
         const Vec3 to_eye = normalize(d.camera_position() - v.position);
         const Vec3 kd = p.diffuse * rgb(f.texture(0));
         Vec3 c(p.emission + p.ambient);
+        if constexpr (Receives) c = p.emission + p.ambient * ambient_visibility(f, p.receive);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const WideIncident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);
             const Mask facing = n_l > 0.0f && (in.radiance.x != 0.0f || in.radiance.y != 0.0f ||
                                                in.radiance.z != 0.0f);
             if (!any(facing)) continue;
-            const Vec3 lit = in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p));
+            Vec3 lit = in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p));
+            if constexpr (Receives) lit = lit * light_visibility(d, i, p.receive, v.position, n_l);
             c += select(facing, lit, Vec3(splat(0.0f)));
         }
         return {c, splat(1.0f)};

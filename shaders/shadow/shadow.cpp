@@ -1,8 +1,10 @@
 // shadow: Lambert diffuse plus ambient, with shadows from every light that
-// casts them. The host renders a depth map from each such light (only when
-// a visible material uses this shader); each fragment filters it with
-// percentage-closer filtering over pcf_kernel x pcf_kernel texels and a
-// slope-scaled bias, both parameters of this shader.
+// casts them: an example of the SDK's shadow service, which lit, phong and
+// toon also use (receive_shadows). The host renders a depth map from each
+// such light (a cube for a point light) when a visible material uses this
+// shader; each fragment filters it with percentage-closer filtering over
+// pcf_kernel x pcf_kernel texels and a slope-scaled bias, both parameters of
+// this shader (light_visibility).
 #include <facet/shader.hpp>
 
 #include <cstddef>
@@ -39,6 +41,11 @@ struct Shadow {
                "bias per unit of tan(angle to the light), texels"),
     };
 
+    // Its filter as the SDK's shadow service takes it.
+    static Receiving receiving(const Params& p) {
+        return {1, p.pcf_kernel, p.bias, p.slope_bias, 0.0f};
+    }
+
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
         const glm::vec4 world = d.model() * glm::vec4(in.position, 1.0f);
         clip = d.view_projection() * world;
@@ -53,10 +60,7 @@ struct Shadow {
             const Incident in = incident_light(d.light(i), v.position);
             const float n_dot_l = glm::dot(n, in.to_light);
             if (n_dot_l <= 0.0f || in.radiance == glm::vec3(0.0f)) continue;  // nothing to shadow
-            const ShadowMap map = d.shadow(i);
-            const float visible = map ? shadow_visibility(map, v.position, n_dot_l, p.pcf_kernel,
-                                                          p.bias, p.slope_bias)
-                                      : 1.0f;
+            const float visible = light_visibility(d, i, receiving(p), v.position, n_dot_l);
             light += in.radiance * (n_dot_l * visible);
         }
         return glm::vec4(glm::vec3(p.base_color) * (p.ambient + light), p.base_color.a);
@@ -84,10 +88,7 @@ struct Shadow {
                                 (in.radiance.x != 0.0f || in.radiance.y != 0.0f ||
                                  in.radiance.z != 0.0f);
             if (!any(facing)) continue;  // nothing to shadow
-            const ShadowMap map = d.shadow(i);
-            const Float visible = map ? shadow_visibility(map, v.position, n_dot_l, p.pcf_kernel,
-                                                          p.bias, p.slope_bias)
-                                      : splat(1.0f);
+            const Float visible = light_visibility(d, i, receiving(p), v.position, n_dot_l);
             light += select(facing, in.radiance * (n_dot_l * visible), Vec3(splat(0.0f)));
         }
         return {glm::vec3(p.base_color) * (p.ambient + light), splat(p.base_color.a)};

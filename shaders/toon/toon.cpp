@@ -19,7 +19,10 @@
 // angle term only, so a point light's falloff stays smooth. The outline is
 // drawn where the surface turns away from the viewer, so it is thicker where
 // the surface curves gently; flat surfaces seen at a grazing angle (a large
-// ground plane) need outline_width 0.
+// ground plane) need outline_width 0. With receive_shadows (the default) a
+// light's band and highlight are times the share of it its shadow map lets
+// through; with ambient_occlusion above 0, ambient is times AO to that power
+// (facet::sdk::Receiving).
 #include <facet/shader.hpp>
 
 #include <cmath>
@@ -41,6 +44,7 @@ struct Toon {
         float rim_threshold;
         glm::vec3 outline_color;
         float outline_width;
+        Receiving receive;
     };
     struct Varyings {
         glm::vec3 position;  // world space
@@ -49,10 +53,11 @@ struct Toon {
 
     static constexpr const char* name = "toon";
     static constexpr const char* version = "1.0";
-    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_LIGHTS;
+    static constexpr uint32_t needs =
+        FACET_NEED_NORMALS | FACET_NEED_LIGHTS | FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
     static constexpr facet_varying_desc varyings[] = {varying("position", 3),
                                                       varying("normal", 3)};
-    static constexpr facet_param_desc params[] = {
+    static constexpr auto params = with_receiving(std::array{
         color3("base_color", offsetof(Params, base_color), {0.8f, 0.3f, 0.2f},
                "linear RGB albedo"),
         color3("ambient", offsetof(Params, ambient), {0.08f, 0.08f, 0.1f},
@@ -72,7 +77,7 @@ struct Toon {
                "linear RGB of the silhouette outline"),
         float1("outline_width", offsetof(Params, outline_width), 0.2f, 0.0f, 1.0f,
                "outline where n.v is below this; 0: no outline"),
-    };
+    }, offsetof(Params, receive));
 
     static float band(float n_l, int32_t bands) {
         return n_l > 0.0f ? std::ceil(n_l * float(bands)) / float(bands) : 0.0f;
@@ -89,19 +94,22 @@ struct Toon {
         return {world, glm::normalize(d.normal_matrix() * in.normal)};
     }
 
-    static glm::vec4 fragment(const Varyings& v, Fragment&, const Draw& d, const Params& p) {
+    static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         const glm::vec3 n = glm::normalize(v.normal);
         const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
         const float n_v = glm::dot(n, to_eye);
         if (p.outline_width > 0.0f && n_v < p.outline_width) return {p.outline_color, 1.0f};
         const float highlight = highlight_cos(p);
-        glm::vec3 light = p.ambient, shine(0.0f);
+        glm::vec3 light = p.ambient * ambient_visibility(f, p.receive), shine(0.0f);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
             const float n_l = glm::dot(n, in.to_light);
-            light += in.radiance * band(n_l, p.bands);
-            if (n_l > 0.0f && glm::dot(n, glm::normalize(in.to_light + to_eye)) > highlight)
-                shine += in.radiance * p.specular_color;
+            if (n_l <= 0.0f) continue;
+            const glm::vec3 radiance =
+                in.radiance * light_visibility(d, i, p.receive, v.position, n_l);
+            light += radiance * band(n_l, p.bands);
+            if (glm::dot(n, glm::normalize(in.to_light + to_eye)) > highlight)
+                shine += radiance * p.specular_color;
         }
         const glm::vec3 rim = 1.0f - n_v > p.rim_threshold ? p.rim_color : glm::vec3(0.0f);
         return {p.base_color * light + shine + rim, 1.0f};
@@ -114,8 +122,16 @@ struct Toon {
         wide::Vec3 normal;
     };
 
-    static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment&, const Draw& d,
+    // Two versions: one that receives shadows and AO, and one for draws that
+    // receive neither (facet::sdk::receives).
+    static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw& d,
                                     const Params& p) {
+        return receives(d, p.receive) ? shade<true>(v, f, d, p) : shade<false>(v, f, d, p);
+    }
+
+    template <bool Receives>
+    static wide::Vec4 shade(const WideVaryings& v, WideFragment& f, const Draw& d,
+                            const Params& p) {
         using namespace wide;
         const Vec3 n = normalize(v.normal);
         const Vec3 to_eye = normalize(d.camera_position() - v.position);
@@ -123,14 +139,18 @@ struct Toon {
         const Mask outline = p.outline_width > 0.0f ? n_v < p.outline_width : Mask{};
         const float highlight = highlight_cos(p), bands = float(p.bands);
         Vec3 light(p.ambient), shine(splat(0.0f));
+        if constexpr (Receives) light = light * ambient_visibility(f, p.receive);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const WideIncident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);
             const Mask facing = n_l > 0.0f;
             if (!any(facing)) continue;
-            light += in.radiance * select(facing, ceil(n_l * bands) / bands, splat(0.0f));
+            Vec3 radiance = in.radiance;
+            if constexpr (Receives)
+                radiance = radiance * light_visibility(d, i, p.receive, v.position, n_l);
+            light += radiance * select(facing, ceil(n_l * bands) / bands, splat(0.0f));
             const Mask shines = facing && dot(n, normalize(in.to_light + to_eye)) > highlight;
-            shine += select(shines, in.radiance * p.specular_color, Vec3(splat(0.0f)));
+            shine += select(shines, radiance * p.specular_color, Vec3(splat(0.0f)));
         }
         const Vec3 rim = select(1.0f - n_v > p.rim_threshold, Vec3(p.rim_color), Vec3(splat(0.0f)));
         const Vec3 c = p.base_color * light + shine + rim;

@@ -1,4 +1,6 @@
-// unlit: vertex colour x base colour x optional texture. No lighting.
+// unlit: vertex colour x base colour x optional texture. No lighting, so
+// no shadows; with ambient_occlusion above 0 (a lightmapped look) the colour
+// is times the host's AO to that power.
 #include <facet/shader.hpp>
 
 #include <cstddef>
@@ -11,6 +13,7 @@ struct Unlit {
     struct Params {
         glm::vec4 base_color;
         int32_t base_texture;  // 1 if bound
+        float ambient_occlusion;
     };
     struct Varyings {
         glm::vec4 color;
@@ -19,13 +22,15 @@ struct Unlit {
 
     static constexpr const char* name = "unlit";
     static constexpr const char* version = "1.0";
-    static constexpr uint32_t needs = FACET_NEED_COLORS | FACET_NEED_UVS | FACET_NEED_TEXTURES;
+    static constexpr uint32_t needs =
+        FACET_NEED_COLORS | FACET_NEED_UVS | FACET_NEED_TEXTURES | FACET_NEED_AO;
     static constexpr facet_varying_desc varyings[] = {varying("color", 4), varying("uv", 2)};
     static constexpr facet_param_desc params[] = {
         color4("base_color", offsetof(Params, base_color), {1, 1, 1, 1},
                "linear RGBA multiplied into every fragment"),
         texture("base_texture", offsetof(Params, base_texture), 1, true,
                 "colour texture (sRGB), sampled at the mesh UVs"),
+        ambient_occlusion(offsetof(Params, ambient_occlusion)),
     };
 
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
@@ -34,7 +39,8 @@ struct Unlit {
     }
 
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw&, const Params& p) {
-        return v.color * p.base_color * f.texture(0);
+        const glm::vec4 c = v.color * p.base_color * f.texture(0);
+        return {glm::vec3(c) * ambient_visibility(f, p.ambient_occlusion), c.a};
     }
 
     // The same for 16 fragments at once, which facet runs.
@@ -44,7 +50,8 @@ struct Unlit {
     };
     static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw&,
                                     const Params& p) {
-        return v.color * p.base_color * f.texture(0);
+        const wide::Vec4 c = v.color * p.base_color * f.texture(0);
+        return {rgb(c) * ambient_visibility(f, p.ambient_occlusion), c.w};
     }
 };
 

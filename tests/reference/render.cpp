@@ -116,7 +116,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     p->mesh = o.mesh.get();
     p->textures = m.textures;
     for (TextureBinding& t : p->textures) t.filter = Filter::bilinear;
-    p->shadowed = s.shadows && p->shader->needs(FACET_NEED_SHADOW_MAP);
+    p->shadowed = s.shadows && m.uses_shadows;
     p->needs_ao = p->shader->needs(FACET_NEED_AO);
     p->ao_radius = s.ao_radius;
 
@@ -179,7 +179,7 @@ public:
           options_(options) {
         for (size_t k = 0; k < scene.lights.size(); ++k) {
             const Light& l = scene.lights[k];
-            if (l.casts_shadow && l.type != LightType::point) casters_.push_back(k);
+            if (l.casts_shadow) casters_.push_back(k);
         }
     }
 

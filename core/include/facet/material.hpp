@@ -62,6 +62,11 @@ struct Material {
     std::shared_ptr<ShaderPlugin> plugin;
     std::shared_ptr<const ParamBlock> block;
     std::vector<TextureBinding> textures;  // by texture slot
+    // Whether the material uses the shadow maps and the AO its shader can
+    // read: the shader needs them, and its parameter that says so
+    // (FACET_PARAM_USES_SHADOWS, _USES_AO), if it has one, is on.
+    bool uses_shadows = false;
+    bool uses_ao = false;
 
     bool writes_depth() const { return depth_write.value_or(blend == BlendMode::opaque); }
 };

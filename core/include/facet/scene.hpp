@@ -8,6 +8,10 @@
 //     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
 //     lights:
 //       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
+//       - {type: point, position: [0, 2, 0], casts_shadow: true, shadow_map_size: 512}
+//         # also spot (spot_inner, spot_outer), range, attenuation; a light that
+//         # casts shadows gets a map (a cube of six for a point light) of its own
+//         # shadow_map_size, or the scene's
 //     objects:
 //       - name: spot
 //         mesh: ../assets/spot/spot.obj   # relative to this file
@@ -63,7 +67,8 @@ struct Light {
     glm::vec3 attenuation{1.0f, 0.0f, 0.0f}; // constant, linear, quadratic
     float spot_inner = 20.0f;                // degrees, half-angles
     float spot_outer = 30.0f;
-    bool casts_shadow = false;
+    bool casts_shadow = false;  // a directional or spot light's map, a point light's cube
+    int shadow_map_size = 0;    // texels per side of its map (each cube face); 0: the scene's
 };
 
 struct RenderSettings {

@@ -233,9 +233,30 @@ void bind(Material& material, std::shared_ptr<ShaderPlugin> plugin, TextureCache
         if (d->type == FACET_PARAM_TEXTURE)
             textures[plugin->texture_slot(*d)] = load_binding(material, p, *d, cache);
     }
+    // Whether it uses the passes its shader can read.
+    const auto uses = [&](uint32_t need, uint32_t flag) {
+        if (!(desc.needs & need)) return false;
+        for (uint32_t i = 0; i < desc.param_count; ++i) {
+            const facet_param_desc& d = desc.params[i];
+            if (!(d.flags & flag)) continue;
+            if (d.type == FACET_PARAM_FLOAT) {
+                float v;
+                std::memcpy(&v, block->bytes + d.offset, sizeof v);
+                return v != 0.0f;
+            }
+            int32_t v;
+            std::memcpy(&v, block->bytes + d.offset, sizeof v);
+            return v != 0;
+        }
+        return true;
+    };
+    const bool shadows = uses(FACET_NEED_SHADOW_MAP, FACET_PARAM_USES_SHADOWS);
+    const bool ao = uses(FACET_NEED_AO, FACET_PARAM_USES_AO);
     material.plugin = std::move(plugin);
     material.block = std::move(block);
     material.textures = std::move(textures);
+    material.uses_shadows = shadows;
+    material.uses_ao = ao;
 }
 
 std::shared_ptr<Material> material_from_yaml(const yaml::Context& ctx, const YAML::Node& node,

@@ -191,12 +191,15 @@ void check_light(const yaml::Context& ctx, const YAML::Node& node, const Light& 
     ensure(l.spot_inner >= 0.0f && l.spot_inner <= l.spot_outer && l.spot_outer <= 90.0f, ctx,
            where(node, "spot_inner"), ErrorCode::out_of_range,
            "spot angles are half-angles in degrees with 0 <= spot_inner <= spot_outer <= 90");
+    ensure(l.shadow_map_size == 0 || (l.shadow_map_size >= 16 && l.shadow_map_size <= 8192), ctx,
+           where(node, "shadow_map_size"), ErrorCode::out_of_range,
+           "a light's shadow_map_size must be 16..8192 (or 0: the scene's)");
 }
 
 Light read_light(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "light",
                     {"type", "position", "direction", "color", "intensity", "range", "attenuation",
-                     "spot_inner", "spot_outer", "casts_shadow"});
+                     "spot_inner", "spot_outer", "casts_shadow", "shadow_map_size"});
     Light l;
     if (const YAML::Node type = node["type"])
         l.type = yaml::as_enum<LightType>(ctx, type,
@@ -215,6 +218,7 @@ Light read_light(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::read(ctx, node, "spot_inner", l.spot_inner);
     yaml::read(ctx, node, "spot_outer", l.spot_outer);
     yaml::read(ctx, node, "casts_shadow", l.casts_shadow);
+    yaml::read(ctx, node, "shadow_map_size", l.shadow_map_size);
     check_light(ctx, node, l);
     return l;
 }

@@ -115,11 +115,11 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
             ++stats.objects_culled;
             continue;
         }
-        const ShaderPlugin& shader = *o.material->plugin;
-        stats.shadows_needed |= shader.needs(FACET_NEED_SHADOW_MAP);
-        stats.ao_needed |= shader.needs(FACET_NEED_AO);
-        needs_shadow |= s.shadows && shader.needs(FACET_NEED_SHADOW_MAP);
-        needs_ao |= s.ao && shader.needs(FACET_NEED_AO);
+        const Material& m = *o.material;
+        stats.shadows_needed |= m.uses_shadows;
+        stats.ao_needed |= m.uses_ao;
+        needs_shadow |= s.shadows && m.uses_shadows;
+        needs_ao |= s.ao && m.uses_ao;
         if (o.material->blend == BlendMode::opaque) scratch_.opaque.push_back(&o);
         else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
     }
@@ -129,6 +129,9 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         call.shadow_maps = passes_->shadow.abi.data();
         call.shadow_map_count = uint32_t(passes_->shadow.abi.size());
         call.shadow_distances = passes_->shadow.distances.data();
+        call.cube_shadow_maps = passes_->shadow.cube_abi.data();
+        call.cube_shadow_distances = passes_->shadow.cube_distances.data();
+        call.cube_shadow_map_count = uint32_t(passes_->shadow.cube_abi.size() / 6);
         stats.ms_shadow += elapsed_ms(t);
     }
     if (needs_ao) {

@@ -146,28 +146,57 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
 }
 
 // The map's window depths as distances (facet_shadow_distances), on all
-// threads, into `texels`, whose border of FACET_SHADOW_BORDER texels reads
-// 65535 (set when it is made).
-void make_distances(const facet_shadow_map& sm, const Framebuffer& depth, Pipeline& pipeline,
-                    std::vector<uint16_t>& texels) {
+// threads, into `texels`: a map drawn `size` texels a side, into a distance
+// array FACET_SHADOW_BORDER texels wider on every side whose border reads
+// 65535 (set when it is made); or, for a cube face drawn with its border
+// (`with_border`), the whole drawing.
+void make_distances(const facet_shadow_map& sm, const Framebuffer& depth, bool with_border,
+                    Pipeline& pipeline, std::vector<uint16_t>& texels) {
     constexpr int kBorder = FACET_SHADOW_BORDER;
-    const int size = int(sm.width), stride = size + 2 * kBorder;
+    const int stride = int(sm.width) + 2 * kBorder;
     if (texels.size() != size_t(stride) * size_t(stride))
         texels.assign(size_t(stride) * size_t(stride), uint16_t(65535));
     ShadowDistanceRows rows;
     rows.depth = depth.depth();
     rows.depth_stride = depth.stride();
-    rows.distances = texels.data() + size_t(kBorder) * size_t(stride) + kBorder;
+    rows.distances =
+        with_border ? texels.data() : texels.data() + size_t(kBorder) * size_t(stride) + kBorder;
     rows.distance_stride = stride;
-    rows.width = size;
+    rows.width = depth.width();
     rows.orthographic = sm.projection == FACET_SHADOW_ORTHOGRAPHIC;
     rows.near_plane = sm.near_plane;
     rows.far_plane = sm.far_plane;
     const Kernels& kernels = pipeline.kernels();
+    const int height = depth.height();
     constexpr int kBand = 32;
-    pipeline.pool().parallel_for((size + kBand - 1) / kBand, [&](int band, int) {
-        kernels.shadow_distance_rows(rows, band * kBand, std::min(kBand, size - band * kBand));
+    pipeline.pool().parallel_for((height + kBand - 1) / kBand, [&](int band, int) {
+        kernels.shadow_distance_rows(rows, band * kBand, std::min(kBand, height - band * kBand));
     });
+}
+
+// A point light's cube face `face` (+X, -X, +Y, -Y, +Z, -Z): the 90-degree
+// map shaders read (`sm`, `size` texels a side), and the projection it is
+// drawn with, as much wider as its border of FACET_SHADOW_BORDER texels.
+void cube_face(const Light& light, const std::vector<glm::vec3>& casters, int face, int size,
+               facet_shadow_map& sm, glm::mat4& view, glm::mat4& drawn) {
+    static const glm::vec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+                                       {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const glm::vec3 axis = kAxes[face];
+    view = look_at(light.position, light.position + axis, any_perpendicular_up(axis));
+    float far = 0.1f;
+    for (const glm::vec3& p : casters) far = std::max(far, glm::length(p - light.position));
+    if (light.range > 0.0f) far = std::min(far, light.range);
+    sm.near_plane = std::max(far * 1e-4f, 0.01f);
+    sm.far_plane = far * 1.01f;
+    sm.projection = FACET_SHADOW_PERSPECTIVE;
+    sm.texel_size = 2.0f / float(size);  // 2 tan(45 degrees) / size
+    const glm::mat4 proj = perspective(glm::radians(90.0f), 1.0f, sm.near_plane, sm.far_plane,
+                                       false);
+    std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
+    const float half = 0.5f * float(size);
+    const float wider = 2.0f * std::atan((half + float(FACET_SHADOW_BORDER)) / half);
+    drawn = perspective(wider, 1.0f, sm.near_plane, sm.far_plane, false);
+    sm.depth = nullptr;  // a face's texels are its distances only
 }
 
 }  // namespace
@@ -175,23 +204,63 @@ void make_distances(const facet_shadow_map& sm, const Framebuffer& depth, Pipeli
 void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
                         Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats) {
     caster_corners(casters, maps.corners);
-    // A multiple of 16, so that the map's rows are exactly `size` floats
-    // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
-    const int size = (scene.settings.shadow_map_size + 15) & ~15;
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
     maps.abi.clear();
     maps.distances.clear();
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& light = scene.lights[i];
-        if (!light.casts_shadow || light.type == LightType::point) continue;
-        facet_shadow_map& sm = maps.abi.emplace_back();
-        const size_t k = maps.abi.size() - 1;
-        facet_shadow_distances& distances = maps.distances.emplace_back();
-        if (maps.depth.size() <= k) maps.depth.emplace_back();
-        if (maps.distance_texels.size() <= k) maps.distance_texels.emplace_back();
+    maps.cube_abi.clear();
+    maps.cube_distances.clear();
+    size_t slot = 0;  // the maps drawn, in the order of the lights
+    // Draws slot k, `drawn_size` texels a side through drawn_proj * view,
+    // unless what it holds is already that; then points `out` at its
+    // distances.
+    const auto draw_slot = [&](facet_shadow_map& sm, const glm::mat4& view,
+                               const glm::mat4& drawn_proj, int drawn_size, bool with_border,
+                               facet_shadow_distances& out) {
+        const size_t k = slot++;
+        if (maps.depth.size() <= k) maps.depth.resize(k + 1);
+        if (maps.distance_texels.size() <= k) maps.distance_texels.resize(k + 1);
         if (maps.key.size() <= k) maps.key.resize(k + 1);  // empty: nothing drawn yet
         Framebuffer& depth = maps.depth[k];
+        const uint64_t culled = make_key(casters, drawn_proj * view, drawn_size, maps.next);
+        if (maps.next == maps.key[k] && depth.width() == drawn_size) {
+            ++stats.shadow_maps_reused;
+        } else {
+            std::swap(maps.key[k], maps.next);
+            if (depth.width() != drawn_size)
+                depth.resize(drawn_size, drawn_size, ColorFormat::none);
+            pipeline.clear(depth, glm::vec4(0.0f), 1.0f);
+            draw_depth(maps.key[k], view, drawn_proj, pipeline, depth, stats);
+            make_distances(sm, depth, with_border, pipeline, maps.distance_texels[k]);
+            ++stats.shadow_passes;
+            stats.shadow_casters_culled += culled;
+        }
+        if (!with_border) sm.depth = depth.depth();
+        const int stride = int(sm.width) + 2 * FACET_SHADOW_BORDER;
+        out = {maps.distance_texels[k].data() + size_t(FACET_SHADOW_BORDER) * size_t(stride + 1),
+               uint32_t(stride), 0};
+    };
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        if (!light.casts_shadow) continue;
+        // A multiple of 16, so that a map's rows are exactly `size` floats
+        // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
+        const int size =
+            ((light.shadow_map_size ? light.shadow_map_size : scene.settings.shadow_map_size) +
+             15) & ~15;
         glm::mat4 view, proj;
+        if (light.type == LightType::point) {
+            for (int face = 0; face < 6; ++face) {
+                facet_shadow_map& sm = maps.cube_abi.emplace_back();
+                facet_shadow_distances& out = maps.cube_distances.emplace_back();
+                cube_face(light, maps.corners, face, size, sm, view, proj);
+                sm.light = uint32_t(i);
+                sm.width = sm.height = uint32_t(size);
+                draw_slot(sm, view, proj, size + 2 * FACET_SHADOW_BORDER, true, out);
+            }
+            continue;
+        }
+        facet_shadow_map& sm = maps.abi.emplace_back();
+        facet_shadow_distances& out = maps.distances.emplace_back();
         if (light.type == LightType::directional)
             directional(scene, light, maps.corners, aspect, size, sm, view, proj);
         else
@@ -199,23 +268,7 @@ void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& ca
         sm.light = uint32_t(i);
         sm.width = sm.height = uint32_t(size);
         std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
-        const uint64_t culled = make_key(casters, proj * view, size, maps.next);
-        if (maps.next == maps.key[k] && depth.width() == size) {
-            ++stats.shadow_maps_reused;
-        } else {
-            std::swap(maps.key[k], maps.next);
-            if (depth.width() != size) depth.resize(size, size, ColorFormat::none);
-            pipeline.clear(depth, glm::vec4(0.0f), 1.0f);
-            draw_depth(maps.key[k], view, proj, pipeline, depth, stats);
-            make_distances(sm, depth, pipeline, maps.distance_texels[k]);
-            ++stats.shadow_passes;
-            stats.shadow_casters_culled += culled;
-        }
-        sm.depth = depth.depth();
-        const int stride = size + 2 * FACET_SHADOW_BORDER;
-        distances = {maps.distance_texels[k].data() +
-                         size_t(FACET_SHADOW_BORDER) * size_t(stride + 1),
-                     uint32_t(stride), 0};
+        draw_slot(sm, view, proj, size, false, out);
     }
 }
 

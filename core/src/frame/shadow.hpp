@@ -7,8 +7,11 @@
 // since the last frame is kept, not drawn again.
 // A directional light's map is orthographic, fitted around the camera's view
 // frustum (up to render.shadow_distance) and deep enough to hold every
-// caster; a spot light's is perspective, over its cone. Point lights cast no
-// shadow map (that would take a cube map).
+// caster; a spot light's is perspective, over its cone; a point light's is a
+// cube of six perspective faces of 90 degrees, each drawn with a margin as
+// wide as the distances' border, so that a filter kernel near a face's edge
+// reads what lies past it. A light's shadow_map_size, if it has one,
+// overrides the scene's.
 #pragma once
 
 #include "facet/framebuffer.hpp"
@@ -38,14 +41,18 @@ struct ShadowMapKey {
     bool operator==(const ShadowMapKey& o) const = default;
 };
 
-// The maps of one frame: `abi` is the contiguous array shaders receive, and
-// abi[i].depth points into depth[i], whose contents key[i] describes;
-// `distances` is the same array of maps as 16-bit distances from the light
-// (ABI 1.3), each in distance_texels[i], with its border. Storage is reused
-// from frame to frame.
+// The maps of one frame: `abi` is the contiguous array of directional and
+// spot maps shaders receive, and `distances` the same maps as 16-bit
+// distances from the light (ABI 1.3); `cube_abi` and `cube_distances` the
+// faces of the point lights' cube maps, six a light. What each map (or
+// face) was drawn from is by slot, in the order of the lights: its depth
+// buffer, its distances with their border, and the key that describes them.
+// Storage is reused from frame to frame.
 struct ShadowMaps {
     std::vector<facet_shadow_map> abi;
     std::vector<facet_shadow_distances> distances;
+    std::vector<facet_shadow_map> cube_abi;
+    std::vector<facet_shadow_distances> cube_distances;
     std::vector<Framebuffer> depth;
     std::vector<std::vector<uint16_t>> distance_texels;
     std::vector<ShadowMapKey> key;
@@ -53,8 +60,9 @@ struct ShadowMaps {
     std::vector<glm::vec3> corners;  // scratch for fitting
 };
 
-// Makes one map per light with casts_shadow that is directional or spot;
-// afterwards maps.abi holds exactly those. Each map draws the casters its
+// Makes one map per light with casts_shadow that is directional or spot,
+// and a cube per point light with casts_shadow; afterwards maps.abi and
+// maps.cube_abi hold exactly those. Each map draws the casters its
 // projection can see, and is drawn again only when its key changed:
 // stats.shadow_passes counts the maps drawn, shadow_maps_reused those kept
 // from an earlier frame, and shadow_casters_culled the casters a drawn map

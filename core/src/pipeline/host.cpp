@@ -82,6 +82,9 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
         d.shadow_map_count = call.shadow_map_count;
         d.shadow_maps = call.shadow_maps;
         d.shadow_distances = call.shadow_distances;
+        d.cube_shadow_map_count = call.cube_shadow_map_count;
+        d.cube_shadow_maps = call.cube_shadow_maps;
+        d.cube_shadow_distances = call.cube_shadow_distances;
     }
     d.viewport_width = uint32_t(width);
     d.viewport_height = uint32_t(height);

@@ -124,6 +124,9 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     d.dc.state = call.state;
     d.dc.target = &target;
     d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
+    // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
+    // reads as full visibility: nothing is gathered or packed for it.
+    if (!d.dc.ao && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
     d.abi = make_abi_draw(call, target.width(), target.height(), d.dc);
     d.dc.abi = &d.abi;
     const Viewport viewport{target.width(), target.height(), target.samples(),

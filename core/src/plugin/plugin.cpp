@@ -143,6 +143,19 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
         for (uint32_t j = 0; j < i; ++j)
             if (std::strcmp(d.params[j].name, p.name) == 0)
                 refuse(ErrorCode::plugin_invalid, origin, what + " is declared twice");
+        // A parameter that says whether a material uses a pass must be one
+        // the host can read that way, and say it for a pass the shader needs.
+        if ((p.flags & FACET_PARAM_USES_SHADOWS) &&
+            (p.type != FACET_PARAM_BOOL || !(d.needs & FACET_NEED_SHADOW_MAP)))
+            refuse(ErrorCode::plugin_invalid, origin,
+                   what + " says whether shadows are used, but it is not a bool or the shader "
+                          "does not need FACET_NEED_SHADOW_MAP");
+        if ((p.flags & FACET_PARAM_USES_AO) &&
+            ((p.type != FACET_PARAM_BOOL && p.type != FACET_PARAM_FLOAT) ||
+             !(d.needs & FACET_NEED_AO)))
+            refuse(ErrorCode::plugin_invalid, origin,
+                   what + " says whether AO is used, but it is not a bool or a float or the "
+                          "shader does not need FACET_NEED_AO");
     }
     if (textures > FACET_MAX_TEXTURES)
         refuse(ErrorCode::plugin_invalid, origin, "too many texture parameters");

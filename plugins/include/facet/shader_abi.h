@@ -150,7 +150,14 @@ enum facet_param_type {
 };
 
 enum facet_param_flag {
-    FACET_PARAM_SRGB = 1u << 0 /* texture holds colour: decode sRGB to linear */
+    FACET_PARAM_SRGB = 1u << 0, /* texture holds colour: decode sRGB to linear */
+    /* v1.3: a parameter that says whether a material uses a service its
+     * shader can use. A host runs a pass only for the visible materials
+     * that use it: */
+    FACET_PARAM_USES_SHADOWS = 1u << 1, /* BOOL: false, and the material      */
+                                        /*   needs no shadow map              */
+    FACET_PARAM_USES_AO = 1u << 2       /* FLOAT or BOOL: 0, and the material  */
+                                        /*   needs no AO                      */
 };
 
 typedef struct facet_param_desc {
@@ -278,6 +285,15 @@ struct facet_draw {
     const facet_shadow_map* shadow_maps;
     /* v1.3: shadow_maps[i] as distances, or NULL */
     const facet_shadow_distances* shadow_distances;
+    /* v1.3: the cube maps of the point lights that cast shadows (0 unless
+     * FACET_NEED_SHADOW_MAP), six faces each, in the order +X, -X, +Y, -Y,
+     * +Z, -Z of the direction from the light. A face is a perspective map of
+     * 90 degrees (its `depth` is NULL: filter its distances), whose border
+     * holds the distances just past its edge, so that a kernel near the
+     * edge reads real texels. */
+    uint32_t cube_shadow_map_count;                      /* cubes               */
+    const facet_shadow_map* cube_shadow_maps;            /* [6 * count]         */
+    const facet_shadow_distances* cube_shadow_distances; /* [6 * count]         */
 };
 
 /* A batch of vertices. Inputs are arrays indexed by vertex; an input the
@@ -312,7 +328,9 @@ typedef struct facet_fragment_batch {
     const float* shadow;    /* reserved: always NULL, never read; shadows    */
                             /*   come from facet_draw.shadow_maps (ABI 1.1)   */
     const float* ao;        /* [16] ambient visibility 0..1 (screen-space AO, */
-                            /*   blurred) if FACET_NEED_AO, else NULL          */
+                            /*   blurred) if FACET_NEED_AO, else NULL. From   */
+                            /*   v1.3 also NULL when the frame ran no AO pass */
+                            /*   (AO off, or no material asked): read 1       */
     float* color;           /* out: [4][16] linear RGBA                      */
     /* v1.2 */
     const float* coord;     /* [2][16] window x, y of each lane's pixel      */
