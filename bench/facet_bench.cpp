@@ -250,6 +250,8 @@ struct Result {
     uint64_t triangles;
     double median_ms, min_ms, peak_rss_mib;
     double shadow_ms, ao_ms;  // medians of the shadow maps' and the AO pre-pass and pass's times
+    double post_ms = 0.0;     // median of the post chain's passes, all together
+    std::vector<std::pair<std::string, double>> post_pass_ms;  // each pass's median
     std::optional<Versus> llvmpipe;  // --llvmpipe, for shaders it has, when its worker succeeded
 };
 
@@ -265,18 +267,41 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
     Renderer renderer(threads, isa);
     Framebuffer fb;
     const FrameStats first = renderer.render(scene, fb);  // warm-up
-    std::vector<double> ms, shadow_ms, ao_ms;
+    const size_t timed = std::min<size_t>(first.post_passes, FrameStats::kPostTimings);
+    std::vector<double> ms, shadow_ms, ao_ms, post_ms;
+    std::vector<std::vector<double>> pass_ms(timed);
     for (int i = 0; i < runs; ++i) {
         if (redraw_shadows) renderer.forget_shadow_maps();
         const FrameStats s = renderer.render(scene, fb);
         ms.push_back(s.milliseconds);
         shadow_ms.push_back(s.ms_shadow);
         ao_ms.push_back(s.ao_passes ? s.ms_prepass + s.ms_ao : 0.0);
+        double post = 0.0;
+        for (size_t k = 0; k < timed; ++k) {
+            pass_ms[k].push_back(s.ms_post_pass[k]);
+            post += s.ms_post_pass[k];
+        }
+        post_ms.push_back(post);
     }
     const double min_ms = *std::min_element(ms.begin(), ms.end());
-    return {name, note, shader, std::string(isa_name(isa)), scene.settings.width,
-            scene.settings.height, renderer.threads(), first.triangles_in, median(ms), min_ms,
-            peak.read(), median(shadow_ms), median(ao_ms), {}};
+    Result r{name, note, shader, std::string(isa_name(isa)), scene.settings.width,
+             scene.settings.height, renderer.threads(), first.triangles_in, median(ms), min_ms,
+             peak.read(), median(shadow_ms), median(ao_ms), median(post_ms), {}, {}};
+    for (size_t k = 0; k < timed; ++k)
+        r.post_pass_ms.emplace_back(scene.post[k].name, median(pass_ms[k]));
+    return r;
+}
+
+// Each post pass's time, "bloom=3.10;tonemap=0.52" (CSV, JSON), or with
+// spaces (the table).
+std::string post_passes_text(const Result& r, char separator) {
+    std::string out;
+    for (const auto& [name, ms] : r.post_pass_ms) {
+        char text[32];
+        std::snprintf(text, sizeof text, "=%.2f", ms);
+        out += (out.empty() ? "" : std::string(1, separator)) + name + text;
+    }
+    return out;
 }
 
 // With a float target, what turning it into 8-bit sRGB for a PNG or a window
@@ -321,7 +346,7 @@ void write_csv(const std::string& path, const std::vector<Result>& results,
                const std::string& target, bool llvmpipe) {
     std::ofstream out(path);
     out << "scene,note,shader,cpu,isa,target,width,height,threads,triangles,median_ms,min_ms,"
-           "shadow_ms,ao_ms,peak_rss_mib";
+           "shadow_ms,ao_ms,post_ms,post_passes,peak_rss_mib";
     if (llvmpipe)
         out << ",llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
                "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels";
@@ -331,7 +356,8 @@ void write_csv(const std::string& path, const std::vector<Result>& results,
         out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << cpu << ',' << r.isa << ','
             << target << ',' << r.width << ',' << r.height << ',' << r.threads << ','
             << r.triangles << ',' << r.median_ms << ',' << r.min_ms << ',' << r.shadow_ms << ','
-            << r.ao_ms << ',' << r.peak_rss_mib;
+            << r.ao_ms << ',' << r.post_ms << ',' << post_passes_text(r, ';') << ','
+            << r.peak_rss_mib;
         if (llvmpipe && r.llvmpipe)
             out << ',' << r.llvmpipe->threads << ',' << r.llvmpipe->median_ms << ','
                 << r.llvmpipe->min_ms << ',' << r.llvmpipe->median_ms / r.median_ms << ','
@@ -372,6 +398,8 @@ void write_json(const std::string& path, const std::vector<Result>& results,
             << ", \"threads\": " << r.threads << ", \"triangles\": " << r.triangles
             << ", \"median_ms\": " << r.median_ms << ", \"min_ms\": " << r.min_ms
             << ", \"shadow_ms\": " << r.shadow_ms << ", \"ao_ms\": " << r.ao_ms
+            << ", \"post_ms\": " << r.post_ms << ", \"post_passes\": \"" << post_passes_text(r, ';')
+            << "\""
             << ", \"peak_rss_mib\": " << r.peak_rss_mib << (llvmpipe ? json_llvmpipe(r) : "")
             << "}" << (i + 1 < results.size() ? "," : "") << "\n";
     }
@@ -473,23 +501,29 @@ int llvmpipe_worker(const bench::LlvmpipeJob& job, const std::string& result_pat
 
 void print_header(bool llvmpipe, const std::string& target) {
     std::printf("%s; colour target %s\n", cpu_name().c_str(), target.c_str());
-    std::printf("%-12s %-10s %-7s %-6s %7s %10s %12s %10s %10s %10s", "scene", "size", "shader",
-                "path", "threads", "triangles", "median ms", "shadow ms", "AO ms", "peak MiB");
+    std::printf("%-12s %-10s %-7s %-6s %7s %10s %12s %10s %10s %10s %10s", "scene", "size",
+                "shader", "path", "threads", "triangles", "median ms", "shadow ms", "AO ms",
+                "post ms", "peak MiB");
     if (llvmpipe)
         std::printf(" %11s %12s %9s %11s", "lp threads", "llvmpipe ms", "lp/facet", "cov diff %");
     std::printf("\n");
 }
 
 void print_row(const Result& r, const std::string& size, bool llvmpipe) {
-    std::printf("%-12s %-10s %-7s %-6s %7d %10llu %12.2f %10.2f %10.2f %10.1f", r.scene.c_str(),
-                size.c_str(), r.shader.c_str(), r.isa.c_str(), r.threads,
-                (unsigned long long)r.triangles, r.median_ms, r.shadow_ms, r.ao_ms,
+    std::printf("%-12s %-10s %-7s %-6s %7d %10llu %12.2f %10.2f %10.2f %10.2f %10.1f",
+                r.scene.c_str(), size.c_str(), r.shader.c_str(), r.isa.c_str(), r.threads,
+                (unsigned long long)r.triangles, r.median_ms, r.shadow_ms, r.ao_ms, r.post_ms,
                 r.peak_rss_mib);
     if (llvmpipe && r.llvmpipe)
         std::printf(" %11d %12.2f %9.2f %11.4f", r.llvmpipe->threads, r.llvmpipe->median_ms,
                     r.llvmpipe->median_ms / r.median_ms, r.llvmpipe->coverage.percent);
     else if (llvmpipe)
         std::printf(" %11s %12s %9s %11s", "-", "-", "-", "-");
+    if (!r.note.empty() || !r.post_pass_ms.empty()) {  // what the row ran under, and its passes
+        const std::string post = post_passes_text(r, ' ');
+        std::printf("  (%s%s%s)", r.note.c_str(), r.note.empty() || post.empty() ? "" : "; ",
+                    post.empty() ? "" : ("post ms: " + post).c_str());
+    }
     std::printf("\n");
     std::fflush(stdout);
 }
@@ -735,12 +769,16 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
 std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rounds) {
     std::vector<Result> out = rounds.front();
     for (size_t i = 0; i < out.size(); ++i) {
-        std::vector<double> ms, shadow_ms, ao_ms, lp_ms;
+        std::vector<double> ms, shadow_ms, ao_ms, post_ms, lp_ms;
+        std::vector<std::vector<double>> pass_ms(out[i].post_pass_ms.size());
         for (const std::vector<Result>& round : rounds) {
             const Result& r = round[i];
             ms.push_back(r.median_ms);
             shadow_ms.push_back(r.shadow_ms);
             ao_ms.push_back(r.ao_ms);
+            post_ms.push_back(r.post_ms);
+            for (size_t k = 0; k < r.post_pass_ms.size() && k < pass_ms.size(); ++k)
+                pass_ms[k].push_back(r.post_pass_ms[k].second);
             out[i].min_ms = std::min(out[i].min_ms, r.min_ms);
             out[i].peak_rss_mib = std::max(out[i].peak_rss_mib, r.peak_rss_mib);
             if (r.llvmpipe) lp_ms.push_back(r.llvmpipe->median_ms);
@@ -750,6 +788,8 @@ std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rou
         out[i].median_ms = median(ms);
         out[i].shadow_ms = median(shadow_ms);
         out[i].ao_ms = median(ao_ms);
+        out[i].post_ms = median(post_ms);
+        for (size_t k = 0; k < pass_ms.size(); ++k) out[i].post_pass_ms[k].second = median(pass_ms[k]);
         if (lp_ms.size() == rounds.size() && out[i].llvmpipe) out[i].llvmpipe->median_ms = median(lp_ms);
         else out[i].llvmpipe.reset();
     }

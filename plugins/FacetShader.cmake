@@ -135,6 +135,31 @@ function(facet_add_shader NAME)
                       OUTPUT object)
     target_sources(${target} PRIVATE "${object}")
   endforeach()
+  facet_plugin_module(${target} ${NAME})
+endfunction()
+
+# facet_add_post(NAME SOURCES src...)
+#
+# Builds the screen pass NAME (<facet/post.hpp>, FACET_POST) as a loadable
+# module NAME.so beside the shaders; the target is facet_post_NAME. A pass
+# is built once: its loops are plain C++, which the compiler vectorises
+# for the baseline instruction set, the same on every path.
+function(facet_add_post NAME)
+  cmake_parse_arguments(ARG "" "" "SOURCES" ${ARGN})
+  if(NOT ARG_SOURCES)
+    message(FATAL_ERROR "facet_add_post(${NAME}): SOURCES is required")
+  endif()
+  set(target facet_post_${NAME})
+  add_library(${target} MODULE ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE facet::sdk)
+  if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES AND NOT FACET_SANITIZE)
+    target_compile_options(${target} PRIVATE -O2)
+  endif()
+  facet_plugin_module(${target} ${NAME})
+endfunction()
+
+# A plugin module's file name (NAME.so), folder, visibility and link rules.
+function(facet_plugin_module target NAME)
   if(DEFINED FACET_PLUGIN_OUTPUT_DIR)
     set(out_dir "${FACET_PLUGIN_OUTPUT_DIR}")
   else()

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
@@ -121,13 +122,52 @@ void write(const std::filesystem::path& file, const std::string& text) {
     std::ofstream(file) << text;
 }
 
-bool compile_plugin(const std::filesystem::path& out, const std::string& name,
-                    const std::string& flags) {
+ParamBlock param_block(const ShaderPlugin& plugin,
+                       std::initializer_list<std::pair<const char*, glm::vec4>> values) {
+    ParamBlock block;
+    const auto put = [&](const facet_param_desc& d, const float* v) {
+        if (const int n = param_float_count(d.type)) {
+            std::memcpy(block.bytes + d.offset, v, sizeof(float) * size_t(n));
+        } else {
+            const int32_t i = int32_t(std::lround(v[0]));
+            std::memcpy(block.bytes + d.offset, &i, sizeof i);
+        }
+    };
+    const facet_shader_desc& desc = plugin.desc();
+    for (uint32_t i = 0; i < desc.param_count; ++i) {
+        const facet_param_desc& d = desc.params[i];
+        const float zero[4] = {};
+        put(d, d.type == FACET_PARAM_TEXTURE ? zero : d.default_value);
+    }
+    for (const auto& [name, value] : values) {
+        const facet_param_desc* d = plugin.find_param(name);
+        if (!d) throw std::invalid_argument(std::string("no parameter ") + name);
+        put(*d, &value.x);
+    }
+    return block;
+}
+
+namespace {
+
+bool compile_c(const std::filesystem::path& out, const std::string& name,
+               const std::string& flags, const char* source) {
     const std::string cmd = std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -O1 -I" +
                             FACET_SOURCE_DIR + "/plugins/include -DPLUGIN_NAME='\"" + name +
-                            "\"' " + flags + " " + FACET_SOURCE_DIR +
-                            "/tests/plugins/c_plugin.c -o " + out.string();
+                            "\"' " + flags + " " + FACET_SOURCE_DIR + "/tests/plugins/" +
+                            source + " -o " + out.string();
     return std::system(cmd.c_str()) == 0;
+}
+
+}  // namespace
+
+bool compile_plugin(const std::filesystem::path& out, const std::string& name,
+                    const std::string& flags) {
+    return compile_c(out, name, flags, "c_plugin.c");
+}
+
+bool compile_post_plugin(const std::filesystem::path& out, const std::string& name,
+                         const std::string& flags) {
+    return compile_c(out, name, flags, "c_post.c");
 }
 
 LogCapture::LogCapture() : sink_(std::make_shared<spdlog::sinks::ostream_sink_mt>(out_)) {

@@ -138,6 +138,13 @@ private:
     std::shared_ptr<spdlog::sinks::sink> sink_;
 };
 
+// The parameter block `plugin`'s schema lays out: every parameter at its
+// default, then `values` by name (up to four floats; an int, bool, texture
+// or choice as the whole number of its first). Whatever the plugin adds to
+// its schema later gets its default, never bytes past a short struct.
+ParamBlock param_block(const ShaderPlugin& plugin,
+                       std::initializer_list<std::pair<const char*, glm::vec4>> values);
+
 // Writes `text` to `file`.
 void write(const std::filesystem::path& file, const std::string& text);
 
@@ -145,5 +152,8 @@ void write(const std::filesystem::path& file, const std::string& text);
 // `out`, with extra compiler `flags` (-DFILL_RED=..., -DWITH_GAIN, ...).
 bool compile_plugin(const std::filesystem::path& out, const std::string& name,
                     const std::string& flags);
+// The same with the test screen pass (tests/plugins/c_post.c: -DSCALE=...).
+bool compile_post_plugin(const std::filesystem::path& out, const std::string& name,
+                         const std::string& flags);
 
 }  // namespace facet::test

@@ -438,16 +438,14 @@ TEST_CASE("trilinear filtering picks the analytic level of detail at a grazing a
     const glm::mat4 proj = perspective(glm::radians(50.0f), float(W) / H, 0.05f, 100.0f, true);
     PluginRegistry registry;
     auto unlit = registry.get("unlit");
-    struct {
-        glm::vec4 base_color{1.0f};
-        int32_t base_texture = 1;
-    } params;
+    const ParamBlock params =
+        test::param_block(*unlit, {{"base_color", glm::vec4(1.0f)}, {"base_texture", glm::vec4(1.0f)}});
     Framebuffer fb(W, H);
     fb.clear(glm::vec4(-1.0f), 0.0f);
     DrawCall call = clip_space_call(plane, *unlit);
     call.view = view;
     call.projection = proj;
-    call.params = &params;
+    call.params = params.bytes;
     call.textures = &binding;
     call.texture_count = 1;
     FrameStats stats;

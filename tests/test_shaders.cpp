@@ -349,8 +349,9 @@ int max_difference(const Framebuffer& a, const Framebuffer& b) {
 TextureBinding checker_texture() {
     auto tex = std::make_shared<Texture>();
     tex->width = tex->height = 2;
-    for (const glm::vec4 c : {glm::vec4(1.0, 0.8, 0.6, 1.0), glm::vec4(0.5, 0.9, 1.0, 1.0),
-                              glm::vec4(0.9, 0.4, 0.7, 1.0), glm::vec4(0.7, 1.0, 0.5, 1.0)})
+    // Two texels opaque, two well below the cutouts' 0.5.
+    for (const glm::vec4 c : {glm::vec4(1.0, 0.8, 0.6, 1.0), glm::vec4(0.5, 0.9, 1.0, 0.4),
+                              glm::vec4(0.9, 0.4, 0.7, 0.9), glm::vec4(0.7, 1.0, 0.5, 0.3)})
         tex->texels.push_back(encode_texel(c, false));
     return {tex, Filter::nearest, Wrap::clamp};
 }
@@ -411,11 +412,22 @@ Values with_ao(Values v) {
     return v;
 }
 
+Values cutout(Values v, double alpha_cutoff) {
+    v["alpha_cutoff"] = {alpha_cutoff};
+    return v;
+}
+
+Values unlit_values(double textured, double alpha_cutoff) {
+    return {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {textured}},
+            {"ambient_occlusion", {0.0}}, {"alpha_cutoff", {alpha_cutoff}}};
+}
+
 Values lit_values(bool per_pixel, bool textured) {
     return receiving({{"base_color", {0.9, 0.75, 0.6, 0.8}},
             {"ambient", {0.05, 0.06, 0.08}},
             {"base_texture", {double(textured)}},
-            {"per_pixel", {double(per_pixel)}}});
+            {"per_pixel", {double(per_pixel)}},
+            {"alpha_cutoff", {0.0}}});
 }
 
 // ---- phong ---------------------------------------------------------------------
@@ -442,7 +454,7 @@ Reference phong_reference(const Setup& s, const Values& p, const TextureBinding*
             if (n_l <= 0) continue;
             c += in.radiance * (kd * n_l + rgb(p, "specular") * ref_lobe(n, in.to_light, v, p));
         }
-        return dvec4(c, 1.0);
+        return dvec4(c, texel->a);  // the base texture's alpha (1 without one)
     };
 }
 
@@ -453,7 +465,8 @@ Values phong_values(bool blinn, double shininess, bool textured) {
             {"emission", {0.03, 0.0, 0.01}},
             {"shininess", {shininess}},
             {"blinn", {double(blinn)}},
-            {"base_texture", {double(textured)}}});
+            {"base_texture", {double(textured)}},
+            {"alpha_cutoff", {0.0}}});
 }
 
 // ---- toon ----------------------------------------------------------------------
@@ -632,12 +645,8 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit,
         {"phong", phong_values(true, 400, false), false},
         {"phong", phong_values(false, 1, true), true},
         {"phong", phong_values(true, 6000, true), true},
-        {"unlit",
-         {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {0.0}}, {"ambient_occlusion", {0.0}}},
-         false},
-        {"unlit",
-         {{"base_color", {0.8, 0.5, 0.25, 0.9}}, {"base_texture", {1.0}}, {"ambient_occlusion", {0.0}}},
-         true},
+        {"unlit", unlit_values(0.0, 0.0), false},
+        {"unlit", unlit_values(1.0, 0.0), true},
         {"lit", lit_values(true, false), false},
         {"lit", lit_values(false, false), false},
         {"lit", lit_values(true, true), true},
@@ -646,7 +655,12 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit,
         // The version that receives shadows and AO (none here: AO reads 1).
         {"phong", with_ao(phong_values(true, 40, true)), true},
         {"lit", with_ao(lit_values(false, false)), false},
-        {"toon", with_ao(toon_values(3, 0.42)), false}};
+        {"toon", with_ao(toon_values(3, 0.42)), false},
+        // Cutouts, where the texture's alpha (or the base colour's) falls
+        // below the cutoff.
+        {"unlit", unlit_values(1.0, 0.5), true},
+        {"lit", cutout(lit_values(true, true), 0.5), true},
+        {"phong", cutout(phong_values(false, 24, true), 0.5), true}};
     for (const Case& c : cases) {
         INFO(c.shader << ", textured " << c.textured);
         const auto wide = registry.get(c.shader);
@@ -780,21 +794,19 @@ TEST_CASE("unlit.so computes vertex colour x base colour x texture", "[shader][u
     tex->width = tex->height = 2;
     tex->texels = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {128, 128, 128, 128}};
     const TextureBinding bindings[1] = {{tex, Filter::nearest, Wrap::clamp}};
-    struct Block {
-        glm::vec4 base_color;
-        int32_t base_texture;
-    } params{{1.0f, 0.5f, 0.25f, 1.0f}, 1};
+    const glm::vec4 base_color(1.0f, 0.5f, 0.25f, 1.0f);
     const glm::vec4 vertex_color(0.5f, 1.0f, 1.0f, 1.0f);
     // A full-screen quad whose UVs run 0..1 across it.
     Mesh quad = make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {1, 1, 0.5f}, {-1, 1, 0.5f}},
                           {0, 1, 2, 0, 2, 3}, std::vector<glm::vec4>(4, vertex_color));
     quad.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
     for (bool textured : {false, true}) {
-        params.base_texture = textured;
+        const ParamBlock params = test::param_block(
+            *unlit, {{"base_color", base_color}, {"base_texture", glm::vec4(textured)}});
         Framebuffer fb(8, 8);
         fb.clear(glm::vec4(0.0f), 0.0f);
         DrawCall call = clip_space_call(quad, *unlit);
-        call.params = &params;
+        call.params = params.bytes;
         call.textures = textured ? bindings : nullptr;
         call.texture_count = textured ? 1 : 0;
         FrameStats stats;
@@ -802,7 +814,7 @@ TEST_CASE("unlit.so computes vertex colour x base colour x texture", "[shader][u
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x) {
                 const glm::vec4 texel = textured ? tex->linear((y / 4) * 2 + x / 4) : glm::vec4(1);
-                const glm::vec4 expected = vertex_color * params.base_color * texel;
+                const glm::vec4 expected = vertex_color * base_color * texel;
                 REQUIRE(glm::all(glm::equal(fb.pixel(x, y), expected)));
             }
     }

@@ -62,10 +62,16 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                      scene.source.string());
     std::vector<std::string> ran = facet::passes_run(s);
     ran.push_back(fmt::format("main {:.2f} ms", s.ms_main));
-    if (scene.settings.msaa > 1) ran.push_back(fmt::format("resolve {:.2f} ms", s.ms_post));
+    if (s.post_passes)
+        ran.push_back("post " + facet::join(facet::post_passes_run(s, scene.post), "") +
+                      fmt::format(" (with resolve and output {:.2f} ms)", s.ms_post));
+    else if (scene.settings.msaa > 1)
+        ran.push_back(fmt::format("resolve {:.2f} ms", s.ms_post));
     spdlog::info("passes: {}", facet::join(ran, ""));
     spdlog::info("skipped: {}",
-                 facet::join(facet::work_skipped(s, scene.settings, facet::Counts::full), "nothing"));
+                 facet::join(facet::work_skipped(s, scene.settings, facet::Counts::full,
+                                                 !scene.post.empty()),
+                             "nothing"));
 }
 
 // Renders `scene` to the output PNG, with what the command line overrides.

@@ -100,6 +100,7 @@ bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
         case SDLK_n: settings_.msaa = next_msaa(settings_.msaa); break;
         case SDLK_1: settings_.shadows = !settings_.shadows; break;
         case SDLK_2: settings_.ao = !settings_.ao; break;
+        case SDLK_3: settings_.post = !settings_.post; break;
         case SDLK_p:
         case SDLK_F12: take_screenshot(); redraw = false; break;
         default: return true;

@@ -13,7 +13,8 @@ namespace {
 std::string count(uint64_t n) { return count_text(n, Counts::short_form); }
 
 std::string skipped_line(const OverlayInfo& i) {
-    std::vector<std::string> parts = work_skipped(i.stats, i.settings, Counts::short_form);
+    std::vector<std::string> parts =
+        work_skipped(i.stats, i.settings, Counts::short_form, !i.post_passes.empty());
     parts.push_back(count(i.idle_wakeups) + " idle wake-ups");
     return "skipped   " + join(parts, "");
 }
@@ -29,6 +30,14 @@ std::string stats_text(const OverlayInfo& i) {
                      i.frame_ms, fps, s.milliseconds, i.threads, isa_name(i.isa));
     t += fmt::format("passes    shadow {:.1f}  pre {:.1f}  main {:.1f}  AO {:.1f}  post {:.1f} ms\n",
                      s.ms_shadow, s.ms_prepass, s.ms_main, s.ms_ao, s.ms_post);
+    if (s.post_passes) {  // each screen pass of the chain
+        std::string line = "post     ";
+        const size_t timed = std::min<size_t>({FrameStats::kPostTimings, i.post_passes.size(),
+                                                size_t(s.post_passes)});
+        for (size_t k = 0; k < timed; ++k)
+            line += fmt::format(" {} {:.1f}", i.post_passes[k], s.ms_post_pass[k]);
+        t += line + " ms\n";
+    }
     t += fmt::format("triangles in {}  culled {} (back {}, frustum {}, tiny {})\n",
                      count(s.triangles_in),
                      count(s.triangles_culled_backface + s.triangles_culled_frustum +
@@ -39,9 +48,9 @@ std::string stats_text(const OverlayInfo& i) {
                      count(s.triangles_clipped), count(s.triangles_rasterized),
                      count(s.triangles_invalid));
     t += skipped_line(i) + "\n";
-    t += fmt::format("view      {}x{}  MSAA {}x  wireframe {}  shadows {}  AO {}\n", r.width,
-                     r.height, r.msaa, r.wireframe ? "on" : "off", r.shadows ? "on" : "off",
-                     r.ao ? "on" : "off");
+    t += fmt::format("view      {}x{}  MSAA {}x  wireframe {}  shadows {}  AO {}  post {}\n",
+                     r.width, r.height, r.msaa, r.wireframe ? "on" : "off",
+                     r.shadows ? "on" : "off", r.ao ? "on" : "off", r.post ? "on" : "off");
     t += i.flying ? fmt::format("camera    fly, speed {:.2f}/s\n", i.fly_speed)
                   : std::string("camera    orbit\n");
     t += "selected  " + i.selected + "\n";
@@ -57,7 +66,7 @@ std::string help_text() {
            "Tab       select the next object\n"
            "M, shift+M next / previous material from configs/materials\n"
            "L         wireframe          N  MSAA 1, 2, 4, 8\n"
-           "1         shadow passes      2  AO passes\n"
+           "1         shadow passes      2  AO passes      3  post chain\n"
            "P, F12    screenshot (PNG, named by time)\n"
            "O         overlay            H, F1  this help\n"
            "drop      a scene file (.yaml) on the window to open it\n"

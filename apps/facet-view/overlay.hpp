@@ -29,6 +29,7 @@ struct OverlayInfo {
     int threads = 1;
     Isa isa = Isa::portable;     // the renderer's instruction-set path
     RenderSettings settings;     // as rendered (size, MSAA, wireframe, passes)
+    std::vector<std::string> post_passes;  // the scene's post chain, by name, in order
     uint64_t idle_wakeups = 0;   // times the viewer woke and found nothing to render
     std::string selected;        // "name: material"
     bool flying = false;

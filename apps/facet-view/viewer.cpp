@@ -190,6 +190,7 @@ void Viewer::apply_reload() {
         settings_.wireframe = toggles.wireframe;
         settings_.shadows = toggles.shadows;
         settings_.ao = toggles.ao;
+        settings_.post = toggles.post;
         selected_ = std::min(selected_, std::max(0, int(scene_.objects.size()) - 1));
         update_selected_label();
     }
@@ -230,6 +231,8 @@ void Viewer::render() {
     info_.threads = renderer_.threads();
     info_.isa = renderer_.isa();
     info_.settings = settings_;
+    info_.post_passes.clear();
+    for (const PostPass& p : scene_.post) info_.post_passes.push_back(p.name);
     info_.frame_ms = ms_since(start);
 }
 

@@ -2,6 +2,8 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <algorithm>
+
 namespace facet {
 
 std::string count_text(uint64_t n, Counts form) {
@@ -23,8 +25,17 @@ std::vector<std::string> passes_run(const FrameStats& s) {
     return out;
 }
 
+std::vector<std::string> post_passes_run(const FrameStats& s, const std::vector<PostPass>& passes) {
+    std::vector<std::string> out;
+    const size_t timed = std::min<size_t>(FrameStats::kPostTimings, passes.size());
+    for (size_t i = 0; i < std::min<size_t>(s.post_passes, timed); ++i)
+        out.push_back(fmt::format("{} {:.2f} ms", passes[i].name, s.ms_post_pass[i]));
+    if (s.post_passes > timed) out.push_back(fmt::format("{} more", s.post_passes - timed));
+    return out;
+}
+
 std::vector<std::string> work_skipped(const FrameStats& s, const RenderSettings& settings,
-                                      Counts form) {
+                                      Counts form, bool post_chain) {
     std::vector<std::string> out;
     const auto pass = [&](const char* name, bool needed, bool enabled, uint64_t ran) {
         if (ran) return;
@@ -38,6 +49,7 @@ std::vector<std::string> work_skipped(const FrameStats& s, const RenderSettings&
     pass("shadow maps", s.shadows_needed, settings.shadows,
          s.shadow_passes + s.shadow_maps_reused);
     pass("AO", s.ao_needed, settings.ao, s.ao_passes);
+    if (post_chain && !settings.post) out.push_back("post chain (off)");
     counted(s.shadow_maps_reused, "shadow map unchanged", "shadow maps unchanged");
     counted(s.shadow_casters_culled, "caster out of light", "casters out of light");
     counted(s.objects_culled, "object out of view", "objects out of view");

@@ -4,6 +4,9 @@
 //     E      = ambient + sum over lights of radiance * max(dot(n, L), 0)
 //     colour = albedo.rgb * E,  alpha = albedo.a
 //
+// With alpha_cutoff above 0, a fragment whose albedo.a is below it is
+// discarded (a cutout).
+//
 // `radiance` is what a light delivers at the point: color * intensity *
 // attenuation * spot factor (facet::sdk::incident_light). With per_pixel (the
 // default) the normal and the world position are interpolated and E is
@@ -29,6 +32,7 @@ struct Lit {
         glm::vec3 ambient;
         int32_t base_texture;  // 1 if bound
         int32_t per_pixel;     // bool
+        float alpha_cutoff;
         Receiving receive;
     };
     struct Varyings {
@@ -41,7 +45,8 @@ struct Lit {
     static constexpr const char* name = "lit";
     static constexpr const char* version = "1.0";
     static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS |
-                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
+                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO |
+                                      FACET_NEED_DISCARD;
     static constexpr facet_varying_desc varyings[] = {
         varying("position", 3), varying("normal", 3), varying("uv", 2), varying("irradiance", 3)};
     static constexpr auto params = with_receiving(std::array{
@@ -53,6 +58,7 @@ struct Lit {
                 "colour texture (sRGB) multiplying base_color"),
         boolean("per_pixel", offsetof(Params, per_pixel), true,
                 "light each fragment (true) or each vertex, interpolated (false)"),
+        alpha_cutoff(offsetof(Params, alpha_cutoff)),
     }, offsetof(Params, receive));
 
     // Which lights a sum of Lambert terms takes: every one, those whose
@@ -91,6 +97,7 @@ struct Lit {
 
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         const glm::vec4 albedo = p.base_color * f.texture(0);
+        cut_out(f, albedo.a, p.alpha_cutoff);
         const glm::vec3 n = glm::normalize(v.normal);
         const glm::vec3 e =
             p.ambient * ambient_visibility(f, p.receive) +
@@ -143,6 +150,7 @@ struct Lit {
                             const Params& p) {
         using namespace wide;
         const Vec4 albedo = Vec4(p.base_color) * f.texture(0);
+        cut_out(f, albedo.w, p.alpha_cutoff);
         Vec3 e(p.ambient);
         if constexpr (Receives) e = e * ambient_visibility(f, p.receive);
         if (p.per_pixel)

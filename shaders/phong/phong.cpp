@@ -6,7 +6,8 @@
 //     kd     = diffuse * base_texture             (texture optional, sRGB)
 //     s      = max(r.v, 0)^shininess,  r = reflect(-L, n)         (Phong)
 //            = max(n.h, 0)^shininess,  h = normalize(L + v)       (blinn: true)
-//     s      = 0 where n.L <= 0;  alpha = 1
+//     s      = 0 where n.L <= 0;  alpha = base_texture alpha (1 without one),
+//     and with alpha_cutoff above 0 a fragment of lower alpha is discarded
 //
 // n is the interpolated normal, normalised per fragment; v points from the
 // fragment to the camera. `radiance` is color * intensity * attenuation *
@@ -32,6 +33,7 @@ struct Phong {
         float shininess;
         int32_t blinn;         // bool
         int32_t base_texture;  // 1 if bound
+        float alpha_cutoff;
         Receiving receive;
     };
     struct Varyings {
@@ -43,7 +45,8 @@ struct Phong {
     static constexpr const char* name = "phong";
     static constexpr const char* version = "1.0";
     static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS |
-                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
+                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO |
+                                      FACET_NEED_DISCARD;
     static constexpr facet_varying_desc varyings[] = {
         varying("position", 3), varying("normal", 3), varying("uv", 2)};
     static constexpr auto params = with_receiving(std::array{
@@ -60,7 +63,8 @@ struct Phong {
         boolean("blinn", offsetof(Params, blinn), false,
                 "Blinn-Phong (half vector) instead of Phong (reflected vector)"),
         texture("base_texture", offsetof(Params, base_texture), 2, true,
-                "colour texture (sRGB) multiplying diffuse"),
+                "colour texture (sRGB) multiplying diffuse; its alpha is the output's"),
+        alpha_cutoff(offsetof(Params, alpha_cutoff)),
     }, offsetof(Params, receive));
 
     // The specular lobe s for unit n, L, v (n.L > 0).
@@ -80,7 +84,9 @@ struct Phong {
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         const glm::vec3 n = glm::normalize(v.normal);
         const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
-        const glm::vec3 kd = p.diffuse * glm::vec3(f.texture(0));
+        const glm::vec4 base = f.texture(0);
+        cut_out(f, base.a, p.alpha_cutoff);
+        const glm::vec3 kd = p.diffuse * glm::vec3(base);
         glm::vec3 c = p.emission + p.ambient * ambient_visibility(f, p.receive);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
@@ -89,7 +95,7 @@ struct Phong {
             c += in.radiance * (kd * n_l + p.specular * lobe(n, in.to_light, to_eye, p)) *
                  light_visibility(d, i, p.receive, v.position, n_l);
         }
-        return {c, 1.0f};
+        return {c, base.a};
     }
 
     // The same for wide::kLanes fragments at once, which facet runs (the
@@ -123,7 +129,9 @@ struct Phong {
         using namespace wide;
         const Vec3 n = normalize(v.normal);
         const Vec3 to_eye = normalize(d.camera_position() - v.position);
-        const Vec3 kd = p.diffuse * rgb(f.texture(0));
+        const Vec4 base = f.texture(0);
+        cut_out(f, base.w, p.alpha_cutoff);
+        const Vec3 kd = p.diffuse * rgb(base);
         Vec3 c(p.emission + p.ambient);
         if constexpr (Receives) c = p.emission + p.ambient * ambient_visibility(f, p.receive);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
@@ -136,7 +144,7 @@ struct Phong {
             if constexpr (Receives) lit = lit * light_visibility(d, i, p.receive, v.position, n_l);
             c += select(facing, lit, Vec3(splat(0.0f)));
         }
-        return {c, splat(1.0f)};
+        return {c, base.w};
     }
 };
 

@@ -61,8 +61,10 @@ void oracle_sample(const facet_draw* draw, uint32_t slot, const float* u, const 
     sample_many(textures[slot], u, v, int(count), rgba);
 }
 
+// (No parallel_for or scratch: those serve screen passes, which the oracle
+// does not run.)
 const facet_host kOracleHost = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host), &oracle_log,
-                                &oracle_sample};
+                                &oracle_sample, nullptr, nullptr};
 
 void copy_matrix(float* out, const glm::mat4& m) { std::memcpy(out, glm::value_ptr(m), 64); }
 
@@ -98,8 +100,10 @@ facet_draw make_draw(const Scene& scene, const Object& o, const std::vector<face
 
 void check_supported(const Object& o) {
     const Material& m = *o.material;
-    const uint32_t unsupported = FACET_NEED_DERIVATIVES | FACET_NEED_DISCARD | FACET_NEED_BLENDING;
-    if (m.blend != BlendMode::opaque || (m.plugin->needs() & unsupported))
+    // A shader that can discard is fine while its material does not.
+    const uint32_t unsupported = FACET_NEED_DERIVATIVES | FACET_NEED_BLENDING;
+    if (m.blend != BlendMode::opaque || (m.plugin->needs() & unsupported) || m.discards ||
+        m.alpha_to_coverage)
         throw std::runtime_error("reference renderer: object '" + o.name + "' (material " +
                                  m.source + ", shader " + m.plugin->name() +
                                  ") blends, discards or takes derivatives; only opaque, "

@@ -4,6 +4,7 @@
 //
 //     shader: unlit
 //     blend: opaque            # opaque | alpha | additive
+//     alpha_to_coverage: false # MSAA: alpha picks the samples covered
 //     params:
 //       base_color: [1, 0.5, 0.2, 1]
 //       base_texture: {file: ../../assets/spot/spot_texture.png, filter: trilinear, wrap: repeat}
@@ -31,13 +32,15 @@ namespace facet {
 
 // One parameter value as written in YAML.
 struct MaterialParam {
-    enum class Kind { number, boolean, vector, texture };
+    // word: a bare name, for a choice ("aces") or a texture file
+    enum class Kind { number, boolean, vector, texture, word };
     std::string name;
     Kind kind = Kind::number;
+    std::string word;             // word: as written
     std::vector<double> numbers;  // number: 1 value; vector: 1..4 values
     bool is_integer = false;      // number written without a fraction
     bool flag = false;            // boolean
-    std::filesystem::path texture_file;  // texture: resolved against the material's folder
+    std::filesystem::path texture_file;  // texture, word: resolved against the material's folder
     Filter filter = Filter::trilinear;   // texture: nearest | bilinear | trilinear
     Wrap wrap = Wrap::repeat;            // texture
     int line = 0;                 // 1-based position in the file
@@ -56,6 +59,9 @@ struct Material {
     BlendMode blend = BlendMode::opaque;
     std::optional<CullMode> cull;       // overrides the scene's setting
     std::optional<bool> depth_write;    // default: true unless blended
+    // With MSAA, the shader's alpha chooses how many of a pixel's samples it
+    // covers (alpha to coverage: PipelineState::alpha_to_coverage).
+    bool alpha_to_coverage = false;
     std::vector<MaterialParam> params;  // as written
 
     // Set by bind():
@@ -67,9 +73,26 @@ struct Material {
     // (FACET_PARAM_USES_SHADOWS, _USES_AO), if it has one, is on.
     bool uses_shadows = false;
     bool uses_ao = false;
+    // Whether its fragments may be discarded: the shader needs
+    // FACET_NEED_DISCARD, and its FACET_PARAM_USES_DISCARD parameter (an
+    // alpha cutoff), if it has one, is not 0.
+    bool discards = false;
 
     bool writes_depth() const { return depth_write.value_or(blend == BlendMode::opaque); }
 };
+
+// A parameter block and its textures, from values checked against a schema.
+struct BoundParams {
+    std::shared_ptr<ParamBlock> block;
+    std::vector<TextureBinding> textures;  // by texture slot
+};
+
+// Checks `params` (written in `file`) against `plugin`'s schema: unknown
+// names, wrong types, out-of-range values and choices that are not among
+// its names are errors naming file:line:column. Loads their textures
+// through `cache`. Materials and screen passes (post chains) alike.
+BoundParams bind_params(const std::vector<MaterialParam>& params, const ShaderPlugin& plugin,
+                        const std::string& file, TextureCache& cache);
 
 // Validates `material.params` against `plugin`'s schema, loads its textures
 // through `cache`, and sets plugin, block and textures. On error, throws and

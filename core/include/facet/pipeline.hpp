@@ -68,6 +68,7 @@ struct FrameStats {
     uint64_t prepasses = 0;                    // depth pre-pass, for AO
     uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
     uint64_t ao_passes = 0;                    // SSAO and its blur
+    uint64_t post_passes = 0;                  // screen passes of the post chain
     // What the visible materials asked for, whether or not the render
     // settings let the pass run (so an app can say why a pass was skipped).
     bool shadows_needed = false;
@@ -77,7 +78,10 @@ struct FrameStats {
     double ms_prepass = 0.0;                   // ... in both kinds of pre-pass
     double ms_ao = 0.0;
     double ms_main = 0.0;
-    double ms_post = 0.0;                      // MSAA resolve
+    double ms_post = 0.0;                      // MSAA resolve, post chain, output
+    // Each screen pass's time, for the first kPostTimings in chain order.
+    static constexpr int kPostTimings = 8;
+    double ms_post_pass[kPostTimings] = {};
 
     FrameStats& operator+=(const FrameStats& o);
 };
@@ -92,6 +96,11 @@ struct PipelineState {
     bool color_write = true;  // false: depth only (shadow maps, pre-passes)
     bool wireframe = false;   // blend each triangle's edges (about 1 pixel) over its colour
     int subpixel_bits = 8;    // vertex snapping precision, 1..8 (D3D10+: 8)
+    // The shader's alpha (0..1) covers that share of a pixel's samples:
+    // floor(alpha * n + d) of its n, d a 4x4 ordered dither of the pixel in
+    // 0..1, taken in turn from sample (x + 2 y) mod n. With one sample, a
+    // dithered alpha test. The colour written keeps its alpha.
+    bool alpha_to_coverage = false;
     glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
 };
 
@@ -116,6 +125,10 @@ struct DrawCall {
     uint32_t cube_shadow_map_count = 0;                  // cubes
     const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
     float time = 0.0f;
+    // false: the material never discards though its shader can
+    // (Material::discards), so its fragments may be packed and its depth
+    // drawn with no shader call.
+    bool may_discard = true;
     PipelineState state;
 };
 

@@ -1,7 +1,8 @@
 // Shader plugins: loading, ABI checks, and finding them by name.
 //
-// A ShaderPlugin is one loaded shader library (or, for tests and embedders,
-// a descriptor compiled into the host). load() refuses a library whose ABI
+// A ShaderPlugin is one loaded plugin library (or, for tests and embedders,
+// a descriptor compiled into the host): a material shader, or a screen pass
+// (kind() FACET_KIND_POST, ABI 1.4), which the scene's post chain runs. load() refuses a library whose ABI
 // major version or descriptor size does not fit this host, or whose
 // descriptor is inconsistent, with an Error that says why. The library stays
 // loaded while any shared_ptr to its ShaderPlugin lives.
@@ -56,6 +57,7 @@ public:
         if (isa != Isa::portable && desc_.fragment_avx2) return desc_.fragment_avx2;
         return desc_.fragment;
     }
+    bool is_post() const { return desc_.kind == FACET_KIND_POST; }
     uint32_t needs() const { return desc_.needs; }
     bool needs(facet_need need) const { return (desc_.needs & need) != 0; }
     uint32_t varying_floats() const { return varying_floats_; }
@@ -93,8 +95,11 @@ void validate_descriptor(const facet_shader_desc* desc, const std::string& origi
 
 // The name of a facet_param_type ("color4").
 std::string_view param_type_name(uint32_t type);
-// Floats a parameter type stores; 0 for the int32 types (INT, BOOL, TEXTURE).
+// Floats a parameter type stores; 0 for the int32 types (INT, BOOL,
+// TEXTURE, CHOICE).
 int param_float_count(uint32_t type);
+// The names of a CHOICE parameter, from its "a|b|c" (shader_abi.h).
+std::vector<std::string> choice_names(std::string_view choices);
 
 // The needs this host can serve; a plugin asking for others is refused.
 constexpr uint32_t kSupportedNeeds = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_COLORS |

@@ -36,8 +36,11 @@ public:
     // needs them (and settings.shadows allows), and only those whose light,
     // casters or fitted bounds changed since the frame that drew them; the
     // AO pre-pass and AO pass only if a visible material needs AO (and
-    // settings.ao allows). The statistics count the passes that ran and
-    // those skipped. When the pipeline's stop flag is raised
+    // settings.ao allows). With a post chain (Scene::post, and
+    // settings.post), the frame is drawn into a float target of the
+    // renderer's own, and the chain's result goes to `target`, which then
+    // has one sample. The statistics count the passes that ran and those
+    // skipped. When the pipeline's stop flag is raised
     // (Pipeline::stop_when), the frame ends early and render() throws
     // Error(interrupted); the next render() starts afresh.
     FrameStats render(const Scene& scene, Framebuffer& target);

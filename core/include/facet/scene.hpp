@@ -12,6 +12,9 @@
 //         # also spot (spot_inner, spot_outer), range, attenuation; a light that
 //         # casts shadows gets a map (a cube of six for a point light) of its own
 //         # shadow_map_size, or the scene's
+//     post:                               # screen passes, in order (post.hpp in the SDK)
+//       - {pass: bloom, threshold: 1, intensity: 0.08}
+//       - {pass: tonemap, operator: aces, exposure: 0.5}
 //     objects:
 //       - name: spot
 //         mesh: ../assets/spot/spot.obj   # relative to this file
@@ -102,6 +105,20 @@ struct RenderSettings {
     // fragments that pass depth equal: each pixel is shaded once, whatever
     // the overdraw. Pays for itself with heavy shaders and overdraw.
     bool depth_prepass = false;
+    // false: the scene's post chain does not run (what it costs is the
+    // difference), and the frame is drawn straight into its target.
+    bool post = true;
+};
+
+// One screen pass of a scene's post chain: a plugin of kind FACET_KIND_POST
+// and the values of its parameters, checked against its schema.
+struct PostPass {
+    std::string name;                   // the plugin
+    std::string file;                   // where the scene names it, for errors
+    int line = 0;
+    std::vector<MaterialParam> params;  // as written
+    std::shared_ptr<ShaderPlugin> plugin;
+    std::shared_ptr<const ParamBlock> block;
 };
 
 struct Object {
@@ -117,6 +134,7 @@ struct Scene {
     Camera camera;
     std::vector<Light> lights;
     std::vector<Object> objects;
+    std::vector<PostPass> post;  // run in order on the finished frame
     RenderSettings settings;
     std::vector<std::filesystem::path> plugin_paths;  // absolute
     // The material files the objects use, by canonical path; objects naming

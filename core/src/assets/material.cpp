@@ -31,7 +31,8 @@ void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, Materia
             {{"repeat", Wrap::repeat}, {"clamp", Wrap::clamp}, {"mirror", Wrap::mirror}});
 }
 
-// A number, a boolean, 1..4 numbers, or a texture (a file name or a map).
+}  // namespace
+
 MaterialParam parse_param(const yaml::Context& ctx, const std::string& name,
                           const YAML::Node& value, const std::filesystem::path& folder) {
     MaterialParam p;
@@ -51,16 +52,19 @@ MaterialParam parse_param(const yaml::Context& ctx, const std::string& name,
         p.kind = MaterialParam::Kind::boolean;
         p.flag = *flag;
     } else if (value.IsScalar() && !value.Scalar().empty()) {
-        p.kind = MaterialParam::Kind::texture;
-        p.texture_file = value.Scalar();
+        p.kind = MaterialParam::Kind::word;
+        p.word = value.Scalar();
+        p.texture_file = p.word;
     } else {
         throw yaml::error(ctx, value, ErrorCode::wrong_type,
-                          "'" + name + "' needs a number, true/false, 1 to 4 numbers or a texture");
+                          "'" + name + "' needs a number, true/false, 1 to 4 numbers, a name or "
+                          "a texture");
     }
-    if (p.kind == MaterialParam::Kind::texture)
-        p.texture_file = (folder / p.texture_file).lexically_normal();
+    if (!p.texture_file.empty()) p.texture_file = (folder / p.texture_file).lexically_normal();
     return p;
 }
+
+namespace {
 
 std::vector<MaterialParam> parse_params(const yaml::Context& ctx, const YAML::Node& node,
                                         const std::filesystem::path& folder) {
@@ -73,7 +77,8 @@ std::vector<MaterialParam> parse_params(const yaml::Context& ctx, const YAML::No
 
 Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
                         const std::filesystem::path& folder, std::string source) {
-    yaml::check_map(ctx, node, "material", {"shader", "blend", "cull", "depth_write", "params"});
+    yaml::check_map(ctx, node, "material",
+                    {"shader", "blend", "cull", "depth_write", "alpha_to_coverage", "params"});
     Material m;
     m.source = std::move(source);
     m.file = ctx.file;
@@ -89,6 +94,7 @@ Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
             {{"none", CullMode::none}, {"back", CullMode::back}, {"front", CullMode::front}});
     if (const YAML::Node depth_write = node["depth_write"])
         m.depth_write = yaml::as<bool>(ctx, depth_write);
+    yaml::read(ctx, node, "alpha_to_coverage", m.alpha_to_coverage);
     if (const YAML::Node params = node["params"]) m.params = parse_params(ctx, params, folder);
     return m;
 }
@@ -96,12 +102,18 @@ Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
 // registry.get(), with an unknown name reported where the material names it.
 std::shared_ptr<ShaderPlugin> find_shader(const yaml::Context& ctx, const YAML::Node& at,
                                           const std::string& name, PluginRegistry& registry) {
+    std::shared_ptr<ShaderPlugin> plugin;
     try {
-        return registry.get(name);
+        plugin = registry.get(name);
     } catch (const Error& e) {
         if (e.code() != ErrorCode::unknown_shader) throw;
         throw yaml::error(ctx, at, e.code(), e.detail());
     }
+    if (plugin->is_post())
+        throw yaml::error(ctx, at, ErrorCode::wrong_type,
+                          "'" + name + "' is a screen pass, not a shader: name it in the "
+                          "scene's post: list");
+    return plugin;
 }
 
 // ---- binding -----------------------------------------------------------------
@@ -114,7 +126,8 @@ bool fits(const MaterialParam& p, uint32_t type) {
         case FACET_PARAM_INT: return p.kind == Kind::number && p.is_integer;
         case FACET_PARAM_BOOL: return p.kind == Kind::boolean;
         case FACET_PARAM_COLOR4: return p.kind == Kind::vector && (n == 3 || n == 4);
-        case FACET_PARAM_TEXTURE: return p.kind == Kind::texture;
+        case FACET_PARAM_TEXTURE: return p.kind == Kind::texture || p.kind == Kind::word;
+        case FACET_PARAM_CHOICE: return p.kind == Kind::word;
         default: return p.kind == Kind::vector && n == size_t(param_float_count(type));
     }
 }
@@ -126,6 +139,7 @@ std::string expected_text(uint32_t type) {
         case FACET_PARAM_BOOL: return "true or false";
         case FACET_PARAM_COLOR4: return "3 or 4 numbers";
         case FACET_PARAM_TEXTURE: return "a texture file";
+        case FACET_PARAM_CHOICE: return "one of its names";
         default: return std::to_string(param_float_count(type)) + " numbers";
     }
 }
@@ -135,6 +149,7 @@ std::string value_text(const MaterialParam& p) {
         case MaterialParam::Kind::number: return p.is_integer ? "an integer" : "a number";
         case MaterialParam::Kind::boolean: return "a boolean";
         case MaterialParam::Kind::texture: return "a texture";
+        case MaterialParam::Kind::word: return "'" + p.word + "'";
         case MaterialParam::Kind::vector: break;
     }
     return std::to_string(p.numbers.size()) + (p.numbers.size() == 1 ? " number" : " numbers");
@@ -146,19 +161,33 @@ std::string number_text(double x) {
     return out.str();
 }
 
-Error param_error(const Material& m, const MaterialParam& p, ErrorCode code, std::string detail) {
-    return Error(code, "'" + p.name + "'" + detail, m.file, p.line, p.column);
+// Errors name `file`, where the parameters were written, and the line.
+Error param_error(const std::string& file, const MaterialParam& p, ErrorCode code,
+                  std::string detail) {
+    return Error(code, "'" + p.name + "'" + detail, file, p.line, p.column);
 }
 
-void check_type(const Material& m, const MaterialParam& p, const facet_param_desc& d) {
+void check_type(const std::string& m, const MaterialParam& p, const facet_param_desc& d) {
     if (!fits(p, d.type))
         throw param_error(m, p, ErrorCode::param_type,
                           " is " + std::string(param_type_name(d.type)) + " and needs " +
                               expected_text(d.type) + ", got " + value_text(p));
 }
 
-void check_range(const Material& m, const MaterialParam& p, const facet_param_desc& d) {
-    if (d.type == FACET_PARAM_BOOL || d.type == FACET_PARAM_TEXTURE) return;
+// The index of a CHOICE parameter's word among `choices`.
+int32_t choice_index(const std::string& m, const MaterialParam& p, const char* choices) {
+    const std::vector<std::string> names = choice_names(choices);
+    for (size_t i = 0; i < names.size(); ++i)
+        if (names[i] == p.word) return int32_t(i);
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw param_error(m, p, ErrorCode::param_range,
+                      " is '" + p.word + "', which is not one of: " + list);
+}
+
+void check_range(const std::string& m, const MaterialParam& p, const facet_param_desc& d) {
+    if (d.type == FACET_PARAM_BOOL || d.type == FACET_PARAM_TEXTURE || d.type == FACET_PARAM_CHOICE)
+        return;
     double lo = d.min_value, hi = d.max_value;
     if (d.type == FACET_PARAM_INT) {
         lo = std::max(lo, double(std::numeric_limits<int32_t>::min()));
@@ -190,8 +219,9 @@ void write_default(ParamBlock& block, const facet_param_desc& d) {
         write_int(block, d.offset, static_cast<int32_t>(std::lround(d.default_value[0])));
 }
 
-// A value that passed check_type() and check_range().
-void write_value(ParamBlock& block, const facet_param_desc& d, const MaterialParam& p) {
+// A value that passed check_type() and check_range() (a choice: its index).
+void write_value(ParamBlock& block, const facet_param_desc& d, const MaterialParam& p,
+                 int32_t choice) {
     if (const int n = param_float_count(d.type)) {
         float values[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // a 3-number color4 is opaque
         for (size_t i = 0; i < p.numbers.size(); ++i) values[i] = static_cast<float>(p.numbers[i]);
@@ -200,39 +230,61 @@ void write_value(ParamBlock& block, const facet_param_desc& d, const MaterialPar
         write_int(block, d.offset, p.flag ? 1 : 0);
     } else if (d.type == FACET_PARAM_INT) {
         write_int(block, d.offset, static_cast<int32_t>(p.numbers[0]));
+    } else if (d.type == FACET_PARAM_CHOICE) {
+        write_int(block, d.offset, choice);
     } else {
         write_int(block, d.offset, 1);  // a texture is bound
     }
 }
 
-TextureBinding load_binding(const Material& m, const MaterialParam& p, const facet_param_desc& d,
-                            TextureCache& cache) {
+TextureBinding load_binding(const std::string& m, const MaterialParam& p,
+                            const facet_param_desc& d, TextureCache& cache) {
     try {
         return {cache.get(p.texture_file, (d.flags & FACET_PARAM_SRGB) != 0), p.filter, p.wrap};
     } catch (const Error& e) {
-        throw yaml::relocated(e, m.file, p.line, p.column);
+        throw yaml::relocated(e, m, p.line, p.column);
     }
 }
 
 }  // namespace
 
+BoundParams bind_params(const std::vector<MaterialParam>& params, const ShaderPlugin& plugin,
+                        const std::string& file, TextureCache& cache) {
+    const facet_shader_desc& desc = plugin.desc();
+    BoundParams out;
+    out.block = std::make_shared<ParamBlock>();
+    ParamBlock& block = *out.block;
+    for (uint32_t i = 0; i < desc.param_count; ++i) write_default(block, desc.params[i]);
+    out.textures.resize(size_t(plugin.texture_count()));
+    const char* kind = plugin.is_post() ? "; pass '" : "; shader '";
+    for (const MaterialParam& p : params) {
+        const facet_param_desc* d = plugin.find_param(p.name);
+        if (!d)
+            throw param_error(file, p, ErrorCode::param_unknown,
+                              kind + plugin.name() + "' expects: " + plugin.describe_params());
+        check_type(file, p, *d);
+        check_range(file, p, *d);
+        const int32_t choice =
+            d->type == FACET_PARAM_CHOICE
+                ? choice_index(file, p, desc.param_choices[d - desc.params])
+                : 0;
+        write_value(block, *d, p, choice);
+        if (d->type == FACET_PARAM_TEXTURE)
+            out.textures[plugin.texture_slot(*d)] = load_binding(file, p, *d, cache);
+    }
+    return out;
+}
+
 void bind(Material& material, std::shared_ptr<ShaderPlugin> plugin, TextureCache& cache) {
     const facet_shader_desc& desc = plugin->desc();
-    auto block = std::make_shared<ParamBlock>();
-    for (uint32_t i = 0; i < desc.param_count; ++i) write_default(*block, desc.params[i]);
-    std::vector<TextureBinding> textures(plugin->texture_count());
-    for (const MaterialParam& p : material.params) {
-        const facet_param_desc* d = plugin->find_param(p.name);
-        if (!d)
-            throw param_error(
-                material, p, ErrorCode::param_unknown,
-                "; shader '" + plugin->name() + "' expects: " + plugin->describe_params());
-        check_type(material, p, *d);
-        check_range(material, p, *d);
-        write_value(*block, *d, p);
-        if (d->type == FACET_PARAM_TEXTURE)
-            textures[plugin->texture_slot(*d)] = load_binding(material, p, *d, cache);
-    }
+    if (plugin->is_post())
+        throw Error(ErrorCode::wrong_type,
+                    "'" + plugin->name() + "' is a screen pass, not a shader: name it in the "
+                    "scene's post: list",
+                    material.file);
+    BoundParams bound = bind_params(material.params, *plugin, material.file, cache);
+    std::shared_ptr<ParamBlock> block = std::move(bound.block);
+    std::vector<TextureBinding> textures = std::move(bound.textures);
     // Whether it uses the passes its shader can read.
     const auto uses = [&](uint32_t need, uint32_t flag) {
         if (!(desc.needs & need)) return false;
@@ -252,11 +304,13 @@ void bind(Material& material, std::shared_ptr<ShaderPlugin> plugin, TextureCache
     };
     const bool shadows = uses(FACET_NEED_SHADOW_MAP, FACET_PARAM_USES_SHADOWS);
     const bool ao = uses(FACET_NEED_AO, FACET_PARAM_USES_AO);
+    const bool discards = uses(FACET_NEED_DISCARD, FACET_PARAM_USES_DISCARD);
     material.plugin = std::move(plugin);
     material.block = std::move(block);
     material.textures = std::move(textures);
     material.uses_shadows = shadows;
     material.uses_ao = ao;
+    material.discards = discards;
 }
 
 std::shared_ptr<Material> material_from_yaml(const yaml::Context& ctx, const YAML::Node& node,

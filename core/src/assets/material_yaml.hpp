@@ -11,6 +11,12 @@
 
 namespace facet {
 
+// One parameter value as written: a number, a boolean, 1..4 numbers, a
+// name, or a texture (a file name or a map); texture files resolve against
+// `folder`.
+MaterialParam parse_param(const yaml::Context& ctx, const std::string& name,
+                          const YAML::Node& value, const std::filesystem::path& folder);
+
 // Parses `node` (a map with the keys of a material file) and binds it to its
 // shader from `registry`. Relative texture files resolve against `folder`;
 // `source` becomes Material::source. Errors name ctx.file and the line in it.

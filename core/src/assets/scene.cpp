@@ -126,7 +126,7 @@ void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSetting
                     {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
                      "shadow_map_size", "shadow_distance", "msaa", "subpixel_bits", "wireframe",
                      "shadows", "ao", "ao_resolution", "ao_radius", "ao_samples", "depth_prepass",
-                     "color_format"});
+                     "color_format", "post"});
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
     if (const YAML::Node depth = node["depth"]) {  // and the compare that goes with it
@@ -169,6 +169,7 @@ void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSetting
     ensure(s.ao_samples >= 1 && s.ao_samples <= 256, ctx, where(node, "ao_samples"),
            ErrorCode::out_of_range, "ao_samples must be 1..256 (directions per texel)");
     yaml::read(ctx, node, "depth_prepass", s.depth_prepass);
+    yaml::read(ctx, node, "post", s.post);
     if (const YAML::Node format = node["color_format"])
         s.color_format = yaml::as_enum<ColorFormat>(ctx, format,
                                                     {{"srgb8", ColorFormat::srgb8},
@@ -304,6 +305,24 @@ public:
         scene.plugin_paths.push_back(folder);
     }
 
+    // A screen pass of the post chain: {pass: NAME, param: value, ...}.
+    PostPass post_pass(const YAML::Node& node) {
+        yaml::check_map(ctx, node, "post pass");
+        PostPass p;
+        const YAML::Node name = yaml::require(ctx, node, "pass");
+        p.name = yaml::as<std::string>(ctx, name);
+        p.file = ctx.file;
+        p.line = yaml::line(node);
+        for (const auto& entry : node)
+            if (entry.first.Scalar() != "pass")
+                p.params.push_back(parse_param(ctx, entry.first.Scalar(), entry.second, folder_));
+        p.plugin = relocate_errors(ctx, name, [&] { return registry_.get(p.name); });
+        ensure(p.plugin->is_post(), ctx, name, ErrorCode::wrong_type,
+               "'" + p.name + "' is a shader, not a screen pass: a material names it");
+        p.block = bind_params(p.params, *p.plugin, p.file, textures_).block;
+        return p;
+    }
+
     // Material files loaded so far, by canonical path.
     const std::map<std::string, std::shared_ptr<Material>>& materials() const { return materials_; }
 
@@ -376,7 +395,8 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     Loader loader(path, registry);
     const yaml::Context& ctx = loader.ctx;
     const YAML::Node root = yaml::load_file(path);
-    yaml::check_map(ctx, root, "scene", {"camera", "render", "plugin_paths", "lights", "objects"});
+    yaml::check_map(ctx, root, "scene",
+                    {"camera", "render", "plugin_paths", "lights", "objects", "post"});
     Scene scene;
     scene.source = path;
     if (const YAML::Node camera = root["camera"]) scene.camera = read_camera(ctx, camera);
@@ -389,6 +409,9 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     });
     for_each_item(ctx, root, "objects", [&](const YAML::Node& item, size_t i) {
         scene.objects.push_back(read_object(loader, item, i));
+    });
+    for_each_item(ctx, root, "post", [&](const YAML::Node& item, size_t) {
+        scene.post.push_back(loader.post_pass(item));
     });
     for (const auto& [file, material] : loader.materials()) scene.material_files[file] = material;
     spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),

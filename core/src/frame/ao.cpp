@@ -57,7 +57,6 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     const float background = reversed_z ? 0.0f : 1.0f;
     pipeline.clear(depth_, glm::vec4(0.0f), background);
     DrawCall call;
-    call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
     call.projection = proj;
     call.state.front_ccw = settings.front_ccw;
@@ -67,8 +66,15 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     for (const Object* o : objects) {
         call.mesh = o->mesh.get();
         call.model = o->transform.matrix();
-        // The faces the main pass draws, and only those: the surfaces the camera sees.
-        call.state.cull = o->material->cull.value_or(settings.cull);
+        // The faces the main pass draws, and only those: the surfaces the camera
+        // sees; a cutout's own shader runs (with no lights) to discard what its
+        // alpha cuts away.
+        const Material& m = *o->material;
+        call.state.cull = m.cull.value_or(settings.cull);
+        call.shader = m.discards ? m.plugin.get() : &internal::plugin<internal::DepthOnly>();
+        call.params = m.discards ? m.block->bytes : nullptr;
+        call.textures = m.discards ? m.textures.data() : nullptr;
+        call.texture_count = m.discards ? int(m.textures.size()) : 0;
         pipeline.queue(call, depth_, pass);
     }
     pipeline.flush(pass);

@@ -4,6 +4,7 @@
 #include "facet/renderer.hpp"
 
 #include "frame/ao.hpp"
+#include "frame/post.hpp"
 #include "pipeline/clip.hpp"
 #include "frame/shadow.hpp"
 #include "base/timing.hpp"
@@ -34,6 +35,7 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.depth_write = m.writes_depth();
     p.wireframe = s.wireframe;
     p.subpixel_bits = s.subpixel_bits;
+    p.alpha_to_coverage = m.alpha_to_coverage;
     return p;
 }
 
@@ -54,6 +56,8 @@ bool drawable(const Object& o) {
 struct Renderer::Passes {
     ShadowMaps shadow;
     AoPass ao;
+    Framebuffer hdr;  // the frame, when a post chain runs on it
+    PostChain post;
 };
 
 Renderer::Renderer(int threads, std::optional<Isa> isa)
@@ -86,10 +90,18 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
     pipeline_.require_flushed(target, "Renderer::render");  // it may resize the target
-    if (target.width() != s.width || target.height() != s.height || target.samples() != s.msaa ||
-        target.format() != s.color_format)
-        target.resize(s.width, s.height, s.color_format, s.msaa);
-    pipeline_.clear(target, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
+    const auto fit = [&](Framebuffer& fb, ColorFormat format, int samples) {
+        if (fb.width() != s.width || fb.height() != s.height || fb.samples() != samples ||
+            fb.format() != format)
+            fb.resize(s.width, s.height, format, samples);
+    };
+    // With a post chain, the frame is drawn in float and the chain's result
+    // goes to the target.
+    const bool post = s.post && !scene.post.empty();
+    Framebuffer& frame = post ? passes_->hdr : target;
+    fit(frame, post ? ColorFormat::rgba32f : s.color_format, s.msaa);
+    if (post) fit(target, s.color_format, 1);
+    pipeline_.clear(frame, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
 
     DrawCall call;
     call.view = scene.camera.view();
@@ -138,14 +150,16 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s, pipeline_, stats);
         call.ao = passes_->ao.visibility();
     }
-    draw_main_pass(scene, call, target, stats);
+    draw_main_pass(scene, call, frame, stats);
+    const auto post_start = std::chrono::steady_clock::now();
+    if (!pipeline_.stopped()) pipeline_.resolve(frame);
+    if (post && !pipeline_.stopped())
+        passes_->post.run(scene.post, frame, target, s, pipeline_, stats);
+    stats.ms_post += elapsed_ms(post_start);
     if (pipeline_.stopped()) {
         forget_shadow_maps();  // maps cut short must not be kept as if complete
         throw Error(ErrorCode::interrupted, "the frame was stopped before it was complete");
     }
-    const auto post = std::chrono::steady_clock::now();
-    pipeline_.resolve(target);
-    stats.ms_post += elapsed_ms(post);
     stats.milliseconds = elapsed_ms(start);
     return stats;
 }
@@ -165,6 +179,7 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         call.textures = m.textures.data();
         call.texture_count = int(m.textures.size());
         call.model = o.transform.matrix();
+        call.may_discard = m.discards;
         call.state = pipeline_state(m, scene.settings);
         if (scene.settings.depth_prepass && in_depth_prepass(call.state)) {
             if (prepass) {

@@ -120,16 +120,19 @@ uint64_t make_key(const std::vector<const Object*>& casters, const glm::mat4& vi
     key.casters.clear();
     for (const Object* o : casters) {
         const glm::mat4 model = o->transform.matrix();
-        if (!outside_frustum(o->mesh->bounds, view_projection * model))
-            key.casters.push_back({o->mesh, model});
+        if (outside_frustum(o->mesh->bounds, view_projection * model)) continue;
+        const Material& m = *o->material;
+        key.casters.push_back({o->mesh, model, m.discards ? &m : nullptr,
+                               m.discards ? m.block : nullptr});
     }
     return casters.size() - key.casters.size();
 }
 
+// The casters' depth; a cutout's own shader runs, with no lights, so that
+// what it discards casts no shadow.
 void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4& proj,
                 Pipeline& pipeline, Framebuffer& target, FrameStats& frame) {
     DrawCall call;
-    call.shader = &internal::plugin<internal::DepthOnly>();
     call.view = view;
     call.projection = proj;
     call.state.cull = CullMode::none;  // open meshes (planes) cast from both sides
@@ -139,6 +142,10 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
     for (const ShadowMapKey::Caster& c : key.casters) {
         call.mesh = c.mesh.get();
         call.model = c.model;
+        call.shader = c.cutout ? c.cutout->plugin.get() : &internal::plugin<internal::DepthOnly>();
+        call.params = c.cutout ? c.params->bytes : nullptr;
+        call.textures = c.cutout ? c.cutout->textures.data() : nullptr;
+        call.texture_count = c.cutout ? int(c.cutout->textures.size()) : 0;
         pipeline.queue(call, target, stats);
     }
     pipeline.flush(stats);

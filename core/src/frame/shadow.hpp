@@ -27,13 +27,18 @@ namespace facet {
 
 // What a map's depth is a function of: its projection and size, and each
 // caster it drew (its mesh, held so that a new mesh never takes an old
-// one's address, and its transform). Lights and cameras matter only
-// through the projection.
+// one's address, and its transform; for a cutout, whose shader runs to
+// discard what its alpha cuts away, its material's parameters, which a
+// reload replaces). Lights and cameras matter only through the projection.
 struct ShadowMapKey {
     struct Caster {
         std::shared_ptr<const Mesh> mesh;
         glm::mat4 model;
-        bool operator==(const Caster& o) const { return mesh == o.mesh && model == o.model; }
+        const Material* cutout = nullptr;  // the material, if it discards
+        std::shared_ptr<const ParamBlock> params;  // cutout: its parameters
+        bool operator==(const Caster& o) const {
+            return mesh == o.mesh && model == o.model && cutout == o.cutout && params == o.params;
+        }
     };
     int size = 0;
     glm::mat4 view_projection{0.0f};

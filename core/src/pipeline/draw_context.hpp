@@ -3,10 +3,15 @@
 // the service table it calls back into.
 #pragma once
 
+#include "base/thread_pool.hpp"
+
+#include "facet/framebuffer.hpp"
 #include "facet/isa.hpp"
 #include "facet/pipeline.hpp"
 
 #include <facet/shader_abi.h>
+
+#include <vector>
 
 namespace facet {
 
@@ -21,21 +26,39 @@ struct DrawContext {
     const uint8_t* interpolation = nullptr;    // per varying float
     bool perspective_only = true;              // no varying float is screen-linear
     bool packable = false;                     // fragments may be packed (fragment.hpp)
+    bool may_discard = false;                  // the shader may clear mask bits
     const float* ao = nullptr;                 // target-sized, if the shader needs AO
     bool needs_ao = false;                     // the shader asks for AO (all ones without a pass)
     PipelineState state;
     Framebuffer* target = nullptr;
 };
 
-// Fills the shader's part of `dc`, with its fragment loop for `isa`.
+// A screen pass's scratch buffer (facet_host.scratch), kept between frames.
+using PostScratch = std::vector<uint8_t, CacheLineAllocator<uint8_t>>;
+
+// What the host's services for a screen pass see through
+// facet_post_frame.host_data: the threads its tasks run on, and its scratch
+// buffers. A task runs inside InPlugin (plugin_calls.hpp), so that a crash
+// in it names the pass.
+struct PostContext {
+    const ShaderPlugin* plugin = nullptr;
+    ThreadPool* pool = nullptr;
+    PostScratch* scratch = nullptr;  // [FACET_POST_SCRATCH_SLOTS]
+};
+
+// Fills the shader's part of `dc`, with its fragment loop for `isa`, for
+// a draw whose fragments the shader `may_discard` (DrawCall::may_discard,
+// if the shader needs FACET_NEED_DISCARD) under `state`.
 void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
-                     const TextureBinding* textures, int texture_count);
+                     const TextureBinding* textures, int texture_count, bool may_discard,
+                     const PipelineState& state);
 
 // What the plugin sees of `call` drawn into a width x height target.
 // host_data points at `dc`, for the host's services.
 facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc);
 
-// The service table passed to plugins in facet_draw.host.
+// The service table passed to plugins in facet_draw.host and
+// facet_post_frame.host.
 const facet_host* host_services();
 
 }  // namespace facet

@@ -406,8 +406,7 @@ void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVar
 }
 
 bool depth_only(const DrawContext& dc) {
-    return !dc.state.color_write && !dc.shader->needs(FACET_NEED_DISCARD) &&
-           dc.target->samples() == 1;
+    return !dc.state.color_write && !dc.may_discard && dc.target->samples() == 1;
 }
 
 void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
@@ -443,9 +442,33 @@ void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const Tr
     stats.fragments_depth_rejected += rejected;
 }
 
+// PipelineState::alpha_to_coverage: the samples each lane's alpha covers,
+// kept in sd.passed with MSAA; the lanes of `mask` that keep any.
+uint32_t alpha_to_coverage(const Block& b, const float* alpha, int n, uint32_t mask,
+                           SampleDepth& sd) {
+    // A 4x4 ordered (Bayer) dither, in 16ths.
+    static constexpr uint8_t kDither[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+    const uint32_t all = (1u << n) - 1u;
+    uint32_t kept = 0;
+    for (uint32_t m = mask; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        const int x = b.x + i % 4, y = b.y + i / 4;
+        const float a = alpha[i] > 0.0f ? std::min(alpha[i], 1.0f) : 0.0f;  // NaN: 0
+        const float d = (float(kDither[(y & 3) * 4 + (x & 3)]) + 0.5f) / 16.0f;
+        const int k = std::min(n, int(a * float(n) + d));
+        const int r = (x + 2 * y) % n;
+        const uint32_t run = (1u << k) - 1u;
+        const uint32_t samples = ((run << r) | (run >> (n - r))) & all;
+        if (n > 1) sd.passed[i] &= uint8_t(samples);
+        if (n > 1 ? sd.passed[i] != 0 : samples != 0) kept |= 1u << i;
+    }
+    return kept;
+}
+
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
                  const Block& b, PackedBatch& packed, FrameStats& stats) {
-    const bool msaa = dc.target->samples() > 1;
+    const int n_samples = dc.target->samples();
+    const bool msaa = n_samples > 1;
     Float z[kParts];
     SampleDepth sd;
     const uint32_t mask = msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, t, b, z);
@@ -455,7 +478,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
                       dc.state.blend == BlendMode::opaque;
     if (!pack && !packed.empty()) packed.flush(stats);  // what came first is written first
-    if (!dc.state.color_write && !dc.shader->needs(FACET_NEED_DISCARD)) {
+    if (!dc.state.color_write && !dc.may_discard) {
         // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
         else write_pixels(dc, b, z, nullptr, mask);
@@ -492,8 +515,10 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     stats.blocks_shaded += 1;
     stats.fragments_shaded += simd::popcount(mask);
     if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);
-    if (msaa) write_samples(dc, b, sd, color, batch.mask & mask);  // a shader may only clear bits
-    else write_pixels(dc, b, z, color, batch.mask & mask);
+    uint32_t kept = batch.mask & mask;  // a shader may only clear bits
+    if (dc.state.alpha_to_coverage) kept = alpha_to_coverage(b, color + 3 * N, n_samples, kept, sd);
+    if (msaa) write_samples(dc, b, sd, color, kept);
+    else write_pixels(dc, b, z, color, kept);
 }
 
 }  // namespace facet::FACET_KERNEL_NS

@@ -1,10 +1,13 @@
 // The host's side of the plugin ABI: the facet_draw a plugin sees of a draw
-// call, and the services it may call back (log, dependent texture reads).
+// call, and the services it may call back (log, dependent texture reads;
+// for screen passes, threads and scratch memory).
 #include "pipeline/draw_context.hpp"
 
 #include "facet/math.hpp"
+#include "facet/memory.hpp"
 #include "facet/plugin.hpp"
 #include "facet/texture.hpp"
+#include "plugin/plugin_calls.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -36,10 +39,46 @@ void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const fl
     sample_many(dc->textures[slot], u, v, int(count), rgba);
 }
 
+void host_parallel_for(const facet_post_frame* frame, uint32_t count,
+                       void (*task)(void* context, uint32_t index, uint32_t worker),
+                       void* context) {
+    const auto* pc = static_cast<const PostContext*>(frame->host_data);
+    pc->pool->parallel_for(int(count), [&](int i, int worker) {
+        const InPlugin in_task(pc->plugin, PluginEntry::post);
+        task(context, uint32_t(i), uint32_t(worker));
+    });
+}
+
+void* host_scratch(const facet_post_frame* frame, uint32_t slot, size_t bytes) {
+    const auto* pc = static_cast<const PostContext*>(frame->host_data);
+    const char* name = pc->plugin->name().c_str();
+    if (slot >= FACET_POST_SCRATCH_SLOTS) {
+        spdlog::error("[{}] asked for scratch slot {} (there are {})", name, slot,
+                      FACET_POST_SCRATCH_SLOTS);
+        return nullptr;
+    }
+    PostScratch& buffer = pc->scratch[slot];
+    if (buffer.size() != bytes) {
+        uint64_t total = bytes;
+        for (uint32_t s = 0; s < FACET_POST_SCRATCH_SLOTS; ++s)
+            if (s != slot) total += pc->scratch[s].size();
+        if (total > memory_budget()) {
+            spdlog::error("[{}] asked for {} of scratch memory, over the memory budget of {}",
+                          name, memory_text(total), memory_text(memory_budget()));
+            return nullptr;
+        }
+        buffer.clear();
+        buffer.shrink_to_fit();  // a new size: no copy of the old contents
+        buffer.resize(bytes);
+    }
+    return buffer.data();
+}
+
 }  // namespace
 
 void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
-                     const TextureBinding* textures, int texture_count) {
+                     const TextureBinding* textures, int texture_count, bool may_discard,
+                     const PipelineState& state) {
     dc.shader = &shader;
     dc.fragment = shader.fragment_for(isa);
     dc.varying_floats = shader.varying_floats();
@@ -54,8 +93,12 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
     if (shader.needs(FACET_NEED_TEXTURES))
         for (int s = 0; s < dc.texture_count; ++s) dc.sample_textures |= bool(textures[s].texture);
     dc.needs_ao = shader.needs(FACET_NEED_AO);
+    dc.state = state;
+    dc.may_discard = may_discard && shader.needs(FACET_NEED_DISCARD);
+    // Packed fragments have their depth written before they are shaded.
     dc.packable = (shader.desc().flags & FACET_SHADER_PACKABLE) &&
-                  !shader.needs(FACET_NEED_DERIVATIVES) && !shader.needs(FACET_NEED_DISCARD);
+                  !shader.needs(FACET_NEED_DERIVATIVES) && !dc.may_discard &&
+                  !state.alpha_to_coverage;
 }
 
 facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc) {
@@ -94,7 +137,8 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
 
 const facet_host* host_services() {
     static const facet_host host = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host),
-                                    &host_log, &host_sample};
+                                    &host_log,       &host_sample,    &host_parallel_for,
+                                    &host_scratch};
     return &host;
 }
 

@@ -120,8 +120,8 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     ++stats.draws;
 
     d.dc = {};
-    prepare_context(d.dc, shader, kernels_->isa, call.textures, call.texture_count);
-    d.dc.state = call.state;
+    prepare_context(d.dc, shader, kernels_->isa, call.textures, call.texture_count,
+                    call.may_discard, call.state);
     d.dc.target = &target;
     d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
     // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
@@ -235,6 +235,8 @@ FrameStats& FrameStats::operator+=(const FrameStats& o) {
     ms_ao += o.ms_ao;
     ms_main += o.ms_main;
     ms_post += o.ms_post;
+    post_passes += o.post_passes;
+    for (int i = 0; i < kPostTimings; ++i) ms_post_pass[i] += o.ms_post_pass[i];
     return *this;
 }
 

@@ -39,7 +39,7 @@ std::string to_hex(uint32_t v) {
     throw Error(code, why, origin);
 }
 
-bool valid_param_type(uint32_t type) { return type <= FACET_PARAM_TEXTURE; }
+bool valid_param_type(uint32_t type) { return type <= FACET_PARAM_CHOICE; }
 
 uint32_t param_bytes(uint32_t type) { return 4u * uint32_t(std::max(1, param_float_count(type))); }
 
@@ -74,8 +74,8 @@ const void* object_of(const void* address) {
 // A table that lives in the plugin's shared object (or the program) keeps
 // its entries and their names there too: an entry or a name elsewhere means
 // a count that runs past the table, found before a name is read.
-void check_in_object(const facet_shader_desc& d, const std::string& origin) {
-    const void* home = object_of(&d);
+void check_in_object(const facet_shader_desc& d, const void* where, const std::string& origin) {
+    const void* home = object_of(where);
     // A descriptor or a table built at run time (tests, embedders, generated
     // schemas): nothing to compare with.
     if (!home || d.param_count == 0 || object_of(d.params) != home) return;
@@ -107,14 +107,38 @@ void check_param_range(const facet_param_desc& p, const std::string& what,
                        std::to_string(p.max_value));
 }
 
-void validate_params(const facet_shader_desc& d, const std::string& origin) {
+// The names of CHOICE parameter `p` in `choices` ("a|b|c"): at least one,
+// none empty or given twice, and the default one of them.
+void check_choices(const facet_param_desc& p, const char* choices, const std::string& what,
+                   const std::string& origin) {
+    if (!choices)
+        refuse(ErrorCode::plugin_invalid, origin,
+               what + " is a choice but param_choices gives it no names");
+    const std::vector<std::string> names = choice_names(choices);
+    for (size_t i = 0; i < names.size(); ++i) {
+        if (names[i].empty())
+            refuse(ErrorCode::plugin_invalid, origin,
+                   what + " has an empty name among its choices '" + choices + "'");
+        if (std::find(names.begin(), names.begin() + long(i), names[i]) != names.begin() + long(i))
+            refuse(ErrorCode::plugin_invalid, origin,
+                   what + " names the choice '" + names[i] + "' twice");
+    }
+    const float d = p.default_value[0];
+    if (!(d >= 0.0f && d < float(names.size()) && d == std::floor(d)))
+        refuse(ErrorCode::plugin_invalid, origin,
+               what + " has the default " + std::to_string(d) + ", not the index of one of '" +
+                   choices + "'");
+}
+
+// `d` is the host's copy of the descriptor at `where`.
+void validate_params(const facet_shader_desc& d, const void* where, const std::string& origin) {
     if (d.param_count > FACET_MAX_PARAMS || d.params_size > FACET_MAX_PARAMS_SIZE)
         refuse(ErrorCode::plugin_invalid, origin,
                "parameter schema too large (" + std::to_string(d.param_count) + " parameters, " +
                    std::to_string(d.params_size) + " bytes)");
     if (d.param_count > 0 && !d.params)
         refuse(ErrorCode::plugin_invalid, origin, "param_count > 0 but no params table");
-    check_in_object(d, origin);
+    check_in_object(d, where, origin);
     int textures = 0;
     for (uint32_t i = 0; i < d.param_count; ++i) {
         const facet_param_desc& p = d.params[i];
@@ -132,7 +156,14 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
                        what + " overlaps parameter " + std::to_string(j) + " ('" + q.name +
                            "') in the parameter block");
         }
-        check_param_range(p, what, origin);
+        if (p.type == FACET_PARAM_CHOICE)
+            check_choices(p, d.param_choices ? d.param_choices[i] : nullptr, what, origin);
+        else if (d.param_choices && d.param_choices[i])
+            refuse(ErrorCode::plugin_invalid, origin, what + " has choices but is not a choice");
+        else
+            check_param_range(p, what, origin);
+        if (p.type == FACET_PARAM_TEXTURE && d.kind == FACET_KIND_POST)
+            refuse(ErrorCode::plugin_invalid, origin, what + ": a screen pass takes no textures");
         if (p.type == FACET_PARAM_TEXTURE) {
             ++textures;
             if (p.uv_varying < 0 || uint32_t(p.uv_varying) >= d.varying_count ||
@@ -156,6 +187,12 @@ void validate_params(const facet_shader_desc& d, const std::string& origin) {
             refuse(ErrorCode::plugin_invalid, origin,
                    what + " says whether AO is used, but it is not a bool or a float or the "
                           "shader does not need FACET_NEED_AO");
+        if ((p.flags & FACET_PARAM_USES_DISCARD) &&
+            ((p.type != FACET_PARAM_BOOL && p.type != FACET_PARAM_FLOAT) ||
+             !(d.needs & FACET_NEED_DISCARD)))
+            refuse(ErrorCode::plugin_invalid, origin,
+                   what + " says whether the material discards, but it is not a bool or a "
+                          "float or the shader does not need FACET_NEED_DISCARD");
     }
     if (textures > FACET_MAX_TEXTURES)
         refuse(ErrorCode::plugin_invalid, origin, "too many texture parameters");
@@ -205,16 +242,44 @@ void validate_descriptor(const facet_shader_desc* d, const std::string& origin) 
                "descriptor is " + std::to_string(d->struct_size) + " bytes, but ABI " +
                    std::to_string(d->abi_major) + "." + std::to_string(d->abi_minor) +
                    " defines " + std::to_string(sizeof(facet_shader_desc)));
-    if (!d->name || !*d->name)
+    // Fields past the plugin's struct_size read as zero.
+    facet_shader_desc c{};
+    std::memcpy(&c, d, std::min<size_t>(d->struct_size, sizeof c));
+    if (!c.name || !*c.name)
         refuse(ErrorCode::plugin_invalid, origin, "the descriptor has no name");
-    if (!d->vertex || !d->fragment)
-        refuse(ErrorCode::plugin_invalid, origin, "missing vertex or fragment function");
-    if (d->needs & ~kSupportedNeeds)
+    if (c.kind == FACET_KIND_SHADER) {
+        if (!c.vertex || !c.fragment)
+            refuse(ErrorCode::plugin_invalid, origin, "missing vertex or fragment function");
+        if (c.post)
+            refuse(ErrorCode::plugin_invalid, origin, "a shader with a post function");
+    } else if (c.kind == FACET_KIND_POST) {
+        if (!c.post)
+            refuse(ErrorCode::plugin_invalid, origin, "a screen pass without its post function");
+        if (c.vertex || c.fragment || c.fragment_avx2 || c.fragment_avx512 || c.varying_count ||
+            c.needs || c.flags)
+            refuse(ErrorCode::plugin_invalid, origin,
+                   "a screen pass has no vertex or fragment functions, varyings, needs or flags");
+    } else {
+        refuse(ErrorCode::plugin_invalid, origin,
+               "unknown plugin kind " + std::to_string(c.kind) + " (this host knows 0, a shader, "
+               "and 1, a screen pass)");
+    }
+    if (c.needs & ~kSupportedNeeds)
         refuse(ErrorCode::plugin_invalid, origin,
                "needs inputs this host cannot provide (needs bits 0x" +
-                   to_hex(d->needs & ~kSupportedNeeds) + ")");
-    validate_varyings(*d, origin);
-    validate_params(*d, origin);
+                   to_hex(c.needs & ~kSupportedNeeds) + ")");
+    validate_varyings(c, origin);
+    validate_params(c, d, origin);
+}
+
+std::vector<std::string> choice_names(std::string_view choices) {
+    std::vector<std::string> names;
+    for (size_t start = 0;;) {
+        const size_t bar = choices.find('|', start);
+        names.emplace_back(choices.substr(start, bar - start));
+        if (bar == std::string_view::npos) return names;
+        start = bar + 1;
+    }
 }
 
 int param_float_count(uint32_t type) {
@@ -230,8 +295,9 @@ int param_float_count(uint32_t type) {
 }
 
 std::string_view param_type_name(uint32_t type) {
-    static constexpr std::string_view names[] = {"float", "int",    "bool",   "vec2",   "vec3",
-                                                 "vec4",  "color3", "color4", "texture"};
+    static constexpr std::string_view names[] = {"float",  "int",    "bool",    "vec2",
+                                                 "vec3",   "vec4",   "color3",  "color4",
+                                                 "texture", "choice"};
     return valid_param_type(type) ? names[type] : "unknown";
 }
 
@@ -276,7 +342,8 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
                "file is named '" + std::string(expected_name) + "' but the shader calls itself '" +
                    desc->name + "'");
     plugin->adopt(desc);
-    spdlog::info("loaded shader '{}' {} from {}", plugin->name_,
+    spdlog::info("loaded {} '{}' {} from {}", plugin->is_post() ? "screen pass" : "shader",
+                 plugin->name_,
                  desc->version ? desc->version : "", origin);
     return plugin;
 }
@@ -518,6 +585,7 @@ const char* entry_text(PluginEntry e) {
         case PluginEntry::entry_point: return "in its entry point (" FACET_SHADER_ENTRY_SYMBOL ")";
         case PluginEntry::vertex: return "in its vertex function";
         case PluginEntry::fragment: return "in its fragment function";
+        case PluginEntry::post: return "in its post function";
         case PluginEntry::unload: return "while unloading (its static destructors)";
         default: return "";
     }

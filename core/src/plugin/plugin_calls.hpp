@@ -1,6 +1,6 @@
 // Which plugin code each thread runs, for report_plugin_faults()
 // (facet/plugin.hpp): every call into a plugin (loading it, its entry point,
-// its vertex and fragment functions, unloading it) is made inside an
+// its vertex, fragment and post functions, unloading it) is made inside an
 // InPlugin, and the fault handler reads the crashing thread's record.
 //
 // Takes: the plugin about to run, and which of its functions.
@@ -13,7 +13,7 @@ namespace facet {
 
 class ShaderPlugin;
 
-enum class PluginEntry : uint8_t { none, load, entry_point, vertex, fragment, unload };
+enum class PluginEntry : uint8_t { none, load, entry_point, vertex, fragment, post, unload };
 
 struct PluginCall {
     const ShaderPlugin* plugin = nullptr;

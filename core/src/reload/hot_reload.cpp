@@ -108,12 +108,15 @@ bool HotReload::reload_plugin(const std::string& name) {
         report(ReloadEvent::Kind::plugin_added, name, "shader '" + name + "' is now available");
         return scene_failed_ && reload_scene();
     }
+    const std::string kind = registry_.get(name)->is_post() ? "screen pass" : "shader";
     std::shared_ptr<ShaderPlugin> fresh;
     std::vector<std::pair<Material*, Material>> rebound;
+    std::vector<std::pair<PostPass*, PostPass>> repassed;  // the post chain's passes
     try {
         if (const std::string failure = trial_frame(name); !failure.empty()) {
             report(ReloadEvent::Kind::plugin_refused, name,
-                   "refused new version of shader '" + name + "', keeping the old one: " + failure);
+                   "refused new version of " + kind + " '" + name + "', keeping the old one: " +
+                       failure);
             return false;
         }
         fresh = registry_.load_fresh(name);
@@ -123,16 +126,31 @@ bool HotReload::reload_plugin(const std::string& name) {
             bind(copy, fresh, textures_);
             rebound.emplace_back(m, std::move(copy));
         }
+        for (PostPass& p : scene_.post) {
+            if (p.name != name) continue;
+            if (!fresh->is_post())
+                throw Error(ErrorCode::wrong_type, "it is now a shader, and the scene's post "
+                                                   "chain names it as a screen pass");
+            PostPass copy = p;
+            copy.block = bind_params(copy.params, *fresh, copy.file, textures_).block;
+            copy.plugin = fresh;
+            repassed.emplace_back(&p, std::move(copy));
+        }
     } catch (const Error& e) {
         report(ReloadEvent::Kind::plugin_refused, name,
-               "refused new version of shader '" + name + "', keeping the old one: " + e.what());
+               "refused new version of " + kind + " '" + name + "', keeping the old one: " +
+                   e.what());
         return false;
     }
     registry_.add(fresh);
     for (auto& [material, copy] : rebound) *material = std::move(copy);
+    for (auto& [pass, copy] : repassed) *pass = std::move(copy);
+    const std::string users = fresh->is_post()
+                                  ? std::to_string(repassed.size()) + " pass(es) of the post chain"
+                                  : std::to_string(rebound.size()) + " material(s)";
     report(ReloadEvent::Kind::plugin_reloaded, name,
-           "reloaded shader '" + name + "' (" + std::to_string(rebound.size()) +
-               " material(s)) from " + fresh->origin());
+           "reloaded " + std::string(fresh->is_post() ? "screen pass" : "shader") + " '" + name +
+               "' (" + users + ") from " + fresh->origin());
     return true;
 }
 
@@ -145,7 +163,9 @@ bool HotReload::reload_plugin(const std::string& name) {
 std::string HotReload::trial_frame(const std::string& name) {
     const std::vector<Material*> all = materials_of(scene_);
     const bool used =
-        std::any_of(all.begin(), all.end(), [&](const Material* m) { return m->shader == name; });
+        std::any_of(all.begin(), all.end(), [&](const Material* m) { return m->shader == name; }) ||
+        std::any_of(scene_.post.begin(), scene_.post.end(),
+                    [&](const PostPass& p) { return p.name == name; });
     if (!used || options_.trial_time.count() <= 0) return {};
     if (!sandbox_program()) {
         spdlog::warn("hot reload: facet-sandbox is not installed beside this program; shader "

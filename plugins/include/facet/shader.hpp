@@ -39,6 +39,7 @@
 // only for the covered lanes of a block (those that passed the depth test).
 #pragma once
 
+#include <facet/params.hpp>
 #include <facet/shader_abi.h>
 #if defined(__GNUC__) || defined(__clang__)  // vector extensions: fragment_wide
 #include <facet/wide.hpp>
@@ -59,63 +60,6 @@
 #include <type_traits>
 
 namespace facet::sdk {
-
-// ---- schema helpers --------------------------------------------------------
-
-constexpr facet_varying_desc varying(const char* name, uint32_t components,
-                                     facet_interpolation interp = FACET_INTERP_PERSPECTIVE) {
-    return {name, components, static_cast<uint32_t>(interp)};
-}
-
-namespace detail {
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-constexpr facet_param_desc param(const char* name, facet_param_type type, size_t offset,
-                                 float d0, float d1, float d2, float d3, float lo, float hi,
-                                 const char* doc) {
-    return {name, static_cast<uint32_t>(type), static_cast<uint32_t>(offset),
-            {d0, d1, d2, d3}, lo, hi, 0u, -1, doc};
-}
-}  // namespace detail
-
-constexpr facet_param_desc float1(const char* name, size_t offset, float def,
-                                  float lo = -detail::kInf, float hi = detail::kInf,
-                                  const char* doc = nullptr) {
-    return detail::param(name, FACET_PARAM_FLOAT, offset, def, 0, 0, 0, lo, hi, doc);
-}
-constexpr facet_param_desc int1(const char* name, size_t offset, int def, int lo, int hi,
-                                const char* doc = nullptr) {
-    return detail::param(name, FACET_PARAM_INT, offset, float(def), 0, 0, 0, float(lo),
-                         float(hi), doc);
-}
-constexpr facet_param_desc boolean(const char* name, size_t offset, bool def,
-                                   const char* doc = nullptr) {
-    return detail::param(name, FACET_PARAM_BOOL, offset, def ? 1.f : 0.f, 0, 0, 0, 0, 1, doc);
-}
-constexpr facet_param_desc vec3(const char* name, size_t offset, glm::vec3 def,
-                                float lo = -detail::kInf, float hi = detail::kInf,
-                                const char* doc = nullptr) {
-    return detail::param(name, FACET_PARAM_VEC3, offset, def.x, def.y, def.z, 0, lo, hi, doc);
-}
-constexpr facet_param_desc color3(const char* name, size_t offset, glm::vec3 def,
-                                  const char* doc = nullptr) {
-    return detail::param(name, FACET_PARAM_COLOR3, offset, def.x, def.y, def.z, 0, 0,
-                         detail::kInf, doc);
-}
-constexpr facet_param_desc color4(const char* name, size_t offset, glm::vec4 def,
-                                  const char* doc = nullptr) {
-    return detail::param(name, FACET_PARAM_COLOR4, offset, def.x, def.y, def.z, def.w, 0,
-                         detail::kInf, doc);
-}
-// A texture parameter sampled by the host at the UV held in varying
-// `uv_varying`. `srgb` marks colour data, decoded to linear on sampling.
-constexpr facet_param_desc texture(const char* name, size_t offset, int uv_varying, bool srgb,
-                                   const char* doc = nullptr) {
-    facet_param_desc p = detail::param(name, FACET_PARAM_TEXTURE, offset, 0, 0, 0, 0, 0, 1, doc);
-    p.flags = srgb ? uint32_t(FACET_PARAM_SRGB) : 0u;
-    p.uv_varying = uv_varying;
-    return p;
-}
 
 // ---- lights ----------------------------------------------------------------------
 
@@ -812,6 +756,27 @@ constexpr facet_param_desc ambient_occlusion(size_t offset) {
     return p;
 }
 
+// A cutout (ABI 1.4): fragments whose alpha is below the float at byte
+// `offset` are discarded, so that a texture's alpha cuts a shape out of a
+// quad (foliage, fences). 0, the default, discards nothing, and the host
+// then draws the material as fast as one that cannot discard. A shader
+// with it asks for FACET_NEED_DISCARD and calls cut_out() on its colour.
+constexpr facet_param_desc alpha_cutoff(size_t offset) {
+    facet_param_desc p = float1("alpha_cutoff", offset, 0.0f, 0.0f, 1.0f,
+                                "discard fragments with alpha below this; 0: none");
+    p.flags = FACET_PARAM_USES_DISCARD;
+    return p;
+}
+// Discards the fragment when `alpha` is below `cutoff`.
+inline void cut_out(Fragment& f, float alpha, float cutoff) {
+    if (alpha < cutoff) f.discard();
+}
+#if FACET_SDK_WIDE
+inline void cut_out(WideFragment& f, const wide::Float& alpha, float cutoff) {
+    if (cutoff > 0.0f) f.discard(alpha < cutoff);
+}
+#endif
+
 // `own` followed by the five parameters of the Receiving at byte `offset`
 // of the parameter block.
 template <size_t N>
@@ -1117,6 +1082,7 @@ const facet_shader_desc* describe() {
         &facet_sdk_fragment_avx512 ? facet_sdk_fragment_avx512 : nullptr,
 #endif
         detail::flags<S>(),
+        FACET_KIND_SHADER, nullptr, detail::choice_table<S>(),
     };
     return &desc;
 }

@@ -8,7 +8,9 @@
  *       const facet_shader_desc* facet_shader_entry(void);
  *
  *   which returns a pointer to a constant descriptor that lives as long as the
- *   library is loaded. The descriptor names the shader, declares its varyings,
+ *   library is loaded. A plugin is one of two kinds (facet_shader_desc.kind,
+ *   v1.4): a material shader or a screen pass (POST-PROCESSING below).
+ *   A material shader's descriptor names the shader, declares its varyings,
  *   what it needs from the core, its parameter schema, and its two batch
  *   functions: one shades a batch of vertices, one a batch of 16 fragments
  *   (a 4x4 block, or packed pixels: FACET_SHADER_PACKABLE). The host pays one indirect call per batch, never per pixel.
@@ -57,7 +59,7 @@ extern "C" {
 #endif
 
 #define FACET_ABI_MAJOR 1
-#define FACET_ABI_MINOR 3
+#define FACET_ABI_MINOR 4
 
 /* The one symbol a plugin exports. */
 #define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
@@ -104,6 +106,8 @@ enum facet_need {
                                       /*   keep every lane interpolated (it does) */
     FACET_NEED_BLENDING = 1u << 9,    /* output alpha is meant for blending      */
     FACET_NEED_DISCARD = 1u << 10     /* the fragment function clears mask bits   */
+                                      /*   (v1.4: a material whose USES_DISCARD */
+                                      /*   parameter is 0 is drawn as if not)   */
 };
 
 /* v1.2: how a shader's fragment function may be called (facet_shader_desc.flags). */
@@ -146,7 +150,10 @@ enum facet_param_type {
     FACET_PARAM_VEC4 = 5,   /* float[4]                                       */
     FACET_PARAM_COLOR3 = 6, /* float[3], linear RGB                           */
     FACET_PARAM_COLOR4 = 7, /* float[4], linear RGBA                          */
-    FACET_PARAM_TEXTURE = 8 /* int32_t: 1 if a texture is bound, else 0       */
+    FACET_PARAM_TEXTURE = 8, /* int32_t: 1 if a texture is bound, else 0      */
+    FACET_PARAM_CHOICE = 9   /* v1.4: int32_t, the index of a name among the  */
+                             /*   parameter's choices (facet_shader_desc.     */
+                             /*   param_choices); YAML gives the name          */
 };
 
 enum facet_param_flag {
@@ -156,8 +163,14 @@ enum facet_param_flag {
      * that use it: */
     FACET_PARAM_USES_SHADOWS = 1u << 1, /* BOOL: false, and the material      */
                                         /*   needs no shadow map              */
-    FACET_PARAM_USES_AO = 1u << 2       /* FLOAT or BOOL: 0, and the material  */
+    FACET_PARAM_USES_AO = 1u << 2,      /* FLOAT or BOOL: 0, and the material  */
                                         /*   needs no AO                      */
+    /* v1.4 */
+    FACET_PARAM_USES_DISCARD = 1u << 3  /* FLOAT or BOOL: 0, and the material  */
+                                        /*   never discards (an alpha cutoff  */
+                                        /*   of 0): the host may pack its     */
+                                        /*   fragments and draw its depth     */
+                                        /*   with no shader call              */
 };
 
 typedef struct facet_param_desc {
@@ -243,6 +256,7 @@ typedef struct facet_shadow_distances {
 /* Host services, passed with every draw. */
 
 typedef struct facet_draw facet_draw;
+typedef struct facet_post_frame facet_post_frame; /* v1.4: POST-PROCESSING below */
 
 enum facet_log_level { FACET_LOG_DEBUG = 0, FACET_LOG_INFO = 1, FACET_LOG_WARN = 2, FACET_LOG_ERROR = 3 };
 
@@ -257,6 +271,21 @@ typedef struct facet_host {
      * material's filter and wrap modes. Writes rgba[c * count + i]. */
     void (*sample)(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
                    uint32_t count, float* rgba);
+    /* v1.4, for screen passes (facet_post_frame): runs task(context, i,
+     * worker) once for each i in 0..count-1 on the host's threads, the
+     * caller's among them, and returns when every call has; worker (below
+     * frame->threads) tells a task which per-thread scratch it may use.
+     * Call it only from the pass's post function, not from a task. */
+    void (*parallel_for)(const facet_post_frame* frame, uint32_t count,
+                         void (*task)(void* context, uint32_t index, uint32_t worker),
+                         void* context);
+    /* v1.4: memory for the pass's intermediate images: `bytes` bytes,
+     * 64-byte aligned, under number `slot` (0..FACET_POST_SCRATCH_SLOTS-1)
+     * of this pass in this chain. The host keeps it between frames (its
+     * contents are undefined at each frame's start) and frees it with the
+     * chain. NULL when the memory budget refuses it: the pass then leaves
+     * the image as it is. */
+    void* (*scratch)(const facet_post_frame* frame, uint32_t slot, size_t bytes);
 } facet_host;
 
 /* ------------------------------------------------------------------------ */
@@ -342,6 +371,36 @@ typedef void (*facet_vertex_fn)(const facet_draw* draw, const facet_vertex_batch
 typedef void (*facet_fragment_fn)(const facet_draw* draw, facet_fragment_batch* batch);
 
 /* ------------------------------------------------------------------------ */
+/* POST-PROCESSING (v1.4). A screen pass (kind FACET_KIND_POST) works on the
+ * finished image: the scene's passes (`post: [...]`) run in order on a
+ * float target, in linear light, after the MSAA resolve and before the
+ * conversion to the output format. Its descriptor has a name, version and
+ * parameter schema like a shader's, no varyings, no vertex or fragment
+ * function, `needs` 0, and the function `post`, which the host calls once
+ * a frame, on one thread. The pass shares its work out to the host's
+ * threads itself (facet_host.parallel_for) and keeps its intermediate
+ * images in the host's scratch memory (facet_host.scratch). */
+#define FACET_POST_SCRATCH_SLOTS 16
+
+struct facet_post_frame {
+    const facet_host* host;
+    const void* params;      /* the pass's parameter block (never NULL)     */
+    const void* host_data;   /* opaque to the plugin                        */
+    uint32_t width, height;  /* pixels                                      */
+    uint32_t stride;         /* pixels from one row to the next             */
+    uint32_t threads;        /* workers parallel_for runs tasks on          */
+    float* color;            /* [height][stride][4] linear RGBA, unbounded: */
+                             /*   read it, and write the result in place    */
+    const float* depth;      /* [height][stride] window depth 0..1 of the   */
+                             /*   nearest surface, as the scene drew it     */
+    uint32_t reversed_z;     /* 1: depth 1 is near and 0 the background;    */
+                             /*   0: 0 is near and 1 the background         */
+    float time;              /* seconds, as facet_draw.time                 */
+};
+
+typedef void (*facet_post_fn)(const facet_post_frame* frame);
+
+/* ------------------------------------------------------------------------ */
 /* The descriptor a plugin returns. Only ever appended to. */
 
 typedef struct facet_shader_desc {
@@ -369,7 +428,21 @@ typedef struct facet_shader_desc {
     facet_fragment_fn fragment_avx2;   /* x86-64-v3: AVX2, FMA, BMI1/2, F16C   */
     facet_fragment_fn fragment_avx512; /* x86-64-v4: AVX-512 F, BW, CD, DQ, VL */
     uint32_t flags;                    /* enum facet_shader_flag bits           */
+    /* v1.4 */
+    uint32_t kind;                     /* enum facet_plugin_kind                */
+    facet_post_fn post;                /* FACET_KIND_POST: the pass; else NULL  */
+    /* [param_count], or NULL when no parameter is a CHOICE: for a CHOICE
+     * parameter, its names separated by '|' ("reinhard|aces"), the value
+     * being the index of the name; NULL for the others. */
+    const char* const* param_choices;
 } facet_shader_desc;
+
+/* v1.4: what a plugin is. A host of ABI 1.3 or older sees only shaders;
+ * a descriptor of 1.3 or older is a shader. */
+enum facet_plugin_kind {
+    FACET_KIND_SHADER = 0, /* a material shader: vertex and fragment            */
+    FACET_KIND_POST = 1    /* a screen pass: post (POST-PROCESSING above)        */
+};
 
 /* Size of the v1.0 descriptor: the least a host accepts. */
 #define FACET_SHADER_DESC_V1_0_SIZE (offsetof(facet_shader_desc, fragment) + sizeof(facet_fragment_fn))

@@ -1,0 +1,54 @@
+// The post-processing chain (post.hpp): each screen pass in place on the
+// float frame, then the result in the target's format.
+#include "frame/post.hpp"
+
+#include "base/timing.hpp"
+#include "pipeline/kernels.hpp"
+#include "plugin/plugin_calls.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+namespace facet {
+
+void PostChain::run(const std::vector<PostPass>& passes, Framebuffer& frame, Framebuffer& target,
+                    const RenderSettings& settings, Pipeline& pipeline, FrameStats& stats) {
+    if (scratch_.size() < passes.size()) scratch_.resize(passes.size());
+    for (size_t i = 0; i < passes.size() && !pipeline.stopped(); ++i) {
+        const PostPass& pass = passes[i];
+        const auto start = std::chrono::steady_clock::now();
+        PostContext context{pass.plugin.get(), &pipeline.pool(), scratch_[i].data()};
+        facet_post_frame f{};
+        f.host = host_services();
+        f.params = pass.block->bytes;
+        f.host_data = &context;
+        f.width = uint32_t(frame.width());
+        f.height = uint32_t(frame.height());
+        f.stride = uint32_t(frame.stride());
+        f.threads = uint32_t(pipeline.threads());
+        f.color = reinterpret_cast<float*>(frame.color_data());
+        f.depth = frame.depth();
+        f.reversed_z = settings.reversed_z ? 1u : 0u;
+        {
+            const InPlugin in_post(pass.plugin.get(), PluginEntry::post);
+            pass.plugin->desc().post(&f);
+        }
+        if (i < size_t(FrameStats::kPostTimings)) stats.ms_post_pass[i] = elapsed_ms(start);
+        ++stats.post_passes;
+    }
+    // The result in the target's format (a copy for rgba32f), and the depth.
+    const Kernels& k = pipeline.kernels();
+    const size_t row_bytes = size_t(target.stride()) * size_t(bytes_per_pixel(target.format()));
+    pipeline.pool().parallel_for(frame.height(), [&](int y, int) {
+        const auto* from = reinterpret_cast<const glm::vec4*>(frame.color_data()) +
+                           size_t(y) * size_t(frame.stride());
+        k.encode_pixels(target.format(), from, size_t(frame.width()),
+                        target.color_data() + size_t(y) * row_bytes);
+        std::memcpy(target.depth() + size_t(y) * size_t(target.stride()),
+                    frame.depth() + size_t(y) * size_t(frame.stride()),
+                    sizeof(float) * size_t(frame.width()));
+    });
+}
+
+}  // namespace facet
