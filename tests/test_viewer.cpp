@@ -199,6 +199,23 @@ TEST_CASE("a frame where nothing the shadows depend on changed draws no shadow m
     CHECK(v.overlay().stats.shadow_maps_reused == 1);
 }
 
+TEST_CASE("the overlay times each pass of the post chain; key 3 turns the chain off",
+          "[viewer][post]") {
+    Viewer v(small((fs::path(FACET_SOURCE_DIR) / "configs/scenes/post.yaml").string()));
+    v.pump();
+    CHECK(v.overlay().stats.post_passes == 3);
+    const std::string text = stats_text(v.overlay());
+    for (const char* pass : {" bloom ", " tonemap ", " fxaa "}) {
+        INFO(pass);
+        CHECK(text.find(pass) != std::string::npos);
+    }
+    CHECK(text.find("post chain (off)") == std::string::npos);
+    key(SDLK_3);
+    v.pump();
+    CHECK(v.overlay().stats.post_passes == 0);
+    CHECK(stats_text(v.overlay()).find("post chain (off)") != std::string::npos);
+}
+
 TEST_CASE("keys cycle materials and toggle wireframe, MSAA, passes and the overlay", "[viewer]") {
     Viewer v(small());
     v.pump();

@@ -99,12 +99,13 @@ std::optional<Isa> parse_isa(std::string_view name) {
 bool isa_supported(Isa isa) {
     switch (isa) {
         case Isa::portable: return true;
-#if FACET_X86 && FACET_X86_KERNELS
+#if FACET_X86 && FACET_KERNELS_avx2
         case Isa::avx2: return cpu().avx2;
-        case Isa::avx512: return cpu().avx512;
-#else
-        default: return false;
 #endif
+#if FACET_X86 && FACET_KERNELS_avx512
+        case Isa::avx512: return cpu().avx512;
+#endif
+        default: return false;
     }
     return false;
 }

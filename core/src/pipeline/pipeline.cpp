@@ -78,8 +78,10 @@ void for_row_bands(ThreadPool& pool, int height, Fn&& fn) {
 // The table of a path's kernels (kernels.hpp): those the build linked in.
 const Kernels& kernels(Isa isa) {
     switch (checked_isa(isa)) {
-#if FACET_X86_KERNELS
+#if FACET_KERNELS_avx2
         case Isa::avx2: return facet_kernels_avx2;
+#endif
+#if FACET_KERNELS_avx512
         case Isa::avx512: return facet_kernels_avx512;
 #endif
         default: return facet_kernels_portable;
