@@ -17,6 +17,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -121,14 +123,28 @@ Picture run_pass(const std::string& name, const std::vector<MaterialParam>& para
 }
 
 // The largest difference of a channel, relative to the reference's size
-// where that is above 1.
+// where that is above 1 (NaN where one side only is NaN; none where both
+// are, or both are the same infinity).
 double max_error(const Picture& got, const Picture& want) {
     double worst = 0.0;
     for (size_t i = 0; i < want.pixels.size(); ++i)
-        for (int c = 0; c < 4; ++c)
-            worst = std::max(worst, std::abs(got.pixels[i][c] - want.pixels[i][c]) /
-                                        std::max(1.0, std::abs(want.pixels[i][c])));
+        for (int c = 0; c < 4; ++c) {
+            const double a = got.pixels[i][c], b = want.pixels[i][c];
+            if (a == b || (std::isnan(a) && std::isnan(b))) continue;
+            const double e = std::abs(a - b) / std::max(1.0, std::abs(b));
+            worst = std::isnan(e) || std::isinf(e) ? std::numeric_limits<double>::infinity()
+                                                   : std::max(worst, e);
+        }
     return worst;
+}
+
+// `p` with a NaN pixel and an infinite one: each pass keeps the harm local.
+Picture with_bad_pixels(Picture p) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    p.at(5, 5) = glm::dvec4(nan, 0.5, 0.5, 1.0);
+    p.at(p.width - 9, p.height - 7) = glm::dvec4(inf, inf, 0.25, 1.0);
+    return p;
 }
 
 // Checks the pass on 1 and 2 threads against `want`, and that `want` is not
@@ -140,7 +156,8 @@ void check_pass(const std::string& name, const std::vector<MaterialParam>& param
     const Picture one = run_pass(name, params, input, 1);
     CHECK(max_error(one, want) <= tolerance);
     const Picture two = run_pass(name, params, input, 2);
-    CHECK(two.pixels == one.pixels);  // threads change nothing
+    CHECK(std::memcmp(two.pixels.data(), one.pixels.data(),
+                      one.pixels.size() * sizeof one.pixels[0]) == 0);  // threads change nothing
 }
 
 // ---- the references, in double ------------------------------------------------
@@ -152,7 +169,11 @@ Picture box_reference(const Picture& in, int r) {
         for (int x = 0; x < in.width; ++x) {
             glm::dvec4 sum(0.0);
             for (int j = -r; j <= r; ++j)
-                for (int i = -r; i <= r; ++i) sum += in.at(x + i, y + j);
+                for (int i = -r; i <= r; ++i) {
+                    glm::dvec4 v = in.at(x + i, y + j);
+                    for (int c = 0; c < 4; ++c) v[c] = std::isfinite(v[c]) ? v[c] : 0.0;
+                    sum += v;  // a value that is not finite counts as 0
+                }
             out.at(x, y) = sum / n;
         }
     return out;
@@ -186,8 +207,11 @@ Picture tonemap_reference(const Picture& in, double exposure, const std::string&
     Picture out = in;
     for (glm::dvec4& c : out.pixels)
         for (int k = 0; k < 3; ++k) {
-            const double x = std::max(0.0, c[k] * std::exp2(exposure));
-            if (curve == "aces")
+            const double s = c[k] * std::exp2(exposure);
+            const double x = s > 0.0 ? s : 0.0;  // NaN: 0
+            if (std::isinf(x))
+                c[k] = 1.0;
+            else if (curve == "aces")
                 c[k] = std::min(1.0, x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14));
             else if (curve == "reinhard")
                 c[k] = x / (1.0 + x);
@@ -232,8 +256,8 @@ void add_upsampled(const Picture& from, Picture& to, double scale) {
 Picture bloom_reference(const Picture& in, double threshold, double intensity, int levels) {
     const auto bright = [&](glm::dvec4 c) {
         const double l = 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
-        const double k = l > threshold ? (l - threshold) / l : 0.0;
-        return glm::dvec4(glm::dvec3(c) * k, 0.0);
+        if (!(l > threshold) || !std::isfinite(l)) return glm::dvec4(0.0);
+        return glm::dvec4(glm::dvec3(c) * ((l - threshold) / l), 0.0);
     };
     const auto same = [](glm::dvec4 c) { return c; };
     std::vector<Picture> level;
@@ -312,9 +336,10 @@ Picture fxaa_reference(const Picture& in, const FxaaSettings& p) {
 
 TEST_CASE("box and Gaussian blurs match their double-precision sums", "[post]") {
     const Picture input = hdr_picture(61, 37, 8.0, 1);
+    const Picture bad = with_bad_pixels(input);
     for (const int r : {1, 3, 20}) {
         CAPTURE(r);
-        check_pass("box_blur", {number("radius", r, true)}, input, box_reference(input, r), 2e-6);
+        check_pass("box_blur", {number("radius", r, true)}, bad, box_reference(bad, r), 2e-6);
     }
     for (const double sigma : {0.6, 2.0, 7.5}) {
         CAPTURE(sigma);
@@ -324,7 +349,7 @@ TEST_CASE("box and Gaussian blurs match their double-precision sums", "[post]") 
 }
 
 TEST_CASE("tone mapping follows its curves: ACES fitted, Reinhard, clamp", "[post]") {
-    Picture input = hdr_picture(33, 17, 40.0, 2);
+    Picture input = with_bad_pixels(hdr_picture(33, 17, 40.0, 2));
     input.at(0, 0) = glm::dvec4(-1.0, 0.0, 1e6, 0.5);  // below 0, 0, far above 1
     for (const std::string curve : {"aces", "reinhard", "clamp"})
         for (const double exposure : {0.0, -1.5, 2.0}) {
@@ -335,7 +360,7 @@ TEST_CASE("tone mapping follows its curves: ACES fitted, Reinhard, clamp", "[pos
 }
 
 TEST_CASE("bloom: bright pass, pyramid, blur and upsampling as documented", "[post]") {
-    const Picture input = hdr_picture(75, 43, 12.0, 3);
+    const Picture input = with_bad_pixels(hdr_picture(75, 43, 12.0, 3));
     for (const int levels : {1, 3, 8}) {
         CAPTURE(levels);
         check_pass("bloom",
@@ -481,6 +506,19 @@ TEST_CASE("a screen pass's descriptor is checked like a shader's", "[post][plugi
     far.default_value[0] = 2;
     chooses.params = &far;
     CHECK_THAT(refusal(chooses), Contains("not the index of one of 'a|b'"));
+    // A shader of ABI 1.3: its struct_size covers the padding after `flags`
+    // where 1.4 put `kind`, and whatever that holds, it is a shader.
+    facet_shader_desc old{};
+    old.abi_major = FACET_ABI_MAJOR;
+    old.abi_minor = 3;
+    old.struct_size = uint32_t(offsetof(facet_shader_desc, kind) + sizeof(uint32_t));
+    old.name = "old";
+    old.vertex = [](const facet_draw*, const facet_vertex_batch*) {};
+    old.fragment = [](const facet_draw*, facet_fragment_batch*) {};
+    old.kind = 0x5A5A5A5A;  // stale padding
+    old.post = post;        // past its struct_size: never read
+    CHECK(refusal(old) == "accepted");
+    CHECK_FALSE(ShaderPlugin::from_descriptor(&old, "test")->is_post());
 }
 
 TEST_CASE("a screen pass written in C is hot-reloaded; a crashing version is refused",

@@ -1,6 +1,8 @@
 // bloom: light that spills around what is brighter than the display.
 //   1. Bright pass: each pixel's RGB scaled by max(0, L - threshold) / L,
-//      L its luminance (Rec. 709: 0.2126 R + 0.7152 G + 0.0722 B), at half
+//      L its luminance (Rec. 709: 0.2126 R + 0.7152 G + 0.0722 B; a pixel
+//      whose L is not finite gives nothing, so that one bad pixel cannot
+//      spread over the pyramid), at half
 //      the frame's size per side (the mean of each 2x2 block).
 //   2. A pyramid of `levels` images, each half the one before (2x2 means),
 //      each blurred by a Gaussian of sigma 1.5 pixels (of its own level).
@@ -64,8 +66,8 @@ struct Bloom {
                             float threshold) {
         const auto bright = [&](const glm::vec4& c) {
             const float l = 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
-            const float k = l > threshold ? (l - threshold) / l : 0.0f;  // NaN: 0
-            return glm::vec4(glm::vec3(c) * k, 0.0f);
+            if (!(l > threshold) || !std::isfinite(l)) return glm::vec4(0.0f);  // NaN, Inf: none
+            return glm::vec4(glm::vec3(c) * ((l - threshold) / l), 0.0f);
         };
         f.for_rows(to.height, [&](int y) {
             const glm::vec4* a = from.row(std::min(2 * y, from.height - 1));

@@ -1,6 +1,6 @@
 // box_blur: each pixel the mean of the (2 radius + 1)^2 pixels around it
-// (edges clamped), RGBA alike: a box filter along the rows, then along the
-// columns, each a running sum.
+// (edges clamped, a value that is not finite counted as 0), RGBA alike: a
+// box filter along the rows, then along the columns, each a running sum.
 #include "filters.hpp"
 
 namespace {

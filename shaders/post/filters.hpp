@@ -97,14 +97,20 @@ inline void convolve_columns(const sdk::PostFrame& f, const Image& from, const I
 
 // The mean of the 2 radius + 1 pixels around each, along rows, by a
 // running sum (kept in double, so that its rounding does not build up
-// along a row).
+// along a row). A value that is not finite counts as 0: in a running sum it
+// would spoil the rest of the row.
+inline glm::dvec4 finite_or_zero(const glm::vec4& p) {
+    glm::dvec4 d(p);
+    for (int c = 0; c < 4; ++c) d[c] = std::isfinite(d[c]) ? d[c] : 0.0;
+    return d;
+}
 inline void box_rows(const sdk::PostFrame& f, const Image& from, const Image& to, int radius) {
     const int width = from.width;
     const double scale = 1.0 / double(2 * radius + 1);
     f.for_rows(from.height, [&](int y) {
         const glm::vec4* src = from.row(y);
         glm::vec4* dst = to.row(y);
-        const auto at = [&](int x) { return glm::dvec4(src[std::clamp(x, 0, width - 1)]); };
+        const auto at = [&](int x) { return finite_or_zero(src[std::clamp(x, 0, width - 1)]); };
         glm::dvec4 sum(0.0);
         for (int k = -radius; k <= radius; ++k) sum += at(k);
         for (int x = 0; x < width; ++x) {
@@ -126,14 +132,14 @@ inline void box_columns(const sdk::PostFrame& f, const Image& from, const Image&
         const auto row = [&](int y) { return from.row(std::clamp(y, 0, height - 1)) + x0; };
         for (int i = 0; i < n; ++i) sum[i] = glm::dvec4(0.0);
         for (int k = -radius; k <= radius; ++k)
-            for (int i = 0; i < n; ++i) sum[i] += glm::dvec4(row(k)[i]);
+            for (int i = 0; i < n; ++i) sum[i] += finite_or_zero(row(k)[i]);
         for (int y = 0; y < height; ++y) {
             glm::vec4* dst = to.row(y) + x0;
             const glm::vec4* in = row(y + radius + 1);
             const glm::vec4* out = row(y - radius);
             for (int i = 0; i < n; ++i) {
                 dst[i] = glm::vec4(sum[i] * scale);
-                sum[i] += glm::dvec4(in[i]) - glm::dvec4(out[i]);
+                sum[i] += finite_or_zero(in[i]) - finite_or_zero(out[i]);
             }
         }
     });

@@ -4,7 +4,7 @@
 //             x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to 0..1
 //   reinhard  x / (1 + x)
 //   clamp     min(x, 1)
-// (negative values give 0). Alpha is kept.
+// (negative values and NaN give 0, +Inf gives 1). Alpha is kept.
 #include <facet/post.hpp>
 
 #include <algorithm>
@@ -29,12 +29,14 @@ struct Tonemap {
     template <Curve C>
     static float map(float x) {
         x = x > 0.0f ? x : 0.0f;  // and NaN to 0
-        if constexpr (C == aces)
+        if constexpr (C == aces) {
+            x = std::min(x, 1e4f);  // the curve is past 1 from x = 7.3 on; Inf would give NaN
             return std::min(x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f), 1.0f);
-        else if constexpr (C == reinhard)
-            return x / (1.0f + x);
-        else
+        } else if constexpr (C == reinhard) {
+            return std::isinf(x) ? 1.0f : x / (1.0f + x);
+        } else {
             return std::min(x, 1.0f);
+        }
     }
 
     template <Curve C>

@@ -42,9 +42,12 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
 // With a depth pre-pass, an object takes part when it writes depth with a
 // non-strict compare: then the last fragment drawn at the nearest depth wins
 // with the pre-pass (compare equal) as without it, and the image is the same.
+// Not with alpha to coverage, whose samples depend on the shader's alpha,
+// which a depth-only pass does not compute.
 bool in_depth_prepass(const PipelineState& p) {
-    return p.depth_write && (p.depth_compare == DepthCompare::less_equal ||
-                             p.depth_compare == DepthCompare::greater_equal);
+    return p.depth_write && !p.alpha_to_coverage &&
+           (p.depth_compare == DepthCompare::less_equal ||
+            p.depth_compare == DepthCompare::greater_equal);
 }
 
 bool drawable(const Object& o) {

@@ -39,19 +39,37 @@ void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const fl
     sample_many(dc->textures[slot], u, v, int(count), rgba);
 }
 
+// Whether this thread runs a screen pass's task. The services below are
+// for the pass's post function only (shader_abi.h): the pool runs one job
+// at a time, and the scratch buffers are not locked.
+thread_local bool t_in_post_task = false;
+
 void host_parallel_for(const facet_post_frame* frame, uint32_t count,
                        void (*task)(void* context, uint32_t index, uint32_t worker),
                        void* context) {
     const auto* pc = static_cast<const PostContext*>(frame->host_data);
+    if (t_in_post_task) {  // from a task: run it here, in order, and say so
+        spdlog::error("[{}] called parallel_for from one of its tasks; the tasks run on one "
+                      "thread", pc->plugin->name());
+        for (uint32_t i = 0; i < count; ++i) task(context, i, 0);
+        return;
+    }
     pc->pool->parallel_for(int(count), [&](int i, int worker) {
         const InPlugin in_task(pc->plugin, PluginEntry::post);
+        t_in_post_task = true;
         task(context, uint32_t(i), uint32_t(worker));
+        t_in_post_task = false;
     });
 }
 
 void* host_scratch(const facet_post_frame* frame, uint32_t slot, size_t bytes) {
     const auto* pc = static_cast<const PostContext*>(frame->host_data);
     const char* name = pc->plugin->name().c_str();
+    if (t_in_post_task) {
+        spdlog::error("[{}] asked for scratch memory from one of its tasks (only its post "
+                      "function may)", name);
+        return nullptr;
+    }
     if (slot >= FACET_POST_SCRATCH_SLOTS) {
         spdlog::error("[{}] asked for scratch slot {} (there are {})", name, slot,
                       FACET_POST_SCRATCH_SLOTS);

@@ -111,6 +111,10 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     if (stopped()) return drop_queued(*queue_);
     const Mesh& mesh = *call.mesh;
     const ShaderPlugin& shader = *call.shader;
+    if (shader.is_post())
+        throw Error(ErrorCode::plugin_invalid,
+                    "'" + shader.name() + "' is a screen pass: it cannot draw a mesh",
+                    shader.origin());
     DrawQueue& g = *queue_;
     if (g.chunks_used > 0 && (g.target != &target || g.draws_used == kMaxQueuedDraws))
         rasterize_queued(g, *pool_, *kernels_, *this, stats);

@@ -87,6 +87,16 @@ void check_in_object(const facet_shader_desc& d, const void* where, const std::s
                    "parameter " + std::to_string(i) + " lies outside the plugin: param_count (" +
                        std::to_string(d.param_count) + ") runs past the end of its table");
     }
+    if (!d.param_choices || object_of(d.param_choices) != home) return;
+    for (uint32_t i = 0; i < d.param_count; ++i) {
+        const char* const* entry = d.param_choices + i;
+        if (object_of(entry) != home ||
+            object_of(reinterpret_cast<const char*>(entry + 1) - 1) != home ||
+            (*entry && object_of(*entry) != home))
+            refuse(ErrorCode::plugin_invalid, origin,
+                   "the choices of parameter " + std::to_string(i) +
+                       " lie outside the plugin: param_choices is shorter than params");
+    }
 }
 
 // The range and defaults of a number parameter: min <= max, neither NaN,
@@ -222,6 +232,20 @@ void check_elf_complete(const fs::path& path, const std::string& origin) {
                    std::to_string(needed) + "); is it still being written?");
 }
 
+// The host's copy of descriptor `d`: the fields its ABI version has, the
+// others zero. (A 1.2 or 1.3 descriptor's struct_size covers 4 bytes of
+// padding after `flags`, where 1.4 put `kind`: what they hold is not read.)
+facet_shader_desc host_copy(const facet_shader_desc* d) {
+    facet_shader_desc c{};
+    std::memcpy(&c, d, std::min<size_t>(d->struct_size, sizeof c));
+    if (d->abi_minor < 4) {
+        c.kind = FACET_KIND_SHADER;
+        c.post = nullptr;
+        c.param_choices = nullptr;
+    }
+    return c;
+}
+
 }  // namespace
 
 void validate_descriptor(const facet_shader_desc* d, const std::string& origin) {
@@ -242,9 +266,7 @@ void validate_descriptor(const facet_shader_desc* d, const std::string& origin) 
                "descriptor is " + std::to_string(d->struct_size) + " bytes, but ABI " +
                    std::to_string(d->abi_major) + "." + std::to_string(d->abi_minor) +
                    " defines " + std::to_string(sizeof(facet_shader_desc)));
-    // Fields past the plugin's struct_size read as zero.
-    facet_shader_desc c{};
-    std::memcpy(&c, d, std::min<size_t>(d->struct_size, sizeof c));
+    const facet_shader_desc c = host_copy(d);
     if (!c.name || !*c.name)
         refuse(ErrorCode::plugin_invalid, origin, "the descriptor has no name");
     if (c.kind == FACET_KIND_SHADER) {
@@ -360,7 +382,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::from_descriptor(const facet_shader_d
 // Keeps a host-owned copy of the descriptor (zero past the plugin's
 // struct_size) and the per-float tables every draw uses.
 void ShaderPlugin::adopt(const facet_shader_desc* desc) {
-    std::memcpy(&desc_, desc, std::min<size_t>(desc->struct_size, sizeof desc_));
+    desc_ = host_copy(desc);
     name_ = desc_.name;
     int first_float[FACET_MAX_VARYINGS] = {};
     varying_floats_ = 0;

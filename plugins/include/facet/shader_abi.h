@@ -275,7 +275,8 @@ typedef struct facet_host {
      * worker) once for each i in 0..count-1 on the host's threads, the
      * caller's among them, and returns when every call has; worker (below
      * frame->threads) tells a task which per-thread scratch it may use.
-     * Call it only from the pass's post function, not from a task. */
+     * Call it only from the pass's post function: from a task it runs the
+     * tasks on the calling thread, one after the other, and logs an error. */
     void (*parallel_for)(const facet_post_frame* frame, uint32_t count,
                          void (*task)(void* context, uint32_t index, uint32_t worker),
                          void* context);
@@ -283,8 +284,9 @@ typedef struct facet_host {
      * 64-byte aligned, under number `slot` (0..FACET_POST_SCRATCH_SLOTS-1)
      * of this pass in this chain. The host keeps it between frames (its
      * contents are undefined at each frame's start) and frees it with the
-     * chain. NULL when the memory budget refuses it: the pass then leaves
-     * the image as it is. */
+     * chain. NULL when the memory budget refuses it (the pass then leaves
+     * the image as it is), and when called from a task rather than the
+     * post function. */
     void* (*scratch)(const facet_post_frame* frame, uint32_t slot, size_t bytes);
 } facet_host;
 
