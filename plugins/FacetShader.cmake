@@ -58,10 +58,11 @@ set(FACET_SHADER_CMAKE "${CMAKE_CURRENT_LIST_FILE}")
 # The paths beyond the baseline that this target architecture gets.
 if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   set(FACET_WIDE_ISAS avx2 avx512)
-  # A sanitizer build (facet's presets tsan and asan) is for running: it
-  # builds only the wide paths this CPU runs. Instrumenting code that cannot
-  # run here finds nothing, and the default build compiles every path.
-  if(FACET_SANITIZE AND EXISTS /proc/cpuinfo)
+  # A sanitizer or fuzzing build (facet's presets tsan, asan and fuzz) is for
+  # running: it builds only the wide paths this CPU runs. Instrumenting code
+  # that cannot run here finds nothing, and the default build compiles every
+  # path.
+  if((FACET_SANITIZE OR FACET_FUZZ) AND EXISTS /proc/cpuinfo)
     file(STRINGS /proc/cpuinfo cpu_flags REGEX "^flags" LIMIT_COUNT 1)
     foreach(flag avx512f avx512bw avx512cd avx512dq avx512vl)
       if(NOT cpu_flags MATCHES " ${flag}( |$)")
