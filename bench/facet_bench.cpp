@@ -65,17 +65,21 @@
 // not --llvmpipe's facet coverage pass).
 #include "meshes.hpp"  // tests/meshes.hpp
 #include "pareto.hpp"
+#include "progress.hpp"
 #ifdef FACET_HAVE_OSMESA
 #include "llvmpipe/worker.hpp"
 #endif
 
 #include <facet/command_line.hpp>
+#include <facet/error.hpp>
+#include <facet/interrupts.hpp>
 #include <facet/isa.hpp>
 #include <facet/material.hpp>
+#include <facet/pipeline.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
+#include <facet/tool.hpp>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include <sys/resource.h>
@@ -88,6 +92,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -95,6 +100,7 @@
 #include <vector>
 
 using namespace facet;
+using bench::Progress;
 
 namespace {
 
@@ -134,7 +140,7 @@ Transform fit(const Mesh& m) {
 
 // A model from ../shared/assets/models, fitted to the unit sphere; a UV
 // sphere of about as many triangles where the file is absent, which the
-// note says.
+// console (once a run) and the note say.
 std::vector<Object> shared_model(const std::string& file, const std::string& what,
                                  int triangles, std::string& note) {
     const std::filesystem::path path =
@@ -145,6 +151,11 @@ std::vector<Object> shared_model(const std::string& file, const std::string& wha
         return {{file, mesh, fit(*mesh), nullptr, true}};
     }
     note = std::to_string(triangles / 1000) + "k-triangle sphere (" + file + " not found)";
+    static std::set<std::string> said;
+    if (said.insert(file).second)
+        spdlog::warn("{} not found: measuring a {}k-triangle sphere in its place, which each "
+                     "row's note says; these rows do not measure the {}",
+                     path.lexically_normal().string(), triangles / 1000, what);
     return {{"sphere", sphere(triangles), {}, nullptr, true}};
 }
 
@@ -263,8 +274,9 @@ double median(std::vector<double> v) {
 
 Result measure(Scene& scene, const std::string& name, const std::string& note,
                const std::string& shader, int threads, Isa isa, int runs, bool redraw_shadows,
-               const PeakRss& peak) {
+               const PeakRss& peak, const std::atomic<bool>* stop) {
     Renderer renderer(threads, isa);
+    renderer.pipeline().stop_when(stop);  // Ctrl-C: Error(interrupted) within a tile
     Framebuffer fb;
     const FrameStats first = renderer.render(scene, fb);  // warm-up
     const size_t timed = std::min<size_t>(first.post_passes, FrameStats::kPostTimings);
@@ -340,33 +352,51 @@ std::string cpu_for_csv() {
     return cpu;
 }
 
-// With `llvmpipe`, its columns too (empty in rows llvmpipe did not draw).
-// Every row is drawn into the colour target `target`, by both renderers.
-void write_csv(const std::string& path, const std::vector<Result>& results,
-               const std::string& target, bool llvmpipe) {
-    std::ofstream out(path);
-    out << "scene,note,shader,cpu,isa,target,width,height,threads,triangles,median_ms,min_ms,"
-           "shadow_ms,ao_ms,post_ms,post_passes,peak_rss_mib";
-    if (llvmpipe)
-        out << ",llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
-               "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels";
-    out << '\n';
-    const std::string cpu = cpu_for_csv();
-    for (const Result& r : results) {
-        out << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << cpu << ',' << r.isa << ','
-            << target << ',' << r.width << ',' << r.height << ',' << r.threads << ','
-            << r.triangles << ',' << r.median_ms << ',' << r.min_ms << ',' << r.shadow_ms << ','
-            << r.ao_ms << ',' << r.post_ms << ',' << post_passes_text(r, ';') << ','
-            << r.peak_rss_mib;
-        if (llvmpipe && r.llvmpipe)
-            out << ',' << r.llvmpipe->threads << ',' << r.llvmpipe->median_ms << ','
-                << r.llvmpipe->min_ms << ',' << r.llvmpipe->median_ms / r.median_ms << ','
-                << r.llvmpipe->coverage.percent << ',' << r.llvmpipe->coverage.pixels;
-        else if (llvmpipe)
-            out << ",,,,,,";
-        out << '\n';
+// The CSV, a row at a time as each configuration is measured (and flushed),
+// so that a run stopped part way keeps the rows it finished. `round` is the
+// round (1..N) a row was measured in; with --rounds N > 1 each row's median
+// over the rounds follows at the end, its round "median". With `llvmpipe`,
+// its columns too (empty in rows llvmpipe did not draw). Every row is
+// drawn into the colour target `target`, by both renderers.
+class CsvRows {
+public:
+    CsvRows(const std::string& path, const std::string& target, bool llvmpipe)
+        : path_(path), out_(path), target_(target), cpu_(cpu_for_csv()), llvmpipe_(llvmpipe) {
+        if (!out_) throw std::runtime_error("cannot write " + path);
+        out_ << "scene,note,shader,cpu,isa,target,width,height,threads,triangles,median_ms,min_ms,"
+                "shadow_ms,ao_ms,post_ms,post_passes,peak_rss_mib";
+        if (llvmpipe_)
+            out_ << ",llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
+                    "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels";
+        out_ << ",round\n" << std::flush;
     }
-}
+
+    void add(const Result& r, const std::string& round) {
+        out_ << r.scene << ",\"" << r.note << "\"," << r.shader << ',' << cpu_ << ',' << r.isa
+             << ',' << target_ << ',' << r.width << ',' << r.height << ',' << r.threads << ','
+             << r.triangles << ',' << r.median_ms << ',' << r.min_ms << ',' << r.shadow_ms << ','
+             << r.ao_ms << ',' << r.post_ms << ',' << post_passes_text(r, ';') << ','
+             << r.peak_rss_mib;
+        if (llvmpipe_ && r.llvmpipe)
+            out_ << ',' << r.llvmpipe->threads << ',' << r.llvmpipe->median_ms << ','
+                 << r.llvmpipe->min_ms << ',' << r.llvmpipe->median_ms / r.median_ms << ','
+                 << r.llvmpipe->coverage.percent << ',' << r.llvmpipe->coverage.pixels;
+        else if (llvmpipe_)
+            out_ << ",,,,,,";
+        out_ << ',' << round << '\n' << std::flush;
+        ++rows_;
+    }
+
+    const std::string& path() const { return path_; }
+    int rows() const { return rows_; }
+
+private:
+    std::string path_;
+    std::ofstream out_;
+    std::string target_, cpu_;
+    bool llvmpipe_;
+    int rows_ = 0;
+};
 
 // The JSON fields of --llvmpipe (null where llvmpipe did not draw the row).
 std::string json_llvmpipe(const Result& r) {
@@ -603,7 +633,7 @@ struct Options {
     std::vector<std::string> scenes = {"small", "medium", "large", "fill", "subpixel", "huge"};
     std::vector<std::string> sizes = {"1280x720", "1920x1080"};
     std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao"};
-    std::vector<int> threads = {1, int(std::max(1u, std::thread::hardware_concurrency()))};
+    std::vector<int> threads;  // default: 1 and default_threads()
     std::vector<std::string> isas;  // empty: every path this CPU has
     int runs = 5;
     int rounds = 1;
@@ -630,7 +660,10 @@ void add_options(CLI::App& app, Options& o) {
                    "(NAME.yaml, drawn with its own materials)");
     app.add_option("--size", o.sizes, "image size WxH");
     app.add_option("--shader", o.shaders, "shader plugin name");
-    app.add_option("--threads", o.threads, "threads (counting the caller)");
+    app.add_option("--threads", o.threads,
+                   "threads, counting the caller (default: 1 and FACET_NUM_THREADS, else every "
+                   "hardware thread)")
+        ->check(CLI::Range(1, 256));
     app.add_option("--isa", o.isas,
                    "instruction-set paths to measure facet on, side by side: sse2, avx2, "
                    "avx512 (default: every one this CPU has)");
@@ -685,7 +718,7 @@ std::optional<int> run_llvmpipe_worker(const Options& o) {
 #endif
 }
 
-int run_pareto(const CLI::App& app, Options& o) {
+int run_pareto(const CLI::App& app, Options& o, const Interrupts& interrupts) {
     if (app.count("--size")) {
         const auto size = parse_size(o.sizes.front());
         if (!size) return 2;
@@ -695,7 +728,9 @@ int run_pareto(const CLI::App& app, Options& o) {
     if (app.count("--threads")) o.po.threads = o.threads.front();
     if (app.count("--runs")) o.po.runs = std::max(1, o.runs);
     if (app.count("--csv")) o.po.csv = o.csv;
-    return bench::run_pareto(o.po);
+    o.po.stop = &interrupts.stop();
+    const int status = bench::run_pareto(o.po);
+    return interrupts.stopped() ? interrupts.exit_code() : status;
 }
 
 // Every row of scene `name` under `render` settings: each size, shader,
@@ -716,9 +751,24 @@ bool llvmpipe_draws_scene(const Scene& scene, const LlvmpipeSide& lp) {
     return true;
 }
 
+// Where a table's rows go as they are measured: the count and time left,
+// the CSV, and the round they belong to.
+struct Sink {
+    Progress& progress;
+    CsvRows& csv;
+    int round;  // 1..
+    const std::atomic<bool>* stop;
+};
+
+// The configurations bench_scene() measures for one scene and render row.
+int configurations(const std::string& name, const Options& o, size_t isas) {
+    const size_t shaders = is_scene_file(name) ? 1 : o.shaders.size();
+    return int(o.sizes.size() * shaders * o.threads.size() * isas);
+}
+
 void bench_scene(const std::string& name, const std::string& render, Options& o,
                  const std::vector<Isa>& isas, PluginRegistry& registry,
-                 std::vector<Result>& results) {
+                 std::vector<Result>& results, Sink& sink) {
     PeakRss peak;  // from before the scene is made: its memory counts
     const bool file = is_scene_file(name);
     std::string note = file ? "scene file" : "";
@@ -746,15 +796,21 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
             for (int t : o.threads) {
                 std::optional<Versus> llvmpipe;
                 for (Isa isa : isas) {
+                    sink.progress.begin(label + " " + size + " " + shader + " " +
+                                        std::to_string(t) + "t " + std::string(isa_name(isa)) +
+                                        (render.empty() ? "" : " " + render));
                     Result r = measure(scene, label, note, shader, t, isa, o.runs,
-                                       o.redraw_shadows, peak);
+                                       o.redraw_shadows, peak, sink.stop);
                     if (versus && (file || o.lp.draws(shader)) && isa == isas.front()) {
                         r.scene = name;  // the worker loads a scene file by its path
                         llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
                         r.scene = label;
                     }
                     r.llvmpipe = llvmpipe;
+                    sink.progress.end();
+                    sink.progress.clear();
                     print_row(r, size, o.lp.on);
+                    sink.csv.add(r, std::to_string(sink.round));
                     results.push_back(r);
                 }
             }
@@ -797,11 +853,13 @@ std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rou
 }
 
 // The table, CSV and JSON; non-zero when a size is malformed or an llvmpipe
-// measurement failed (the rest still runs and is written).
-int run_table(Options& o) {
+// measurement failed (the rest still runs and is written); 130 or 143 when
+// stopped by SIGINT or SIGTERM, after writing what was finished.
+int run_table(Options& o, const Interrupts& interrupts) {
     for (const std::string& size : o.sizes)
         if (!parse_size(size)) {
-            spdlog::error("bad size '{}' (WxH)", size);
+            spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
+                          Framebuffer::kMaxSize, size);
             return 2;
         }
     std::vector<Isa> isas;
@@ -817,43 +875,86 @@ int run_table(Options& o) {
     if (isas.empty()) isas = supported_isas();
     o.runs = std::max(1, o.runs);
     o.rounds = std::max(1, o.rounds);
+    const std::vector<std::string> renders = o.render.empty() ? std::vector<std::string>{""} : o.render;
+    int total = 0;
+    for (const std::string& name : o.scenes) total += configurations(name, o, isas.size());
+    total *= int(renders.size()) * o.rounds;
+    std::printf("facet-bench: %d configuration%s (%d frame%s each, after one to warm up), "
+                "threads as each row says\n",
+                total, total == 1 ? "" : "s", o.runs, o.runs == 1 ? "" : "s");
     PluginRegistry registry;
+    Progress progress("configurations", total);
+    CsvRows csv(o.csv, o.lp.target, o.lp.on);
     std::vector<std::vector<Result>> rounds(size_t(o.rounds));
     if (o.lp.on) o.lp.print_skipped(o.shaders);
-    for (int r = 0; r < o.rounds; ++r) {
-        if (o.rounds > 1) std::printf("round %d of %d\n", r + 1, o.rounds);
-        print_header(o.lp.on, o.lp.target);
-        for (const std::string& name : o.scenes)
-            for (const std::string& render : o.render.empty() ? std::vector<std::string>{""} : o.render)
-                bench_scene(name, render == "{}" ? "" : render, o, isas, registry,
-                            rounds[size_t(r)]);
+    try {
+        for (int r = 0; r < o.rounds; ++r) {
+            if (o.rounds > 1) std::printf("round %d of %d\n", r + 1, o.rounds);
+            print_header(o.lp.on, o.lp.target);
+            Sink sink{progress, csv, r + 1, &interrupts.stop()};
+            for (const std::string& name : o.scenes)
+                for (const std::string& render : renders)
+                    bench_scene(name, render == "{}" ? "" : render, o, isas, registry,
+                                rounds[size_t(r)], sink);
+        }
+    } catch (const Error& e) {
+        if (e.code() != ErrorCode::interrupted && !interrupts.stopped()) throw;
+        progress.clear();
+        std::vector<Result> finished;
+        for (const std::vector<Result>& round : rounds)
+            finished.insert(finished.end(), round.begin(), round.end());
+        write_json(o.json, finished, o.lp.target, o.lp.on);
+        std::printf("stopped after %d of %d configurations: %s and %s keep the %d rows finished\n",
+                    progress.done(), total, o.csv.c_str(), o.json.c_str(), csv.rows());
+        return interrupts.exit_code();
     }
+    progress.clear();
     const std::vector<Result> results = median_of_rounds(rounds);
     if (o.rounds > 1) {
         std::printf("the median of the %d rounds\n", o.rounds);
         print_header(o.lp.on, o.lp.target);
-        for (const Result& r : results) print_row(r, std::to_string(r.width) + "x" + std::to_string(r.height), o.lp.on);
+        for (const Result& r : results) {
+            print_row(r, std::to_string(r.width) + "x" + std::to_string(r.height), o.lp.on);
+            csv.add(r, "median");
+        }
     }
     if (o.lp.on) o.lp.print_legend();
     if (o.lp.target != "srgb8")  // what a float target's 8-bit output costs
         for (const std::string& size : o.sizes)
             for (int t : o.threads)
                 for (Isa isa : isas) print_output_cost(o.lp.target, *parse_size(size), t, isa, o.runs);
-    write_csv(o.csv, results, o.lp.target, o.lp.on);
     write_json(o.json, results, o.lp.target, o.lp.on);
-    std::printf("wrote %s and %s\n", o.csv.c_str(), o.json.c_str());
+    std::printf("wrote %s and %s in %s\n", o.csv.c_str(), o.json.c_str(),
+                Progress::duration(progress.elapsed_seconds()).c_str());
     return o.lp.failures ? 1 : 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    const Interrupts interrupts("facet-bench");  // before any thread starts
     Options o;
-    CLI::App app{"facet-bench: facet's frame times over scenes, sizes, shaders and threads"};
+    CLI::App app{"facet's frame times over scenes, sizes, shaders and threads, or (--pareto) "
+                 "run time against error.",
+                 "facet-bench"};
     add_options(app, o);
-    CLI11_PARSE(app, argc, argv);
-    spdlog::set_level(spdlog::level::warn);
-    if (const std::optional<int> status = run_llvmpipe_worker(o)) return *status;
-    if (o.pareto) return run_pareto(app, o);
-    return run_table(o);
+    Verbosity verbosity;
+    add_common_options(app, verbosity);
+    if (const std::optional<int> status = parse_command_line(app, argc, argv)) return *status;
+    start_logging(verbosity, spdlog::level::warn);
+    try {
+        if (const std::optional<int> status = run_llvmpipe_worker(o)) return *status;
+        // 1 and the default count (FACET_NUM_THREADS, else every hardware thread).
+        if (!app.count("--threads")) o.threads = {1, default_threads()};
+        std::vector<int> once;  // each count once, in the order given
+        for (int t : o.threads)
+            if (std::find(once.begin(), once.end(), t) == once.end()) once.push_back(t);
+        o.threads = once;
+        if (o.pareto) return run_pareto(app, o, interrupts);
+        return run_table(o, interrupts);
+    } catch (const std::exception& e) {
+        if (interrupts.stopped()) return interrupts.exit_code();
+        spdlog::error("{}", e.what());
+        return 1;
+    }
 }

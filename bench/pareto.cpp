@@ -1,9 +1,13 @@
 #include "pareto.hpp"
+#include "progress.hpp"
 
 #include "reference/metrics.hpp"
 #include "reference/render.hpp"
 
+#include <facet/error.hpp>
 #include <facet/material.hpp>
+#include <facet/paths.hpp>
+#include <facet/pipeline.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 
@@ -178,19 +182,28 @@ std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
     return out;
 }
 
-void write_csv(const std::string& path, const std::vector<Point>& points, int threads) {
-    std::ofstream out(path);
+// The CSV's header, and a point's row: `pareto` is 1 or 0 once the fronts
+// are known, empty before (a run stopped part way).
+void csv_header(std::ostream& out) {
     out << "scene,msaa,filter,subpixel_bits,shadow_map_size,pcf_kernel,ao_samples,ao_radius,"
            "ao_resolution,per_pixel,threads,median_ms,pass_ms,rmse,max_error,dssim,pareto\n";
-    for (const Point& p : points) {
-        const Setting& s = p.setting;
-        out << p.scene << ',' << s.msaa << ',' << (s.filter >= 0 ? filter_name(s.filter) : "")
-            << ',' << s.subpixel_bits << ',' << s.shadow_map_size << ',' << s.pcf_kernel << ','
-            << s.ao_samples << ',' << s.ao_radius << ','
-            << (s.ao_half < 0 ? "" : s.ao_half ? "half" : "full") << ',' << s.per_pixel << ','
-            << threads << ',' << p.median_ms << ',' << p.pass_ms << ',' << p.error.rmse << ','
-            << p.error.max << ',' << p.error.dssim << ',' << (p.front ? 1 : 0) << '\n';
-    }
+}
+
+void csv_row(std::ostream& out, const Point& p, int threads, bool fronts_known) {
+    const Setting& s = p.setting;
+    out << p.scene << ',' << s.msaa << ',' << (s.filter >= 0 ? filter_name(s.filter) : "") << ','
+        << s.subpixel_bits << ',' << s.shadow_map_size << ',' << s.pcf_kernel << ','
+        << s.ao_samples << ',' << s.ao_radius << ','
+        << (s.ao_half < 0 ? "" : s.ao_half ? "half" : "full") << ',' << s.per_pixel << ','
+        << threads << ',' << p.median_ms << ',' << p.pass_ms << ',' << p.error.rmse << ','
+        << p.error.max << ',' << p.error.dssim << ','
+        << (fronts_known ? (p.front ? "1" : "0") : "") << '\n';
+}
+
+void write_csv(const std::string& path, const std::vector<Point>& points, int threads) {
+    std::ofstream out(path);
+    csv_header(out);
+    for (const Point& p : points) csv_row(out, p, threads, true);
     if (!out) throw std::runtime_error("cannot write " + path);
 }
 
@@ -216,43 +229,105 @@ std::string label(const Setting& s) {
 }  // namespace
 
 int run_pareto(const ParetoOptions& o) {
-    const int threads = o.threads > 0 ? o.threads
-                                      : int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = o.threads > 0 ? o.threads : default_threads();
     std::printf("facet-bench --pareto: %dx%d, %d thread(s), median of %d frames; reference "
                 "%dx%d samples per pixel (ao scene: %dx%d, %d AO rays each), %d thread(s)\n",
                 o.width, o.height, threads, o.runs, o.grid, o.grid, o.ao_grid, o.ao_grid,
                 o.ao_rays, threads);
     PluginRegistry registry;
     Renderer renderer(threads);
+    renderer.pipeline().stop_when(o.stop);
     Framebuffer fb;
-    std::vector<Point> points;
+
+    // Every scene and its settings first, to count the work.
+    struct Study {
+        std::string name;
+        fs::path file;
+        Scene base;
+        std::vector<Setting> settings;
+        reference::RenderOptions ro;
+        double samples;  // the reference's rays: its cost
+    };
+    std::vector<Study> studies;
+    int total = 0;
     for (const std::string name : {"default", "lit", "phong", "toon", "shadow", "ao"}) {
-        const fs::path file = fs::path(FACET_SOURCE_DIR) / "configs" /
-                              (name == "default" ? "default.yaml" : "scenes/" + name + ".yaml");
-        Scene base = load_scene(file, registry);
-        base.settings.width = o.width;
-        base.settings.height = o.height;
+        Study st{name, data_dir() / "configs" / (name == "default" ? "default.yaml" : "scenes/" + name + ".yaml"),
+                 {}, {}, {}, 0.0};
+        st.base = load_scene(st.file, registry);
+        st.base.settings.width = o.width;
+        st.base.settings.height = o.height;
         // The knobs' own error, not the 8-bit output's rounding: the metrics
         // compare sRGB values without it (metrics.hpp).
-        base.settings.color_format = ColorFormat::rgba32f;
-        reference::RenderOptions ro;
-        ro.grid = name == "ao" ? o.ao_grid : o.grid;
-        ro.ao_rays = o.ao_rays;
-        ro.threads = threads;
+        st.base.settings.color_format = ColorFormat::rgba32f;
+        st.ro.grid = name == "ao" ? o.ao_grid : o.grid;
+        st.ro.ao_rays = o.ao_rays;
+        st.ro.threads = threads;
+        st.samples = double(o.width) * o.height * st.ro.grid * st.ro.grid * (name == "ao" ? o.ao_rays : 1);
+        st.settings = sweep(name, st.base);
+        total += 1 + int(st.settings.size());
+        studies.push_back(std::move(st));
+    }
+    Progress progress("steps", total);
+    // Time left: the references still to render at the seconds per sample
+    // of those done, and the settings left at the mean time of those done.
+    double reference_seconds = 0.0, reference_samples = 0.0, setting_seconds = 0.0;
+    int settings_done = 0;
+    const auto seconds_left = [&](size_t study, bool reference_next) -> std::optional<double> {
+        if (reference_samples == 0.0 || settings_done == 0) return std::nullopt;
+        double left = 0.0;
+        for (size_t k = study; k < studies.size(); ++k) {
+            if (k > study || reference_next) left += studies[k].samples * reference_seconds / reference_samples;
+            left += double(studies[k].settings.size()) * setting_seconds / settings_done;
+        }
+        return left;
+    };
+    std::ofstream csv(o.csv);  // a row at a time; rewritten with the fronts at the end
+    csv_header(csv);
+    csv.flush();
+    std::vector<Point> points;
+    for (size_t k = 0; k < studies.size(); ++k) {
+        Study& st = studies[k];
+        progress.begin(st.name + ": reference image", seconds_left(k, true));
         const auto start = std::chrono::steady_clock::now();
-        const std::vector<glm::dvec4> truth = reference::render(base, ro);
-        std::printf("\n%s (%s): reference in %.1f s\n", name.c_str(), file.string().c_str(),
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        const std::vector<glm::dvec4> truth = reference::render(st.base, st.ro);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        reference_seconds += seconds;
+        reference_samples += st.samples;
+        progress.end();
+        progress.clear();
+        std::printf("\n%s (%s): reference in %.1f s\n", st.name.c_str(), st.file.string().c_str(),
+                    seconds);
         std::printf("  %-44s %9s %9s %9s %9s %9s\n", "setting", "ms", "pass ms", "rmse", "max",
                     "dssim");
-        for (const Setting& s : sweep(name, base)) {
-            const Scene scene = with(base, s);
-            Point p{name, s, 0.0, 0.0, {}, false};
-            time_frames(scene, renderer, o.runs, fb, p);
+        for (size_t i = 0; i < st.settings.size(); ++i) {
+            const Setting& s = st.settings[i];
+            std::optional<double> left = seconds_left(k, false);
+            if (left && settings_done) left = *left - double(i) * setting_seconds / settings_done;
+            progress.begin(st.name + ": " + label(s), left);
+            const auto setting_start = std::chrono::steady_clock::now();
+            const Scene scene = with(st.base, s);
+            Point p{st.name, s, 0.0, 0.0, {}, false};
+            try {
+                time_frames(scene, renderer, o.runs, fb, p);
+            } catch (const Error& e) {
+                if (e.code() != ErrorCode::interrupted) throw;
+                progress.clear();
+                std::printf("stopped after %d of %d steps: %s keeps the %zu settings finished\n",
+                            progress.done(), total, o.csv.c_str(), points.size());
+                return 130;
+            }
             p.error = reference::compare(reference::linear_image(fb), truth, o.width, o.height);
+            setting_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                             setting_start).count();
+            ++settings_done;
+            progress.end();
+            progress.clear();
             std::printf("  %-44s %9.2f %9.2f %9.5f %9.4f %9.5f\n", label(s).c_str(), p.median_ms,
                         p.pass_ms, p.error.rmse, p.error.max, p.error.dssim);
             std::fflush(stdout);
+            csv_row(csv, p, threads, false);
+            csv.flush();
             points.push_back(p);
         }
     }

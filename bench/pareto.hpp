@@ -20,19 +20,23 @@
 // more accurate by RMSE); bench/plot_pareto.py draws it.
 #pragma once
 
+#include <atomic>
 #include <string>
 
 namespace facet::bench {
 
 struct ParetoOptions {
     int width = 480, height = 270;
-    int threads = 0;        // 0: every hardware thread
+    int threads = 0;        // 0: default_threads() (FACET_NUM_THREADS, else every hardware thread)
     int runs = 7;
     int grid = 16;          // reference samples per pixel side
     int ao_grid = 8;        // ... for the AO scene, which traces ao_rays per sample
     int ao_rays = 32;
     std::string csv = "pareto.csv";
     std::string plot = "pareto.png";
+    // While true, the sweep stops at the next tile (Pipeline::stop_when),
+    // keeping the CSV's rows so far. Null: never.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 // Returns the process exit code.

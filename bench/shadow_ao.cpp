@@ -18,11 +18,13 @@
 // medians over --runs frames, each drawing every shadow map it needs.
 #include "reference/raycast.hpp"
 
+#include <facet/command_line.hpp>
 #include <facet/material.hpp>
+#include <facet/paths.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
+#include <facet/tool.hpp>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -166,18 +168,31 @@ void shadow_rows(const Scene& scene, const std::string& label, int runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    int width = 320, height = 180, runs = 5, rays = 256;
+    int runs = 5, rays = 256;
     std::string size = "320x180";
-    CLI::App app{"facet-bench-shadow-ao: shadow-map and SSAO error against a ray caster"};
+    CLI::App app{"Shadow-map and SSAO error against a ray caster, and their times.",
+                 "facet-bench-shadow-ao"};
     app.add_option("--size", size, "image size WxH")->capture_default_str();
-    app.add_option("--runs", runs, "frames per timing (median)")->capture_default_str();
-    app.add_option("--rays", rays, "reference AO rays per pixel")->capture_default_str();
-    CLI11_PARSE(app, argc, argv);
-    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) return 2;
-    spdlog::set_level(spdlog::level::warn);
+    app.add_option("--runs", runs, "frames per timing (median)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    app.add_option("--rays", rays, "reference AO rays per pixel")
+        ->check(CLI::Range(1, 65536))
+        ->capture_default_str();
+    Verbosity verbosity;
+    add_common_options(app, verbosity);
+    if (const std::optional<int> status = parse_command_line(app, argc, argv)) return *status;
+    start_logging(verbosity, spdlog::level::warn);
+    const std::optional<glm::ivec2> wh = parse_size(size);
+    if (!wh) {
+        std::fprintf(stderr, "--size: expected WxH with each side 1..%d, got '%s'\n",
+                     Framebuffer::kMaxSize, size.c_str());
+        return 2;
+    }
+    const int width = wh->x, height = wh->y;
 
     PluginRegistry registry;
-    const std::string configs = std::string(FACET_SOURCE_DIR) + "/configs/scenes/";
+    const std::string configs = (data_dir() / "configs" / "scenes").string() + "/";
     std::printf("facet-bench-shadow-ao: %dx%d, 1 thread, median of %d frames, %d AO rays\n",
                 width, height, runs, rays);
     std::printf("%-44s %10s %10s %10s %10s\n", "pass", "ms", "RMSE", "max", "pixels");

@@ -1,8 +1,8 @@
 // facet-render: render a scene headless to a PNG.
 //
 //     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]]
-//                  [--msaa N] [--max-memory SIZE] [--wireframe] [--plugin-path DIR]...
-//                  [--watch [--rebuild]]
+//                  [--msaa N] [--threads N] [--max-memory SIZE] [--wireframe]
+//                  [--plugin-path DIR]... [--watch [--rebuild [--build DIR]]] [-v|-q] [--version]
 //
 // With no scene, renders the default scene (configs/default.yaml). With
 // --watch it keeps running and renders again whenever the scene, a material
@@ -21,9 +21,8 @@
 #include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
+#include <facet/tool.hpp>
 
-#include <CLI/CLI.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <optional>
@@ -37,13 +36,13 @@ struct Options {
     std::string output = "facet.png";
     std::string size;
     std::string camera;
-    int msaa = 0;  // 0: the scene's
+    int msaa = 0;     // 0: the scene's
+    int threads = 0;  // 0: FACET_NUM_THREADS, else every hardware thread
     bool wireframe = false;
     std::vector<std::string> plugin_paths;
     bool watch = false;
     bool rebuild = false;
     std::string max_memory;
-    bool verbose = false;
 };
 
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
@@ -95,7 +94,7 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
                                            : options);
     }
     facet::Framebuffer framebuffer;
-    facet::Renderer renderer;
+    facet::Renderer renderer(opt.threads);
     renderer.pipeline().stop_when(&interrupts.stop());
     spdlog::info("{} path on {}, {} threads", facet::isa_name(renderer.isa()), facet::cpu_name(),
                  renderer.threads());
@@ -158,7 +157,7 @@ int main(int argc, char** argv) {
     const facet::Interrupts interrupts("facet-render");  // before any thread starts
     facet::report_plugin_faults();
     Options opt;
-    CLI::App app{"facet-render: render a facet scene headless to a PNG"};
+    CLI::App app{"Renders a facet scene headless to a PNG.", "facet-render"};
     app.add_option("scene", opt.scene, "scene file (YAML); default: the default scene");
     app.add_option("-o,--output", opt.output, "output PNG")->capture_default_str();
     app.add_option("--size", opt.size, "image size WxH, overriding the scene's");
@@ -166,6 +165,11 @@ int main(int argc, char** argv) {
                    "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");
     app.add_option("--msaa", opt.msaa, "samples per pixel, overriding the scene's")
         ->check(CLI::IsMember({1, 2, 4, 8}));
+    app.add_option("--threads", opt.threads,
+                   "render threads, counting the main one; 0: FACET_NUM_THREADS, else one per "
+                   "hardware thread")
+        ->check(CLI::Range(0, 256))
+        ->capture_default_str();
     app.add_option("--max-memory", opt.max_memory,
                    "memory budget for a target, texture or mesh, e.g. 8G (default: half of RAM, "
                    "or FACET_MAX_MEMORY)");
@@ -174,10 +178,10 @@ int main(int argc, char** argv) {
     app.add_flag("--watch", opt.watch, "keep running; render again when files change");
     app.add_flag("--rebuild", opt.rebuild, "with --watch: rebuild built-in shaders on edit")
         ->needs("--watch");
-    app.add_flag("-v,--verbose", opt.verbose, "log debug messages");
-    CLI11_PARSE(app, argc, argv);
-    spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
-    spdlog::set_level(opt.verbose ? spdlog::level::debug : spdlog::level::info);
+    facet::Verbosity verbosity;
+    facet::add_common_options(app, verbosity);
+    if (const std::optional<int> status = facet::parse_command_line(app, argc, argv)) return *status;
+    facet::start_logging(verbosity);
     try {
         return run(opt, interrupts);
     } catch (const facet::Error& e) {

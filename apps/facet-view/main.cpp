@@ -2,7 +2,7 @@
 //
 //     facet-view [SCENE.yaml] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]] [--msaa N]
 //                [--max-memory SIZE] [--threads N] [--plugin-path DIR]... [--rebuild]
-//                [--frames N [--screenshot out.png]]
+//                [--frames N [--screenshot out.png]] [--screenshot-dir DIR] [-v|-q] [--version]
 //
 // With no scene it opens the default scene. --frames renders N frames and
 // exits (with --screenshot, saving the last one first): scripted runs and
@@ -13,9 +13,8 @@
 #include <facet/error.hpp>
 #include <facet/interrupts.hpp>
 #include <facet/plugin.hpp>
+#include <facet/tool.hpp>
 
-#include <CLI/CLI.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -60,8 +59,7 @@ int main(int argc, char** argv) {
     options.stop = &interrupts.stop();
     Script script;
     std::string size;
-    bool verbose = false;
-    CLI::App app{"facet-view: an interactive viewer for facet scenes"};
+    CLI::App app{"An interactive viewer and editor for facet scenes.", "facet-view"};
     app.add_option("scene", options.scene, "scene file (YAML); default: the default scene");
     app.add_option("--size", size, "window size WxH in points; default: the scene's size");
     app.add_option("--camera", options.camera,
@@ -72,7 +70,9 @@ int main(int argc, char** argv) {
     app.add_option("--max-memory", max_memory,
                    "memory budget for a target, texture or mesh, e.g. 8G (default: half of RAM, "
                    "or FACET_MAX_MEMORY)");
-    app.add_option("--threads", options.threads, "render threads; 0: one per hardware thread")
+    app.add_option("--threads", options.threads,
+                   "render threads, counting the main one; 0: FACET_NUM_THREADS, else one per "
+                   "hardware thread")
         ->check(CLI::Range(0, 256));
     app.add_option("--plugin-path", options.plugin_paths, "extra folder to search for shaders");
     app.add_flag("--rebuild", options.rebuild, "rebuild built-in shaders when their sources change");
@@ -81,10 +81,10 @@ int main(int argc, char** argv) {
         ->needs("--frames");
     app.add_option("--screenshot-dir", options.screenshots, "where P saves screenshots")
         ->capture_default_str();
-    app.add_flag("-v,--verbose", verbose, "log debug messages");
-    CLI11_PARSE(app, argc, argv);
-    spdlog::set_default_logger(spdlog::stderr_color_mt("facet"));
-    spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+    facet::Verbosity verbosity;
+    facet::add_common_options(app, verbosity);
+    if (const std::optional<int> status = facet::parse_command_line(app, argc, argv)) return *status;
+    facet::start_logging(verbosity);
     if (!facet::apply_max_memory(max_memory)) return 2;
     if (!size.empty() && !(options.size = facet::parse_size(size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",

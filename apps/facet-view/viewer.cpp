@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <ctime>
 
 namespace facet::view {
@@ -74,8 +75,26 @@ Scene load_or_default(const Options& o, PluginRegistry& registry, std::string& e
 Viewer::SdlVideo::SdlVideo() {
     // SIGINT and SIGTERM are the program's (Options::stop), not SDL's.
     SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");
-    if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0)
-        throw Error(ErrorCode::display_failed, SDL_GetError());
+    const auto no_display = [](const std::string& why) {
+        return Error(ErrorCode::display_failed,
+                     why + "; facet-view needs a desktop session (or xvfb-run); facet-render "
+                           "draws a scene to a PNG without one");
+    };
+    const char* forced = std::getenv("SDL_VIDEODRIVER");
+    const bool any_display = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
+    if (!forced && !any_display) throw no_display("no display: DISPLAY and WAYLAND_DISPLAY are unset");
+    if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) throw no_display(SDL_GetError());
+    // Without a reachable display SDL falls back to drivers that show nothing
+    // (offscreen, dummy): the viewer would wait for input that never comes.
+    const std::string driver = SDL_GetCurrentVideoDriver() ? SDL_GetCurrentVideoDriver() : "";
+    if (!forced && (driver == "offscreen" || driver == "dummy" || driver == "evdev")) {
+        SDL_QuitSubSystem(SDL_INIT_VIDEO);
+        const char* display = std::getenv("DISPLAY");
+        throw no_display(std::string("cannot open the display ") +
+                         (display ? "DISPLAY=" + std::string(display)
+                                  : "WAYLAND_DISPLAY=" + std::string(std::getenv("WAYLAND_DISPLAY"))));
+    }
+    spdlog::debug("SDL video driver: {}", driver);
 }
 
 Viewer::SdlVideo::~SdlVideo() { SDL_QuitSubSystem(SDL_INIT_VIDEO); }

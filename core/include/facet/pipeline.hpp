@@ -132,10 +132,16 @@ struct DrawCall {
     PipelineState state;
 };
 
+// The thread count a renderer takes when given 0: FACET_NUM_THREADS when
+// set (1..256, counting the caller; as llvmpipe's LP_NUM_THREADS), else
+// one per hardware thread. A value that is not such a number throws
+// Error(config_invalid), as a bad FACET_ISA does.
+int default_threads();
+
 class Pipeline {
 public:
-    // Draws with `threads` threads (counting the caller); 0: one per
-    // hardware thread. Its kernels are those of `isa` (isa.hpp), by default
+    // Draws with `threads` threads (counting the caller); 0:
+    // default_threads(). Its kernels are those of `isa` (isa.hpp), by default
     // default_isa(): FACET_ISA or the best the CPU has; a path the CPU lacks
     // throws Error(isa_unavailable). The image depends on neither.
     explicit Pipeline(int threads = 0, std::optional<Isa> isa = std::nullopt);

@@ -245,7 +245,7 @@ std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImp
                                                                     : import_mesh(path));
     validate_mesh(*mesh);
     mesh->bounds = compute_bounds(mesh->positions);
-    spdlog::info("mesh {}: {} vertices, {} triangles{}{}", mesh->source, mesh->vertex_count(),
+    spdlog::debug("mesh {}: {} vertices, {} triangles{}{}", mesh->source, mesh->vertex_count(),
                  mesh->triangle_count(), mesh->uvs.empty() ? "" : ", uvs",
                  mesh->colors.empty() ? "" : ", colours");
     return mesh;

@@ -178,7 +178,7 @@ std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, b
     std::memcpy(texture->texels.data(), pixels, texture->texels.size() * sizeof(Texel8));
     stbi_image_free(pixels);
     generate_mipmaps(*texture);
-    spdlog::info("texture {}: {}x{}, {} channels{}, {} levels", texture->source, width, height,
+    spdlog::debug("texture {}: {}x{}, {} channels{}, {} levels", texture->source, width, height,
                  channels, srgb ? ", sRGB" : "", texture->levels());
     return texture;
 }

@@ -17,7 +17,11 @@
 #include "facet/mesh.hpp"
 #include "facet/plugin.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
+#include <cstdlib>
+#include <thread>
 #include <string>
 
 namespace facet {
@@ -89,10 +93,28 @@ const Kernels& kernels(Isa isa) {
 }
 
 
+int default_threads() {
+    const char* env = std::getenv("FACET_NUM_THREADS");
+    if (!env || !*env) return int(std::max(1u, std::thread::hardware_concurrency()));
+    int n = 0;
+    const char* c = env;
+    for (; *c >= '0' && *c <= '9' && n <= 256; ++c) n = n * 10 + (*c - '0');
+    if (*c != '\0' || n < 1 || n > 256)
+        throw Error(ErrorCode::config_invalid,
+                    "FACET_NUM_THREADS=" + std::string(env) + ": expected a thread count 1..256");
+    return n;
+}
+
 Pipeline::Pipeline(int threads, std::optional<Isa> isa)
-    : pool_(std::make_unique<ThreadPool>(threads)),
+    : pool_(std::make_unique<ThreadPool>(threads > 0 ? threads : default_threads())),
       kernels_(&facet::kernels(isa ? checked_isa(*isa) : default_isa())),
-      queue_(std::make_unique<DrawQueue>(pool_->size())) {}
+      queue_(std::make_unique<DrawQueue>(pool_->size())) {
+    spdlog::debug("pipeline: {} threads ({}), the {} path ({})", pool_->size(),
+                  threads > 0                          ? "asked for"
+                  : std::getenv("FACET_NUM_THREADS") ? "FACET_NUM_THREADS"
+                                                       : "one per hardware thread",
+                  isa_name(kernels_->isa), isa ? "asked for" : std::getenv("FACET_ISA") ? "FACET_ISA" : "the best this CPU has");
+}
 Pipeline::~Pipeline() = default;
 Pipeline::Pipeline(Pipeline&&) noexcept = default;
 Pipeline& Pipeline::operator=(Pipeline&&) noexcept = default;

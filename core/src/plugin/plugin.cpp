@@ -364,7 +364,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
                "file is named '" + std::string(expected_name) + "' but the shader calls itself '" +
                    desc->name + "'");
     plugin->adopt(desc);
-    spdlog::info("loaded {} '{}' {} from {}", plugin->is_post() ? "screen pass" : "shader",
+    spdlog::debug("loaded {} '{}' {} from {}", plugin->is_post() ? "screen pass" : "shader",
                  plugin->name_,
                  desc->version ? desc->version : "", origin);
     return plugin;
@@ -571,6 +571,8 @@ fs::path PluginRegistry::next_private_copy(const std::string& name) {
 std::shared_ptr<ShaderPlugin> PluginRegistry::load_fresh(const std::string& name) {
     const bool plain = !name.empty() && name.find_first_of("/\\") == std::string::npos;
     const fs::path file = plain ? locate(name) : fs::path();
+    spdlog::debug("shader '{}': searched {}: {}", name, join_paths(search_path()),
+                  file.empty() ? "not found" : file.string());
     if (file.empty())
         throw Error(ErrorCode::unknown_shader,
                     "'" + name + "': no " + name + ".so in " + join_paths(search_path()));
