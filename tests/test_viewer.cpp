@@ -15,6 +15,8 @@
 #include <stb/stb_image.h>
 
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <thread>
 
 using namespace facet;
@@ -247,11 +249,16 @@ TEST_CASE("keys cycle materials and toggle wireframe, MSAA, passes and the overl
     CHECK_FALSE(v.settings().ao);
     CHECK(v.overlay().settings.msaa == 2);
 
-    // The overlay is drawn over the image, and O hides it.
+    // The overlay and the selection's outline are drawn over the image; O
+    // hides the one, E (the editor) the other.
     CHECK(v.shown() != v.framebuffer().resolve_srgb8());
     key(SDLK_o);
     v.pump();
     CHECK_FALSE(v.overlay_visible());
+    CHECK(v.shown() != v.framebuffer().resolve_srgb8());
+    key(SDLK_e);
+    v.pump();
+    CHECK_FALSE(v.editor().visible());
     CHECK(v.shown() == v.framebuffer().resolve_srgb8());
     const uint64_t frames = v.frames_rendered();
     key(SDLK_h);
@@ -491,4 +498,166 @@ TEST_CASE("odd input: a dropped non-scene file, a scene with no objects", "[view
     v.pump();
     CHECK(has_message(v, "not a scene file", true));
     CHECK(v.scene().source == dir / "empty.yaml");
+}
+
+namespace {
+
+// A press and release of the left button at (x, y), a frame each, as a
+// user's click spans frames.
+void click(Viewer& v, float x, float y) {
+    for (const Uint32 type : {SDL_MOUSEBUTTONDOWN, SDL_MOUSEBUTTONUP}) {
+        SDL_Event e{};
+        e.type = type;
+        e.button.button = SDL_BUTTON_LEFT;
+        e.button.state = type == SDL_MOUSEBUTTONDOWN ? SDL_PRESSED : SDL_RELEASED;
+        e.button.clicks = 1;
+        e.button.x = int(x);
+        e.button.y = int(y);
+        push(e);
+        v.pump();
+    }
+}
+
+// Types `text` into the field a double-click at (x, y) opens, then Enter.
+void type_into(Viewer& v, const Editor::Rect& field, float dx, const std::string& text) {
+    const float x = field.x + dx, y = field.y + field.h / 2;
+    click(v, x, y);
+    click(v, x, y);  // a double-click turns a drag field into a text field, all selected
+    SDL_Event e{};
+    e.type = SDL_TEXTINPUT;
+    std::snprintf(e.text.text, sizeof e.text.text, "%s", text.c_str());
+    push(e);
+    v.pump();
+    for (const bool down : {true, false}) {
+        SDL_Event k{};
+        k.type = down ? SDL_KEYDOWN : SDL_KEYUP;
+        k.key.keysym.sym = SDLK_RETURN;
+        k.key.keysym.scancode = SDL_SCANCODE_RETURN;
+        push(k);
+        v.pump();
+    }
+}
+
+std::string read_text(const fs::path& file) {
+    std::ifstream in(file);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("the editor changes a material colour and a light by widget, and saves them in place",
+          "[viewer][editor]") {
+    const test::TempDir dir("view-editor");
+    dir.write("quad.obj", test::kQuadObj);
+    const fs::path material = dir.write("red.yaml",
+                                        "# A lit red, edited by the test.\n"
+                                        "shader: lit\n"
+                                        "params:\n"
+                                        "  base_color: [0.8, 0.1, 0.1, 1]  # red\n"
+                                        "  ambient: [0.05, 0.05, 0.05]\n");
+    const std::string scene_text =
+        "# The editor's scene: every comment here must survive a save.\n"
+        "camera: {position: [0, 0, 20], target: [0, 0, 0], fov_y: 50}\n"
+        "lights:\n"
+        "  - {type: directional, direction: [0, 0, -1], intensity: 1}  # the key\n"
+        "objects:\n"
+        "  - name: quad\n"
+        "    mesh: quad.obj\n"
+        "    material: red.yaml\n";
+    const fs::path scene = dir.write("scene.yaml", scene_text);
+    Options o = small(scene.string());
+    o.size = glm::ivec2(900, 1000);  // the panel shows every widget the test uses
+    o.materials = dir.path;
+    Viewer v(o);
+    REQUIRE(pump_until(v, [&] { return v.frames_presented() >= 1; }));
+    REQUIRE(v.editor().visible());
+    v.pump();
+
+    // The material's base colour: its red component, through the colour widget.
+    const auto colour = v.editor().widget("base_color");
+    REQUIRE(colour);
+    type_into(v, *colour, 6.0f, "0.25");
+    REQUIRE(pump_until(v, [&] {
+        const std::shared_ptr<Material>& m = v.scene().objects[0].material;
+        for (const MaterialParam& p : m->params)
+            if (p.name == "base_color") return p.numbers.at(0) == 0.25;
+        return false;
+    }, 3s));
+
+    // The light's intensity, through its drag field (the Lights section opened first).
+    const auto header = v.editor().widget("Lights");
+    REQUIRE(header);
+    click(v, header->x + 20, header->y + header->h / 2);
+    v.pump();
+    const auto intensity = v.editor().widget("intensity##light0");
+    REQUIRE(intensity);
+    type_into(v, *intensity, intensity->w / 4, "3");
+    REQUIRE(pump_until(v, [&] { return v.scene().lights.at(0).intensity == 3.0f; }, 3s));
+    CHECK(v.editor().unsaved() == 2);
+    CHECK(read_text(scene) == scene_text);  // nothing written before Save
+
+    // The picture with both changes, then Save, and the reload it causes.
+    REQUIRE(pump_until(v, [&] { return !v.framebuffer().resolve_srgb8().empty(); }));
+    v.pump();
+    const std::vector<uint8_t> edited = v.framebuffer().resolve_srgb8();
+    const uint64_t rendered = v.frames_rendered();
+    const auto save = v.editor().widget("Save");
+    REQUIRE(save);
+    click(v, save->x + save->w / 2, save->y + save->h / 2);
+    CHECK(v.editor().unsaved() == 0);
+    CHECK(has_message(v, "saved", false));
+    REQUIRE(pump_until(v, [&] { return has_message(v, "reloaded", false) && v.frames_rendered() > rendered; }));
+    v.pump();
+    CHECK(v.framebuffer().resolve_srgb8() == edited);  // the same picture from the files
+
+    // The files kept their comments and order; only the values changed.
+    const std::string saved_scene = read_text(scene);
+    CHECK(saved_scene.find("# The editor's scene: every comment here must survive a save.\n") == 0);
+    CHECK(saved_scene.find("intensity: 3}  # the key\n") != std::string::npos);
+    const std::string saved_material = read_text(material);
+    CHECK(saved_material.find("  base_color: [0.25, 0.1, 0.1, 1]  # red\n") != std::string::npos);
+    CHECK(saved_material.find("# A lit red, edited by the test.\nshader: lit\n") == 0);
+    // And a fresh load reads the values the editor set.
+    PluginRegistry registry;
+    const Scene fresh = load_scene(scene, registry);
+    CHECK(fresh.lights.at(0).intensity == 3.0f);
+}
+
+TEST_CASE("the editor's selection is outlined in the shown image only, and E hides the panel",
+          "[viewer][editor]") {
+    Options o = small((fs::path(FACET_SOURCE_DIR) / "configs/scenes/phong.yaml").string());
+    o.size = glm::ivec2(320, 180);
+    Viewer v(o);
+    v.pump();
+    key(SDLK_o);  // no stats overlay: what differs is the outline
+    v.pump();
+    const std::vector<uint8_t> frame = v.framebuffer().resolve_srgb8();
+    std::vector<uint8_t> shown = v.shown();
+    REQUIRE(shown.size() == frame.size());
+    size_t orange = 0, other = 0;
+    for (size_t i = 0; i < frame.size(); i += 4) {
+        if (std::equal(&frame[i], &frame[i] + 4, &shown[i])) continue;
+        (shown[i] == 255 && shown[i + 1] == 160 && shown[i + 2] == 30 ? orange : other) += 1;
+    }
+    CHECK(orange > 50);
+    CHECK(other == 0);
+    // Tab selects the next object: the outline moves.
+    key(SDLK_TAB);
+    v.pump();
+    CHECK(v.selected() == 1);
+    CHECK(v.shown() != shown);
+    // A screenshot has no outline.
+    const test::TempDir dir("view-outline");
+    v.save_screenshot(dir.path / "shot.png");
+    int w = 0, h = 0, n = 0;
+    stbi_uc* pixels = stbi_load((dir.path / "shot.png").c_str(), &w, &h, &n, 4);
+    REQUIRE(pixels);
+    CHECK(std::equal(pixels, pixels + size_t(w) * h * 4, v.framebuffer().resolve_srgb8().begin()));
+    stbi_image_free(pixels);
+    key(SDLK_e);
+    v.pump();
+    CHECK_FALSE(v.editor().visible());
+    CHECK(v.shown() == v.framebuffer().resolve_srgb8());
 }

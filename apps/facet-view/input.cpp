@@ -29,6 +29,12 @@ int next_msaa(int samples) { return samples >= 8 ? 1 : samples * 2; }
 }  // namespace
 
 bool Viewer::handle(const SDL_Event& e) {
+    // The editor's panel first: what it takes (a click on a widget, typing
+    // into a field) goes no further.
+    if (editor_->visible() && e.type != SDL_QUIT) {
+        overlay_dirty_ = true;  // the panel shows hover and presses
+        if (editor_->handle(e)) return true;
+    }
     switch (e.type) {
         case SDL_QUIT: return false;
         case SDL_KEYDOWN: return handle_key(e.key);
@@ -94,7 +100,13 @@ bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
         case SDLK_f: controller_.set_flying(!controller_.flying()); redraw = false; break;
         case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS: controller_.faster(); redraw = false; break;
         case SDLK_MINUS: case SDLK_KP_MINUS: controller_.slower(); redraw = false; break;
-        case SDLK_TAB: select_next(); redraw = false; break;
+        case SDLK_TAB: select_next(); redraw = editor_->visible(); break;  // the outline moves
+        case SDLK_e: editor_->set_visible(!editor_->visible()); break;
+        case SDLK_s:
+            if (!(key.keysym.mod & KMOD_CTRL)) return true;  // a fly key (hold())
+            save_edits();
+            redraw = false;
+            break;
         case SDLK_m: cycle_material(shift ? -1 : 1); break;
         case SDLK_l: settings_.wireframe = !settings_.wireframe; break;
         case SDLK_n: settings_.msaa = next_msaa(settings_.msaa); break;

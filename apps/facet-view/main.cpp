@@ -2,7 +2,8 @@
 //
 //     facet-view [SCENE.yaml] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]] [--msaa N]
 //                [--max-memory SIZE] [--threads N] [--plugin-path DIR]... [--rebuild]
-//                [--frames N [--screenshot out.png]] [--screenshot-dir DIR] [-v|-q] [--version]
+//                [--frames N [--screenshot out.png] [--window-screenshot win.png]]
+//                [--screenshot-dir DIR] [--no-editor] [-v|-q] [--version]
 //
 // With no scene it opens the default scene. --frames renders N frames and
 // exits (with --screenshot, saving the last one first): scripted runs and
@@ -24,11 +25,13 @@ namespace {
 struct Script {
     int frames = 0;
     std::string screenshot;
+    std::string window_screenshot;
 };
 
 int run(facet::view::Options options, const Script& script) {
     const std::atomic<bool>* stop = options.stop;
     facet::view::Viewer viewer(std::move(options));
+    viewer.keep_window(!script.window_screenshot.empty());
     if (script.frames <= 0) {
         viewer.run();
         return 0;
@@ -40,6 +43,10 @@ int run(facet::view::Options options, const Script& script) {
     if (!script.screenshot.empty() && !(stop && stop->load())) {  // not a frame cut short
         viewer.save_screenshot(script.screenshot);
         spdlog::info("wrote {}", script.screenshot);
+    }
+    if (!script.window_screenshot.empty() && !(stop && stop->load())) {
+        viewer.save_window(script.window_screenshot);
+        spdlog::info("wrote {}", script.window_screenshot);
     }
     return 0;
 }
@@ -79,6 +86,10 @@ int main(int argc, char** argv) {
     app.add_option("--frames", script.frames, "render N frames, then exit");
     app.add_option("--screenshot", script.screenshot, "with --frames: save the last frame as PNG")
         ->needs("--frames");
+    app.add_option("--window-screenshot", script.window_screenshot,
+                   "with --frames: save the last window as shown (overlay, editor) as PNG")
+        ->needs("--frames");
+    app.add_flag("!--no-editor", options.editor, "start with the editor panel hidden (E shows it)");
     app.add_option("--screenshot-dir", options.screenshots, "where P saves screenshots")
         ->capture_default_str();
     facet::Verbosity verbosity;

@@ -69,6 +69,7 @@ std::string help_text() {
            "1         shadow passes      2  AO passes      3  post chain\n"
            "P, F12    screenshot (PNG, named by time)\n"
            "O         overlay            H, F1  this help\n"
+           "E         editor panel       Ctrl+S  save its edits into the files\n"
            "drop      a scene file (.yaml) on the window to open it\n"
            "Esc       quit";
 }

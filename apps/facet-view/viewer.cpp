@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <ctime>
 
@@ -99,7 +100,8 @@ Viewer::SdlVideo::SdlVideo() {
 
 Viewer::SdlVideo::~SdlVideo() { SDL_QuitSubSystem(SDL_INIT_VIDEO); }
 
-Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(options_.threads) {
+Viewer::Viewer(Options options)
+    : options_(std::move(options)), renderer_(options_.threads), outline_(options_.threads) {
     renderer_.pipeline().stop_when(options_.stop);
     for (const std::string& dir : options_.plugin_paths) registry_.add_scene_path(dir);
     if (options_.materials.empty()) options_.materials = default_scene_path().parent_path() / "materials";
@@ -116,6 +118,8 @@ Viewer::Viewer(Options options) : options_(std::move(options)), renderer_(option
                                    size.x, size.y, SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI));
     if (window_) sdl_renderer_.reset(SDL_CreateRenderer(window_.get(), -1, 0));
     if (!sdl_renderer_) throw Error(ErrorCode::display_failed, SDL_GetError());
+    editor_ = std::make_unique<Editor>(window_.get(), sdl_renderer_.get());
+    editor_->set_visible(options_.editor);
     show_title();
     resize_texture();
 
@@ -137,6 +141,11 @@ Viewer::~Viewer() = default;
 // Takes `fresh` as the scene: the camera goes home to the file's camera,
 // the viewer's toggles start from the file's settings.
 void Viewer::adopt_scene(Scene fresh) {
+    if (editor_ && editor_->unsaved()) {
+        message(std::to_string(editor_->unsaved()) + " unsaved values dropped with the old scene",
+                true);
+        editor_->forget_unsaved();
+    }
     scene_ = std::move(fresh);
     settings_ = scene_.settings;
     if (options_.msaa) settings_.msaa = options_.msaa;
@@ -188,6 +197,7 @@ bool Viewer::pump() {
 int Viewer::wait_ms() const {
     if (scene_dirty_ || overlay_dirty_) return 0;
     if (controller_.flying() && flight() != glm::vec3(0.0f)) return 1;  // moving
+    if (editor_->wants_frame()) return 0;  // the panel has a click to finish
     if (reload_->pending()) return 20;  // a changed file is settling
     if (building_ > 0) return 200;
     if (fade_at_ == std::chrono::steady_clock::time_point::max()) return -1;
@@ -200,6 +210,12 @@ void Viewer::apply_reload() {
     const Camera before = scene_.camera;  // the file's: render() never changes it
     if (reload_->update()) {
         scene_dirty_ = true;
+        if (editor_->unsaved()) {  // the files changed under them
+            message(std::to_string(editor_->unsaved()) +
+                        " unsaved values dropped: their files changed on disk",
+                    true);
+            editor_->forget_unsaved();
+        }
         // A reloaded scene file keeps the viewer's camera unless the file's
         // camera itself changed.
         if (!same_camera(scene_.camera, before)) controller_.reset(scene_.camera);
@@ -227,7 +243,8 @@ bool Viewer::frame() {
     apply_reload();
     advance_flight();
     if (std::chrono::steady_clock::now() >= fade_at_) overlay_dirty_ = true;
-    const bool render_now = scene_dirty_, present_now = scene_dirty_ || overlay_dirty_;
+    const bool render_now = scene_dirty_,
+               present_now = scene_dirty_ || overlay_dirty_ || editor_->wants_frame();
     scene_dirty_ = overlay_dirty_ = false;  // present() may ask again
     if (render_now) render();
     if (present_now) present();
@@ -246,6 +263,15 @@ void Viewer::render() {
         info_.stats = renderer_.render(scene_, framebuffer_);
     }
     renderer_.pipeline().resolve_srgb8(framebuffer_, image_);  // a copy: the target is 8-bit sRGB
+    if (editor_->visible() && !scene_.objects.empty()) {
+        try {  // into the shown image only: the frame stays as rendered
+            outline_.draw(scene_.objects[size_t(selected_)], controller_.camera(), settings_,
+                          registry_, textures_, image_, outline_width());
+        } catch (const Error& e) {
+            message(std::string("selection outline: ") + e.what(), true);
+        }
+    }
+    editor_->record(info_.stats);
     ++frames_;
     info_.threads = renderer_.threads();
     info_.isa = renderer_.isa();
@@ -293,8 +319,47 @@ void Viewer::present() {
     SDL_UpdateTexture(texture_.get(), nullptr, shown_.data(), texture_size_.x * 4);
     SDL_RenderClear(sdl_renderer_.get());
     SDL_RenderCopy(sdl_renderer_.get(), texture_.get(), nullptr, nullptr);
+    if (editor_->visible()) show_editor();
+    if (keep_window_) {
+        window_size_ = drawable_size();
+        window_image_.resize(size_t(window_size_.x) * window_size_.y * 4);
+        if (SDL_RenderReadPixels(sdl_renderer_.get(), nullptr, SDL_PIXELFORMAT_RGBA32,
+                                 window_image_.data(), window_size_.x * 4) != 0)
+            window_image_.clear();
+    }
     SDL_RenderPresent(sdl_renderer_.get());
     ++presents_;
+}
+
+// The editor's panel over the picture; what it changed renders next frame.
+void Viewer::show_editor() {
+    EditorTarget target{scene_, settings_, selected_, registry_, textures_, options_.materials};
+    const int before = selected_;
+    const EditorResult r = editor_->show(target);
+    if (r.redraw) scene_dirty_ = true;
+    if (r.selection_changed || selected_ != before) {
+        update_selected_label();
+        scene_dirty_ = true;  // the outline moves
+    }
+    for (const std::string& e : r.errors) message(e, true);
+    if (r.save) save_edits();
+}
+
+void Viewer::save_edits() {
+    if (!editor_->unsaved()) {
+        message("nothing to save", false);
+        return;
+    }
+    std::vector<std::string> errors;
+    for (const std::string& line : editor_->save(errors)) message(line, false);
+    for (const std::string& e : errors) message(e, true);
+}
+
+// Two points wide, in pixels.
+int Viewer::outline_width() const {
+    int points_w = 0;
+    SDL_GetWindowSize(window_.get(), &points_w, nullptr);
+    return std::max(2, 2 * int(std::lround(double(texture_size_.x) / std::max(1, points_w))));
 }
 
 void Viewer::resize_texture() {
@@ -308,6 +373,12 @@ void Viewer::resize_texture() {
 
 void Viewer::save_screenshot(const std::filesystem::path& path) const {
     framebuffer_.write_png(path);
+}
+
+void Viewer::save_window(const std::filesystem::path& path) const {
+    if (window_image_.empty())
+        throw Error(ErrorCode::display_failed, "no window image kept (keep_window)", path.string());
+    write_png(path, window_size_.x, window_size_.y, window_image_);
 }
 
 std::filesystem::path Viewer::screenshot_name() const {

@@ -16,6 +16,8 @@
 #pragma once
 
 #include "camera_controller.hpp"
+#include "editor.hpp"
+#include "outline.hpp"
 #include "overlay.hpp"
 
 #include <facet/framebuffer.hpp>
@@ -50,6 +52,7 @@ struct Options {
     std::filesystem::path materials;       // default: configs/materials of the source tree
     std::filesystem::path screenshots = "."; // where P writes its PNGs
     std::chrono::milliseconds message_time{5000};  // how long overlay messages show
+    bool editor = true;                    // the editor panel shows at start (E toggles it)
     // While true, frames stop (Pipeline::stop_when) and pump() returns
     // false: SIGINT and SIGTERM (facet/interrupts.hpp). Null: never.
     const std::atomic<bool>* stop = nullptr;
@@ -83,6 +86,11 @@ public:
     int wait_ms() const;
     // Writes the last rendered image (no overlay) as PNG; throws Error.
     void save_screenshot(const std::filesystem::path& path) const;
+    // From now on, keeps a copy of each presented window (overlay and editor
+    // panel included) for save_window(); off by default (it costs a read).
+    void keep_window(bool keep) { keep_window_ = keep; }
+    // Writes the last presented window as PNG; throws Error if none is kept.
+    void save_window(const std::filesystem::path& path) const;
     // "facet-YYYYMMDD-HHMMSS.png" in the screenshots folder, not yet taken.
     std::filesystem::path screenshot_name() const;
 
@@ -98,6 +106,9 @@ public:
     uint64_t frames_rendered() const { return frames_; }
     uint64_t frames_presented() const { return presents_; }
     bool overlay_visible() const { return show_overlay_; }
+    Editor& editor() { return *editor_; }
+    // Writes the editor's unsaved values into their files (Ctrl+S, Save).
+    void save_edits();
     bool help_visible() const { return show_help_; }
 
 private:
@@ -121,6 +132,8 @@ private:
     void show_title();
     void message(std::string text, bool error, bool log = true);  // log: also to spdlog
     void update_selected_label();
+    void show_editor();
+    int outline_width() const;
 
     // SDL's video subsystem, held for the viewer's lifetime (declared first,
     // so it goes last).
@@ -138,6 +151,7 @@ private:
     std::unique_ptr<SDL_Window, SdlDeleter<SDL_Window, SDL_DestroyWindow>> window_;
     std::unique_ptr<SDL_Renderer, SdlDeleter<SDL_Renderer, SDL_DestroyRenderer>> sdl_renderer_;
     std::unique_ptr<SDL_Texture, SdlDeleter<SDL_Texture, SDL_DestroyTexture>> texture_;
+    std::unique_ptr<Editor> editor_;  // after the renderer it draws with, so it goes first
     glm::ivec2 texture_size_{0};
 
     PluginRegistry registry_;
@@ -147,9 +161,13 @@ private:
     std::unique_ptr<ShaderRebuilder> rebuilder_;
     int building_ = 0;  // shader builds running (--rebuild)
     Renderer renderer_;
+    Outline outline_;
     Framebuffer framebuffer_;
     std::vector<uint8_t> image_;    // the frame in sRGB8
     std::vector<uint8_t> shown_;    // the frame with the overlay
+    bool keep_window_ = false;
+    std::vector<uint8_t> window_image_;  // the last window presented (keep_window)
+    glm::ivec2 window_size_{0};
 
     CameraController controller_;
     RenderSettings settings_;       // the scene's, with the viewer's toggles

@@ -1,0 +1,572 @@
+#include "editor.hpp"
+
+#include <facet/error.hpp>
+#include <facet/math.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace facet::view {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* const kFilters[] = {"nearest", "bilinear", "trilinear"};
+const char* const kWraps[] = {"repeat", "clamp", "mirror"};
+
+std::string filter_text(Filter f) { return kFilters[int(f)]; }
+std::string wrap_text(Wrap w) { return kWraps[int(w)]; }
+
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorCode::file_not_found, "cannot read it to save", path.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+// Writes `text` over `path` at once: a temporary file beside it, renamed
+// (a watcher sees one complete file; a failure leaves the old one).
+void write_file(const fs::path& path, const std::string& text) {
+    const fs::path temporary = path.string() + ".facet-save";
+    {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        out << text;
+        if (!out.flush()) {
+            std::error_code ignored;
+            fs::remove(temporary, ignored);
+            throw Error(ErrorCode::file_not_found, "cannot write it", path.string());
+        }
+    }
+    std::error_code error;
+    fs::rename(temporary, path, error);
+    if (error) {
+        fs::remove(temporary, error);
+        throw Error(ErrorCode::file_not_found, "cannot replace it: " + error.message(),
+                    path.string());
+    }
+}
+
+// The material files the choice offers: the materials folder's and those
+// the scene already uses.
+std::vector<fs::path> material_choices(const EditorTarget& t) {
+    std::vector<fs::path> out;
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(t.materials, ec))
+        if (e.path().extension() == ".yaml") out.push_back(fs::weakly_canonical(e.path()));
+    for (const auto& [file, material] : t.scene.material_files)
+        if (std::find(out.begin(), out.end(), file) == out.end()) out.push_back(file);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+bool is_inline(const Material& m, const Scene& scene) {
+    std::error_code ec;
+    return fs::equivalent(m.file, scene.source, ec);
+}
+
+// The parameter `name` as written, if it is.
+const MaterialParam* written(const Material& m, const std::string& name) {
+    for (const MaterialParam& p : m.params)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+// A parameter's current floats: as written, else the schema's default.
+void current_floats(const Material& m, const facet_param_desc& d, float out[4]) {
+    for (int i = 0; i < 4; ++i) out[i] = d.default_value[i];
+    if (const MaterialParam* p = written(m, d.name))
+        for (size_t i = 0; i < p->numbers.size() && i < 4; ++i) out[i] = float(p->numbers[i]);
+}
+
+double ms_of(const FrameStats& s, int pass) {
+    switch (pass) {
+        case 0: return s.milliseconds;
+        case 1: return s.ms_shadow;
+        case 2: return s.ms_prepass + s.ms_ao;
+        case 3: return s.ms_main;
+        default: return s.ms_post;
+    }
+}
+
+}  // namespace
+
+glm::vec3 to_euler_degrees(const glm::quat& q) {
+    // R = Rz(c) Ry(b) Rx(a): R[2][0] = -sin b, R[2][1] = cos b sin a,
+    // R[2][2] = cos b cos a, R[1][0] = sin c cos b, R[0][0] = cos c cos b
+    // (row, column; glm indexes column first).
+    const glm::mat3 m = glm::mat3_cast(q);
+    const float sb = std::clamp(-m[0][2], -1.0f, 1.0f);
+    glm::vec3 r;
+    r.y = std::asin(sb);
+    if (std::abs(sb) < 0.99999f) {
+        r.x = std::atan2(m[1][2], m[2][2]);
+        r.z = std::atan2(m[0][1], m[0][0]);
+    } else {  // gimbal lock: put the whole turn about Z into X
+        r.x = std::atan2(-m[2][1], m[1][1]);
+        r.z = 0.0f;
+    }
+    return glm::degrees(r);
+}
+
+Editor::Editor(SDL_Window* window, SDL_Renderer* renderer) : imgui_(window, renderer) {
+    ImGui::StyleColorsDark();
+    ImGuiStyle& style = ImGui::GetStyle();
+    style.WindowRounding = 4.0f;
+    style.Colors[ImGuiCol_WindowBg].w = 0.88f;
+}
+
+bool Editor::handle(const SDL_Event& event) {
+    if (!visible_) return false;
+    return imgui_.handle(event);
+}
+
+void Editor::record(const FrameStats& stats) {
+    history_.push_back(stats);
+    if (history_.size() > kHistory) history_.pop_front();
+}
+
+void Editor::remember(const std::string& label) {
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    widgets_[label] = {a.x, a.y, b.x - a.x, b.y - a.y};
+}
+
+std::optional<Editor::Rect> Editor::widget(const std::string& label) const {
+    const auto it = widgets_.find(label);
+    if (it == widgets_.end()) return std::nullopt;
+    return it->second;
+}
+
+void Editor::edit(const fs::path& file, YamlPath path, std::string value) {
+    std::vector<Edit>& edits = pending_[fs::weakly_canonical(file)];
+    std::erase_if(edits, [&](const Edit& e) { return e.path == path; });
+    edits.push_back({std::move(path), std::move(value)});
+}
+
+size_t Editor::unsaved() const {
+    size_t n = 0;
+    for (const auto& [file, edits] : pending_) n += edits.size();
+    return n;
+}
+
+std::vector<fs::path> Editor::unsaved_files() const {
+    std::vector<fs::path> out;
+    for (const auto& [file, edits] : pending_) out.push_back(file);
+    return out;
+}
+
+std::vector<std::string> Editor::save(std::vector<std::string>& errors) {
+    std::vector<std::string> saved;
+    for (auto it = pending_.begin(); it != pending_.end();) {
+        const fs::path& file = it->first;
+        try {
+            std::string text = read_file(file);
+            for (const Edit& e : it->second) text = yaml_set(text, e.path, e.value, file.string());
+            write_file(file, text);
+            saved.push_back("saved " + file.string() + " (" + std::to_string(it->second.size()) +
+                            (it->second.size() == 1 ? " value)" : " values)"));
+            it = pending_.erase(it);
+        } catch (const Error& e) {
+            errors.push_back(e.what());
+            ++it;
+        }
+    }
+    return saved;
+}
+
+EditorResult Editor::show(EditorTarget& t) {
+    EditorResult r;
+    if (!visible_) return r;
+    imgui_.new_frame();
+    const ImGuiIO& io = ImGui::GetIO();
+    const float width = std::min(380.0f, io.DisplaySize.x * 0.45f);
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - width - 6.0f, 6.0f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(width, io.DisplaySize.y - 12.0f), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("facet editor (E hides)")) {
+        ImGui::PushItemWidth(-150.0f);
+        const size_t n = unsaved();
+        ImGui::BeginDisabled(n == 0);
+        if (ImGui::Button("Save")) r.save = true;
+        remember("Save");
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        if (n) ImGui::Text("%zu unsaved value%s (Ctrl+S)", n, n == 1 ? "" : "s");
+        else ImGui::TextDisabled("nothing to save");
+        if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen)) objects_panel(t, r);
+        if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) material_panel(t, r);
+        const bool lights = ImGui::CollapsingHeader("Lights");
+        remember("Lights");
+        if (lights) lights_panel(t, r);
+        const bool render = ImGui::CollapsingHeader("Render");
+        remember("Render");
+        if (render) render_panel(t, r);
+        if (ImGui::CollapsingHeader("Frame time", ImGuiTreeNodeFlags_DefaultOpen)) frame_panel();
+        ImGui::PopItemWidth();
+    }
+    ImGui::End();
+    imgui_.render();
+    return r;
+}
+
+void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
+    std::vector<Object>& objects = t.scene.objects;
+    if (objects.empty()) {
+        ImGui::TextDisabled("(no objects)");
+        return;
+    }
+    if (ImGui::BeginListBox("##objects", ImVec2(-FLT_MIN, 5.5f * ImGui::GetTextLineHeightWithSpacing()))) {
+        for (int i = 0; i < int(objects.size()); ++i) {
+            const std::string label = objects[size_t(i)].name + "##object" + std::to_string(i);
+            if (ImGui::Selectable(label.c_str(), i == t.selected) && i != t.selected) {
+                t.selected = i;
+                r.selection_changed = true;
+            }
+            remember("object" + std::to_string(i));
+        }
+        ImGui::EndListBox();
+    }
+    t.selected = std::clamp(t.selected, 0, int(objects.size()) - 1);
+    Object& o = objects[size_t(t.selected)];
+    const size_t i = size_t(t.selected);
+    const fs::path& file = t.scene.source;
+    if (euler_of_ != t.selected) {
+        euler_ = to_euler_degrees(o.transform.rotation);
+        euler_of_ = t.selected;
+    }
+    if (ImGui::Checkbox("visible", &o.visible)) {
+        edit(file, {"objects", i, "visible"}, o.visible ? "true" : "false");
+        r.redraw = true;
+    }
+    if (ImGui::DragFloat3("position", &o.transform.translation.x, 0.01f)) {
+        edit(file, {"objects", i, "position"}, yaml_sequence(&o.transform.translation.x, 3));
+        r.redraw = true;
+    }
+    remember("position");
+    if (ImGui::DragFloat3("rotation", &euler_.x, 0.5f, -360.0f, 360.0f, "%.1f deg")) {
+        o.transform.rotation = euler_degrees(euler_);
+        edit(file, {"objects", i, "rotation"}, yaml_sequence(&euler_.x, 3));
+        r.redraw = true;
+    }
+    glm::vec3 scale = o.transform.scale;
+    if (ImGui::DragFloat3("scale", &scale.x, 0.005f, 1e-4f, 1e4f)) {
+        o.transform.scale = glm::max(scale, glm::vec3(1e-4f));
+        const glm::vec3& s = o.transform.scale;
+        edit(file, {"objects", i, "scale"},
+             s.x == s.y && s.y == s.z ? yaml_number(s.x) : yaml_sequence(&s.x, 3));
+        r.redraw = true;
+    }
+    // The material file the object uses (an inline material is its own).
+    if (o.material && !is_inline(*o.material, t.scene)) {
+        const std::vector<fs::path> files = material_choices(t);
+        const fs::path current = fs::weakly_canonical(o.material->source);
+        const std::string shown = current.filename().string();
+        if (ImGui::BeginCombo("material", shown.c_str())) {
+            for (const fs::path& f : files) {
+                if (!ImGui::Selectable(f.filename().string().c_str(), f == current) || f == current)
+                    continue;
+                try {
+                    std::shared_ptr<Material>& shared = t.scene.material_files[f];
+                    if (!shared) shared = load_material(f, t.registry, t.textures);
+                    o.material = shared;
+                    edit(file, {"objects", i, "material"},
+                         f.lexically_relative(fs::weakly_canonical(file).parent_path()).generic_string());
+                    r.redraw = true;
+                } catch (const Error& e) {
+                    t.scene.material_files.erase(f);
+                    r.errors.push_back(e.what());
+                }
+            }
+            ImGui::EndCombo();
+        }
+    }
+}
+
+bool Editor::set_param(EditorTarget& t, Material& material, const facet_param_desc& desc,
+                       MaterialParam value, const std::string& text, EditorResult& r) {
+    const std::vector<MaterialParam> before = material.params;
+    value.name = desc.name;
+    auto at = std::find_if(material.params.begin(), material.params.end(),
+                           [&](const MaterialParam& p) { return p.name == desc.name; });
+    if (at != material.params.end()) {
+        value.line = at->line;
+        value.column = at->column;
+        *at = value;
+    } else {
+        material.params.push_back(value);
+    }
+    try {
+        bind(material, material.plugin, t.textures);
+    } catch (const Error& e) {
+        material.params = before;
+        r.errors.push_back(e.what());
+        return false;
+    }
+    if (is_inline(material, t.scene))
+        edit(t.scene.source, {"objects", size_t(t.selected), "material", "params", std::string(desc.name)}, text);
+    else
+        edit(material.source, {"params", std::string(desc.name)}, text);
+    r.redraw = true;
+    return true;
+}
+
+void Editor::material_panel(EditorTarget& t, EditorResult& r) {
+    if (t.scene.objects.empty()) return;
+    const std::shared_ptr<Material> material = t.scene.objects[size_t(t.selected)].material;
+    if (!material || !material->plugin) {
+        ImGui::TextDisabled("(no material)");
+        return;
+    }
+    Material& m = *material;
+    ImGui::TextWrapped("%s: shader '%s'", is_inline(m, t.scene) ? "inline" : fs::path(m.source).filename().c_str(),
+                       m.plugin->name().c_str());
+    const facet_shader_desc& desc = m.plugin->desc();
+    for (uint32_t k = 0; k < desc.param_count; ++k) {
+        const facet_param_desc& d = desc.params[k];
+        const std::string name = d.name;
+        const bool bounded = std::isfinite(d.min_value) && std::isfinite(d.max_value) &&
+                             d.max_value - d.min_value <= 1000.0f;
+        const float lo = std::isfinite(d.min_value) ? d.min_value : -FLT_MAX;
+        const float hi = std::isfinite(d.max_value) ? d.max_value : FLT_MAX;
+        float v[4];
+        current_floats(m, d, v);
+        MaterialParam p;
+        bool changed = false;
+        std::string text;
+        switch (d.type) {
+            case FACET_PARAM_FLOAT:
+                changed = bounded ? ImGui::SliderFloat(name.c_str(), v, lo, hi)
+                                  : ImGui::DragFloat(name.c_str(), v, 0.01f, lo, hi);
+                p.numbers = {v[0]};
+                text = yaml_number(v[0]);
+                break;
+            case FACET_PARAM_INT: {
+                int i = int(std::lround(v[0]));
+                changed = bounded ? ImGui::SliderInt(name.c_str(), &i, int(lo), int(hi))
+                                  : ImGui::DragInt(name.c_str(), &i, 0.2f);
+                p.numbers = {double(i)};
+                p.is_integer = true;
+                text = std::to_string(i);
+                break;
+            }
+            case FACET_PARAM_BOOL: {
+                const MaterialParam* w = written(m, name);
+                bool on = w ? (w->kind == MaterialParam::Kind::boolean ? w->flag : w->numbers.size() && w->numbers[0] != 0)
+                            : d.default_value[0] != 0.0f;
+                changed = ImGui::Checkbox(name.c_str(), &on);
+                p.kind = MaterialParam::Kind::boolean;
+                p.flag = on;
+                text = on ? "true" : "false";
+                break;
+            }
+            case FACET_PARAM_VEC2:
+            case FACET_PARAM_VEC3:
+            case FACET_PARAM_VEC4: {
+                const int n = int(d.type - FACET_PARAM_VEC2) + 2;
+                changed = ImGui::DragScalarN(name.c_str(), ImGuiDataType_Float, v, n, 0.01f,
+                                             &lo, &hi, "%.3f");
+                p.kind = MaterialParam::Kind::vector;
+                p.numbers.assign(v, v + n);
+                text = yaml_sequence(v, n);
+                break;
+            }
+            case FACET_PARAM_COLOR3:
+            case FACET_PARAM_COLOR4: {
+                const int n = d.type == FACET_PARAM_COLOR3 ? 3 : 4;
+                const ImGuiColorEditFlags flags = ImGuiColorEditFlags_Float |
+                                                  (hi > 1.0f ? ImGuiColorEditFlags_HDR : 0);
+                changed = n == 3 ? ImGui::ColorEdit3(name.c_str(), v, flags)
+                                 : ImGui::ColorEdit4(name.c_str(), v, flags);
+                for (int c = 0; c < n; ++c) v[c] = std::clamp(v[c], std::max(lo, 0.0f), hi);
+                p.kind = MaterialParam::Kind::vector;
+                p.numbers.assign(v, v + n);
+                text = yaml_sequence(v, n);
+                break;
+            }
+            case FACET_PARAM_CHOICE: {
+                const std::vector<std::string> names =
+                    m.plugin->desc().param_choices && m.plugin->desc().param_choices[k]
+                        ? choice_names(m.plugin->desc().param_choices[k])
+                        : std::vector<std::string>{};
+                const MaterialParam* w = written(m, name);
+                std::string current = w ? w->word : "";
+                if (current.empty() && !names.empty())
+                    current = names[std::min(names.size() - 1, size_t(std::max(0.0f, d.default_value[0])))];
+                if (ImGui::BeginCombo(name.c_str(), current.c_str())) {
+                    for (const std::string& c : names)
+                        if (ImGui::Selectable(c.c_str(), c == current) && c != current) {
+                            current = c;
+                            changed = true;
+                        }
+                    ImGui::EndCombo();
+                }
+                p.kind = MaterialParam::Kind::word;
+                p.word = current;
+                text = current;
+                break;
+            }
+            case FACET_PARAM_TEXTURE: {
+                const MaterialParam* w = written(m, name);
+                p.kind = MaterialParam::Kind::texture;
+                if (w) {
+                    p.texture_file = w->texture_file;
+                    p.filter = w->filter;
+                    p.wrap = w->wrap;
+                }
+                const fs::path folder = fs::path(m.source).parent_path();
+                std::string file = p.texture_file.empty()
+                                       ? ""
+                                       : p.texture_file.lexically_relative(folder).generic_string();
+                ImGui::Text("%s", name.c_str());
+                const std::string field = "file##" + name;
+                if (ImGui::InputText(field.c_str(), &file, ImGuiInputTextFlags_EnterReturnsTrue)) {
+                    p.texture_file = (folder / file).lexically_normal();
+                    changed = !file.empty();
+                }
+                int filter = int(p.filter), wrap = int(p.wrap);
+                if (ImGui::Combo(("filter##" + name).c_str(), &filter, kFilters, 3)) changed = true;
+                if (ImGui::Combo(("wrap##" + name).c_str(), &wrap, kWraps, 3)) changed = true;
+                p.filter = Filter(filter);
+                p.wrap = Wrap(wrap);
+                if (changed && p.texture_file.empty()) {
+                    r.errors.push_back(name + ": type the texture's file first");
+                    changed = false;
+                }
+                text = "{file: " + p.texture_file.lexically_relative(folder).generic_string() +
+                       ", filter: " + filter_text(p.filter) + ", wrap: " + wrap_text(p.wrap) + "}";
+                break;
+            }
+            default: ImGui::TextDisabled("%s (%s)", name.c_str(), std::string(param_type_name(d.type)).c_str());
+        }
+        if (d.type != FACET_PARAM_TEXTURE) remember(name);
+        if (d.doc && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d.doc);
+        if (changed) set_param(t, m, d, std::move(p), text, r);
+    }
+}
+
+void Editor::lights_panel(EditorTarget& t, EditorResult& r) {
+    const fs::path& file = t.scene.source;
+    for (size_t i = 0; i < t.scene.lights.size(); ++i) {
+        Light& l = t.scene.lights[i];
+        const std::string id = "##light" + std::to_string(i);
+        const char* type = l.type == LightType::directional ? "directional"
+                           : l.type == LightType::point     ? "point"
+                                                            : "spot";
+        ImGui::PushID(int(i));
+        ImGui::Separator();
+        ImGui::Text("light %zu: %s", i + 1, type);
+        const auto changed = [&](bool did, const std::string& key, const std::string& value) {
+            if (!did) return;
+            edit(file, {"lights", i, key}, value);
+            r.redraw = true;
+        };
+        changed(ImGui::ColorEdit3(("color" + id).c_str(), &l.color.x, ImGuiColorEditFlags_Float),
+                "color", yaml_sequence(&l.color.x, 3));
+        remember("color" + id);
+        const bool intensity = ImGui::DragFloat(("intensity" + id).c_str(), &l.intensity, 0.02f, 0.0f, 1e4f);
+        l.intensity = std::max(0.0f, l.intensity);
+        changed(intensity, "intensity", yaml_number(l.intensity));
+        remember("intensity" + id);
+        if (l.type != LightType::directional)
+            changed(ImGui::DragFloat3(("position" + id).c_str(), &l.position.x, 0.02f), "position",
+                    yaml_sequence(&l.position.x, 3));
+        if (l.type != LightType::point) {
+            glm::vec3 d = l.direction;
+            if (ImGui::DragFloat3(("direction" + id).c_str(), &d.x, 0.01f) &&
+                glm::length(d) > 1e-6f) {
+                l.direction = glm::normalize(d);
+                changed(true, "direction", yaml_sequence(&l.direction.x, 3));
+            }
+        }
+        if (l.type == LightType::spot) {
+            float inner = l.spot_inner, outer = l.spot_outer;
+            if (ImGui::SliderFloat(("cone inner" + id).c_str(), &inner, 0.0f, outer, "%.1f deg")) {
+                l.spot_inner = inner;
+                changed(true, "spot_inner", yaml_number(inner));
+            }
+            if (ImGui::SliderFloat(("cone outer" + id).c_str(), &outer, std::max(inner, 0.1f), 89.0f, "%.1f deg")) {
+                l.spot_outer = outer;
+                changed(true, "spot_outer", yaml_number(outer));
+            }
+        }
+        changed(ImGui::Checkbox(("casts shadow" + id).c_str(), &l.casts_shadow), "casts_shadow",
+                l.casts_shadow ? "true" : "false");
+        ImGui::PopID();
+    }
+    if (t.scene.lights.empty()) ImGui::TextDisabled("(no lights)");
+}
+
+void Editor::render_panel(EditorTarget& t, EditorResult& r) {
+    RenderSettings& s = t.settings;
+    const fs::path& file = t.scene.source;
+    const auto changed = [&](bool did, const std::string& key, const std::string& value) {
+        if (!did) return;
+        edit(file, {"render", key}, value);
+        r.redraw = true;
+    };
+    const char* const samples[] = {"1", "2", "4", "8"};
+    int msaa = s.msaa >= 8 ? 3 : s.msaa >= 4 ? 2 : s.msaa >= 2 ? 1 : 0;
+    if (ImGui::Combo("msaa", &msaa, samples, 4)) {
+        s.msaa = 1 << msaa;
+        changed(true, "msaa", std::to_string(s.msaa));
+    }
+    changed(ImGui::Checkbox("shadows", &s.shadows), "shadows", s.shadows ? "true" : "false");
+    ImGui::SameLine();
+    changed(ImGui::Checkbox("ao", &s.ao), "ao", s.ao ? "true" : "false");
+    ImGui::SameLine();
+    changed(ImGui::Checkbox("post", &s.post), "post", s.post ? "true" : "false");
+    changed(ImGui::Checkbox("wireframe", &s.wireframe), "wireframe", s.wireframe ? "true" : "false");
+    ImGui::SameLine();
+    changed(ImGui::Checkbox("depth pre-pass", &s.depth_prepass), "depth_prepass",
+            s.depth_prepass ? "true" : "false");
+    changed(ImGui::ColorEdit4("clear colour", &s.clear_color.x, ImGuiColorEditFlags_Float),
+            "clear_color", yaml_sequence(&s.clear_color.x, 4));
+    int map = s.shadow_map_size;
+    if (ImGui::SliderInt("shadow map", &map, 256, 8192, "%d texels", ImGuiSliderFlags_Logarithmic)) {
+        s.shadow_map_size = std::clamp((map + 15) / 16 * 16, 16, 8192);
+        changed(true, "shadow_map_size", std::to_string(s.shadow_map_size));
+    }
+    bool half = s.ao_half_resolution;
+    if (ImGui::Checkbox("AO at half resolution", &half)) {
+        s.ao_half_resolution = half;
+        changed(true, "ao_resolution", half ? "half" : "full");
+    }
+    if (ImGui::SliderFloat("AO radius", &s.ao_radius, 0.01f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+        s.ao_radius = std::max(0.01f, s.ao_radius);
+        changed(true, "ao_radius", yaml_number(s.ao_radius));
+    }
+    if (ImGui::SliderInt("AO samples", &s.ao_samples, 1, 64)) {
+        s.ao_samples = std::clamp(s.ao_samples, 1, 256);
+        changed(true, "ao_samples", std::to_string(s.ao_samples));
+    }
+}
+
+void Editor::frame_panel() {
+    if (history_.empty()) {
+        ImGui::TextDisabled("(no frame yet)");
+        return;
+    }
+    static const char* const kNames[] = {"frame", "shadow maps", "AO", "main", "resolve + post"};
+    float values[kHistory];
+    for (int pass = 0; pass < 5; ++pass) {
+        double peak = 0.0;
+        int n = 0;
+        for (const FrameStats& s : history_) {
+            values[n] = float(ms_of(s, pass));
+            peak = std::max(peak, double(values[n++]));
+        }
+        if (pass > 0 && peak == 0.0) continue;  // a pass this scene never ran
+        char overlay[64];
+        std::snprintf(overlay, sizeof overlay, "%s %.2f ms", kNames[pass], ms_of(history_.back(), pass));
+        ImGui::PlotLines(("##time" + std::to_string(pass)).c_str(), values, n, 0, overlay, 0.0f,
+                         float(peak) * 1.1f, ImVec2(-FLT_MIN, pass == 0 ? 48.0f : 32.0f));
+    }
+}
+
+}  // namespace facet::view
