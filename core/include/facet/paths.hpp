@@ -21,7 +21,17 @@ namespace facet {
 // folder if that cannot be read.
 std::filesystem::path executable_dir();
 
-// ../share/facet, beside the executable's folder.
+// The folder the layout above hangs from: the executable's folder's parent,
+// unless set_install_root() gave another.
+std::filesystem::path install_root();
+
+// For a program that embeds facet (links facet::core) and is not installed
+// beside it: the prefix facet is installed in (FACET_PREFIX_DIR, from
+// find_package(facet)). Its data, built-in plugins and facet-sandbox are
+// then found there. Call it first, before other threads start.
+void set_install_root(const std::filesystem::path& prefix);
+
+// share/facet in install_root().
 std::filesystem::path data_dir();
 
 // The folders the built-in shader plugins may be in, nearest first.

@@ -146,7 +146,7 @@ bool in_sandbox() { return g_in_sandbox; }
 
 std::optional<std::filesystem::path> sandbox_program() {
     const std::filesystem::path program =
-        (executable_dir() / ".." / "libexec" / "facet-sandbox").lexically_normal();
+        (install_root() / "libexec" / "facet-sandbox").lexically_normal();
     if (access(program.c_str(), X_OK) != 0) return std::nullopt;
     return program;
 }

@@ -14,11 +14,21 @@ fs::path executable_dir() {
     return exe.parent_path();
 }
 
-fs::path data_dir() { return (executable_dir() / ".." / "share" / "facet").lexically_normal(); }
+namespace {
+fs::path g_install_root;  // set_install_root(); empty: beside the executable
+}  // namespace
+
+fs::path install_root() {
+    return g_install_root.empty() ? (executable_dir() / "..").lexically_normal() : g_install_root;
+}
+
+void set_install_root(const fs::path& prefix) { g_install_root = fs::absolute(prefix).lexically_normal(); }
+
+fs::path data_dir() { return install_root() / "share" / "facet"; }
 
 std::vector<fs::path> built_in_plugin_dirs() {
-    const fs::path up = executable_dir() / "..";
-    return {(up / "plugins").lexically_normal(), (up / "lib" / "facet" / "plugins").lexically_normal()};
+    const fs::path up = install_root();
+    return {up / "plugins", up / "lib" / "facet" / "plugins"};
 }
 
 }  // namespace facet
