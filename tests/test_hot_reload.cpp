@@ -52,6 +52,7 @@ struct Fixture {
 HotReload::Options fast(bool polling) {
     HotReload::Options o;
     o.settle = 30ms;
+    o.unfinished = 300ms;  // a truncated plugin is refused soon
     o.watcher.force_polling = polling;
     o.watcher.poll_interval = 20ms;
     return o;
@@ -186,6 +187,35 @@ TEST_CASE("bad plugins are refused and the old version keeps rendering", "[reloa
         }
 }
 
+TEST_CASE("a plugin a linker has half written is not reported until it stops changing",
+          "[reload]") {
+    Fixture f;
+    PluginRegistry registry(std::vector<fs::path>{});
+    Scene scene = load_scene(f.scene_file, registry);
+    HotReload::Options options = fast(false);
+    options.unfinished = 5s;
+    HotReload reload(registry, scene, options);
+    Renderer renderer;
+    const fs::path whole = f.dir / "whole.so";
+    REQUIRE(compile_plugin(whole, "hot", "-DFILL_RED=0.5f -DWITH_GAIN"));
+    // The first half, then a pause far longer than `settle`: nothing is said.
+    fs::copy_file(whole, f.plugins / "hot.so", fs::copy_options::overwrite_existing);
+    fs::resize_file(f.plugins / "hot.so", fs::file_size(whole) / 2);
+    for (int i = 0; i < 60; ++i) {
+        reload.update();
+        std::this_thread::sleep_for(10ms);
+    }
+    CHECK(reload.take_events().empty());
+    CHECK(reload.pending());
+    CHECK(red(renderer, scene) == 0.25f);
+    // The rest arrives: the new version is taken, with no refusal before it.
+    fs::copy_file(whole, f.plugins / "hot.so", fs::copy_options::overwrite_existing);
+    const std::vector<ReloadEvent> events = next_events(reload);
+    REQUIRE(events.size() == 1);
+    CHECK(events[0].kind == ReloadEvent::Kind::plugin_reloaded);
+    CHECK(red(renderer, scene) == 0.5f);
+}
+
 TEST_CASE("a new version that crashes or hangs in its trial frame is refused, never loaded here",
           "[reload]") {
     // Loaded in this process, any of these would end the test run.
@@ -290,15 +320,16 @@ TEST_CASE("rebuild mode: an edited shader source is rebuilt and reloaded; a brok
     const fs::path sources = f.dir / "shaders";
     fs::create_directories(sources / "hot");
     write(sources / "hot" / "colour.h", "#define FILL_RED 0.25f\n");
-    ShaderRebuilder::Command command = [&](const std::string& name) {
-        return std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -I" + FACET_SOURCE_DIR +
-               "/plugins/include -include " + (sources / name / "colour.h").string() +
-               " -DWITH_GAIN -DPLUGIN_NAME='\"" + name + "\"' " + FACET_SOURCE_DIR +
-               "/tests/plugins/c_plugin.c -o " + (f.plugins / (name + ".so")).string();
-    };
+    // The compiler writes hot.so in place, part by part: hot reload waits
+    // for the whole file, and reports nothing before.
+    const std::string command =
+        std::string(FACET_TEST_C_COMPILER) + " -shared -fPIC -I" + FACET_SOURCE_DIR +
+        "/plugins/include -include " + (sources / "hot" / "colour.h").string() +
+        " -DWITH_GAIN -DPLUGIN_NAME='\"hot\"' " + FACET_SOURCE_DIR +
+        "/tests/plugins/c_plugin.c -o " + (f.plugins / "hot.so").string();
     FileWatcher::Options watch;
     watch.poll_interval = 20ms;
-    ShaderRebuilder rebuilder(sources, command, watch);
+    ShaderRebuilder rebuilder({{"shader 'hot'", {sources / "hot"}, command}}, watch);
     PluginRegistry registry(std::vector<fs::path>{});
     Scene scene = load_scene(f.scene_file, registry);
     HotReload reload(registry, scene, fast(false));

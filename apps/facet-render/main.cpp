@@ -2,12 +2,14 @@
 //
 //     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]]
 //                  [--msaa N] [--threads N] [--max-memory SIZE] [--wireframe]
-//                  [--plugin-path DIR]... [--watch [--rebuild [--build DIR]]] [-v|-q] [--version]
+//                  [--plugin-path DIR]... [--watch [--rebuild]] [-v|-q] [--version]
 //
 // With no scene, renders the default scene (configs/default.yaml). With
 // --watch it keeps running and renders again whenever the scene, a material
-// or a shader plugin changes (hot reload); with --rebuild it also rebuilds a
-// built-in shader when its source under shaders/ changes. Ctrl-C (SIGINT)
+// or a shader plugin changes (hot reload); with --rebuild it also rebuilds
+// the shaders whose sources change: the built-in ones (shaders/, in a build
+// tree) and any shader project whose CMake build folder is a plugin folder
+// (--plugin-path, the scene's plugin_paths). Ctrl-C (SIGINT)
 // or SIGTERM stops it within a second, writing no image: exit status 130 or
 // 143.
 #include <facet/command_line.hpp>
@@ -108,12 +110,11 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
 
 // Renders again whenever hot reload applies a change, until Ctrl-C.
 void watch(const Options& opt, facet::PluginRegistry& registry, facet::Scene& scene,
-           std::optional<glm::ivec2> size, const facet::Interrupts& interrupts) {
+           std::optional<glm::ivec2> size, std::vector<facet::ShaderProject> projects,
+           const facet::Interrupts& interrupts) {
     facet::HotReload reload(registry, scene);
     std::optional<facet::ShaderRebuilder> rebuilder;
-    if (opt.rebuild)
-        rebuilder.emplace(facet::built_in_shader_sources(),
-                          facet::ShaderRebuilder::cmake_target(facet::build_folder()));
+    if (opt.rebuild) rebuilder.emplace(std::move(projects));
     spdlog::info("watching for changes (Ctrl-C to stop)");
     while (!interrupts.stopped()) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -146,8 +147,13 @@ int run(const Options& opt, const facet::Interrupts& interrupts) {
     const std::string path =
         opt.scene.empty() ? facet::default_scene_path().string() : opt.scene;
     facet::Scene scene = facet::load_scene(path, registry);
+    std::vector<facet::ShaderProject> projects;
+    if (opt.rebuild && (projects = facet::rebuild_projects(registry.search_path())).empty()) {
+        spdlog::error("{}", facet::nothing_to_rebuild());
+        return 2;
+    }
     render(opt, scene, size, interrupts);
-    if (opt.watch) watch(opt, registry, scene, size, interrupts);
+    if (opt.watch) watch(opt, registry, scene, size, std::move(projects), interrupts);
     return interrupts.exit_code();
 }
 
@@ -176,7 +182,9 @@ int main(int argc, char** argv) {
     app.add_flag("--wireframe", opt.wireframe, "draw triangle edges over the shading");
     app.add_option("--plugin-path", opt.plugin_paths, "extra folder to search for shaders");
     app.add_flag("--watch", opt.watch, "keep running; render again when files change");
-    app.add_flag("--rebuild", opt.rebuild, "with --watch: rebuild built-in shaders on edit")
+    app.add_flag("--rebuild", opt.rebuild,
+                 "with --watch: rebuild a shader when its sources change (the built-in ones, "
+                 "and projects whose build folder is a plugin folder)")
         ->needs("--watch");
     facet::Verbosity verbosity;
     facet::add_common_options(app, verbosity);

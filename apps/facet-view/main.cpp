@@ -82,7 +82,9 @@ int main(int argc, char** argv) {
                    "hardware thread")
         ->check(CLI::Range(0, 256));
     app.add_option("--plugin-path", options.plugin_paths, "extra folder to search for shaders");
-    app.add_flag("--rebuild", options.rebuild, "rebuild built-in shaders when their sources change");
+    app.add_flag("--rebuild", options.rebuild,
+                 "rebuild a shader when its sources change (the built-in ones, and projects "
+                 "whose build folder is a plugin folder)");
     app.add_option("--frames", script.frames, "render N frames, then exit");
     app.add_option("--screenshot", script.screenshot, "with --frames: save the last frame as PNG")
         ->needs("--frames");

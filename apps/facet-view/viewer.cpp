@@ -129,8 +129,9 @@ Viewer::Viewer(Options options)
     if (options_.rebuild) {
         FileWatcher::Options watch;
         watch.on_change = wake;
-        rebuilder_ = std::make_unique<ShaderRebuilder>(
-            built_in_shader_sources(), ShaderRebuilder::cmake_target(build_folder()), watch);
+        std::vector<ShaderProject> projects = rebuild_projects(registry_.search_path());
+        if (projects.empty()) message(nothing_to_rebuild(), true);
+        rebuilder_ = std::make_unique<ShaderRebuilder>(std::move(projects), watch);
     }
 }
 

@@ -12,8 +12,10 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -82,90 +84,166 @@ std::string tail(const std::string& text, int lines) {
     return text.substr(at);
 }
 
+// A file whose change means a rebuild: sources, headers and build scripts
+// (not an editor's swap or backup file, nor build output).
+bool is_source(const fs::path& file) {
+    static const std::set<std::string> extensions = {".c",   ".cc",  ".cpp", ".cxx", ".h",
+                                                      ".hh",  ".hpp", ".hxx", ".inl", ".ipp",
+                                                      ".cmake"};
+    return file.filename() == "CMakeLists.txt" || extensions.count(file.extension().string());
+}
+
+// "'/a/b c'", quoted for /bin/sh.
+std::string quoted(const fs::path& path) {
+    std::string out = "'";
+    for (const char c : path.string()) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+// CMakeCache.txt's value of `key` (KEY:TYPE=value), or nothing.
+std::optional<std::string> cache_value(const fs::path& build_dir, const std::string& key) {
+    std::ifstream in(build_dir / "CMakeCache.txt");
+    for (std::string line; std::getline(in, line);)
+        if (line.compare(0, key.size() + 1, key + ":") == 0) {
+            const size_t eq = line.find('=');
+            if (eq != std::string::npos) return line.substr(eq + 1);
+        }
+    return std::nullopt;
+}
+
+bool is_build_folder(const fs::path& dir) {
+    std::error_code ec;
+    return fs::is_regular_file(dir / "CMakeCache.txt", ec);
+}
+
 }  // namespace
 
+std::optional<ShaderProject> ShaderProject::built_in(const fs::path& build_dir) {
+    if (!is_build_folder(build_dir)) return std::nullopt;
+    ShaderProject p{"built-in shaders", {}, "cmake --build " + quoted(build_dir) +
+                                                " --target facet_shaders"};
+    const fs::path sources = data_dir() / "shaders";
+    std::error_code ec;
+    p.folders.push_back(sources);
+    for (const auto& entry : fs::directory_iterator(sources, ec))
+        if (entry.is_directory()) p.folders.push_back(entry.path());
+    return p;
+}
+
+std::optional<ShaderProject> ShaderProject::cmake_project(const fs::path& build_dir) {
+    const std::optional<std::string> source = cache_value(build_dir, "CMAKE_HOME_DIRECTORY");
+    if (!source || !is_build_folder(build_dir)) return std::nullopt;
+    ShaderProject p{fs::path(*source).filename().string(), {fs::path(*source)},
+                    "cmake --build " + quoted(build_dir)};
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(*source, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (entry.is_directory() && !name.empty() && name[0] != '.' && !is_build_folder(entry.path()))
+            p.folders.push_back(entry.path());
+    }
+    return p;
+}
+
+std::vector<ShaderProject> rebuild_projects(const std::vector<fs::path>& plugin_search_path) {
+    std::vector<ShaderProject> out;
+    std::set<fs::path> seen;
+    if (auto p = ShaderProject::built_in(build_folder())) {
+        out.push_back(*p);
+        seen.insert(fs::weakly_canonical(build_folder()));
+    }
+    for (const fs::path& dir : plugin_search_path)
+        if (seen.insert(fs::weakly_canonical(dir)).second)
+            if (auto p = ShaderProject::cmake_project(dir)) out.push_back(*p);
+    for (const ShaderProject& p : out)
+        spdlog::debug("rebuild: {} from {}: {}", p.name, p.folders.front().string(), p.command);
+    return out;
+}
+
+std::string nothing_to_rebuild() {
+    return "--rebuild: nothing to rebuild: this program is not in a build tree (an installed "
+           "facet has no build of its shaders), and no folder on the plugin search path is a "
+           "CMake build folder; give your shader project's build folder with --plugin-path "
+           "(or the scene's plugin_paths)";
+}
+
 struct ShaderRebuilder::Impl {
-    fs::path sources;
-    Command command;
+    std::vector<ShaderProject> projects;
     FileWatcher watcher;
     std::mutex mutex;
-    std::set<std::string> building;          // shaders with a build running
-    std::set<std::string> again;             // changed again while building
+    std::set<size_t> building;          // projects with a build running
+    std::set<size_t> again;             // changed again while building
     std::vector<ReloadEvent> events;
-    std::map<std::string, std::thread> threads;
+    std::map<size_t, std::thread> threads;
 
-    Impl(fs::path s, Command c, FileWatcher::Options o)
-        : sources(std::move(s)), command(std::move(c)), watcher(o) {}
+    Impl(std::vector<ShaderProject> p, FileWatcher::Options o)
+        : projects(std::move(p)), watcher(o) {}
 
-    void start(const std::string& name);
-    void finish(const std::string& name, const Result& r);
+    void start(size_t project);
+    void finish(size_t project, const Result& r);
 };
 
-void ShaderRebuilder::Impl::start(const std::string& name) {
-    events.push_back({ReloadEvent::Kind::build_started, name, "building shader '" + name + "'"});
-    spdlog::info("rebuild: building shader '{}'", name);
-    building.insert(name);
-    if (auto old = threads.find(name); old != threads.end()) {
+void ShaderRebuilder::Impl::start(size_t project) {
+    const std::string& name = projects[project].name;
+    events.push_back({ReloadEvent::Kind::build_started, name, "building " + name});
+    spdlog::info("rebuild: building {}", name);
+    building.insert(project);
+    if (auto old = threads.find(project); old != threads.end()) {
         old->second.join();  // finished: it cleared `building` before we got here
         threads.erase(old);
     }
-    const std::string cmd = command(name);
-    threads.emplace(name, std::thread([this, name, cmd] { finish(name, run(cmd)); }));
+    const std::string cmd = projects[project].command;
+    threads.emplace(project, std::thread([this, project, cmd] { finish(project, run(cmd)); }));
 }
 
-void ShaderRebuilder::Impl::finish(const std::string& name, const Result& r) {
+void ShaderRebuilder::Impl::finish(size_t project, const Result& r) {
     std::lock_guard lock(mutex);
+    const std::string& name = projects[project].name;
     if (r.status == 0) {
-        spdlog::info("rebuild: shader '{}' built", name);
-        events.push_back({ReloadEvent::Kind::build_succeeded, name,
-                          "built shader '" + name + "'"});
+        spdlog::info("rebuild: {} built", name);
+        events.push_back({ReloadEvent::Kind::build_succeeded, name, "built " + name});
     } else {
-        spdlog::error("rebuild: shader '{}' failed to build:\n{}", name, r.output);
+        spdlog::error("rebuild: {} failed to build:\n{}", name, r.output);
         events.push_back({ReloadEvent::Kind::build_failed, name,
-                          "shader '" + name + "' failed to build:\n" + tail(r.output, 20)});
+                          name + " failed to build:\n" + tail(r.output, 20)});
     }
-    building.erase(name);
+    building.erase(project);
 }
 
-ShaderRebuilder::ShaderRebuilder(const fs::path& sources, Command command,
-                                 FileWatcher::Options options)
-    : impl_(std::make_unique<Impl>(sources, std::move(command), options)) {
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(sources, ec))
-        if (entry.is_directory()) impl_->watcher.watch(entry.path());
+ShaderRebuilder::ShaderRebuilder(std::vector<ShaderProject> projects, FileWatcher::Options options)
+    : impl_(std::make_unique<Impl>(std::move(projects), options)) {
+    for (const ShaderProject& p : impl_->projects)
+        for (const fs::path& folder : p.folders) impl_->watcher.watch(folder);
 }
 
 ShaderRebuilder::~ShaderRebuilder() {
-    for (auto& [name, thread] : impl_->threads) thread.join();
-}
-
-ShaderRebuilder::Command ShaderRebuilder::cmake_target(const fs::path& build_dir) {
-    return [build_dir](const std::string& name) {
-        return "cmake --build '" + build_dir.string() + "' --target facet_shader_" + name;
-    };
+    for (auto& [project, thread] : impl_->threads) thread.join();
 }
 
 std::vector<ReloadEvent> ShaderRebuilder::update() {
-    std::set<std::string> changed;
-    for (const fs::path& path : impl_->watcher.take_changes())
-        changed.insert(path.parent_path().filename().string());
+    std::set<size_t> changed;
+    for (const fs::path& path : impl_->watcher.take_changes()) {
+        if (!is_source(path)) continue;
+        const fs::path folder = fs::weakly_canonical(path.parent_path());
+        for (size_t i = 0; i < impl_->projects.size(); ++i)
+            for (const fs::path& watched : impl_->projects[i].folders)
+                if (fs::weakly_canonical(watched) == folder) changed.insert(i);
+    }
     std::lock_guard lock(impl_->mutex);
-    for (const std::string& name : impl_->again)
-        if (!impl_->building.count(name)) changed.insert(name);
-    for (const std::string& name : changed) {
-        if (impl_->building.count(name)) {
-            impl_->again.insert(name);  // build once more when this one ends
+    for (const size_t project : impl_->again)
+        if (!impl_->building.count(project)) changed.insert(project);
+    for (const size_t project : changed) {
+        if (impl_->building.count(project)) {
+            impl_->again.insert(project);  // build once more when this one ends
             continue;
         }
-        impl_->again.erase(name);
-        impl_->start(name);
+        impl_->again.erase(project);
+        impl_->start(project);
     }
     std::vector<ReloadEvent> out;
     out.swap(impl_->events);
     return out;
 }
 
-fs::path built_in_shader_sources() { return data_dir() / "shaders"; }
 fs::path build_folder() { return (executable_dir() / "..").lexically_normal(); }
 
 }  // namespace facet

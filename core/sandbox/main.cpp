@@ -54,6 +54,11 @@ std::string trial(const fs::path& scene_file, const std::string& shader, int wid
 
 int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 1, argv + argc);
+    if (args.size() == 1 && args[0] == "--version") {
+        std::printf("facet-sandbox %s (shader ABI %d.%d)\n", FACET_VERSION, FACET_ABI_MAJOR,
+                    FACET_ABI_MINOR);
+        return 0;
+    }
     const bool import = args.size() == 3 && args[0] == "import";
     const bool trial_job = args.size() >= 5 && args[0] == "trial";
     if (!import && !trial_job) {

@@ -62,6 +62,10 @@ public:
     struct Options {
         FileWatcher::Options watcher;
         std::chrono::milliseconds settle{100};  // quiet time before a file counts as written
+        // A plugin that is not yet a whole ELF file after `settle` (a linker
+        // pausing) waits until it has been unchanged this long before it is
+        // refused as broken.
+        std::chrono::milliseconds unfinished{3000};
         // The trial frame: its width (its height follows the scene's
         // aspect), and how long it may take. 0 ms: no trial.
         int trial_width = 160;

@@ -93,6 +93,11 @@ private:
 // Throws Error(plugin_abi_mismatch | plugin_struct_size | plugin_invalid).
 void validate_descriptor(const facet_shader_desc* desc, const std::string& origin);
 
+// Whether a plugin file is whole: an ELF-64 file whose headers and loaded
+// segments fit in it. A linker still writing it may leave it otherwise for
+// a while (hot reload waits; loading refuses it).
+bool plugin_file_complete(const std::filesystem::path& path);
+
 // The name of a facet_param_type ("color4").
 std::string_view param_type_name(uint32_t type);
 // Floats a parameter type stores; 0 for the int32 types (INT, BOOL,

@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace facet {
@@ -208,16 +209,16 @@ void validate_params(const facet_shader_desc& d, const void* where, const std::s
         refuse(ErrorCode::plugin_invalid, origin, "too many texture parameters");
 }
 
-// dlopen() maps a library's segments straight from the file; a segment
-// that runs past the end of a truncated file (a compiler still writing it)
-// faults with SIGBUS on first touch. Refuse such a file before dlopen.
-void check_elf_complete(const fs::path& path, const std::string& origin) {
+// Why `path` is not a whole ELF-64 file, or nothing if it is.
+std::optional<std::string> elf_incomplete(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     Elf64_Ehdr eh{};
-    const uint64_t size = fs::file_size(path);
+    std::error_code ec;
+    const uint64_t size = fs::file_size(path, ec);
+    if (ec) return "cannot read it: " + ec.message();
     if (!in.read(reinterpret_cast<char*>(&eh), sizeof eh) ||
         std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 || eh.e_ident[EI_CLASS] != ELFCLASS64)
-        refuse(ErrorCode::plugin_load_failed, origin, "not a 64-bit ELF shared library");
+        return "not a 64-bit ELF shared library";
     uint64_t needed = uint64_t(eh.e_shoff) + uint64_t(eh.e_shnum) * eh.e_shentsize;
     needed = std::max<uint64_t>(needed, eh.e_phoff + uint64_t(eh.e_phnum) * eh.e_phentsize);
     for (int i = 0; i < eh.e_phnum && needed <= size; ++i) {
@@ -227,9 +228,17 @@ void check_elf_complete(const fs::path& path, const std::string& origin) {
         if (ph.p_type == PT_LOAD) needed = std::max<uint64_t>(needed, ph.p_offset + ph.p_filesz);
     }
     if (needed > size)
-        refuse(ErrorCode::plugin_load_failed, origin,
-               "file is truncated (" + std::to_string(size) + " bytes, its headers need " +
-                   std::to_string(needed) + "); is it still being written?");
+        return "file is truncated (" + std::to_string(size) + " bytes, its headers need " +
+               std::to_string(needed) + "); is it still being written?";
+    return std::nullopt;
+}
+
+// dlopen() maps a library's segments straight from the file; a segment
+// that runs past the end of a truncated file (a compiler still writing it)
+// faults with SIGBUS on first touch. Refuse such a file before dlopen.
+void check_elf_complete(const fs::path& path, const std::string& origin) {
+    if (const std::optional<std::string> why = elf_incomplete(path))
+        refuse(ErrorCode::plugin_load_failed, origin, *why);
 }
 
 // The host's copy of descriptor `d`: the fields its ABI version has, the
@@ -675,5 +684,7 @@ void report_plugin_faults() {
     sigemptyset(&action.sa_mask);
     for (const int sig : kFaultSignals) sigaction(sig, &action, &g_before[sig]);
 }
+
+bool plugin_file_complete(const fs::path& path) { return !elf_incomplete(path); }
 
 }  // namespace facet

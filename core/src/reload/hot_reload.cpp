@@ -83,6 +83,13 @@ bool HotReload::update() {
         if (size != p.size || time != p.time) {
             p = {size, time, now};  // still being written
         } else if (now - p.since >= options_.settle) {
+            // A plugin a linker has paused in the middle of writing is not
+            // refused (and reported) until it has not changed for a while.
+            if (path.extension() == ".so" && !plugin_file_complete(path) &&
+                fs::file_time_type::clock::now() - time < options_.unfinished) {
+                p.since = now;
+                continue;
+            }
             settled.push_back(path);
         }
     }
