@@ -3,7 +3,7 @@
 //     facet-view [SCENE.yaml] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]] [--msaa N]
 //                [--max-memory SIZE] [--threads N] [--plugin-path DIR]... [--rebuild]
 //                [--frames N [--screenshot out.png] [--window-screenshot win.png]]
-//                [--screenshot-dir DIR] [--no-editor] [-v|-q] [--version]
+//                [--screenshot-dir DIR] [--no-editor] [--select NAME] [-v|-q] [--version]
 //
 // With no scene it opens the default scene. --frames renders N frames and
 // exits (with --screenshot, saving the last one first): scripted runs and
@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
                    "with --frames: save the last window as shown (overlay, editor) as PNG")
         ->needs("--frames");
     app.add_flag("!--no-editor", options.editor, "start with the editor panel hidden (E shows it)");
+    app.add_option("--select", options.select, "select the object of this name at start");
     app.add_option("--screenshot-dir", options.screenshots, "where P saves screenshots")
         ->capture_default_str();
     facet::Verbosity verbosity;

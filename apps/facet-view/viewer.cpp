@@ -108,6 +108,14 @@ Viewer::Viewer(Options options)
     std::string error;
     adopt_scene(load_or_default(options_, registry_, error));
     if (!error.empty()) message(error, true);
+    if (!options_.select.empty()) {
+        const auto& objects = scene_.objects;
+        const auto it = std::find_if(objects.begin(), objects.end(),
+                                     [&](const Object& o) { return o.name == options_.select; });
+        if (it != objects.end()) selected_ = int(it - objects.begin());
+        else message("--select: the scene has no object named '" + options_.select + "'", true);
+        update_selected_label();
+    }
     if (!options_.camera.empty()) {
         if (const auto camera = parse_camera(options_.camera, scene_.camera)) controller_.reset(*camera);
         else message("--camera: expected X,Y,Z,TX,TY,TZ[,FOV]; using the scene's camera", true);

@@ -53,6 +53,7 @@ struct Options {
     std::filesystem::path screenshots = "."; // where P writes its PNGs
     std::chrono::milliseconds message_time{5000};  // how long overlay messages show
     bool editor = true;                    // the editor panel shows at start (E toggles it)
+    std::string select;                    // the object selected at start, by name
     // While true, frames stop (Pipeline::stop_when) and pump() returns
     // false: SIGINT and SIGTERM (facet/interrupts.hpp). Null: never.
     const std::atomic<bool>* stop = nullptr;
