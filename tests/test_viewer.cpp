@@ -597,6 +597,12 @@ TEST_CASE("the editor changes a material colour and a light by widget, and saves
     REQUIRE(pump_until(v, [&] { return v.scene().lights.at(0).intensity == 3.0f; }, 3s));
     CHECK(v.editor().unsaved() == 2);
     CHECK(read_text(scene) == scene_text);  // nothing written before Save
+    // Closing the window with edits unsaved asks first.
+    SDL_Event quit{};
+    quit.type = SDL_QUIT;
+    push(quit);
+    CHECK(v.pump());
+    CHECK(has_message(v, "2 unsaved values", true));
 
     // The picture with both changes, then Save, and the reload it causes.
     REQUIRE(pump_until(v, [&] { return !v.framebuffer().resolve_srgb8().empty(); }));
@@ -623,6 +629,9 @@ TEST_CASE("the editor changes a material colour and a light by widget, and saves
     PluginRegistry registry;
     const Scene fresh = load_scene(scene, registry);
     CHECK(fresh.lights.at(0).intensity == 3.0f);
+    // Nothing is unsaved now: closing the window quits.
+    push(quit);
+    CHECK_FALSE(v.pump());
 }
 
 TEST_CASE("the editor's selection is outlined in the shown image only, and E hides the panel",

@@ -36,7 +36,7 @@ bool Viewer::handle(const SDL_Event& e) {
         if (editor_->handle(e)) return true;
     }
     switch (e.type) {
-        case SDL_QUIT: return false;
+        case SDL_QUIT: return !may_quit();
         case SDL_KEYDOWN: return handle_key(e.key);
         case SDL_KEYUP: hold(e.key.keysym.sym, false); break;
         case SDL_MOUSEMOTION: handle_drag(e.motion); break;
@@ -92,7 +92,9 @@ bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
     const bool shift = key.keysym.mod & KMOD_SHIFT;
     bool redraw = true;  // false: only the overlay changes
     switch (key.keysym.sym) {
-        case SDLK_ESCAPE: return false;
+        case SDLK_ESCAPE:
+            if (may_quit()) return false;
+            break;
         case SDLK_h:
         case SDLK_F1: show_help_ = !show_help_; redraw = false; break;
         case SDLK_o: show_overlay_ = !show_overlay_; redraw = false; break;
@@ -120,6 +122,19 @@ bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
     if (redraw) scene_dirty_ = true;
     overlay_dirty_ = true;
     return true;
+}
+
+// Quits at once unless the editor holds unsaved values: then the first
+// request says so, and a second within five seconds quits.
+bool Viewer::may_quit() {
+    const auto now = std::chrono::steady_clock::now();
+    if (!editor_->unsaved() || (options_.stop && options_.stop->load()) || now < quit_armed_until_)
+        return true;
+    quit_armed_until_ = now + std::chrono::seconds(5);
+    message(std::to_string(editor_->unsaved()) +
+                " unsaved values: Ctrl+S saves them; quit again to leave without saving",
+            true);
+    return false;
 }
 
 void Viewer::take_screenshot() {

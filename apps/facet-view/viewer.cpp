@@ -145,7 +145,10 @@ Viewer::Viewer(Options options)
 
 // Members go in reverse order: the watchers (which push SDL events) stop
 // before the texture, renderer, window and video subsystem go.
-Viewer::~Viewer() = default;
+Viewer::~Viewer() {
+    if (editor_ && editor_->unsaved())
+        spdlog::warn("{} values edited in the editor were not saved", editor_->unsaved());
+}
 
 // Takes `fresh` as the scene: the camera goes home to the file's camera,
 // the viewer's toggles start from the file's settings.

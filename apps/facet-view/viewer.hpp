@@ -134,6 +134,7 @@ private:
     void message(std::string text, bool error, bool log = true);  // log: also to spdlog
     void update_selected_label();
     void show_editor();
+    bool may_quit();
     int outline_width() const;
 
     // SDL's video subsystem, held for the viewer's lifetime (declared first,
@@ -185,6 +186,7 @@ private:
     std::chrono::steady_clock::time_point fade_at_ =  // when the next message fades
         std::chrono::steady_clock::time_point::max();
     uint64_t presents_ = 0;
+    std::chrono::steady_clock::time_point quit_armed_until_{};  // may_quit()
     // Fly keys held (W A S D Space LShift RShift), kept from events rather
     // than SDL's keyboard state so synthetic events drive them too.
     std::array<bool, 7> held_{};
