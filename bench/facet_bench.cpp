@@ -721,7 +721,11 @@ std::optional<int> run_llvmpipe_worker(const Options& o) {
 int run_pareto(const CLI::App& app, Options& o, const Interrupts& interrupts) {
     if (app.count("--size")) {
         const auto size = parse_size(o.sizes.front());
-        if (!size) return 2;
+        if (!size) {
+            spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
+                          Framebuffer::kMaxSize, o.sizes.front());
+            return 2;
+        }
         o.po.width = size->x;
         o.po.height = size->y;
     }
@@ -876,13 +880,49 @@ int run_table(Options& o, const Interrupts& interrupts) {
     o.runs = std::max(1, o.runs);
     o.rounds = std::max(1, o.rounds);
     const std::vector<std::string> renders = o.render.empty() ? std::vector<std::string>{""} : o.render;
+    // Every name and setting is checked before the CSV (and a previous run's
+    // rows in it) is touched.
+    PluginRegistry registry;
+    for (const std::string& name : o.scenes) {
+        if (is_scene_file(name)) {
+            if (!std::filesystem::is_regular_file(name)) {
+                spdlog::error("--scene {}: file not found", name);
+                return 2;
+            }
+        } else if (name != "small" && name != "medium" && name != "dragon" && name != "large" &&
+                   name != "fill" && name != "subpixel" && name != "huge") {
+            spdlog::error("--scene {}: expected small, medium, dragon, large, fill, subpixel, "
+                          "huge or a scene file (.yaml)", name);
+            return 2;
+        }
+    }
+    for (const std::string& shader : o.shaders)
+        if (registry.locate(shader).empty()) {
+            spdlog::error("--shader {}: no {}.so in {}", shader, shader,
+                          [&] {
+                              std::string dirs;
+                              for (const auto& d : registry.search_path())
+                                  dirs += (dirs.empty() ? "" : ", ") + d.string();
+                              return dirs;
+                          }());
+            return 2;
+        }
+    for (const std::string& render : renders) {
+        if (render.empty() || render == "{}") continue;
+        RenderSettings check;
+        try {
+            apply_render_settings(check, render, "--render");
+        } catch (const Error& e) {
+            spdlog::error("{}", e.what());
+            return 2;
+        }
+    }
     int total = 0;
     for (const std::string& name : o.scenes) total += configurations(name, o, isas.size());
     total *= int(renders.size()) * o.rounds;
     std::printf("facet-bench: %d configuration%s (%d frame%s each, after one to warm up), "
                 "threads as each row says\n",
                 total, total == 1 ? "" : "s", o.runs, o.runs == 1 ? "" : "s");
-    PluginRegistry registry;
     Progress progress("configurations", total);
     CsvRows csv(o.csv, o.lp.target, o.lp.on);
     std::vector<std::vector<Result>> rounds(size_t(o.rounds));
@@ -926,6 +966,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
     write_json(o.json, results, o.lp.target, o.lp.on);
     std::printf("wrote %s and %s in %s\n", o.csv.c_str(), o.json.c_str(),
                 Progress::duration(progress.elapsed_seconds()).c_str());
+    if (interrupts.stopped()) return interrupts.exit_code();  // after the last row
     return o.lp.failures ? 1 : 0;
 }
 

@@ -1,5 +1,6 @@
 #include "progress.hpp"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -41,7 +42,12 @@ void Progress::begin(const std::string& label, std::optional<double> seconds_lef
     bar.resize(kWidth, '.');
     std::string line = "[" + bar + "] " + std::to_string(n) + " of " + std::to_string(total_) +
                        " " + what_ + ", " + left + ": " + label;
-    if (line.size() > 118) line.resize(118);
+    // Cut to the terminal's width: a line that wraps is not redrawn in place.
+    winsize size{};
+    const size_t columns = ioctl(fileno(out_), TIOCGWINSZ, &size) == 0 && size.ws_col > 1
+                               ? size_t(size.ws_col) - 1
+                               : 79;
+    if (line.size() > columns) line.resize(columns);
     std::fprintf(out_, "\r\033[K%s", line.c_str());  // \033[K: erase to the end of the line
     std::fflush(out_);
     shown_ = true;

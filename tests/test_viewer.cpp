@@ -614,6 +614,14 @@ TEST_CASE("the editor changes a material colour and a light by widget, and saves
     click(v, save->x + save->w / 2, save->y + save->h / 2);
     CHECK(v.editor().unsaved() == 0);
     CHECK(has_message(v, "saved", false));
+    // Its own save is not reloaded: memory holds it already, and an edit
+    // made just after it is not reverted.
+    std::this_thread::sleep_for(300ms);
+    for (int i = 0; i < 10; ++i) v.pump();
+    CHECK_FALSE(has_message(v, "reloaded", false));
+    CHECK(v.frames_rendered() == rendered);
+    // Reloaded when the file changes on disk, it draws the same picture.
+    { std::ofstream(scene, std::ios::app) << "# touched by hand\n"; }
     REQUIRE(pump_until(v, [&] { return has_message(v, "reloaded", false) && v.frames_rendered() > rendered; }));
     v.pump();
     CHECK(v.framebuffer().resolve_srgb8() == edited);  // the same picture from the files
@@ -629,6 +637,15 @@ TEST_CASE("the editor changes a material colour and a light by widget, and saves
     PluginRegistry registry;
     const Scene fresh = load_scene(scene, registry);
     CHECK(fresh.lights.at(0).intensity == 3.0f);
+    // An edit not saved when its file changes on disk is dropped, and said.
+    const auto again = v.editor().widget("intensity##light0");
+    REQUIRE(again);
+    type_into(v, *again, again->w / 4, "5");
+    REQUIRE(pump_until(v, [&] { return v.editor().unsaved() == 1; }, 3s));
+    { std::ofstream(scene, std::ios::app) << "# touched again\n"; }
+    REQUIRE(pump_until(v, [&] { return has_message(v, "1 unsaved values dropped", true); }));
+    CHECK(v.editor().unsaved() == 0);
+    CHECK(v.scene().lights.at(0).intensity == 3.0f);  // the file's
     // Nothing is unsaved now: closing the window quits.
     push(quit);
     CHECK_FALSE(v.pump());

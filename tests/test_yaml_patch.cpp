@@ -6,6 +6,9 @@
 #include <catch2/catch.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
+#include <limits>
+
 using facet::yaml_set;
 
 namespace {
@@ -99,4 +102,45 @@ TEST_CASE("yaml_number writes the shortest text that reads back the same float",
     CHECK(facet::yaml_number(0.5f) == "0.5");
     const float c[3] = {1.0f, 0.25f, 0.0f};
     CHECK(facet::yaml_sequence(c, 3) == "[1, 0.25, 0]");
+}
+
+TEST_CASE("yaml_set keeps a byte-order mark and CRLF line ends, and reads quotes in plain text",
+          "[yaml_patch]") {
+    const std::string bom = "\xEF\xBB\xBF";
+    CHECK(yaml_set(bom + "a: 1\nb: 2\n", {"b"}, "3") == bom + "a: 1\nb: 3\n");
+    CHECK(yaml_set("a: 1\r\nb:\r\n  c: 2\r\n", {"b", "d"}, "4") == "a: 1\r\nb:\r\n  c: 2\r\n  d: 4\r\n");
+    // An apostrophe inside a plain scalar does not open a quoted one.
+    const std::string pot = "objects:\n  - {name: Bob's pot, mesh: q.obj}\n  - {name: b, mesh: r.obj}\n";
+    const std::string out = yaml_set(pot, {"objects", size_t(0), "position"}, "[1, 2, 3]");
+    CHECK(out == "objects:\n  - {name: Bob's pot, mesh: q.obj, position: [1, 2, 3]}\n"
+                 "  - {name: b, mesh: r.obj}\n");
+    // A comment at the start of a line inside a flow sequence, with a bracket in it.
+    const std::string list = "a: [1,\n# not ] here\n  2]\nb: 0\n";
+    CHECK(yaml_set(list, {"a"}, "[3]") == "a: [3]\nb: 0\n");
+}
+
+TEST_CASE("yaml_set refuses what it cannot edit in place, and leaves the text alone",
+          "[yaml_patch]") {
+    // Anchors and aliases: yaml-cpp places an alias at its anchor's text.
+    const std::string anchored = "objects:\n  - {name: a, material: &red {shader: lit}}\n"
+                                 "  - {name: b, material: *red}\n";
+    CHECK_THROWS_WITH(yaml_set(anchored, {"objects", size_t(1), "position"}, "[3, 0, 0]", "s.yaml"),
+                      Catch::Contains("anchors or aliases"));
+    CHECK_THROWS_WITH(yaml_set("a: |\n  text\nb: 1\n", {"a"}, "x"), Catch::Contains("block scalar"));
+    // A path into a sequence that does not exist yet, under a new key.
+    CHECK_THROWS_AS(yaml_set("a: 1\n", {"b", "c", size_t(0)}, "1"), facet::Error);
+    CHECK_THROWS_AS(yaml_set("a:\nb: 1\n", {"a", size_t(0)}, "1"), facet::Error);
+    CHECK_THROWS_AS(facet::yaml_number(std::numeric_limits<float>::infinity()), facet::Error);
+    CHECK_THROWS_AS(facet::yaml_number(std::nanf("")), facet::Error);
+}
+
+TEST_CASE("yaml_string quotes what would not read back as the same string", "[yaml_patch]") {
+    using facet::yaml_string;
+    CHECK(yaml_string("materials/red.yaml") == "materials/red.yaml");
+    CHECK(yaml_string("wood, dark.png") == "\"wood, dark.png\"");
+    CHECK(yaml_string("a: b") == "\"a: b\"");
+    CHECK(yaml_string("true") == "\"true\"");
+    CHECK(yaml_string("say \"hi\"") == "\"say \\\"hi\\\"\"");
+    for (const std::string s : {"wood, dark.png", "a: b", "#1", "true", "x'y", "[a]", " lead"})
+        CHECK(YAML::Load("k: " + yaml_string(s))["k"].as<std::string>() == s);
 }

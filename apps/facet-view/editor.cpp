@@ -6,10 +6,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <imgui.h>
 #include <imgui_stdlib.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace facet::view {
@@ -36,22 +38,41 @@ std::string read_file(const fs::path& path) {
 // (a watcher sees one complete file; a failure leaves the old one).
 void write_file(const fs::path& path, const std::string& text) {
     const fs::path temporary = path.string() + ".facet-save";
+    std::error_code error;
+    const fs::perms perms = fs::status(path, error).permissions();
     {
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
         out << text;
         if (!out.flush()) {
-            std::error_code ignored;
-            fs::remove(temporary, ignored);
-            throw Error(ErrorCode::file_not_found, "cannot write it", path.string());
+            fs::remove(temporary, error);
+            throw Error(ErrorCode::output_failed, "cannot write " + temporary.string(),
+                        path.string());
         }
     }
-    std::error_code error;
+    if (perms != fs::perms::unknown) fs::permissions(temporary, perms, error);
     fs::rename(temporary, path, error);
     if (error) {
+        const std::string why = error.message();
         fs::remove(temporary, error);
-        throw Error(ErrorCode::file_not_found, "cannot replace it: " + error.message(),
-                    path.string());
+        throw Error(ErrorCode::output_failed, "cannot replace it: " + why, path.string());
     }
+}
+
+bool finite(const float* v, int n) {
+    for (int i = 0; i < n; ++i)
+        if (!std::isfinite(v[i])) return false;
+    return true;
+}
+
+// The text `rotation:` has for object `i` in the scene file, if three numbers.
+std::optional<glm::vec3> written_rotation(const fs::path& scene_file, size_t i) {
+    try {
+        const YAML::Node r = YAML::LoadFile(scene_file.string())["objects"][i]["rotation"];
+        if (r.IsSequence() && r.size() == 3)
+            return glm::vec3(r[0].as<float>(), r[1].as<float>(), r[2].as<float>());
+    } catch (const YAML::Exception&) {
+    }
+    return std::nullopt;
 }
 
 // The material files the choice offers: the materials folder's and those
@@ -102,18 +123,18 @@ glm::vec3 to_euler_degrees(const glm::quat& q) {
     // R = Rz(c) Ry(b) Rx(a): R[2][0] = -sin b, R[2][1] = cos b sin a,
     // R[2][2] = cos b cos a, R[1][0] = sin c cos b, R[0][0] = cos c cos b
     // (row, column; glm indexes column first).
-    const glm::mat3 m = glm::mat3_cast(q);
-    const float sb = std::clamp(-m[0][2], -1.0f, 1.0f);
-    glm::vec3 r;
-    r.y = std::asin(sb);
-    if (std::abs(sb) < 0.99999f) {
+    const glm::dmat3 m = glm::mat3_cast(glm::dquat(q));
+    const double cb = std::hypot(m[0][0], m[0][1]);
+    glm::dvec3 r;
+    r.y = std::atan2(-m[0][2], cb);
+    if (cb > 1e-9) {
         r.x = std::atan2(m[1][2], m[2][2]);
         r.z = std::atan2(m[0][1], m[0][0]);
     } else {  // gimbal lock: put the whole turn about Z into X
         r.x = std::atan2(-m[2][1], m[1][1]);
-        r.z = 0.0f;
+        r.z = 0.0;
     }
-    return glm::degrees(r);
+    return glm::vec3(glm::degrees(r));
 }
 
 Editor::Editor(SDL_Window* window, SDL_Renderer* renderer) : imgui_(window, renderer) {
@@ -144,6 +165,37 @@ std::optional<Editor::Rect> Editor::widget(const std::string& label) const {
     return it->second;
 }
 
+glm::vec3 Editor::shown_euler(const Scene& scene, size_t i) const {
+    const glm::quat q = scene.objects[i].transform.rotation;
+    if (const std::optional<glm::vec3> file = written_rotation(scene.source, i)) {
+        const glm::quat f = euler_degrees(*file);
+        if (std::abs(glm::dot(f, q)) > 1.0f - 1e-6f) return *file;  // the same rotation
+    }
+    return to_euler_degrees(q);
+}
+
+void Editor::material_chosen(const Scene& scene, size_t object, const fs::path& file) {
+    if (object >= scene.objects.size()) return;
+    edit(scene.source, {"objects", object, "material"},
+         yaml_string(fs::weakly_canonical(file)
+                         .lexically_relative(fs::weakly_canonical(scene.source).parent_path())
+                         .generic_string()));
+}
+
+size_t Editor::forget_unsaved() {
+    const size_t n = unsaved();
+    pending_.clear();
+    return n;
+}
+
+size_t Editor::forget_unsaved(const fs::path& file) {
+    const auto it = pending_.find(fs::weakly_canonical(file));
+    if (it == pending_.end()) return 0;
+    const size_t n = it->second.size();
+    pending_.erase(it);
+    return n;
+}
+
 void Editor::edit(const fs::path& file, YamlPath path, std::string value) {
     std::vector<Edit>& edits = pending_[fs::weakly_canonical(file)];
     std::erase_if(edits, [&](const Edit& e) { return e.path == path; });
@@ -162,16 +214,15 @@ std::vector<fs::path> Editor::unsaved_files() const {
     return out;
 }
 
-std::vector<std::string> Editor::save(std::vector<std::string>& errors) {
-    std::vector<std::string> saved;
+std::vector<fs::path> Editor::save(std::vector<std::string>& errors) {
+    std::vector<fs::path> saved;
     for (auto it = pending_.begin(); it != pending_.end();) {
         const fs::path& file = it->first;
         try {
             std::string text = read_file(file);
             for (const Edit& e : it->second) text = yaml_set(text, e.path, e.value, file.string());
             write_file(file, text);
-            saved.push_back("saved " + file.string() + " (" + std::to_string(it->second.size()) +
-                            (it->second.size() == 1 ? " value)" : " values)"));
+            saved.push_back(file);
             it = pending_.erase(it);
         } catch (const Error& e) {
             errors.push_back(e.what());
@@ -216,6 +267,10 @@ EditorResult Editor::show(EditorTarget& t) {
 }
 
 void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
+    ImGui::PushID("objects");
+    struct PopId {
+        ~PopId() { ImGui::PopID(); }
+    } pop;
     std::vector<Object>& objects = t.scene.objects;
     if (objects.empty()) {
         ImGui::TextDisabled("(no objects)");
@@ -236,27 +291,44 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     Object& o = objects[size_t(t.selected)];
     const size_t i = size_t(t.selected);
     const fs::path& file = t.scene.source;
-    if (euler_of_ != t.selected) {
-        euler_ = to_euler_degrees(o.transform.rotation);
+    if (euler_of_ != t.selected ||
+        std::abs(glm::dot(euler_degrees(euler_), o.transform.rotation)) < 1.0f - 1e-6f) {
+        euler_ = shown_euler(t.scene, i);  // a new selection, or turned by other means
         euler_of_ = t.selected;
     }
     if (ImGui::Checkbox("visible", &o.visible)) {
         edit(file, {"objects", i, "visible"}, o.visible ? "true" : "false");
         r.redraw = true;
     }
-    if (ImGui::DragFloat3("position", &o.transform.translation.x, 0.01f)) {
-        edit(file, {"objects", i, "position"}, yaml_sequence(&o.transform.translation.x, 3));
-        r.redraw = true;
+    const auto refused = [&](const char* what) {
+        r.errors.push_back(std::string(what) + ": not a finite number; kept the old value");
+    };
+    glm::vec3 position = o.transform.translation;
+    if (ImGui::DragFloat3("position", &position.x, 0.01f)) {
+        if (!finite(&position.x, 3)) {
+            refused("position");
+        } else {
+            o.transform.translation = position;
+            edit(file, {"objects", i, "position"}, yaml_sequence(&position.x, 3));
+            r.redraw = true;
+        }
     }
     remember("position");
-    if (ImGui::DragFloat3("rotation", &euler_.x, 0.5f, -360.0f, 360.0f, "%.1f deg")) {
+    glm::vec3 euler = euler_;
+    if (ImGui::DragFloat3("rotation", &euler.x, 0.5f, -360.0f, 360.0f, "%.1f deg",
+                          ImGuiSliderFlags_AlwaysClamp)) {
+        euler_ = euler;
         o.transform.rotation = euler_degrees(euler_);
         edit(file, {"objects", i, "rotation"}, yaml_sequence(&euler_.x, 3));
         r.redraw = true;
     }
     glm::vec3 scale = o.transform.scale;
-    if (ImGui::DragFloat3("scale", &scale.x, 0.005f, 1e-4f, 1e4f)) {
-        o.transform.scale = glm::max(scale, glm::vec3(1e-4f));
+    if (ImGui::DragFloat3("scale", &scale.x, 0.005f, -1e4f, 1e4f, "%.3f",
+                          ImGuiSliderFlags_AlwaysClamp)) {
+        // Never 0 (the loader refuses it); a mirrored axis keeps its sign.
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(scale[k]) < 1e-4f) scale[k] = std::copysign(1e-4f, o.transform.scale[k]);
+        o.transform.scale = scale;
         const glm::vec3& s = o.transform.scale;
         edit(file, {"objects", i, "scale"},
              s.x == s.y && s.y == s.z ? yaml_number(s.x) : yaml_sequence(&s.x, 3));
@@ -275,9 +347,8 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
                     std::shared_ptr<Material>& shared = t.scene.material_files[f];
                     if (!shared) shared = load_material(f, t.registry, t.textures);
                     o.material = shared;
-                    edit(file, {"objects", i, "material"},
-                         f.lexically_relative(fs::weakly_canonical(file).parent_path()).generic_string());
-                    r.redraw = true;
+                    material_chosen(t.scene, i, f);
+                    r.redraw = r.materials_changed = true;
                 } catch (const Error& e) {
                     t.scene.material_files.erase(f);
                     r.errors.push_back(e.what());
@@ -327,6 +398,7 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
     ImGui::TextWrapped("%s: shader '%s'", is_inline(m, t.scene) ? "inline" : fs::path(m.source).filename().c_str(),
                        m.plugin->name().c_str());
     const facet_shader_desc& desc = m.plugin->desc();
+    ImGui::PushID("material");
     for (uint32_t k = 0; k < desc.param_count; ++k) {
         const facet_param_desc& d = desc.params[k];
         const std::string name = d.name;
@@ -341,14 +413,18 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
         std::string text;
         switch (d.type) {
             case FACET_PARAM_FLOAT:
-                changed = bounded ? ImGui::SliderFloat(name.c_str(), v, lo, hi)
-                                  : ImGui::DragFloat(name.c_str(), v, 0.01f, lo, hi);
+                changed = bounded ? ImGui::SliderFloat(name.c_str(), v, lo, hi, "%.3f",
+                                                       ImGuiSliderFlags_AlwaysClamp)
+                                  : ImGui::DragFloat(name.c_str(), v, 0.01f, lo, hi, "%.3f",
+                                                     ImGuiSliderFlags_AlwaysClamp);
+                if (!std::isfinite(v[0])) break;
                 p.numbers = {v[0]};
                 text = yaml_number(v[0]);
                 break;
             case FACET_PARAM_INT: {
                 int i = int(std::lround(v[0]));
-                changed = bounded ? ImGui::SliderInt(name.c_str(), &i, int(lo), int(hi))
+                changed = bounded ? ImGui::SliderInt(name.c_str(), &i, int(lo), int(hi), "%d",
+                                                     ImGuiSliderFlags_AlwaysClamp)
                                   : ImGui::DragInt(name.c_str(), &i, 0.2f);
                 p.numbers = {double(i)};
                 p.is_integer = true;
@@ -370,7 +446,8 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
             case FACET_PARAM_VEC4: {
                 const int n = int(d.type - FACET_PARAM_VEC2) + 2;
                 changed = ImGui::DragScalarN(name.c_str(), ImGuiDataType_Float, v, n, 0.01f,
-                                             &lo, &hi, "%.3f");
+                                             &lo, &hi, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+                if (!finite(v, n)) break;
                 p.kind = MaterialParam::Kind::vector;
                 p.numbers.assign(v, v + n);
                 text = yaml_sequence(v, n);
@@ -384,6 +461,7 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
                 changed = n == 3 ? ImGui::ColorEdit3(name.c_str(), v, flags)
                                  : ImGui::ColorEdit4(name.c_str(), v, flags);
                 for (int c = 0; c < n; ++c) v[c] = std::clamp(v[c], std::max(lo, 0.0f), hi);
+                if (!finite(v, n)) break;
                 p.kind = MaterialParam::Kind::vector;
                 p.numbers.assign(v, v + n);
                 text = yaml_sequence(v, n);
@@ -408,7 +486,7 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
                 }
                 p.kind = MaterialParam::Kind::word;
                 p.word = current;
-                text = current;
+                text = yaml_string(current);
                 break;
             }
             case FACET_PARAM_TEXTURE: {
@@ -438,7 +516,7 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
                     r.errors.push_back(name + ": type the texture's file first");
                     changed = false;
                 }
-                text = "{file: " + p.texture_file.lexically_relative(folder).generic_string() +
+                text = "{file: " + yaml_string(p.texture_file.lexically_relative(folder).generic_string()) +
                        ", filter: " + filter_text(p.filter) + ", wrap: " + wrap_text(p.wrap) + "}";
                 break;
             }
@@ -446,11 +524,21 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
         }
         if (d.type != FACET_PARAM_TEXTURE) remember(name);
         if (d.doc && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d.doc);
+        if (changed && d.type != FACET_PARAM_TEXTURE && d.type != FACET_PARAM_CHOICE &&
+            d.type != FACET_PARAM_BOOL && !finite(v, 4)) {
+            r.errors.push_back(name + ": not a finite number; kept the old value");
+            changed = false;
+        }
         if (changed) set_param(t, m, d, std::move(p), text, r);
     }
+    ImGui::PopID();
 }
 
 void Editor::lights_panel(EditorTarget& t, EditorResult& r) {
+    ImGui::PushID("lights");
+    struct PopId {
+        ~PopId() { ImGui::PopID(); }
+    } pop;
     const fs::path& file = t.scene.source;
     for (size_t i = 0; i < t.scene.lights.size(); ++i) {
         Light& l = t.scene.lights[i];
@@ -466,19 +554,28 @@ void Editor::lights_panel(EditorTarget& t, EditorResult& r) {
             edit(file, {"lights", i, key}, value);
             r.redraw = true;
         };
-        changed(ImGui::ColorEdit3(("color" + id).c_str(), &l.color.x, ImGuiColorEditFlags_Float),
-                "color", yaml_sequence(&l.color.x, 3));
+        glm::vec3 colour = l.color;
+        if (ImGui::ColorEdit3(("color" + id).c_str(), &colour.x,
+                              ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR) &&
+            finite(&colour.x, 3)) {
+            l.color = glm::max(colour, glm::vec3(0.0f));
+            changed(true, "color", yaml_sequence(&l.color.x, 3));
+        }
         remember("color" + id);
-        const bool intensity = ImGui::DragFloat(("intensity" + id).c_str(), &l.intensity, 0.02f, 0.0f, 1e4f);
-        l.intensity = std::max(0.0f, l.intensity);
+        const bool intensity = ImGui::DragFloat(("intensity" + id).c_str(), &l.intensity, 0.02f,
+                                                0.0f, 1e4f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
         changed(intensity, "intensity", yaml_number(l.intensity));
         remember("intensity" + id);
-        if (l.type != LightType::directional)
-            changed(ImGui::DragFloat3(("position" + id).c_str(), &l.position.x, 0.02f), "position",
-                    yaml_sequence(&l.position.x, 3));
+        glm::vec3 position = l.position;
+        if (l.type != LightType::directional &&
+            ImGui::DragFloat3(("position" + id).c_str(), &position.x, 0.02f) &&
+            finite(&position.x, 3)) {
+            l.position = position;
+            changed(true, "position", yaml_sequence(&l.position.x, 3));
+        }
         if (l.type != LightType::point) {
             glm::vec3 d = l.direction;
-            if (ImGui::DragFloat3(("direction" + id).c_str(), &d.x, 0.01f) &&
+            if (ImGui::DragFloat3(("direction" + id).c_str(), &d.x, 0.01f) && finite(&d.x, 3) &&
                 glm::length(d) > 1e-6f) {
                 l.direction = glm::normalize(d);
                 changed(true, "direction", yaml_sequence(&l.direction.x, 3));
@@ -503,6 +600,7 @@ void Editor::lights_panel(EditorTarget& t, EditorResult& r) {
 }
 
 void Editor::render_panel(EditorTarget& t, EditorResult& r) {
+    ImGui::PushID("render");
     RenderSettings& s = t.settings;
     const fs::path& file = t.scene.source;
     const auto changed = [&](bool did, const std::string& key, const std::string& value) {
@@ -525,8 +623,13 @@ void Editor::render_panel(EditorTarget& t, EditorResult& r) {
     ImGui::SameLine();
     changed(ImGui::Checkbox("depth pre-pass", &s.depth_prepass), "depth_prepass",
             s.depth_prepass ? "true" : "false");
-    changed(ImGui::ColorEdit4("clear colour", &s.clear_color.x, ImGuiColorEditFlags_Float),
-            "clear_color", yaml_sequence(&s.clear_color.x, 4));
+    glm::vec4 clear = s.clear_color;
+    if (ImGui::ColorEdit4("clear colour", &clear.x,
+                          ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR) &&
+        finite(&clear.x, 4)) {
+        s.clear_color = glm::max(clear, glm::vec4(0.0f));
+        changed(true, "clear_color", yaml_sequence(&s.clear_color.x, 4));
+    }
     int map = s.shadow_map_size;
     if (ImGui::SliderInt("shadow map", &map, 256, 8192, "%d texels", ImGuiSliderFlags_Logarithmic)) {
         s.shadow_map_size = std::clamp((map + 15) / 16 * 16, 16, 8192);
@@ -537,7 +640,8 @@ void Editor::render_panel(EditorTarget& t, EditorResult& r) {
         s.ao_half_resolution = half;
         changed(true, "ao_resolution", half ? "half" : "full");
     }
-    if (ImGui::SliderFloat("AO radius", &s.ao_radius, 0.01f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+    if (ImGui::SliderFloat("AO radius", &s.ao_radius, 0.01f, 10.0f, "%.2f",
+                           ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp)) {
         s.ao_radius = std::max(0.01f, s.ao_radius);
         changed(true, "ao_radius", yaml_number(s.ao_radius));
     }
@@ -545,6 +649,7 @@ void Editor::render_panel(EditorTarget& t, EditorResult& r) {
         s.ao_samples = std::clamp(s.ao_samples, 1, 256);
         changed(true, "ao_samples", std::to_string(s.ao_samples));
     }
+    ImGui::PopID();
 }
 
 void Editor::frame_panel() {

@@ -51,6 +51,7 @@ struct EditorTarget {
 struct EditorResult {
     bool redraw = false;             // something drawn changed
     bool selection_changed = false;
+    bool materials_changed = false;  // an object took a material file not watched yet
     bool save = false;               // Save was pressed
     std::vector<std::string> errors; // a value the shader or the loader refused
 };
@@ -74,11 +75,20 @@ public:
     // Values edited and not yet saved, and the files they go to.
     size_t unsaved() const;
     std::vector<std::filesystem::path> unsaved_files() const;
-    // Writes each file's edits (to a temporary file, renamed over it).
-    // Returns one line per file written; a file that fails keeps its edits
-    // and its error goes to `errors`.
-    std::vector<std::string> save(std::vector<std::string>& errors);
-    void forget_unsaved() { pending_.clear(); }
+    // Writes each file's edits (to a temporary file, renamed over it, with
+    // the old file's permissions). Returns the files written; a file that
+    // fails keeps its edits and its error goes to `errors`.
+    std::vector<std::filesystem::path> save(std::vector<std::string>& errors);
+    // Drops the edits of every file, or of one (which changed on disk);
+    // returns how many values were dropped.
+    size_t forget_unsaved();
+    size_t forget_unsaved(const std::filesystem::path& file);
+    // The scene was replaced (opened, reloaded): what the panel keeps about
+    // its objects is forgotten.
+    void scene_changed() { euler_of_ = -1; }
+    // Object `object` of `scene` was given material file `file` by other
+    // means (the viewer's M key): an edit, saved like the panel's own.
+    void material_chosen(const Scene& scene, size_t object, const std::filesystem::path& file);
 
     // Where a widget was drawn in the last frame, in window points (tests
     // drive the panel with synthetic clicks): its label as the panel gives
@@ -105,6 +115,9 @@ private:
     bool set_param(EditorTarget& t, Material& material, const facet_param_desc& desc,
                    MaterialParam value, const std::string& text, EditorResult& r);
     void edit(const std::filesystem::path& file, YamlPath path, std::string value);
+    // The Euler angles the panel shows for object `i`: the file's own when
+    // it gives three that make the object's rotation, else derived from it.
+    glm::vec3 shown_euler(const Scene& scene, size_t i) const;
     void remember(const std::string& label);
 
     ImGuiSdl imgui_;

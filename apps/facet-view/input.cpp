@@ -33,6 +33,7 @@ bool Viewer::handle(const SDL_Event& e) {
     // into a field) goes no further.
     if (editor_->visible() && e.type != SDL_QUIT) {
         overlay_dirty_ = true;  // the panel shows hover and presses
+        if (e.type == SDL_KEYUP) hold(e.key.keysym.sym, false);  // a fly key never sticks
         if (editor_->handle(e)) return true;
     }
     switch (e.type) {
@@ -239,6 +240,7 @@ void Viewer::cycle_material(int step) {
         std::shared_ptr<Material>& shared = scene_.material_files[file];
         if (!shared) shared = load_material(file, registry_, textures_);
         object.material = shared;
+        editor_->material_chosen(scene_, size_t(selected_), file);  // saved with the editor's edits
     } catch (const Error& e) {
         scene_.material_files.erase(file);
         message(e.what(), true);

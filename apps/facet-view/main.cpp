@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
     app.add_flag("--rebuild", options.rebuild,
                  "rebuild a shader when its sources change (the built-in ones, and projects "
                  "whose build folder is a plugin folder)");
-    app.add_option("--frames", script.frames, "render N frames, then exit");
+    app.add_option("--frames", script.frames, "render N frames, then exit")
+        ->check(CLI::PositiveNumber);
     app.add_option("--screenshot", script.screenshot, "with --frames: save the last frame as PNG")
         ->needs("--frames");
     app.add_option("--window-screenshot", script.window_screenshot,

@@ -13,6 +13,8 @@
 
 namespace facet::view {
 
+namespace fs = std::filesystem;
+
 namespace {
 
 bool same_camera(const Camera& a, const Camera& b) {
@@ -84,16 +86,24 @@ Viewer::SdlVideo::SdlVideo() {
     const char* forced = std::getenv("SDL_VIDEODRIVER");
     const bool any_display = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
     if (!forced && !any_display) throw no_display("no display: DISPLAY and WAYLAND_DISPLAY are unset");
-    if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) throw no_display(SDL_GetError());
     // Without a reachable display SDL falls back to drivers that show nothing
     // (offscreen, dummy): the viewer would wait for input that never comes.
-    const std::string driver = SDL_GetCurrentVideoDriver() ? SDL_GetCurrentVideoDriver() : "";
-    if (!forced && (driver == "offscreen" || driver == "dummy" || driver == "evdev")) {
+    // A display server that is busy may refuse a connection for a moment:
+    // three tries, 0.2 s apart.
+    std::string driver;
+    for (int attempt = 0;; ++attempt) {
+        if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) throw no_display(SDL_GetError());
+        driver = SDL_GetCurrentVideoDriver() ? SDL_GetCurrentVideoDriver() : "";
+        if (forced || (driver != "offscreen" && driver != "dummy" && driver != "evdev")) break;
         SDL_QuitSubSystem(SDL_INIT_VIDEO);
-        const char* display = std::getenv("DISPLAY");
-        throw no_display(std::string("cannot open the display ") +
-                         (display ? "DISPLAY=" + std::string(display)
-                                  : "WAYLAND_DISPLAY=" + std::string(std::getenv("WAYLAND_DISPLAY"))));
+        if (attempt == 2) {
+            const char* display = std::getenv("DISPLAY");
+            throw no_display(std::string("cannot open the display ") +
+                             (display ? "DISPLAY=" + std::string(display)
+                                      : "WAYLAND_DISPLAY=" + std::string(std::getenv("WAYLAND_DISPLAY"))));
+        }
+        spdlog::debug("SDL chose the {} video driver: trying the display again", driver);
+        SDL_Delay(200);
     }
     spdlog::debug("SDL video driver: {}", driver);
 }
@@ -153,10 +163,10 @@ Viewer::~Viewer() {
 // Takes `fresh` as the scene: the camera goes home to the file's camera,
 // the viewer's toggles start from the file's settings.
 void Viewer::adopt_scene(Scene fresh) {
-    if (editor_ && editor_->unsaved()) {
-        message(std::to_string(editor_->unsaved()) + " unsaved values dropped with the old scene",
-                true);
-        editor_->forget_unsaved();
+    if (editor_) {
+        if (const size_t dropped = editor_->forget_unsaved())
+            message(std::to_string(dropped) + " unsaved values dropped with the old scene", true);
+        editor_->scene_changed();
     }
     scene_ = std::move(fresh);
     settings_ = scene_.settings;
@@ -220,14 +230,22 @@ int Viewer::wait_ms() const {
 
 void Viewer::apply_reload() {
     const Camera before = scene_.camera;  // the file's: render() never changes it
-    if (reload_->update()) {
-        scene_dirty_ = true;
-        if (editor_->unsaved()) {  // the files changed under them
-            message(std::to_string(editor_->unsaved()) +
-                        " unsaved values dropped: their files changed on disk",
+    const bool updated = reload_->update();
+    const std::vector<ReloadEvent> events = reload_->take_events();
+    // Edits of a file that changed on disk (not by the editor's own save,
+    // which hot reload passes over) no longer match what is loaded.
+    for (const ReloadEvent& e : events) {
+        if (e.kind != ReloadEvent::Kind::config_reloaded) continue;
+        const bool scene_file = fs::weakly_canonical(e.subject) == fs::weakly_canonical(scene_.source);
+        if (const size_t dropped = scene_file ? editor_->forget_unsaved()
+                                              : editor_->forget_unsaved(e.subject))
+            message(std::to_string(dropped) + " unsaved values dropped: " + e.subject +
+                        " changed on disk",
                     true);
-            editor_->forget_unsaved();
-        }
+        if (scene_file) editor_->scene_changed();
+    }
+    if (updated) {
+        scene_dirty_ = true;
         // A reloaded scene file keeps the viewer's camera unless the file's
         // camera itself changed.
         if (!same_camera(scene_.camera, before)) controller_.reset(scene_.camera);
@@ -241,7 +259,7 @@ void Viewer::apply_reload() {
         selected_ = std::min(selected_, std::max(0, int(scene_.objects.size()) - 1));
         update_selected_label();
     }
-    for (const ReloadEvent& e : reload_->take_events()) message(e.message, e.refused(), false);
+    for (const ReloadEvent& e : events) message(e.message, e.refused(), false);
     if (!rebuilder_) return;
     for (const ReloadEvent& e : rebuilder_->update()) {  // logged by the rebuilder
         if (e.kind == ReloadEvent::Kind::build_started) ++building_;
@@ -349,6 +367,7 @@ void Viewer::show_editor() {
     const int before = selected_;
     const EditorResult r = editor_->show(target);
     if (r.redraw) scene_dirty_ = true;
+    if (r.materials_changed) reload_->rewatch();
     if (r.selection_changed || selected_ != before) {
         update_selected_label();
         scene_dirty_ = true;  // the outline moves
@@ -363,7 +382,10 @@ void Viewer::save_edits() {
         return;
     }
     std::vector<std::string> errors;
-    for (const std::string& line : editor_->save(errors)) message(line, false);
+    for (const fs::path& file : editor_->save(errors)) {
+        reload_->written_by_us(file);  // memory holds what it says already
+        message("saved " + file.string(), false);
+    }
     for (const std::string& e : errors) message(e, true);
 }
 

@@ -2,9 +2,12 @@
 
 #include <facet/error.hpp>
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <charconv>
+#include <cmath>
+#include <sstream>
 
 namespace facet {
 
@@ -33,21 +36,27 @@ size_t plain_end(const std::string& t, size_t at, bool in_flow) {
     return i;
 }
 
-// One past the bracket that closes the one at `open`, skipping quoted text.
+// One past the bracket that closes the one at `open`, skipping quoted
+// scalars (a quote opens one only where a scalar starts: after a bracket, a
+// comma or a colon) and comments.
 size_t matching_end(const std::string& t, size_t open) {
     int depth = 0;
+    char before = '\n';  // the last character that is not a blank
     for (size_t i = open; i < t.size(); ++i) {
         const char c = t[i];
-        if (c == '"' || c == '\'') {
+        if ((c == '"' || c == '\'') && (before == '[' || before == '{' || before == ',' ||
+                                         before == ':' || before == '\n')) {
             for (++i; i < t.size() && t[i] != c; ++i)
                 if (c == '"' && t[i] == '\\') ++i;
         } else if (c == '[' || c == '{') {
             ++depth;
         } else if (c == ']' || c == '}') {
             if (--depth == 0) return i + 1;
-        } else if (c == '#' && (t[i - 1] == ' ' || t[i - 1] == '\t')) {
+        } else if (c == '#' && (t[i - 1] == ' ' || t[i - 1] == '\t' || t[i - 1] == '\n')) {
             i = line_end(t, i) - 1;
+            continue;  // `before` stays what it was
         }
+        if (c != ' ' && c != '\t' && c != '\r') before = c;
     }
     return t.size();
 }
@@ -62,6 +71,10 @@ size_t node_end(const std::string& t, const YAML::Node& n, bool in_flow) {
         for (auto it = n.begin(); it != n.end(); ++it, any = true) last.reset(n.IsMap() ? it->second : *it);
         return any ? node_end(t, last, false) : at;
     }
+    if (at < t.size() && (t[at] == '|' || t[at] == '>'))
+        throw Error(ErrorCode::config_invalid,
+                    "a block scalar (| or >) at line " + std::to_string(n.Mark().line + 1) +
+                        " is not edited in place; edit it by hand");
     if (at < t.size() && (t[at] == '"' || t[at] == '\'')) {
         const char q = t[at];
         for (size_t i = at + 1; i < t.size(); ++i) {
@@ -78,16 +91,52 @@ size_t node_end(const std::string& t, const YAML::Node& n, bool in_flow) {
     throw Error(ErrorCode::config_invalid, "cannot set " + to_string(path) + ": " + why, file);
 }
 
+// Whether a document uses anchors or aliases (&name, *name). yaml-cpp gives
+// an alias's node the anchor's position, so text found through it would be
+// the anchor's: such a file is not edited in place.
+class AnchorFinder : public YAML::EventHandler {
+public:
+    bool found = false;
+    void OnDocumentStart(const YAML::Mark&) override {}
+    void OnDocumentEnd() override {}
+    void OnNull(const YAML::Mark&, YAML::anchor_t a) override { found |= a != 0; }
+    void OnAlias(const YAML::Mark&, YAML::anchor_t) override { found = true; }
+    void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t a,
+                  const std::string&) override {
+        found |= a != 0;
+    }
+    void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t a,
+                         YAML::EmitterStyle::value) override {
+        found |= a != 0;
+    }
+    void OnSequenceEnd() override {}
+    void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t a,
+                    YAML::EmitterStyle::value) override {
+        found |= a != 0;
+    }
+    void OnMapEnd() override {}
+};
+
+bool uses_anchors(const std::string& text) {
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    AnchorFinder finder;
+    while (parser.HandleNextDocument(finder)) {}
+    return finder.found;
+}
+
 // `rest` of a path as the value of a new key: "k:\n  k2: value" (block) or
-// "k: {k2: value}" (inside a flow mapping).
+// "k: {k2: value}" (inside a flow mapping). Empty when the rest names a
+// sequence item (which would not exist yet).
 std::string new_entry(const YamlPath& rest, size_t from, const std::string& value, bool flow,
-                      int indent) {
+                      int indent, const std::string& newline) {
+    for (size_t k = from; k < rest.size(); ++k)
+        if (!std::holds_alternative<std::string>(rest[k])) return {};
     const std::string& key = std::get<std::string>(rest[from]);
     if (from + 1 == rest.size()) return key + ": " + value;
-    if (!std::holds_alternative<std::string>(rest[from + 1])) return {};
-    if (flow) return key + ": {" + new_entry(rest, from + 1, value, true, 0) + "}";
-    return key + ":\n" + std::string(size_t(indent + 2), ' ') +
-           new_entry(rest, from + 1, value, false, indent + 2);
+    if (flow) return key + ": {" + new_entry(rest, from + 1, value, true, 0, newline) + "}";
+    return key + ":" + newline + std::string(size_t(indent + 2), ' ') +
+           new_entry(rest, from + 1, value, false, indent + 2, newline);
 }
 
 }  // namespace
@@ -107,11 +156,17 @@ std::string to_string(const YamlPath& path) {
     return out.empty() ? "(the document)" : out;
 }
 
-std::string yaml_set(const std::string& text, const YamlPath& path, const std::string& value,
-                     const std::string& file) {
+namespace {
+
+// yaml_set() on a text with no byte-order mark; `newline` is the file's.
+std::string set_in(const std::string& text, const YamlPath& path, const std::string& value,
+                   const std::string& file, const std::string& newline) {
     YAML::Node node;
     try {
         node = YAML::Load(text);
+        if (uses_anchors(text))
+            fail(file, path, "the file uses YAML anchors or aliases (&name, *name), which are "
+                             "not edited in place; edit it by hand");
     } catch (const YAML::Exception& e) {
         throw Error(ErrorCode::config_invalid, e.msg, file, e.mark.line + 1, e.mark.column + 1);
     }
@@ -147,29 +202,32 @@ std::string yaml_set(const std::string& text, const YamlPath& path, const std::s
             }
             if (is_flow(node)) {
                 const size_t close = matching_end(text, node.Mark().pos) - 1;
-                const std::string entry = new_entry(path, k, value, true, 0);
+                const std::string entry = new_entry(path, k, value, true, 0, newline);
                 if (entry.empty()) fail(file, path, "the item does not exist");
                 return text.substr(0, close) + (node.size() ? ", " : "") + entry + text.substr(close);
             }
             if (!any) fail(file, path, "an empty mapping");
             const int indent = first_key.Mark().column;
-            const std::string entry = new_entry(path, k, value, false, indent);
+            const std::string entry = new_entry(path, k, value, false, indent, newline);
             if (entry.empty()) fail(file, path, "the item does not exist");
-            const size_t at = line_end(text, last_value.IsNull() ? last_key.Mark().pos
-                                                                   : node_end(text, last_value, false));
-            std::string out = text.substr(0, at) + "\n" + std::string(size_t(indent), ' ') + entry +
-                              text.substr(at);
-            if (at == text.size()) out += "\n";
+            size_t at = line_end(text, last_value.IsNull() ? last_key.Mark().pos
+                                                           : node_end(text, last_value, false));
+            if (at > 0 && at <= text.size() && text[at - 1] == '\r') --at;  // before a CRLF
+            std::string out = text.substr(0, at) + newline + std::string(size_t(indent), ' ') +
+                              entry + text.substr(at);
+            if (at == text.size()) out += newline;
             return out;
         }
         if (k + 1 < path.size() && value_node.IsNull()) {  // "key:" with nothing under it yet
             const size_t colon = text.find(':', key_node.Mark().pos);
             const size_t end = plain_end(text, colon + 1, flow_map);
             const int indent = key_node.Mark().column;
-            const std::string entry = flow_map ? "{" + new_entry(path, k + 1, value, true, 0) + "}"
-                                               : "\n" + std::string(size_t(indent + 2), ' ') +
-                                                     new_entry(path, k + 1, value, false, indent + 2);
-            return text.substr(0, colon + 1) + (flow_map ? " " : "") + entry + text.substr(end);
+            const std::string rest =
+                new_entry(path, k + 1, value, flow_map, flow_map ? 0 : indent + 2, newline);
+            if (rest.empty()) fail(file, path, "the item does not exist");
+            const std::string entry = flow_map ? " {" + rest + "}"
+                                               : newline + std::string(size_t(indent + 2), ' ') + rest;
+            return text.substr(0, colon + 1) + entry + text.substr(end);
         }
         in_flow = flow_map;
         if (k + 1 == path.size()) {  // replace the value
@@ -188,7 +246,37 @@ std::string yaml_set(const std::string& text, const YamlPath& path, const std::s
     return text.substr(0, from) + value + text.substr(node_end(text, node, in_flow));
 }
 
+}  // namespace
+
+std::string yaml_set(const std::string& text, const YamlPath& path, const std::string& value,
+                     const std::string& file) {
+    // yaml-cpp's positions do not count a UTF-8 byte-order mark.
+    static const std::string kBom = "\xEF\xBB\xBF";
+    const bool bom = text.compare(0, kBom.size(), kBom) == 0;
+    const std::string body = bom ? text.substr(kBom.size()) : text;
+    const std::string newline = body.find("\r\n") != std::string::npos ? "\r\n" : "\n";
+    return (bom ? kBom : "") + set_in(body, path, value, file, newline);
+}
+
+std::string yaml_string(const std::string& s) {
+    const bool plain =
+        !s.empty() && s.find_first_of(":#,[]{}&*!|>'\"%@`\\\t\r\n") == std::string::npos &&
+        s.front() != ' ' && s.back() != ' ' && s.front() != '-' && s.front() != '?' &&
+        s != "null" && s != "true" && s != "false" && s != "~";
+    if (plain) return s;
+    std::string out = "\"";
+    for (const char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        if (c == '\n') out += "\\n";
+        else if (c == '\t') out += "\\t";
+        else if (c == '\r') out += "\\r";
+        else out += c;
+    }
+    return out + "\"";
+}
+
 std::string yaml_number(float v) {
+    if (!std::isfinite(v)) throw Error(ErrorCode::out_of_range, "not a finite number");
     char text[32];
     const auto r = std::to_chars(text, text + sizeof text, v);
     return std::string(text, r.ptr);

@@ -91,6 +91,11 @@ public:
     // material file to scene.material_files (a viewer swapping materials).
     void rewatch() { watch_scene(); }
 
+    // `file` was just written by this program from the scene as it is in
+    // memory (the viewer's editor saving): that change is not applied
+    // again. A later change to it, by anyone, is.
+    void written_by_us(const std::filesystem::path& file);
+
     FileWatcher::Backend backend() const { return watcher_.backend(); }
 
 private:
@@ -115,6 +120,8 @@ private:
     FileWatcher watcher_;
     TextureCache textures_;
     std::map<std::filesystem::path, Pending> pending_;
+    // written_by_us(): each file's size and time as this program left it.
+    std::map<std::filesystem::path, std::pair<uintmax_t, std::filesystem::file_time_type>> ours_;
     std::vector<ReloadEvent> events_;
     bool scene_failed_ = false;
 };

@@ -109,11 +109,18 @@ Pipeline::Pipeline(int threads, std::optional<Isa> isa)
     : pool_(std::make_unique<ThreadPool>(threads > 0 ? threads : default_threads())),
       kernels_(&facet::kernels(isa ? checked_isa(*isa) : default_isa())),
       queue_(std::make_unique<DrawQueue>(pool_->size())) {
+    const auto set = [](const char* name) {
+        const char* value = std::getenv(name);
+        return value && *value;
+    };
     spdlog::debug("pipeline: {} threads ({}), the {} path ({})", pool_->size(),
-                  threads > 0                          ? "asked for"
-                  : std::getenv("FACET_NUM_THREADS") ? "FACET_NUM_THREADS"
-                                                       : "one per hardware thread",
-                  isa_name(kernels_->isa), isa ? "asked for" : std::getenv("FACET_ISA") ? "FACET_ISA" : "the best this CPU has");
+                  threads > 0                   ? "asked for"
+                  : set("FACET_NUM_THREADS") ? "FACET_NUM_THREADS"
+                                                : "one per hardware thread",
+                  isa_name(kernels_->isa),
+                  isa                   ? "asked for"
+                  : set("FACET_ISA") ? "FACET_ISA"
+                                        : "the best this CPU has");
 }
 Pipeline::~Pipeline() = default;
 Pipeline::Pipeline(Pipeline&&) noexcept = default;

@@ -96,9 +96,24 @@ bool HotReload::update() {
     bool changed = false;
     for (const fs::path& path : settled) {
         pending_.erase(path);
+        if (const auto own = ours_.find(path); own != ours_.end()) {
+            std::error_code ec;
+            const bool same = fs::file_size(path, ec) == own->second.first &&
+                              fs::last_write_time(path, ec) == own->second.second && !ec;
+            ours_.erase(own);
+            if (same) continue;  // what memory already holds
+        }
         changed |= apply(path);
     }
     return changed;
+}
+
+void HotReload::written_by_us(const fs::path& file) {
+    std::error_code ec;
+    const fs::path path = canonical_or_same(file);
+    const uintmax_t size = fs::file_size(path, ec);
+    const fs::file_time_type time = fs::last_write_time(path, ec);
+    if (!ec) ours_[path] = {size, time};
 }
 
 bool HotReload::apply(const fs::path& path) {

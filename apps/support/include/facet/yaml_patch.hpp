@@ -28,12 +28,18 @@ std::string to_string(const YamlPath& path);
 // `text` with the value at `path` set to `value`. Missing mappings on the
 // way are created; a missing sequence item, or a path through a scalar, is
 // an Error (config_invalid) naming `file` and the path, as is text that is
-// not YAML.
+// not YAML, a file with anchors or aliases, and a block scalar (| or >) in
+// the way. A byte-order mark and CRLF line ends are kept.
 std::string yaml_set(const std::string& text, const YamlPath& path, const std::string& value,
                      const std::string& file = "<text>");
 
 // The shortest text that reads back as the same float ("0.1", "3", "1e-07").
+// Throws Error (out_of_range) for an infinity or a NaN, which a facet file
+// may not hold.
 std::string yaml_number(float v);
+// `s` as a YAML scalar: as it is when it reads back as the same string,
+// else double-quoted ("wood, dark.png").
+std::string yaml_string(const std::string& s);
 // "[a, b, c]".
 std::string yaml_sequence(const float* v, int n);
 
