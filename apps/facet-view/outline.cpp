@@ -36,36 +36,42 @@ void Outline::draw(const Object& object, const Camera& camera, const RenderSetti
     alone.material = white_;
     mask.objects = {alone};
     renderer_.render(mask, mask_);
-    renderer_.pipeline().resolve_srgb8(mask_, mask_rgba_);
 
     const int w = settings.width, h = settings.height;
-    if (rgba.size() != size_t(w) * h * 4 || mask_rgba_.size() != rgba.size()) return;
-    const auto inside = [&](int x, int y) { return mask_rgba_[(size_t(y) * w + x) * 4] > 127; };
-    // The mask's bounds, widened by the band.
+    if (rgba.size() != size_t(w) * h * 4 || mask_.width() != w || mask_.height() != h) return;
+    // Which pixels the object covers (white on black, 8-bit sRGB, one sample
+    // a pixel: read in place), and their bounds.
+    inside_.assign(size_t(w) * h, 0);
     int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int y = 0; y < h; ++y)
+    for (int y = 0; y < h; ++y) {
+        const uint8_t* row = mask_.color_data() + size_t(y) * mask_.stride() * 4;
         for (int x = 0; x < w; ++x)
-            if (inside(x, y)) {
+            if (row[size_t(x) * 4] > 127) {
+                inside_[size_t(y) * w + x] = 1;
                 x0 = std::min(x0, x), x1 = std::max(x1, x);
                 y0 = std::min(y0, y), y1 = std::max(y1, y);
             }
+    }
     if (x1 < 0) return;  // not on screen
-    x0 = std::max(0, x0 - width), y0 = std::max(0, y0 - width);
-    x1 = std::min(w - 1, x1 + width), y1 = std::min(h - 1, y1 + width);
-    // A pixel outside the object within `width` of one inside it.
+    const auto inside = [&](int x, int y) {
+        return x >= 0 && y >= 0 && x < w && y < h && inside_[size_t(y) * w + x];
+    };
+    // Around each edge pixel (inside, with a neighbour outside), the pixels
+    // outside within `width` of it take the outline's colour.
     for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x) {
-            if (inside(x, y)) continue;
-            bool near = false;
-            for (int dy = -width; dy <= width && !near; ++dy)
-                for (int dx = -width; dx <= width && !near; ++dx) {
-                    const int sx = x + dx, sy = y + dy;
-                    near = sx >= 0 && sy >= 0 && sx < w && sy < h && dx * dx + dy * dy <= width * width &&
-                           inside(sx, sy);
+            if (!inside(x, y) ||
+                (inside(x - 1, y) && inside(x + 1, y) && inside(x, y - 1) && inside(x, y + 1)))
+                continue;
+            for (int dy = -width; dy <= width; ++dy)
+                for (int dx = -width; dx <= width; ++dx) {
+                    const int px = x + dx, py = y + dy;
+                    if (dx * dx + dy * dy > width * width || px < 0 || py < 0 || px >= w ||
+                        py >= h || inside(px, py))
+                        continue;
+                    uint8_t* p = &rgba[(size_t(py) * w + px) * 4];
+                    p[0] = 255, p[1] = 160, p[2] = 30, p[3] = 255;
                 }
-            if (!near) continue;
-            uint8_t* p = &rgba[(size_t(y) * w + x) * 4];
-            p[0] = 255, p[1] = 160, p[2] = 30, p[3] = 255;
         }
 }
 

@@ -30,7 +30,7 @@ public:
 private:
     Renderer renderer_;
     Framebuffer mask_;
-    std::vector<uint8_t> mask_rgba_;
+    std::vector<uint8_t> inside_;  // 1 where the object covers the pixel
     std::shared_ptr<Material> white_;
 };
 
