@@ -896,7 +896,9 @@ int run_table(Options& o, const Interrupts& interrupts) {
             return 2;
         }
     }
-    for (const std::string& shader : o.shaders)
+    const bool any_built_in = std::any_of(o.scenes.begin(), o.scenes.end(),
+                                          [](const std::string& n) { return !is_scene_file(n); });
+    for (const std::string& shader : any_built_in ? o.shaders : std::vector<std::string>{})
         if (registry.locate(shader).empty()) {
             spdlog::error("--shader {}: no {}.so in {}", shader, shader,
                           [&] {

@@ -687,3 +687,18 @@ TEST_CASE("the editor's selection is outlined in the shown image only, and E hid
     CHECK_FALSE(v.editor().visible());
     CHECK(v.shown() == v.framebuffer().resolve_srgb8());
 }
+
+TEST_CASE("the editor's Euler angles make the rotation they were read from, at gimbal lock too",
+          "[editor]") {
+    int checked = 0;
+    for (float pitch : {-90.0f, -89.999f, -45.0f, 0.0f, 30.0f, 89.9995f, 90.0f})
+        for (float yaw : {-170.0f, -90.0f, 0.0f, 20.0f, 90.0f, 135.0f})
+            for (float roll : {-120.0f, 0.0f, 20.0f, 90.0f}) {
+                const glm::quat q = euler_degrees({yaw, pitch, roll});
+                const glm::vec3 e = to_euler_degrees(q);
+                INFO(yaw << " " << pitch << " " << roll << " -> " << e.x << " " << e.y << " " << e.z);
+                CHECK(std::abs(glm::dot(euler_degrees(e), q)) > 1.0f - 1e-6f);
+                ++checked;
+            }
+    CHECK(checked == 168);
+}

@@ -107,6 +107,27 @@ void current_floats(const Material& m, const facet_param_desc& d, float out[4]) 
         for (size_t i = 0; i < p->numbers.size() && i < 4; ++i) out[i] = float(p->numbers[i]);
 }
 
+// An ImGui id scope for as long as it lives (so that a panel's widgets and
+// another's of the same name stay apart, however the panel returns).
+struct ScopedId {
+    explicit ScopedId(const char* id) { ImGui::PushID(id); }
+    explicit ScopedId(int id) { ImGui::PushID(id); }
+    ~ScopedId() { ImGui::PopID(); }
+    ScopedId(const ScopedId&) = delete;
+    ScopedId& operator=(const ScopedId&) = delete;
+};
+
+// Runs one panel; an error from it (none is expected: every value is
+// checked before it is written) is reported, not let out of the frame.
+template <class Panel>
+void guarded(EditorResult& r, Panel&& panel) {
+    try {
+        panel();
+    } catch (const Error& e) {
+        r.errors.push_back(e.what());
+    }
+}
+
 double ms_of(const FrameStats& s, int pass) {
     switch (pass) {
         case 0: return s.milliseconds;
@@ -127,7 +148,7 @@ glm::vec3 to_euler_degrees(const glm::quat& q) {
     const double cb = std::hypot(m[0][0], m[0][1]);
     glm::dvec3 r;
     r.y = std::atan2(-m[0][2], cb);
-    if (cb > 1e-9) {
+    if (cb > 1e-4) {  // below, float rounding decides X and Z: gimbal lock
         r.x = std::atan2(m[1][2], m[2][2]);
         r.z = std::atan2(m[0][1], m[0][0]);
     } else {  // gimbal lock: put the whole turn about Z into X
@@ -176,9 +197,11 @@ glm::vec3 Editor::shown_euler(const Scene& scene, size_t i) const {
 
 void Editor::material_chosen(const Scene& scene, size_t object, const fs::path& file) {
     if (object >= scene.objects.size()) return;
+    // Relative to the scene's folder as the loader joins it: lexically, on
+    // the paths as given (a `..` across a symbolic link stays right).
     edit(scene.source, {"objects", object, "material"},
-         yaml_string(fs::weakly_canonical(file)
-                         .lexically_relative(fs::weakly_canonical(scene.source).parent_path())
+         yaml_string(fs::absolute(file).lexically_normal()
+                         .lexically_relative(fs::absolute(scene.source).lexically_normal().parent_path())
                          .generic_string()));
 }
 
@@ -250,14 +273,16 @@ EditorResult Editor::show(EditorTarget& t) {
         ImGui::SameLine();
         if (n) ImGui::Text("%zu unsaved value%s (Ctrl+S)", n, n == 1 ? "" : "s");
         else ImGui::TextDisabled("nothing to save");
-        if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen)) objects_panel(t, r);
-        if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) material_panel(t, r);
+        if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen))
+            guarded(r, [&] { objects_panel(t, r); });
+        if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen))
+            guarded(r, [&] { material_panel(t, r); });
         const bool lights = ImGui::CollapsingHeader("Lights");
         remember("Lights");
-        if (lights) lights_panel(t, r);
+        if (lights) guarded(r, [&] { lights_panel(t, r); });
         const bool render = ImGui::CollapsingHeader("Render");
         remember("Render");
-        if (render) render_panel(t, r);
+        if (render) guarded(r, [&] { render_panel(t, r); });
         if (ImGui::CollapsingHeader("Frame time", ImGuiTreeNodeFlags_DefaultOpen)) frame_panel();
         ImGui::PopItemWidth();
     }
@@ -267,10 +292,7 @@ EditorResult Editor::show(EditorTarget& t) {
 }
 
 void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
-    ImGui::PushID("objects");
-    struct PopId {
-        ~PopId() { ImGui::PopID(); }
-    } pop;
+    const ScopedId scope("objects");
     std::vector<Object>& objects = t.scene.objects;
     if (objects.empty()) {
         ImGui::TextDisabled("(no objects)");
@@ -291,10 +313,10 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     Object& o = objects[size_t(t.selected)];
     const size_t i = size_t(t.selected);
     const fs::path& file = t.scene.source;
-    if (euler_of_ != t.selected ||
-        std::abs(glm::dot(euler_degrees(euler_), o.transform.rotation)) < 1.0f - 1e-6f) {
+    if (euler_of_ != t.selected || o.transform.rotation != euler_of_rotation_) {
         euler_ = shown_euler(t.scene, i);  // a new selection, or turned by other means
         euler_of_ = t.selected;
+        euler_of_rotation_ = o.transform.rotation;
     }
     if (ImGui::Checkbox("visible", &o.visible)) {
         edit(file, {"objects", i, "visible"}, o.visible ? "true" : "false");
@@ -318,7 +340,7 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     if (ImGui::DragFloat3("rotation", &euler.x, 0.5f, -360.0f, 360.0f, "%.1f deg",
                           ImGuiSliderFlags_AlwaysClamp)) {
         euler_ = euler;
-        o.transform.rotation = euler_degrees(euler_);
+        o.transform.rotation = euler_of_rotation_ = euler_degrees(euler_);
         edit(file, {"objects", i, "rotation"}, yaml_sequence(&euler_.x, 3));
         r.redraw = true;
     }
@@ -398,7 +420,7 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
     ImGui::TextWrapped("%s: shader '%s'", is_inline(m, t.scene) ? "inline" : fs::path(m.source).filename().c_str(),
                        m.plugin->name().c_str());
     const facet_shader_desc& desc = m.plugin->desc();
-    ImGui::PushID("material");
+    const ScopedId scope("material");
     for (uint32_t k = 0; k < desc.param_count; ++k) {
         const facet_param_desc& d = desc.params[k];
         const std::string name = d.name;
@@ -531,14 +553,10 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
         }
         if (changed) set_param(t, m, d, std::move(p), text, r);
     }
-    ImGui::PopID();
 }
 
 void Editor::lights_panel(EditorTarget& t, EditorResult& r) {
-    ImGui::PushID("lights");
-    struct PopId {
-        ~PopId() { ImGui::PopID(); }
-    } pop;
+    const ScopedId scope("lights");
     const fs::path& file = t.scene.source;
     for (size_t i = 0; i < t.scene.lights.size(); ++i) {
         Light& l = t.scene.lights[i];
@@ -546,7 +564,7 @@ void Editor::lights_panel(EditorTarget& t, EditorResult& r) {
         const char* type = l.type == LightType::directional ? "directional"
                            : l.type == LightType::point     ? "point"
                                                             : "spot";
-        ImGui::PushID(int(i));
+        const ScopedId light_scope{int(i)};
         ImGui::Separator();
         ImGui::Text("light %zu: %s", i + 1, type);
         const auto changed = [&](bool did, const std::string& key, const std::string& value) {
@@ -583,24 +601,28 @@ void Editor::lights_panel(EditorTarget& t, EditorResult& r) {
         }
         if (l.type == LightType::spot) {
             float inner = l.spot_inner, outer = l.spot_outer;
-            if (ImGui::SliderFloat(("cone inner" + id).c_str(), &inner, 0.0f, outer, "%.1f deg")) {
-                l.spot_inner = inner;
-                changed(true, "spot_inner", yaml_number(inner));
+            // The loader's rule: 0 <= inner <= outer <= 90 degrees.
+            if (ImGui::SliderFloat(("cone inner" + id).c_str(), &inner, 0.0f, outer, "%.1f deg",
+                                   ImGuiSliderFlags_AlwaysClamp) &&
+                std::isfinite(inner)) {
+                l.spot_inner = std::clamp(inner, 0.0f, l.spot_outer);
+                changed(true, "spot_inner", yaml_number(l.spot_inner));
             }
-            if (ImGui::SliderFloat(("cone outer" + id).c_str(), &outer, std::max(inner, 0.1f), 89.0f, "%.1f deg")) {
-                l.spot_outer = outer;
-                changed(true, "spot_outer", yaml_number(outer));
+            if (ImGui::SliderFloat(("cone outer" + id).c_str(), &outer, std::max(inner, 0.1f),
+                                   89.0f, "%.1f deg", ImGuiSliderFlags_AlwaysClamp) &&
+                std::isfinite(outer)) {
+                l.spot_outer = std::clamp(outer, std::max(l.spot_inner, 0.1f), 89.0f);
+                changed(true, "spot_outer", yaml_number(l.spot_outer));
             }
         }
         changed(ImGui::Checkbox(("casts shadow" + id).c_str(), &l.casts_shadow), "casts_shadow",
                 l.casts_shadow ? "true" : "false");
-        ImGui::PopID();
     }
     if (t.scene.lights.empty()) ImGui::TextDisabled("(no lights)");
 }
 
 void Editor::render_panel(EditorTarget& t, EditorResult& r) {
-    ImGui::PushID("render");
+    const ScopedId scope("render");
     RenderSettings& s = t.settings;
     const fs::path& file = t.scene.source;
     const auto changed = [&](bool did, const std::string& key, const std::string& value) {
@@ -649,7 +671,6 @@ void Editor::render_panel(EditorTarget& t, EditorResult& r) {
         s.ao_samples = std::clamp(s.ao_samples, 1, 256);
         changed(true, "ao_samples", std::to_string(s.ao_samples));
     }
-    ImGui::PopID();
 }
 
 void Editor::frame_panel() {

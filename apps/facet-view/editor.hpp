@@ -130,6 +130,7 @@ private:
     // shows it (a quaternion has many), kept while it stays selected.
     int euler_of_ = -1;
     glm::vec3 euler_{0.0f};
+    glm::quat euler_of_rotation_{1.0f, 0.0f, 0.0f, 0.0f};  // the rotation euler_ was made for
     std::string texture_path_;  // the texture field being typed
     static constexpr size_t kHistory = 120;
     std::deque<FrameStats> history_;

@@ -5,6 +5,7 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -261,8 +262,12 @@ std::string yaml_set(const std::string& text, const YamlPath& path, const std::s
 std::string yaml_string(const std::string& s) {
     const bool plain =
         !s.empty() && s.find_first_of(":#,[]{}&*!|>'\"%@`\\\t\r\n") == std::string::npos &&
-        s.front() != ' ' && s.back() != ' ' && s.front() != '-' && s.front() != '?' &&
-        s != "null" && s != "true" && s != "false" && s != "~";
+        s.front() != ' ' && s.back() != ' ' && s.front() != '-' && s.front() != '?' && [&] {
+            std::string lower = s;  // the words YAML reads as null or a boolean, in any case
+            for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+            return lower != "null" && lower != "true" && lower != "false" && lower != "~" &&
+                   lower != "yes" && lower != "no" && lower != "on" && lower != "off";
+        }();
     if (plain) return s;
     std::string out = "\"";
     for (const char c : s) {

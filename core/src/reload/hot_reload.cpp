@@ -111,6 +111,8 @@ bool HotReload::update() {
 void HotReload::written_by_us(const fs::path& file) {
     std::error_code ec;
     const fs::path path = canonical_or_same(file);
+    // A change by someone else still settling is not ours to pass over.
+    if (pending_.count(path)) return;
     const uintmax_t size = fs::file_size(path, ec);
     const fs::file_time_type time = fs::last_write_time(path, ec);
     if (!ec) ours_[path] = {size, time};
