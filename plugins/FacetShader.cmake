@@ -142,18 +142,13 @@ function(facet_add_shader NAME)
     message(FATAL_ERROR "facet_add_shader(${NAME}): SOURCES is required")
   endif()
   set(target facet_shader_${NAME})
-  add_library(${target} MODULE ${ARG_SOURCES})
-  target_link_libraries(${target} PRIVATE facet::sdk)
-  if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES AND NOT FACET_SANITIZE)
-    target_compile_options(${target} PRIVATE -O2)  # a shader runs per pixel
-  endif()
+  facet_plugin_module(${target} ${NAME} ${ARG_SOURCES})
   foreach(isa IN LISTS FACET_WIDE_ISAS)
     facet_isa_objects(${target}_${isa} ${isa} KEEP facet_sdk_fragment_${isa} LIKE ${target}
                       SOURCES ${ARG_SOURCES} DEFINITIONS FACET_SDK_ISA_${isa}
                       OUTPUT object)
     target_sources(${target} PRIVATE "${object}")
   endforeach()
-  facet_plugin_module(${target} ${NAME})
 endfunction()
 
 # facet_add_post(NAME SOURCES src...)
@@ -167,17 +162,18 @@ function(facet_add_post NAME)
   if(NOT ARG_SOURCES)
     message(FATAL_ERROR "facet_add_post(${NAME}): SOURCES is required")
   endif()
-  set(target facet_post_${NAME})
-  add_library(${target} MODULE ${ARG_SOURCES})
+  facet_plugin_module(facet_post_${NAME} ${NAME} ${ARG_SOURCES})
+endfunction()
+
+# The loadable module `target` (NAME.so) from the sources that follow: the
+# SDK, -O2 unless the project chose a build type (a plugin runs per pixel),
+# its folder, visibility and link rules.
+function(facet_plugin_module target NAME)
+  add_library(${target} MODULE ${ARGN})
   target_link_libraries(${target} PRIVATE facet::sdk)
   if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES AND NOT FACET_SANITIZE)
     target_compile_options(${target} PRIVATE -O2)
   endif()
-  facet_plugin_module(${target} ${NAME})
-endfunction()
-
-# A plugin module's file name (NAME.so), folder, visibility and link rules.
-function(facet_plugin_module target NAME)
   if(DEFINED FACET_PLUGIN_OUTPUT_DIR)
     set(out_dir "${FACET_PLUGIN_OUTPUT_DIR}")
   else()
