@@ -203,7 +203,7 @@ void set_shader(Scene& s, PluginRegistry& registry, const std::string& shader) {
     m->shader = shader;
     TextureCache cache;
     bind(*m, registry.get(shader), cache);
-    for (Object& o : s.objects) o.material = m;
+    for (Object& o : s.objects) o.use_material(m);
 }
 
 // Peak resident memory since the last reset_peak_rss(), in MiB (Linux's
@@ -746,11 +746,13 @@ int run_pareto(const CLI::App& app, Options& o, const Interrupts& interrupts) {
 // does: GLSL versions of their shaders, no texture, no blending.
 bool llvmpipe_draws_scene(const Scene& scene, const LlvmpipeSide& lp) {
     for (const Object& o : scene.objects) {
-        if (!o.visible || !o.mesh || !o.material || !o.material->plugin) continue;
-        const Material& m = *o.material;
-        if (!lp.draws(m.plugin->name()) || m.blend != BlendMode::opaque) return false;
-        for (const TextureBinding& t : m.textures)
-            if (t.texture) return false;
+        if (!o.visible || !o.mesh) continue;
+        for (const Material* m : o.materials()) {
+            if (!m->plugin) continue;
+            if (!lp.draws(m->plugin->name()) || m->blend != BlendMode::opaque) return false;
+            for (const TextureBinding& t : m->textures)
+                if (t.texture) return false;
+        }
     }
     return true;
 }

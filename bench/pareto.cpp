@@ -58,11 +58,14 @@ const char* filter_name(int f) {
 
 // Every material of `scene` replaced by a private copy changed by `edit`.
 void edit_materials(Scene& scene, const std::function<void(Material&)>& edit) {
+    const auto copy = [&](std::shared_ptr<Material>& slot) {
+        if (!slot) return;
+        slot = std::make_shared<Material>(*slot);
+        edit(*slot);
+    };
     for (Object& o : scene.objects) {
-        if (!o.material) continue;
-        auto m = std::make_shared<Material>(*o.material);
-        edit(*m);
-        o.material = m;
+        copy(o.material);
+        for (PartMaterial& p : o.part_materials) copy(p.material);
     }
 }
 

@@ -70,7 +70,7 @@ void override_materials(Scene& scene, PluginRegistry& registry, const std::strin
     m->params = std::move(params);
     TextureCache cache;
     bind(*m, registry.get(shader), cache);
-    for (Object& o : scene.objects) o.material = m;
+    for (Object& o : scene.objects) o.use_material(m);
 }
 
 double median(std::vector<double> v) {

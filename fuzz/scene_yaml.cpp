@@ -63,7 +63,10 @@ void check_light(const Light& l) {
 }
 
 void check_object(const Object& o) {
-    check(o.mesh && o.material, "object '" + o.name + "' has no mesh or no material");
+    check(o.mesh != nullptr, "object '" + o.name + "' has no mesh");
+    for (size_t i = 0; i < o.mesh->part_count(); ++i)
+        check(o.material_of(i) != nullptr,
+              "object '" + o.name + "': part " + std::to_string(i) + " has no material");
     try {
         validate_mesh(*o.mesh);
     } catch (const Error& e) {
@@ -74,7 +77,7 @@ void check_object(const Object& o) {
     const glm::vec3& s = o.transform.scale;
     check(finite(s) && s.x != 0.0f && s.y != 0.0f && s.z != 0.0f,
           "object '" + o.name + "' has a zero or non-finite scale");
-    check_bound(*o.material);
+    for (const Material* m : o.materials()) check_bound(*m);
 }
 
 // Renders `scene` small; FrameStats says each triangle has one outcome.

@@ -77,13 +77,8 @@ Scene small_demo_scene(PluginRegistry& registry, const std::string& name) {
 
 PluginSwap::PluginSwap(const Scene& scene,
                        const std::function<std::shared_ptr<ShaderPlugin>(const Material&)>& replace) {
-    for (const Object& o : scene.objects) {
-        if (!o.material || std::any_of(swaps_.begin(), swaps_.end(),
-                                       [&](const auto& s) { return s.first == o.material; }))
-            continue;
-        if (std::shared_ptr<ShaderPlugin> other = replace(*o.material))
-            swaps_.emplace_back(o.material, std::move(other));
-    }
+    for (Material* m : scene.materials())
+        if (std::shared_ptr<ShaderPlugin> other = replace(*m)) swaps_.emplace_back(m, std::move(other));
 }
 
 void PluginSwap::swap() {

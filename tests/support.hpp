@@ -98,7 +98,7 @@ public:
     bool empty() const { return swaps_.empty(); }
 
 private:
-    std::vector<std::pair<std::shared_ptr<Material>, std::shared_ptr<ShaderPlugin>>> swaps_;
+    std::vector<std::pair<Material*, std::shared_ptr<ShaderPlugin>>> swaps_;
 };
 
 // A fresh, empty folder under the system temp folder, named after `tag`,

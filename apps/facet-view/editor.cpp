@@ -411,9 +411,12 @@ bool Editor::set_param(EditorTarget& t, Material& material, const facet_param_de
 
 void Editor::material_panel(EditorTarget& t, EditorResult& r) {
     if (t.scene.objects.empty()) return;
-    const std::shared_ptr<Material> material = t.scene.objects[size_t(t.selected)].material;
+    const Object& o = t.scene.objects[size_t(t.selected)];
+    const std::shared_ptr<Material> material = o.material;
     if (!material || !material->plugin) {
-        ImGui::TextDisabled("(no material)");
+        if (o.materials().empty()) ImGui::TextDisabled("(no material)");
+        else ImGui::TextWrapped("Drawn with its mesh file's materials (%zu parts); give it a "
+                                "material file to edit here.", o.mesh ? o.mesh->part_count() : 0);
         return;
     }
     Material& m = *material;

@@ -210,8 +210,9 @@ void Viewer::update_selected_label() {
     }
     const Object& o = scene_.objects[size_t(selected_)];
     const std::string name = o.name.empty() ? "object " + std::to_string(selected_ + 1) : o.name;
-    const std::string material =
-        o.material ? fs::path(o.material->source).filename().string() : "(none)";
+    const std::string material = o.material ? fs::path(o.material->source).filename().string()
+                                 : o.materials().empty() ? "(none)"
+                                                         : "its mesh file's materials";
     info_.selected = name + ": " + material;
     overlay_dirty_ = true;
 }

@@ -33,7 +33,7 @@ void Outline::draw(const Object& object, const Camera& camera, const RenderSetti
     mask.settings.clear_color = glm::vec4(0.0f);
     mask.settings.shadows = mask.settings.ao = mask.settings.post = false;
     Object alone = object;
-    alone.material = white_;
+    alone.use_material(white_);
     mask.objects = {alone};
     renderer_.render(mask, mask_);
 

@@ -302,7 +302,7 @@ struct LlvmpipeRenderer::Impl {
     GLuint compile(GLenum stage, const char* source);
     Program& program(const std::string& shader);
     void upload_mesh(const Mesh& mesh);
-    void set_uniforms(const Program& p, const Scene& scene, const Object& o,
+    void set_uniforms(const Program& p, const Scene& scene, const Object& o, const Material& m,
                       const glm::mat4& view_projection);
     void set_lights(GLuint program, const Scene& scene);
     GLint uniform(GLuint program, const char* name) { return gl.GetUniformLocation(program, name); }
@@ -498,12 +498,11 @@ void LlvmpipeRenderer::Impl::set_lights(GLuint p, const Scene& scene) {
 
 // The matrices facet's draw() gives a shader, and the material's values.
 void LlvmpipeRenderer::Impl::set_uniforms(const Program& p, const Scene& scene, const Object& o,
-                                          const glm::mat4& view_projection) {
+                                          const Material& m, const glm::mat4& view_projection) {
     const glm::mat4 model = o.transform.matrix();
     const glm::mat4 mvp = view_projection * model;
     gl.UniformMatrix4fv(uniform(p.id, "model_view_projection"), 1, GL_FALSE,
                         glm::value_ptr(mvp));
-    const Material& m = *o.material;
     if (!p.phong) {
         float base_color[4];
         read_param(m, "base_color", base_color, 4);
@@ -553,13 +552,14 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
     require_modelled(scene.settings);
     impl_->make_current();
     for (const Object& o : scene.objects) {
-        if (!o.visible || !o.mesh || !o.material) continue;
-        const Material& m = *o.material;
-        impl_->program(m.shader);
-        if (m.blend != BlendMode::opaque)
-            throw std::runtime_error("llvmpipe: only opaque materials are drawn");
-        if (read_int_param(m, "base_texture"))
-            throw std::runtime_error("llvmpipe: textures are not drawn");
+        if (!o.visible || !o.mesh) continue;
+        for (const Material* m : o.materials()) {
+            impl_->program(m->shader);
+            if (m->blend != BlendMode::opaque)
+                throw std::runtime_error("llvmpipe: only opaque materials are drawn");
+            if (read_int_param(*m, "base_texture"))
+                throw std::runtime_error("llvmpipe: textures are not drawn");
+        }
         impl_->upload_mesh(*o.mesh);
     }
     impl_->check_errors("upload()");
@@ -583,20 +583,26 @@ double LlvmpipeRenderer::render(const Scene& scene) {
     gl.FrontFace(s.front_ccw ? GL_CW : GL_CCW);
     const glm::mat4 view_projection = clip_from_world(scene);
     for (const Object& o : scene.objects) {
-        if (!o.visible || !o.mesh || !o.material) continue;
-        const CullMode cull = o.material->cull.value_or(s.cull);
-        if (cull == CullMode::none) gl.Disable(GL_CULL_FACE);
-        else {
-            gl.Enable(GL_CULL_FACE);
-            gl.CullFace(cull == CullMode::back ? GL_BACK : GL_FRONT);
+        if (!o.visible || !o.mesh) continue;
+        for (size_t i = 0; i < o.mesh->part_count(); ++i) {  // as add_draw_items
+            const Material* m = o.material_of(i);
+            if (!m) continue;
+            const CullMode cull = m->cull.value_or(s.cull);
+            if (cull == CullMode::none) gl.Disable(GL_CULL_FACE);
+            else {
+                gl.Enable(GL_CULL_FACE);
+                gl.CullFace(cull == CullMode::back ? GL_BACK : GL_FRONT);
+            }
+            gl.DepthMask(m->writes_depth() ? GL_TRUE : GL_FALSE);
+            const Program& p = impl_->program(m->shader);
+            gl.UseProgram(p.id);
+            impl_->set_uniforms(p, scene, o, *m, view_projection);
+            const MeshBuffers& b = impl_->meshes.at(o.mesh.get());
+            gl.BindVertexArray(b.vao);
+            const MeshPart part = o.mesh->part(i);
+            gl.DrawElements(GL_TRIANGLES, GLsizei(part.index_count), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(uintptr_t(part.first_index) * 4));
         }
-        gl.DepthMask(o.material->writes_depth() ? GL_TRUE : GL_FALSE);
-        const Program& p = impl_->program(o.material->shader);
-        gl.UseProgram(p.id);
-        impl_->set_uniforms(p, scene, o, view_projection);
-        const MeshBuffers& b = impl_->meshes.at(o.mesh.get());
-        gl.BindVertexArray(b.vao);
-        gl.DrawElements(GL_TRIANGLES, b.index_count, GL_UNSIGNED_INT, nullptr);
     }
     gl.Finish();
     const auto end = std::chrono::steady_clock::now();

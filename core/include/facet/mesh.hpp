@@ -2,9 +2,17 @@
 //
 // A Mesh is indexed triangles with per-vertex attribute arrays. Positions are
 // always present; the other arrays are either empty or as long as positions.
-// load_mesh() triangulates, joins identical vertices, and generates smooth
-// normals where the file has none. Meshes are immutable once loaded and
+// load_mesh() triangulates, joins identical vertices, generates smooth
+// normals where the file has none, and tangents (tangents.hpp) where it has
+// texture coordinates but no tangents. Meshes are immutable once loaded and
 // shared between objects.
+//
+// A mesh file keeps its parts: each of its meshes (a glTF primitive, an OBJ
+// group per material) placed by its node is a MeshPart, a range of the
+// triangles with its own vertices, drawn with its own material. The file's
+// materials come along as ImportedMaterials (mesh_materials.cpp says how
+// each format's are mapped); a scene draws a part with its imported
+// material unless it names one (scene.hpp).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -22,17 +30,55 @@ struct Bounds {
     glm::vec3 max{0.0f};
 };
 
+// A material of a mesh file, as a facet material file would write it: a
+// YAML map with the keys of a material file (material.hpp), its texture
+// files relative to the mesh file's folder.
+struct ImportedMaterial {
+    std::string name;     // as the file names it ("" when it names none)
+    std::string yaml;
+    std::string notes;    // what the mapping left out, a line each, for a warning
+    std::string problem;  // why it cannot be used, or "": an error when a part is drawn with it
+};
+
+// One part of a mesh: triangles [first_index / 3, (first_index +
+// index_count) / 3), whose indices all lie in [first_vertex, first_vertex
+// + vertex_count) (they index the whole mesh's arrays).
+struct MeshPart {
+    std::string name;          // the file's name for the part, unique in the mesh
+    uint32_t first_index = 0;
+    uint32_t index_count = 0;
+    uint32_t first_vertex = 0;
+    uint32_t vertex_count = 0;
+    int material = -1;         // into Mesh::materials; -1: the file gives none
+    Bounds bounds;             // of its vertices
+
+    uint32_t triangle_count() const { return index_count / 3; }
+};
+
 struct Mesh {
     std::string source;                // file it came from, for messages
     std::vector<glm::vec3> positions;  // object space
     std::vector<glm::vec3> normals;    // unit length
     std::vector<glm::vec2> uvs;
     std::vector<glm::vec4> colors;     // linear RGBA
+    // Unit, perpendicular to the normal, pointing along +u; w = +1 or -1,
+    // the handedness: the bitangent (along +v as the texture is drawn, that
+    // is towards its top row) is cross(normal, tangent) * w, as glTF has it.
+    std::vector<glm::vec4> tangents;
     std::vector<uint32_t> indices;     // three per triangle
+    // Empty: the whole mesh is one part (whole_part()).
+    std::vector<MeshPart> parts;
+    std::vector<ImportedMaterial> materials;
     Bounds bounds;
 
     size_t vertex_count() const { return positions.size(); }
     size_t triangle_count() const { return indices.size() / 3; }
+    size_t part_count() const { return parts.empty() ? 1 : parts.size(); }
+    // Part i, or the whole mesh as one part when `parts` is empty.
+    MeshPart part(size_t i) const { return parts.empty() ? whole_part() : parts[i]; }
+    MeshPart whole_part() const;
+    // The index of the part named `name`, or -1.
+    int find_part(const std::string& name) const;
 };
 
 // How load_mesh() runs the importer.
@@ -59,7 +105,9 @@ enum class MeshImport {
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path,
                                       MeshImport how = MeshImport::isolated);
 
-// Checks the invariants above: array sizes, index range, finite positions.
+// Checks the invariants above: array sizes, index range, finite positions,
+// parts that tile the triangles in order and keep to their vertex ranges,
+// material indices in range.
 // Throws Error(mesh_invalid) naming the first problem.
 void validate_mesh(const Mesh& mesh);
 

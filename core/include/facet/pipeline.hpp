@@ -34,6 +34,7 @@
 namespace facet {
 
 struct Mesh;
+struct MeshPart;
 class ShaderPlugin;
 struct TextureBinding;
 class ThreadPool;  // core/src/base/thread_pool.hpp
@@ -104,9 +105,12 @@ struct PipelineState {
     glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
 };
 
-// One mesh, one shader, one set of matrices.
+// One mesh (or one part of it), one shader, one set of matrices.
 struct DrawCall {
     const Mesh* mesh = nullptr;
+    // The part drawn (its triangles, and only its vertices are shaded), or
+    // null: the whole mesh.
+    const MeshPart* part = nullptr;
     const ShaderPlugin* shader = nullptr;
     const void* params = nullptr;                // the shader's parameter block
     const TextureBinding* textures = nullptr;    // by texture slot

@@ -108,7 +108,7 @@ std::vector<std::string> choice_names(std::string_view choices);
 
 // The needs this host can serve; a plugin asking for others is refused.
 constexpr uint32_t kSupportedNeeds = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_COLORS |
-                                     FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
+                                     FACET_NEED_TANGENTS | FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
                                      FACET_NEED_SHADOW_MAP | FACET_NEED_AO |
                                      FACET_NEED_DERIVATIVES | FACET_NEED_BLENDING |
                                      FACET_NEED_DISCARD;

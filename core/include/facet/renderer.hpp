@@ -22,6 +22,20 @@
 
 namespace facet {
 
+// One part of a visible object, with the material it is drawn with: what
+// a frame's passes draw.
+struct DrawItem {
+    const Object* object = nullptr;
+    const MeshPart* part = nullptr;   // null: the whole mesh (it has no parts)
+    const Material* material = nullptr;
+    const Bounds* bounds = nullptr;   // the part's, object space
+    size_t order = 0;                 // position in the frame's list of items
+};
+
+// Appends the parts of `o` that can be drawn (visible, with a bound
+// material) to `items`.
+void add_draw_items(const Object& o, std::vector<DrawItem>& items);
+
 class Renderer {
 public:
     // A renderer on its own Pipeline(threads, isa).
@@ -58,16 +72,16 @@ private:
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                         FrameStats& stats);
 
-    struct BlendedObject {
-        const Object* object;
+    struct BlendedItem {
+        DrawItem item;
         float depth;   // view-space z of its bounds' centre
-        size_t order;  // position in the scene
     };
     struct Scratch {
         std::vector<facet_light> lights;
-        std::vector<BlendedObject> blended;
-        std::vector<const Object*> casters;  // every drawable object, for shadow maps
-        std::vector<const Object*> opaque;   // visible opaque objects, for the AO pre-pass
+        std::vector<DrawItem> items;         // every drawable part
+        std::vector<BlendedItem> blended;
+        std::vector<DrawItem> casters;       // every drawable part, for shadow maps
+        std::vector<DrawItem> opaque;        // visible opaque parts, for the AO pre-pass
     };
     struct Passes;  // shadow maps and AO buffers, kept between frames
 

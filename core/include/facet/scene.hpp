@@ -19,6 +19,9 @@
 //       - name: spot
 //         mesh: ../assets/spot/spot.obj   # relative to this file
 //         material: materials/spot.yaml   # a file, or an inline map like a material file
+//         materials:                      # per part (Mesh::parts), by the part's name
+//           visor: materials/glass.yaml   # or by the name of the file's material,
+//                                         # for every part drawn with it
 //         position: [0, 0, 0]
 //         rotation: [0, 30, 0]            # Euler degrees (X, then Y, then Z), or
 //                                         # {axis: [0, 1, 0], angle: 30}
@@ -121,12 +124,33 @@ struct PostPass {
     std::shared_ptr<const ParamBlock> block;
 };
 
+// A part's material as the scene loader found it (Object::material_of).
+struct PartMaterial {
+    std::shared_ptr<Material> material;  // null: the file has none for the part
+    bool from_scene = false;             // the scene's `materials:` names it for the part
+};
+
 struct Object {
     std::string name;
     std::shared_ptr<const Mesh> mesh;
     Transform transform;
+    // The scene's material for the whole object (`material:`), or null.
     std::shared_ptr<Material> material;
     bool visible = true;
+    // Per part of the mesh, in its order: the scene's material for the part,
+    // or the file's own (ImportedMaterial, bound). Empty: no part has one.
+    std::vector<PartMaterial> part_materials = {};
+
+    // The material part i is drawn with: the scene's for the part, else the
+    // scene's for the object, else the file's; null if there is none.
+    Material* material_of(size_t part) const;
+    // Every material the object's parts are drawn with, each once.
+    std::vector<Material*> materials() const;
+    // Draws every part with `m`, forgetting the parts' own materials.
+    void use_material(std::shared_ptr<Material> m) {
+        material = std::move(m);
+        part_materials.clear();
+    }
 };
 
 struct Scene {
@@ -140,6 +164,9 @@ struct Scene {
     // The material files the objects use, by canonical path; objects naming
     // the same file share one Material.
     std::map<std::filesystem::path, std::shared_ptr<Material>> material_files;
+
+    // Every material any object is drawn with, each once, in object order.
+    std::vector<Material*> materials() const;
 };
 
 // Parses a scene file, loads its meshes, materials and textures, and finds

@@ -323,6 +323,31 @@ std::shared_ptr<Material> material_from_yaml(const yaml::Context& ctx, const YAM
     return material;
 }
 
+std::shared_ptr<Material> imported_material(const ImportedMaterial& imported,
+                                            const std::string& source,
+                                            const std::filesystem::path& folder,
+                                            PluginRegistry& registry, TextureCache& cache) {
+    const yaml::Context ctx{source};
+    YAML::Node node;
+    try {
+        node = YAML::Load(imported.yaml);
+        auto material = std::make_shared<Material>(parse_material(ctx, node, folder, source));
+        for (MaterialParam& p : material->params) p.line = p.column = 0;
+        std::shared_ptr<ShaderPlugin> plugin;
+        try {
+            plugin = registry.get(material->shader);
+        } catch (const Error& e) {
+            throw Error(e.code(), e.detail(), source);
+        }
+        bind(*material, std::move(plugin), cache);
+        return material;
+    } catch (const YAML::Exception& e) {  // facet's own YAML: a bug, said as one
+        throw Error(ErrorCode::config_invalid, "facet mapped it to YAML it cannot read (" +
+                                                   std::string(e.what()) + "):\n" + imported.yaml,
+                    source);
+    }
+}
+
 std::shared_ptr<Material> load_material(const std::filesystem::path& path, PluginRegistry& registry,
                                         TextureCache& cache) {
     const yaml::Context ctx{path.string()};

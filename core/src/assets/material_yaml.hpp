@@ -3,6 +3,7 @@
 #pragma once
 
 #include "facet/material.hpp"
+#include "facet/mesh.hpp"
 #include "assets/yaml_util.hpp"
 
 #include <filesystem>
@@ -24,5 +25,14 @@ std::shared_ptr<Material> material_from_yaml(const yaml::Context& ctx, const YAM
                                              const std::filesystem::path& folder,
                                              std::string source, PluginRegistry& registry,
                                              TextureCache& cache);
+
+// A mesh file's material (ImportedMaterial::yaml), bound. Its texture
+// files resolve against `folder`, the mesh file's; `source` (the mesh file
+// and the material's name) is what errors name, with no line: the YAML is
+// facet's, not the user's.
+std::shared_ptr<Material> imported_material(const ImportedMaterial& material,
+                                            const std::string& source,
+                                            const std::filesystem::path& folder,
+                                            PluginRegistry& registry, TextureCache& cache);
 
 }  // namespace facet

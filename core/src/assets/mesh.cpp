@@ -1,10 +1,12 @@
 // Mesh loading: assimp's scene graph flattened into one indexed triangle
-// mesh in the file's root space.
+// mesh in the file's root space, a part per mesh placed by a node.
 #include "facet/mesh.hpp"
 
 #include "facet/error.hpp"
 #include "facet/math.hpp"
 #include "assets/mesh_import.hpp"
+#include "assets/mesh_materials.hpp"
+#include "assets/tangents.hpp"
 #include "assets/off_check.hpp"
 #include "assets/ply_check.hpp"
 #include "base/files.hpp"
@@ -85,26 +87,80 @@ void append_vertices(const aiMesh& src, const glm::mat4& model, Layout layout, M
 }
 
 // A mirroring transform turns the winding around; `flip` turns it back.
-void append_triangles(const aiMesh& src, uint32_t base, bool flip, Mesh& out) {
+void append_triangles(const aiMesh& src, bool flip, Mesh& out) {
     for (unsigned f = 0; f < src.mNumFaces; ++f) {
         const aiFace& face = src.mFaces[f];
         if (face.mNumIndices != 3) continue;
-        out.indices.push_back(base + face.mIndices[0]);
-        out.indices.push_back(base + face.mIndices[flip ? 2 : 1]);
-        out.indices.push_back(base + face.mIndices[flip ? 1 : 2]);
+        out.indices.push_back(face.mIndices[0]);
+        out.indices.push_back(face.mIndices[flip ? 2 : 1]);
+        out.indices.push_back(face.mIndices[flip ? 1 : 2]);
     }
+}
+
+// The file's own tangents, in root space; w from its bitangents (assimp
+// gives glTF's cross(normal, tangent) * w), so a mirroring node keeps it right.
+void file_tangents(const aiMesh& src, const glm::mat4& model, Mesh& part) {
+    const glm::mat3 m(model);
+    for (unsigned i = 0; i < src.mNumVertices; ++i) {
+        const glm::vec3 n = part.normals[i];
+        const aiVector3D& t = src.mTangents[i];
+        const aiVector3D& b = src.mBitangents[i];
+        glm::vec3 tangent = m * glm::vec3(t.x, t.y, t.z);
+        tangent -= n * glm::dot(n, tangent);
+        const float length = glm::length(tangent);
+        tangent = std::isfinite(length) && length > 0.0f ? tangent / length
+                                                         : glm::vec3(1.0f, 0.0f, 0.0f);
+        const glm::vec3 bitangent = m * glm::vec3(b.x, b.y, b.z);
+        part.tangents.emplace_back(tangent,
+                                   glm::dot(glm::cross(n, tangent), bitangent) < 0.0f ? -1.0f : 1.0f);
+    }
+}
+
+// A part's name: the mesh's, else its node's, else "part N"; made unique
+// with "#2", "#3", ...
+std::string part_name(const aiMesh& src, const aiNode& node, const Mesh& out) {
+    std::string name = src.mName.C_Str();
+    if (name.empty()) name = node.mName.C_Str();
+    if (name.empty()) name = "part " + std::to_string(out.parts.size());
+    const std::string base = name;
+    for (int k = 2; out.find_part(name) >= 0; ++k) name = base + "#" + std::to_string(k);
+    return name;
+}
+
+// One aiMesh placed by a node: a part of its own, with tangents where it
+// has texture coordinates.
+void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, Layout layout,
+                 Mesh& out) {
+    Mesh part;
+    append_vertices(src, model, layout, part);
+    append_triangles(src, glm::determinant(glm::mat3(model)) < 0.0f, part);
+    if (layout.uvs) {
+        if (src.HasTangentsAndBitangents()) file_tangents(src, model, part);
+        else generate_tangents(part);
+    }
+    MeshPart p;
+    p.name = part_name(src, node, out);
+    p.first_index = uint32_t(out.indices.size());
+    p.index_count = uint32_t(part.indices.size());
+    p.first_vertex = uint32_t(out.positions.size());
+    p.vertex_count = uint32_t(part.positions.size());
+    p.material = int(src.mMaterialIndex);
+    const auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    append(out.positions, part.positions);
+    append(out.normals, part.normals);
+    append(out.uvs, part.uvs);
+    append(out.colors, part.colors);
+    append(out.tangents, part.tangents);
+    for (uint32_t i : part.indices) out.indices.push_back(p.first_vertex + i);
+    out.parts.push_back(std::move(p));
 }
 
 void append_node(const aiScene& scene, const aiNode& node, const glm::mat4& parent, Layout layout,
                  Mesh& out) {
     const glm::mat4 model = parent * to_glm(node.mTransformation);
-    const bool flip = glm::determinant(glm::mat3(model)) < 0.0f;
     for (unsigned i = 0; i < node.mNumMeshes; ++i) {
         const aiMesh& src = *scene.mMeshes[node.mMeshes[i]];
-        if (!is_triangles(src)) continue;
-        const auto base = static_cast<uint32_t>(out.positions.size());
-        append_vertices(src, model, layout, out);
-        append_triangles(src, base, flip, out);
+        if (is_triangles(src) && src.mNumFaces > 0) append_part(src, node, model, layout, out);
     }
     for (unsigned i = 0; i < node.mNumChildren; ++i)
         append_node(scene, *node.mChildren[i], model, layout, out);
@@ -124,6 +180,28 @@ void check_attribute(const Mesh& mesh, size_t size, const char* name) {
                                 std::to_string(mesh.vertex_count()) + " vertices");
 }
 
+// Parts tile the triangles in order, each within its vertex range.
+void validate_parts(const Mesh& mesh) {
+    uint64_t next = 0;
+    for (const MeshPart& p : mesh.parts) {
+        const std::string which = "part '" + p.name + "'";
+        if (p.first_index != next || p.index_count % 3 != 0 ||
+            uint64_t(p.first_index) + p.index_count > mesh.indices.size())
+            throw invalid(mesh, which + " does not follow the one before it with whole triangles");
+        if (uint64_t(p.first_vertex) + p.vertex_count > mesh.vertex_count())
+            throw invalid(mesh, which + "'s vertices lie past the mesh's");
+        for (uint32_t i = p.first_index; i < p.first_index + p.index_count; ++i)
+            if (mesh.indices[i] < p.first_vertex || mesh.indices[i] - p.first_vertex >= p.vertex_count)
+                throw invalid(mesh, which + " uses vertex " + std::to_string(mesh.indices[i]) +
+                                        ", outside its own");
+        if (p.material < -1 || p.material >= int(mesh.materials.size()))
+            throw invalid(mesh, which + " names material " + std::to_string(p.material) + " of " +
+                                    std::to_string(mesh.materials.size()));
+        next = uint64_t(p.first_index) + p.index_count;
+    }
+    if (!mesh.parts.empty() && next != mesh.indices.size())
+        throw invalid(mesh, "its parts leave triangles out");
+}
 
 // The importer proper: assimp, flattened into one mesh. Unguarded.
 Mesh import_mesh(const std::filesystem::path& path) {
@@ -141,6 +219,15 @@ Mesh import_mesh(const std::filesystem::path& path) {
     Mesh mesh;
     mesh.source = path.string();
     append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), mesh);
+    const bool gltf = is_gltf(path);
+    for (unsigned i = 0; i < scene->mNumMaterials; ++i)
+        mesh.materials.push_back(import_material(*scene, *scene->mMaterials[i], gltf));
+    // assimp gives parts of a file without materials (an OBJ without .mtl)
+    // one of its own; glTF's default material is the format's, and kept.
+    if (!gltf)
+        for (MeshPart& p : mesh.parts)
+            if (p.material >= 0 && mesh.materials[size_t(p.material)].name == AI_DEFAULT_MATERIAL_NAME)
+                p.material = -1;
     return mesh;
 }
 
@@ -165,13 +252,48 @@ void get_array(std::string_view& in, std::vector<T>& v) {
     in.remove_prefix(n * sizeof(T));
 }
 
+void put_string(std::string& out, const std::string& s) {
+    put_array(out, std::vector<char>(s.begin(), s.end()));
+}
+
+std::string get_string(std::string_view& in) {
+    std::vector<char> chars;
+    get_array(in, chars);
+    return {chars.begin(), chars.end()};
+}
+
+template <typename T>
+void put_value(std::string& out, T v) {
+    out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+template <typename T>
+T get_value(std::string_view& in) {
+    T v;
+    if (in.size() < sizeof v) throw std::length_error("a truncated mesh");
+    std::memcpy(&v, in.data(), sizeof v);
+    in.remove_prefix(sizeof v);
+    return v;
+}
+
 std::string to_bytes(const Mesh& m) {
     std::string out;
     put_array(out, m.positions);
     put_array(out, m.normals);
     put_array(out, m.uvs);
     put_array(out, m.colors);
+    put_array(out, m.tangents);
     put_array(out, m.indices);
+    put_value(out, uint64_t(m.parts.size()));
+    for (const MeshPart& p : m.parts) {
+        put_string(out, p.name);
+        for (uint32_t v : {p.first_index, p.index_count, p.first_vertex, p.vertex_count})
+            put_value(out, v);
+        put_value(out, int32_t(p.material));
+    }
+    put_value(out, uint64_t(m.materials.size()));
+    for (const ImportedMaterial& im : m.materials)
+        for (const std::string* s : {&im.name, &im.yaml, &im.notes, &im.problem}) put_string(out, *s);
     return out;
 }
 
@@ -180,7 +302,23 @@ void from_bytes(std::string_view in, Mesh& m) {
     get_array(in, m.normals);
     get_array(in, m.uvs);
     get_array(in, m.colors);
+    get_array(in, m.tangents);
     get_array(in, m.indices);
+    const auto parts = get_value<uint64_t>(in);
+    if (parts > in.size()) throw std::length_error("a truncated mesh");
+    for (uint64_t i = 0; i < parts; ++i) {
+        MeshPart& p = m.parts.emplace_back();
+        p.name = get_string(in);
+        for (uint32_t* v : {&p.first_index, &p.index_count, &p.first_vertex, &p.vertex_count})
+            *v = get_value<uint32_t>(in);
+        p.material = get_value<int32_t>(in);
+    }
+    const auto materials = get_value<uint64_t>(in);
+    if (materials > in.size()) throw std::length_error("a truncated mesh");
+    for (uint64_t i = 0; i < materials; ++i) {
+        ImportedMaterial& im = m.materials.emplace_back();
+        for (std::string* s : {&im.name, &im.yaml, &im.notes, &im.problem}) *s = get_string(in);
+    }
 }
 
 // 30 s, and 1 s more per MiB: assimp reads tens of MiB a second.
@@ -245,10 +383,32 @@ std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImp
                                                                     : import_mesh(path));
     validate_mesh(*mesh);
     mesh->bounds = compute_bounds(mesh->positions);
-    spdlog::debug("mesh {}: {} vertices, {} triangles{}{}", mesh->source, mesh->vertex_count(),
-                 mesh->triangle_count(), mesh->uvs.empty() ? "" : ", uvs",
-                 mesh->colors.empty() ? "" : ", colours");
+    for (MeshPart& p : mesh->parts)
+        p.bounds = compute_bounds({mesh->positions.begin() + p.first_vertex,
+                                   mesh->positions.begin() + p.first_vertex + p.vertex_count});
+    spdlog::debug("mesh {}: {} vertices, {} triangles{}{}{}, {} parts", mesh->source,
+                  mesh->vertex_count(), mesh->triangle_count(), mesh->uvs.empty() ? "" : ", uvs",
+                  mesh->colors.empty() ? "" : ", colours",
+                  mesh->tangents.empty() ? "" : ", tangents", mesh->part_count());
+    for (const MeshPart& p : mesh->parts)
+        spdlog::debug("  part '{}': {} triangles, material '{}'", p.name, p.triangle_count(),
+                      p.material >= 0 ? mesh->materials[size_t(p.material)].name : "");
     return mesh;
+}
+
+MeshPart Mesh::whole_part() const {
+    MeshPart p;
+    p.name = "whole";
+    p.index_count = uint32_t(indices.size());
+    p.vertex_count = uint32_t(positions.size());
+    p.bounds = bounds;
+    return p;
+}
+
+int Mesh::find_part(const std::string& name) const {
+    for (size_t i = 0; i < parts.size(); ++i)
+        if (parts[i].name == name) return int(i);
+    return -1;
 }
 
 void validate_mesh(const Mesh& mesh) {
@@ -260,6 +420,7 @@ void validate_mesh(const Mesh& mesh) {
     check_attribute(mesh, mesh.normals.size(), "normals");
     check_attribute(mesh, mesh.uvs.size(), "uvs");
     check_attribute(mesh, mesh.colors.size(), "colours");
+    check_attribute(mesh, mesh.tangents.size(), "tangents");
     for (size_t i = 0; i < mesh.positions.size(); ++i)
         if (!is_finite(mesh.positions[i]))
             throw invalid(mesh, "vertex " + std::to_string(i) + " has a non-finite position");
@@ -268,6 +429,7 @@ void validate_mesh(const Mesh& mesh) {
             throw invalid(mesh, "triangle " + std::to_string(i / 3) + " uses vertex " +
                                     std::to_string(mesh.indices[i]) + " of " +
                                     std::to_string(mesh.vertex_count()));
+    validate_parts(mesh);
 }
 
 Bounds compute_bounds(const std::vector<glm::vec3>& positions) {

@@ -11,6 +11,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -26,6 +27,31 @@ glm::mat4 Camera::projection(float aspect, bool reversed_z) const {
 }
 
 fs::path default_scene_path() { return data_dir() / "configs" / "default.yaml"; }
+
+Material* Object::material_of(size_t part) const {
+    if (part < part_materials.size()) {
+        const PartMaterial& p = part_materials[part];
+        if (p.from_scene || (!material && p.material)) return p.material.get();
+    }
+    return material.get();
+}
+
+std::vector<Material*> Object::materials() const {
+    std::vector<Material*> out;
+    const size_t parts = mesh ? mesh->part_count() : 1;
+    for (size_t i = 0; i < parts; ++i)
+        if (Material* m = material_of(i); m && std::find(out.begin(), out.end(), m) == out.end())
+            out.push_back(m);
+    return out;
+}
+
+std::vector<Material*> Scene::materials() const {
+    std::vector<Material*> out;
+    for (const Object& o : objects)
+        for (Material* m : o.materials())
+            if (std::find(out.begin(), out.end(), m) == out.end()) out.push_back(m);
+    return out;
+}
 
 namespace {
 
@@ -296,6 +322,24 @@ public:
         return slot;
     }
 
+    // The file's material `index` of `mesh`, bound; shared by every object
+    // drawing `mesh`. Errors name the mesh file and the material.
+    std::shared_ptr<Material> imported(const Mesh& mesh, int index) {
+        std::shared_ptr<Material>& slot = imported_[{mesh.source, index}];
+        if (!slot) {
+            const ImportedMaterial& im = mesh.materials[size_t(index)];
+            const std::string source = mesh.source + ": material '" + im.name + "'";
+            if (!im.problem.empty())
+                throw Error(ErrorCode::config_invalid, im.problem, source);
+            slot = imported_material(im, source, fs::path(mesh.source).parent_path(), registry_,
+                                     textures_);
+            std::string notes = im.notes;
+            for (size_t end; (end = notes.find('\n')) != std::string::npos; notes.erase(0, end + 1))
+                spdlog::warn("{}: {}", source, notes.substr(0, end));
+        }
+        return slot;
+    }
+
     void add_plugin_path(const YAML::Node& value, Scene& scene) {
         const fs::path folder = fs::absolute(resolve(value)).lexically_normal();
         std::error_code ec;
@@ -332,6 +376,7 @@ private:
     TextureCache textures_;
     std::map<std::string, std::shared_ptr<const Mesh>> meshes_;
     std::map<std::string, std::shared_ptr<Material>> materials_;
+    std::map<std::pair<std::string, int>, std::shared_ptr<Material>> imported_;
 };
 
 // Whether any triangle of `mesh`, moved to world space by `model` in float
@@ -350,15 +395,75 @@ bool any_triangle_survives(const Mesh& mesh, const glm::mat4& model) {
     return false;
 }
 
+std::string quoted_list(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+    return out.empty() ? "none" : out;
+}
+
+// The scene's `materials:` map: each key names a part of the mesh, or a
+// material of its file (then every part drawn with it).
+void read_part_materials(Loader& loader, const YAML::Node& map, Object& o) {
+    const yaml::Context& ctx = loader.ctx;
+    yaml::check_map(ctx, map, "materials");
+    const Mesh& mesh = *o.mesh;
+    for (const auto& entry : map) {
+        const std::string key = entry.first.Scalar();
+        std::vector<size_t> parts;
+        if (const int p = mesh.find_part(key); p >= 0) {
+            parts.push_back(size_t(p));
+        } else {
+            for (size_t i = 0; i < mesh.parts.size(); ++i) {
+                const int m = mesh.parts[i].material;
+                if (m >= 0 && mesh.materials[size_t(m)].name == key) parts.push_back(i);
+            }
+        }
+        if (parts.empty()) {
+            std::vector<std::string> part_names, material_names;
+            for (const MeshPart& p : mesh.parts) part_names.push_back(p.name);
+            for (const ImportedMaterial& m : mesh.materials) material_names.push_back(m.name);
+            throw yaml::error(ctx, entry.first, ErrorCode::config_invalid,
+                              "'" + key + "' names no part and no material of " + mesh.source +
+                                  "; its parts: " + quoted_list(part_names) +
+                                  "; its materials: " + quoted_list(material_names));
+        }
+        const std::shared_ptr<Material> material = loader.material(entry.second);
+        for (size_t i : parts) o.part_materials[i] = {material, true};
+    }
+}
+
+// Each part's material: the scene's for it, or else (without a material
+// for the whole object) the file's. Every part must end with one.
+void resolve_materials(Loader& loader, const YAML::Node& node, Object& o) {
+    const yaml::Context& ctx = loader.ctx;
+    const Mesh& mesh = *o.mesh;
+    o.part_materials.assign(mesh.part_count(), {});
+    if (const YAML::Node material = node["material"]) o.material = loader.material(material);
+    if (const YAML::Node map = node["materials"]) read_part_materials(loader, map, o);
+    for (size_t i = 0; i < mesh.part_count(); ++i) {
+        PartMaterial& p = o.part_materials[i];
+        if (p.from_scene || o.material) continue;
+        const int imported = i < mesh.parts.size() ? mesh.parts[i].material : -1;
+        if (imported < 0)
+            throw yaml::error(ctx, node, ErrorCode::missing_key,
+                              "object '" + o.name + "': part '" + mesh.part(i).name + "' of " +
+                                  mesh.source + " has no material in its file; name one with "
+                                  "material: (for the whole object) or materials: (per part)");
+        p.material = relocate_errors(ctx, yaml::require(ctx, node, "mesh"),
+                                     [&] { return loader.imported(mesh, imported); });
+    }
+}
+
 Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
     const yaml::Context& ctx = loader.ctx;
     yaml::check_map(ctx, node, "object",
-                    {"name", "mesh", "material", "position", "rotation", "scale", "visible"});
+                    {"name", "mesh", "material", "materials", "position", "rotation", "scale",
+                     "visible"});
     Object o;
     o.name = "object " + std::to_string(index);
     yaml::read(ctx, node, "name", o.name);
     o.mesh = loader.mesh(yaml::require(ctx, node, "mesh"));
-    o.material = loader.material(yaml::require(ctx, node, "material"));
+    resolve_materials(loader, node, o);
     yaml::read(ctx, node, "position", o.transform.translation);
     if (const YAML::Node rotation = node["rotation"])
         o.transform.rotation = read_rotation(ctx, rotation);

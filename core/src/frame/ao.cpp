@@ -44,7 +44,7 @@ void AoPass::make_directions(int samples) {
     direction_samples_ = samples;
 }
 
-void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& view,
+void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
                  const glm::mat4& proj, const RenderSettings& settings, Pipeline& pipeline,
                  FrameStats& stats) {
     const int width = settings.width, height = settings.height;
@@ -63,13 +63,14 @@ void AoPass::run(const std::vector<const Object*>& objects, const glm::mat4& vie
     call.state.depth_compare = reversed_z ? DepthCompare::greater : DepthCompare::less;
     call.state.color_write = false;
     FrameStats pass;
-    for (const Object* o : objects) {
-        call.mesh = o->mesh.get();
-        call.model = o->transform.matrix();
+    for (const DrawItem& d : items) {
+        call.mesh = d.object->mesh.get();
+        call.part = d.part;
+        call.model = d.object->transform.matrix();
         // The faces the main pass draws, and only those: the surfaces the camera
         // sees; a cutout's own shader runs (with no lights) to discard what its
         // alpha cuts away.
-        const Material& m = *o->material;
+        const Material& m = *d.material;
         call.state.cull = m.cull.value_or(settings.cull);
         call.shader = m.discards ? m.plugin.get() : &internal::plugin<internal::DepthOnly>();
         call.params = m.discards ? m.block->bytes : nullptr;

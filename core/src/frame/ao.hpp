@@ -1,6 +1,6 @@
 // Screen-space ambient occlusion.
 //
-// Takes: the visible opaque objects, the camera's view and projection, the
+// Takes: the visible opaque parts (DrawItem), the camera's view and projection, the
 // target size, and the AO radius, sample count and resolution.
 // Gives: a target-sized buffer of ambient visibility, 1 where nothing
 // occludes.
@@ -31,6 +31,7 @@
 
 #include "facet/framebuffer.hpp"
 #include "facet/pipeline.hpp"
+#include "facet/renderer.hpp"
 #include "facet/scene.hpp"
 
 #include <vector>
@@ -42,7 +43,7 @@ public:
     // Runs the pre-pass (timed into stats.ms_prepass) and the AO, blur and
     // upsample (stats.ms_ao) for a target of the settings' size and depth
     // range, with their ao_radius, ao_samples and ao_resolution.
-    void run(const std::vector<const Object*>& objects, const glm::mat4& view,
+    void run(const std::vector<DrawItem>& items, const glm::mat4& view,
              const glm::mat4& proj, const RenderSettings& settings, Pipeline& pipeline,
              FrameStats& stats);
 

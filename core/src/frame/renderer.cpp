@@ -21,9 +21,9 @@ namespace facet {
 
 namespace {
 
-float view_depth(const Object& o, const glm::mat4& view) {
-    const glm::vec3 centre = 0.5f * (o.mesh->bounds.min + o.mesh->bounds.max);
-    return (view * o.transform.matrix() * glm::vec4(centre, 1.0f)).z;
+float view_depth(const DrawItem& d, const glm::mat4& view) {
+    const glm::vec3 centre = 0.5f * (d.bounds->min + d.bounds->max);
+    return (view * d.object->transform.matrix() * glm::vec4(centre, 1.0f)).z;
 }
 
 PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
@@ -50,11 +50,18 @@ bool in_depth_prepass(const PipelineState& p) {
             p.depth_compare == DepthCompare::greater_equal);
 }
 
-bool drawable(const Object& o) {
-    return o.visible && o.mesh && o.material && o.material->plugin;
-}
-
 }  // namespace
+
+void add_draw_items(const Object& o, std::vector<DrawItem>& items) {
+    if (!o.visible || !o.mesh) return;
+    const Mesh& mesh = *o.mesh;
+    for (size_t i = 0; i < mesh.part_count(); ++i) {
+        const Material* m = o.material_of(i);
+        if (!m || !m->plugin) continue;
+        const MeshPart* part = mesh.parts.empty() ? nullptr : &mesh.parts[i];
+        items.push_back({&o, part, m, part ? &part->bounds : &mesh.bounds, items.size()});
+    }
+}
 
 struct Renderer::Passes {
     ShadowMaps shadow;
@@ -119,24 +126,35 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     FrameStats stats;
     bool needs_ao = false;
     bool needs_shadow = false;
+    scratch_.items.clear();
     scratch_.blended.clear();
     scratch_.casters.clear();
     scratch_.opaque.clear();
     for (const Object& o : scene.objects) {
-        if (!drawable(o)) continue;
-        scratch_.casters.push_back(&o);
+        const size_t first = scratch_.items.size();
+        add_draw_items(o, scratch_.items);
+        if (scratch_.items.size() == first) continue;
         ++stats.objects;
         if (outside_frustum(o.mesh->bounds, call.projection * call.view * o.transform.matrix())) {
             ++stats.objects_culled;
+            scratch_.casters.insert(scratch_.casters.end(), scratch_.items.begin() + first,
+                                    scratch_.items.end());
             continue;
         }
-        const Material& m = *o.material;
-        stats.shadows_needed |= m.uses_shadows;
-        stats.ao_needed |= m.uses_ao;
-        needs_shadow |= s.shadows && m.uses_shadows;
-        needs_ao |= s.ao && m.uses_ao;
-        if (o.material->blend == BlendMode::opaque) scratch_.opaque.push_back(&o);
-        else scratch_.blended.push_back({&o, 0.0f, scratch_.blended.size()});
+        for (size_t i = first; i < scratch_.items.size(); ++i) {
+            const DrawItem& d = scratch_.items[i];
+            scratch_.casters.push_back(d);
+            if (d.part && outside_frustum(*d.bounds, call.projection * call.view *
+                                                         o.transform.matrix()))
+                continue;
+            const Material& m = *d.material;
+            stats.shadows_needed |= m.uses_shadows;
+            stats.ao_needed |= m.uses_ao;
+            needs_shadow |= s.shadows && m.uses_shadows;
+            needs_ao |= s.ao && m.uses_ao;
+            if (m.blend == BlendMode::opaque) scratch_.opaque.push_back(d);
+            else scratch_.blended.push_back({d, 0.0f});
+        }
     }
     if (needs_shadow) {
         const auto t = std::chrono::steady_clock::now();
@@ -174,14 +192,15 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
                               FrameStats& stats) {
     // Queued, and rasterized together at the end: the scene (and so each
     // material's plugin, block and textures) outlives the pass.
-    auto draw_object = [&](const Object& o, bool prepass, FrameStats& counts) {
-        const Material& m = *o.material;
-        call.mesh = o.mesh.get();
+    auto draw_item = [&](const DrawItem& d, bool prepass, FrameStats& counts) {
+        const Material& m = *d.material;
+        call.mesh = d.object->mesh.get();
+        call.part = d.part;
         call.shader = m.plugin.get();
         call.params = m.block ? m.block->bytes : nullptr;
         call.textures = m.textures.data();
         call.texture_count = int(m.textures.size());
-        call.model = o.transform.matrix();
+        call.model = d.object->transform.matrix();
         call.may_discard = m.discards;
         call.state = pipeline_state(m, scene.settings);
         if (scene.settings.depth_prepass && in_depth_prepass(call.state)) {
@@ -199,20 +218,20 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
     if (scene.settings.depth_prepass) {
         const auto start = std::chrono::steady_clock::now();
         FrameStats prepass;  // the main pass's statistics count the main pass only
-        for (const Object* o : scratch_.opaque) draw_object(*o, true, prepass);
+        for (const DrawItem& d : scratch_.opaque) draw_item(d, true, prepass);
         pipeline_.flush(prepass);
         stats.fragments_depth_only += prepass.fragments_depth_only;
         stats.depth_prepasses += 1;
         stats.ms_prepass += elapsed_ms(start);
     }
     const auto start = std::chrono::steady_clock::now();
-    for (const Object* o : scratch_.opaque) draw_object(*o, false, stats);
-    for (BlendedObject& b : scratch_.blended) b.depth = view_depth(*b.object, call.view);
+    for (const DrawItem& d : scratch_.opaque) draw_item(d, false, stats);
+    for (BlendedItem& b : scratch_.blended) b.depth = view_depth(b.item, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
-              [](const BlendedObject& a, const BlendedObject& b) {
-                  return a.depth < b.depth || (a.depth == b.depth && a.order < b.order);
+              [](const BlendedItem& a, const BlendedItem& b) {
+                  return a.depth < b.depth || (a.depth == b.depth && a.item.order < b.item.order);
               });
-    for (const BlendedObject& b : scratch_.blended) draw_object(*b.object, false, stats);
+    for (const BlendedItem& b : scratch_.blended) draw_item(b.item, false, stats);
     pipeline_.flush(stats);
     stats.ms_main += elapsed_ms(start);
 }

@@ -19,11 +19,11 @@ namespace facet {
 namespace {
 
 // World-space corners of the casters' bounds, into `out`.
-void caster_corners(const std::vector<const Object*>& casters, std::vector<glm::vec3>& out) {
+void caster_corners(const std::vector<DrawItem>& casters, std::vector<glm::vec3>& out) {
     out.clear();
-    for (const Object* o : casters) {
-        const glm::mat4 m = o->transform.matrix();
-        const Bounds& b = o->mesh->bounds;
+    for (const DrawItem& d : casters) {
+        const glm::mat4 m = d.object->transform.matrix();
+        const Bounds& b = *d.bounds;
         for (int i = 0; i < 8; ++i)
             out.push_back(glm::vec3(m * glm::vec4(i & 1 ? b.max.x : b.min.x,
                                                   i & 2 ? b.max.y : b.min.y,
@@ -113,16 +113,16 @@ void spot(const Light& light, const std::vector<glm::vec3>& casters, int size,
 
 // The key of a map seen through view_projection: the casters it can see.
 // Returns how many it cannot.
-uint64_t make_key(const std::vector<const Object*>& casters, const glm::mat4& view_projection,
+uint64_t make_key(const std::vector<DrawItem>& casters, const glm::mat4& view_projection,
                   int size, ShadowMapKey& key) {
     key.size = size;
     key.view_projection = view_projection;
     key.casters.clear();
-    for (const Object* o : casters) {
-        const glm::mat4 model = o->transform.matrix();
-        if (outside_frustum(o->mesh->bounds, view_projection * model)) continue;
-        const Material& m = *o->material;
-        key.casters.push_back({o->mesh, model, m.discards ? &m : nullptr,
+    for (const DrawItem& d : casters) {
+        const glm::mat4 model = d.object->transform.matrix();
+        if (outside_frustum(*d.bounds, view_projection * model)) continue;
+        const Material& m = *d.material;
+        key.casters.push_back({d.object->mesh, d.part, model, m.discards ? &m : nullptr,
                                m.discards ? m.block : nullptr});
     }
     return casters.size() - key.casters.size();
@@ -141,6 +141,7 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
     FrameStats stats;  // the main pass's statistics count the main pass only
     for (const ShadowMapKey::Caster& c : key.casters) {
         call.mesh = c.mesh.get();
+        call.part = c.part;
         call.model = c.model;
         call.shader = c.cutout ? c.cutout->plugin.get() : &internal::plugin<internal::DepthOnly>();
         call.params = c.cutout ? c.params->bytes : nullptr;
@@ -208,7 +209,7 @@ void cube_face(const Light& light, const std::vector<glm::vec3>& casters, int fa
 
 }  // namespace
 
-void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
+void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters,
                         Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats) {
     caster_corners(casters, maps.corners);
     const float aspect = float(scene.settings.width) / float(scene.settings.height);

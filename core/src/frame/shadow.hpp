@@ -16,6 +16,7 @@
 
 #include "facet/framebuffer.hpp"
 #include "facet/pipeline.hpp"
+#include "facet/renderer.hpp"
 #include "facet/scene.hpp"
 
 #include <facet/shader_abi.h>
@@ -33,11 +34,12 @@ namespace facet {
 struct ShadowMapKey {
     struct Caster {
         std::shared_ptr<const Mesh> mesh;
+        const MeshPart* part = nullptr;    // of mesh, or null: all of it
         glm::mat4 model;
         const Material* cutout = nullptr;  // the material, if it discards
         std::shared_ptr<const ParamBlock> params;  // cutout: its parameters
         bool operator==(const Caster& o) const {
-            return mesh == o.mesh && model == o.model && cutout == o.cutout && params == o.params;
+            return mesh == o.mesh && part == o.part && model == o.model && cutout == o.cutout && params == o.params;
         }
     };
     int size = 0;
@@ -72,7 +74,7 @@ struct ShadowMaps {
 // stats.shadow_passes counts the maps drawn, shadow_maps_reused those kept
 // from an earlier frame, and shadow_casters_culled the casters a drawn map
 // left out.
-void render_shadow_maps(const Scene& scene, const std::vector<const Object*>& casters,
+void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters,
                         Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats);
 
 }  // namespace facet

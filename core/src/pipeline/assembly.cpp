@@ -50,8 +50,8 @@ CullState cull_state(const PipelineState& s) {
 void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
     for (size_t t = 0; t < triangles; ++t, idx += 3) {
         ++chunk.stats.triangles_in;
-        const WindowVertex* w[3] = {&draw_.window[idx[0]], &draw_.window[idx[1]],
-                                    &draw_.window[idx[2]]};
+        const uint32_t i[3] = {idx[0] - first_vertex_, idx[1] - first_vertex_, idx[2] - first_vertex_};
+        const WindowVertex* w[3] = {&draw_.window[i[0]], &draw_.window[i[1]], &draw_.window[i[2]]};
         const uint32_t any = w[0]->user | w[1]->user | w[2]->user;
         if (any & kInvalid) {
             ++chunk.stats.triangles_invalid;
@@ -62,13 +62,13 @@ void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) co
             continue;
         }
         const float* varyings[3];
-        for (int i = 0; i < 3; ++i)
-            varyings[i] = draw_.varyings.data() + size_t(idx[i]) * dc_.varying_floats;
+        for (int k = 0; k < 3; ++k)
+            varyings[k] = draw_.varyings.data() + size_t(i[k]) * dc_.varying_floats;
         SetupResult r;
         if (const uint32_t planes = band_code(any)) {
-            const SetupVertex v[3] = {{glm::dvec4(draw_.clip[idx[0]]), varyings[0]},
-                                      {glm::dvec4(draw_.clip[idx[1]]), varyings[1]},
-                                      {glm::dvec4(draw_.clip[idx[2]]), varyings[2]}};
+            const SetupVertex v[3] = {{glm::dvec4(draw_.clip[i[0]]), varyings[0]},
+                                      {glm::dvec4(draw_.clip[i[1]]), varyings[1]},
+                                      {glm::dvec4(draw_.clip[i[2]]), varyings[2]}};
             r = clipped(v, planes, chunk);
             if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
         } else if (any & kNoWindow) {

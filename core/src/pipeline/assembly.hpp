@@ -23,11 +23,14 @@ CullState cull_state(const PipelineState& s);
 
 class Assembler {
 public:
-    Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull)
-        : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()) {}
+    // The draw's vertex i is the mesh's first_vertex + i.
+    Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull,
+              uint32_t first_vertex)
+        : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()),
+          first_vertex_(first_vertex) {}
 
-    // Assembles, clips and sets up `triangles` triangles from `idx` into
-    // `chunk`, counting them in chunk.stats.
+    // Assembles, clips and sets up `triangles` triangles from `idx` (the
+    // mesh's indices) into `chunk`, counting them in chunk.stats.
     void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const;
 
 private:
@@ -39,6 +42,7 @@ private:
     const Viewport viewport_;
     const CullState cull_;
     const double guard_;  // guard-band half-width, NDC
+    const uint32_t first_vertex_;
 };
 
 }  // namespace facet

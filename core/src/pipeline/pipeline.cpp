@@ -166,12 +166,14 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     d.dc.abi = &d.abi;
     const Viewport viewport{target.width(), target.height(), target.samples(),
                             call.state.subpixel_bits};
-    shade_vertices(mesh, shader, viewport, *pool_, d);
-    stats.vertices_shaded += mesh.vertex_count();
+    const MeshPart part = call.part ? *call.part : mesh.whole_part();
+    shade_vertices(mesh, part.first_vertex, part.vertex_count, shader, viewport, *pool_, d);
+    stats.vertices_shaded += part.vertex_count;
 
     const CullState cull = cull_state(call.state);
-    const Assembler assembler(d, viewport, cull);
-    const size_t triangles = mesh.triangle_count();
+    const Assembler assembler(d, viewport, cull, part.first_vertex);
+    const uint32_t* indices = mesh.indices.data() + part.first_index;
+    const size_t triangles = part.triangle_count();
     for (size_t first = 0; first < triangles; first += kTriangleBatch) {
         if (stopped()) return drop_queued(g);
         const size_t count = std::min(kTriangleBatch, triangles - first);
@@ -193,7 +195,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
             chunk.draw = index;
             chunk.stats = {};
             const size_t begin = first + size_t(c) * kSetupChunk;
-            assembler.run(mesh.indices.data() + 3 * begin,
+            assembler.run(indices + 3 * begin,
                           std::min(kSetupChunk, first + count - begin), chunk);
         });
         g.chunks_used += chunks;

@@ -48,23 +48,25 @@ void project_vertices(QueuedDraw& d, size_t first, size_t count, const Viewport&
 
 }  // namespace
 
-void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport& viewport,
-                    ThreadPool& pool, QueuedDraw& d) {
-    const size_t vcount = mesh.vertex_count();
+void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_count,
+                    const ShaderPlugin& shader, const Viewport& viewport, ThreadPool& pool,
+                    QueuedDraw& d) {
+    const size_t vcount = vertex_count;
     const uint32_t floats = shader.varying_floats();
     d.clip.resize(vcount);
     d.window.resize(vcount);
     d.varyings.resize(vcount * floats + 1);
     const int batches = int((vcount + kVertexBatch - 1) / kVertexBatch);
     pool.parallel_for(batches, [&](int b, int) {
-        const size_t first = size_t(b) * kVertexBatch;
+        const size_t first = size_t(b) * kVertexBatch;  // of the draw's vertices
+        const size_t in = first_vertex + first;         // of the mesh's
         const facet_vertex_batch batch{
             uint32_t(std::min<size_t>(kVertexBatch, vcount - first)),
-            glm::value_ptr(mesh.positions[first]),
-            input(shader, FACET_NEED_NORMALS, mesh.normals, first),
-            input(shader, FACET_NEED_UVS, mesh.uvs, first),
-            input(shader, FACET_NEED_COLORS, mesh.colors, first),
-            nullptr,  // tangents: no shader may ask for them yet (plugin.cpp refuses it)
+            glm::value_ptr(mesh.positions[in]),
+            input(shader, FACET_NEED_NORMALS, mesh.normals, in),
+            input(shader, FACET_NEED_UVS, mesh.uvs, in),
+            input(shader, FACET_NEED_COLORS, mesh.colors, in),
+            input(shader, FACET_NEED_TANGENTS, mesh.tangents, in),
             glm::value_ptr(d.clip[first]),
             d.varyings.data() + first * floats,
             floats};

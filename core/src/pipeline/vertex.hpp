@@ -23,8 +23,10 @@ constexpr uint32_t kNoWindow = 1u << 17;  // w <= 0: not projected
 inline uint32_t view_code(uint32_t user) { return user & 0xFFu; }
 inline uint32_t band_code(uint32_t user) { return user >> 8 & 0xFFu; }
 
-// Shades every vertex of `mesh` into d.clip, d.varyings and d.window.
-void shade_vertices(const Mesh& mesh, const ShaderPlugin& shader, const Viewport& viewport,
-                    ThreadPool& pool, QueuedDraw& d);
+// Shades vertices [first_vertex, first_vertex + vertex_count) of `mesh`
+// (a part's) into d.clip, d.varyings and d.window, from their index 0.
+void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_count,
+                    const ShaderPlugin& shader, const Viewport& viewport, ThreadPool& pool,
+                    QueuedDraw& d);
 
 }  // namespace facet

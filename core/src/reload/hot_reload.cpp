@@ -21,15 +21,6 @@ fs::path canonical_or_same(const fs::path& p) {
     return ec ? p : c;
 }
 
-// Materials that objects of `scene` use, each once.
-std::vector<Material*> materials_of(const Scene& scene) {
-    std::set<Material*> seen;
-    std::vector<Material*> out;
-    for (const Object& o : scene.objects)
-        if (o.material && seen.insert(o.material.get()).second) out.push_back(o.material.get());
-    return out;
-}
-
 }  // namespace
 
 HotReload::HotReload(PluginRegistry& registry, Scene& scene)
@@ -144,7 +135,7 @@ bool HotReload::reload_plugin(const std::string& name) {
             return false;
         }
         fresh = registry_.load_fresh(name);
-        for (Material* m : materials_of(scene_)) {
+        for (Material* m : scene_.materials()) {
             if (m->shader != name) continue;
             Material copy = *m;
             bind(copy, fresh, textures_);
@@ -185,7 +176,7 @@ bool HotReload::reload_plugin(const std::string& name) {
 // will not load, a schema that no longer fits) is thrown as it was thrown
 // there.
 std::string HotReload::trial_frame(const std::string& name) {
-    const std::vector<Material*> all = materials_of(scene_);
+    const std::vector<Material*> all = scene_.materials();
     const bool used =
         std::any_of(all.begin(), all.end(), [&](const Material* m) { return m->shader == name; }) ||
         std::any_of(scene_.post.begin(), scene_.post.end(),

@@ -857,6 +857,63 @@ inline wide::Float ambient_visibility(const WideFragment& f, const Receiving& r)
 }
 #endif
 
+// ---- normal maps (ABI 1.5: tangents) -------------------------------------------
+
+// A normal map is a texture parameter without FACET_PARAM_SRGB whose RGB
+// holds a tangent-space normal as n * 0.5 + 0.5, in the OpenGL and glTF
+// convention: X along the tangent (+u), Y towards the texture's top row, Z
+// out of the surface. A shader that reads one asks for FACET_NEED_TANGENTS,
+// passes world_tangent() of VertexIn::tangent to its fragments as a
+// 4-component varying, and shades with normal_mapped().
+
+// Tangent t (object space, w the handedness) in world space: xyz by the
+// model matrix, and w turned around where the model mirrors, so that the
+// bitangent cross(n, xyz) * w keeps pointing at the texture's top.
+inline glm::vec4 world_tangent(const Draw& d, const glm::vec4& t) {
+    const glm::mat3 m(d.model());
+    const glm::vec3 xyz = m * glm::vec3(t);
+    const float length = glm::length(xyz);
+    const float w = glm::determinant(m) < 0.0f ? -t.w : t.w;
+    return {length > 0.0f ? xyz / length : xyz, w};
+}
+
+// The unit normal a normal map's texel gives, its X and Y times `scale`
+// (glTF's normalTexture.scale), in the frame of unit normal n and the
+// interpolated world tangent t (not unit, nor perpendicular to n: both are
+// mended here). Where t has nothing left across n (a mesh without UVs), n.
+inline glm::vec3 normal_mapped(const glm::vec3& n, const glm::vec4& t, const glm::vec4& texel,
+                               float scale) {
+    const glm::vec3 m((texel.x * 2.0f - 1.0f) * scale, (texel.y * 2.0f - 1.0f) * scale,
+                      texel.z * 2.0f - 1.0f);
+    glm::vec3 tangent = glm::vec3(t) - n * glm::dot(n, glm::vec3(t));
+    const float t2 = glm::dot(tangent, tangent);
+    if (!(t2 > 1e-12f)) return n;
+    tangent *= 1.0f / std::sqrt(t2);
+    const glm::vec3 bitangent = glm::cross(n, tangent) * (t.w < 0.0f ? -1.0f : 1.0f);
+    const glm::vec3 r = tangent * m.x + bitangent * m.y + n * m.z;
+    const float r2 = glm::dot(r, r);
+    return r2 > 1e-12f ? r * (1.0f / std::sqrt(r2)) : n;
+}
+
+#if FACET_SDK_WIDE
+inline wide::Vec3 normal_mapped(const wide::Vec3& n, const wide::Vec4& t, const wide::Vec4& texel,
+                                float scale) {
+    using namespace wide;
+    const Vec3 m((texel.x * 2.0f - 1.0f) * scale, (texel.y * 2.0f - 1.0f) * scale,
+                 texel.z * 2.0f - 1.0f);
+    const Vec3 t3(t.x, t.y, t.z);
+    Vec3 tangent = t3 - n * dot(n, t3);
+    const Float t2 = dot(tangent, tangent);
+    const Mask framed = t2 > 1e-12f;
+    tangent = tangent * (1.0f / sqrt(select(framed, t2, splat(1.0f))));
+    const Vec3 bitangent = cross(n, tangent) * select(t.w < 0.0f, splat(-1.0f), splat(1.0f));
+    const Vec3 r = tangent * m.x + bitangent * m.y + n * m.z;
+    const Float r2 = dot(r, r);
+    const Mask ok = framed && r2 > 1e-12f;
+    return select(ok, r * (1.0f / sqrt(select(ok, r2, splat(1.0f)))), n);
+}
+#endif
+
 // ---- generated glue ----------------------------------------------------------
 
 namespace detail {

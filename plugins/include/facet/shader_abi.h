@@ -59,7 +59,7 @@ extern "C" {
 #endif
 
 #define FACET_ABI_MAJOR 1
-#define FACET_ABI_MINOR 4
+#define FACET_ABI_MINOR 5
 
 /* The one symbol a plugin exports. */
 #define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
@@ -88,13 +88,13 @@ extern "C" {
 /* ------------------------------------------------------------------------ */
 /* What a shader needs from the core. The core provides only what is asked. */
 
-/* A host refuses a plugin that needs something it cannot provide. The
- * facet 0.1 host provides all but TANGENTS. */
+/* A host refuses a plugin that needs something it cannot provide. A host
+ * of ABI 1.5 or later provides them all; before 1.5, all but TANGENTS. */
 enum facet_need {
     FACET_NEED_NORMALS = 1u << 0,     /* vertex normals (else NULL)              */
     FACET_NEED_UVS = 1u << 1,         /* vertex texture coordinates              */
     FACET_NEED_COLORS = 1u << 2,      /* vertex colours                          */
-    FACET_NEED_TANGENTS = 1u << 3,    /* vertex tangents                         */
+    FACET_NEED_TANGENTS = 1u << 3,    /* vertex tangents (v1.5): facet_vertex_batch */
     FACET_NEED_LIGHTS = 1u << 4,      /* facet_draw.lights                       */
     FACET_NEED_TEXTURES = 1u << 5,    /* texels of texture parameters            */
     FACET_NEED_SHADOW_MAP = 1u << 6,  /* facet_draw.shadow_maps (ABI 1.1)        */
@@ -335,7 +335,13 @@ typedef struct facet_vertex_batch {
     const float* normal;     /* [count][3] object space, or NULL            */
     const float* uv;         /* [count][2], or NULL                         */
     const float* color;      /* [count][4] linear RGBA, or NULL             */
-    const float* tangent;    /* [count][4] xyz + handedness, or NULL        */
+    const float* tangent;    /* [count][4] object space: xyz unit, along +u */
+                             /*   and perpendicular to the normal; w = +1 or */
+                             /*   -1, the bitangent (towards the texture's  */
+                             /*   top row) being cross(normal, xyz) * w, as */
+                             /*   glTF defines it. NULL unless the shader   */
+                             /*   needs FACET_NEED_TANGENTS (v1.5) and the  */
+                             /*   mesh has texture coordinates              */
     float* clip_position;    /* out: [count][4]                              */
     float* varyings;         /* out: [count][varying_floats]                 */
     uint32_t varying_floats; /* sum of the declared varyings' components    */

@@ -270,6 +270,9 @@ inline Float length(const Vec3& v) { return sqrt(dot(v, v)); }
 inline Vec3 normalize(const Vec3& v) { return v * (1.0f / sqrt(dot(v, v))); }
 // As glm::reflect: i - 2 dot(n, i) n.
 inline Vec3 reflect(const Vec3& i, const Vec3& n) { return i - n * (2.0f * dot(n, i)); }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 
 // The lanes of a call as a bit mask (bit i for lane i), from a Mask.
 inline uint32_t bits(const Mask& m) {

@@ -1,0 +1,213 @@
+// A mesh file's materials as facet materials (mesh_materials.hpp).
+#include "assets/mesh_materials.hpp"
+
+#include <assimp/GltfMaterial.h>
+#include <assimp/material.h>
+#include <assimp/scene.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace facet {
+
+namespace {
+
+// One texture of a material, as the YAML of a texture parameter.
+struct TextureRef {
+    std::string file;
+    std::string filter = "trilinear";
+    std::string wrap = "repeat";
+};
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+class Mapper {
+public:
+    Mapper(const aiScene& scene, const aiMaterial& m) : scene_(scene), m_(m) {
+        aiString name;
+        if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out_.name = name.C_Str();
+    }
+
+    std::optional<float> number(const char* key, unsigned type, unsigned index) const {
+        float v = 0.0f;
+        if (m_.Get(key, type, index, v) == AI_SUCCESS) return v;
+        return std::nullopt;
+    }
+    std::optional<aiColor4D> color(const char* key, unsigned type, unsigned index) const {
+        aiColor4D c;
+        if (m_.Get(key, type, index, c) == AI_SUCCESS) return c;
+        return std::nullopt;
+    }
+
+    // The first texture of `type`, or nothing. Notes what cannot be honoured.
+    std::optional<TextureRef> texture(aiTextureType type, const char* what) {
+        if (m_.GetTextureCount(type) == 0) return std::nullopt;
+        aiString path;
+        aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+        unsigned uv_set = 0;
+        if (m_.GetTexture(type, 0, &path, nullptr, &uv_set, nullptr, nullptr, mode) != AI_SUCCESS)
+            return std::nullopt;
+        const std::string file = path.C_Str();
+        if (file.empty()) return std::nullopt;
+        if (file[0] == '*' || scene_.GetEmbeddedTexture(path.C_Str())) {
+            if (out_.problem.empty())
+                out_.problem = "its " + std::string(what) +
+                               " is embedded in the file (a .glb, or a data: URI), which facet "
+                               "does not read: keep the textures as image files beside it, or "
+                               "name a material for these parts in the scene";
+            return std::nullopt;
+        }
+        if (uv_set != 0) {
+            note(std::string(what) + " reads texture coordinates set " + std::to_string(uv_set) +
+                 ", and facet has only the first: left out");
+            return std::nullopt;
+        }
+        TextureRef t;
+        t.file = file;
+        std::replace(t.file.begin(), t.file.end(), '\\', '/');  // OBJ files from Windows
+        switch (mode[0]) {
+            case aiTextureMapMode_Clamp:
+            case aiTextureMapMode_Decal: t.wrap = "clamp"; break;
+            case aiTextureMapMode_Mirror: t.wrap = "mirror"; break;
+            default: break;
+        }
+        if (mode[1] != mode[0]) note(std::string(what) + " wraps u and v differently; facet uses u's way for both");
+        // glTF samplers: 9728 NEAREST, 9729 LINEAR, 9984.. the mipmapped ones.
+        unsigned min_filter = 0;
+        if (m_.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MIN(type, 0), min_filter) == AI_SUCCESS) {
+            if (min_filter == 9728) t.filter = "nearest";
+            else if (min_filter == 9729) t.filter = "bilinear";
+        }
+        return t;
+    }
+
+    void note(const std::string& line) { out_.notes += line + "\n"; }
+
+    void param(const char* name, double v) { params_.push_back({name, [v](YAML::Emitter& e) { e << v; }}); }
+    void param(const char* name, bool v) { params_.push_back({name, [v](YAML::Emitter& e) { e << v; }}); }
+    void param(const char* name, std::initializer_list<double> v) {
+        std::vector<double> values(v);
+        params_.push_back({name, [values](YAML::Emitter& e) {
+                               e << YAML::Flow << YAML::BeginSeq;
+                               for (double x : values) e << x;
+                               e << YAML::EndSeq;
+                           }});
+    }
+    void param(const char* name, const TextureRef& t) {
+        params_.push_back({name, [t](YAML::Emitter& e) {
+                               e << YAML::Flow << YAML::BeginMap << YAML::Key << "file"
+                                 << YAML::Value << t.file << YAML::Key << "filter"
+                                 << YAML::Value << t.filter << YAML::Key << "wrap" << YAML::Value
+                                 << t.wrap << YAML::EndMap;
+                           }});
+    }
+
+    ImportedMaterial finish(const std::string& shader, const std::string& blend, bool two_sided) {
+        YAML::Emitter e;
+        e.SetDoublePrecision(6);
+        e << YAML::BeginMap << YAML::Key << "shader" << YAML::Value << shader;
+        if (!blend.empty()) e << YAML::Key << "blend" << YAML::Value << blend;
+        if (two_sided) e << YAML::Key << "cull" << YAML::Value << "none";
+        e << YAML::Key << "params" << YAML::Value << YAML::BeginMap;
+        for (const auto& [name, write] : params_) {
+            e << YAML::Key << name << YAML::Value;
+            write(e);
+        }
+        e << YAML::EndMap << YAML::EndMap;
+        out_.yaml = std::string(e.c_str()) + "\n";
+        return out_;
+    }
+
+    std::optional<std::string> text(const char* key, unsigned type, unsigned index) const {
+        aiString s;
+        if (m_.Get(key, type, index, s) == AI_SUCCESS) return std::string(s.C_Str());
+        return std::nullopt;
+    }
+    bool has_texture(aiTextureType type) const { return m_.GetTextureCount(type) > 0; }
+
+    bool flag(const char* key, unsigned type, unsigned index) const {
+        int v = 0;
+        return m_.Get(key, type, index, v) == AI_SUCCESS && v != 0;
+    }
+
+private:
+    const aiScene& scene_;
+    const aiMaterial& m_;
+    ImportedMaterial out_;
+    std::vector<std::pair<std::string, std::function<void(YAML::Emitter&)>>> params_;
+};
+
+double clamp01(float v) { return std::clamp(double(v), 0.0, 1.0); }
+
+ImportedMaterial gltf_material(Mapper& m) {
+    const aiColor4D base = m.color(AI_MATKEY_BASE_COLOR).value_or(aiColor4D(1.0f, 1.0f, 1.0f, 1.0f));
+    m.param("base_color", {base.r, base.g, base.b, base.a});
+    if (auto t = m.texture(aiTextureType_BASE_COLOR, "base colour texture")) m.param("base_texture", *t);
+    m.param("metallic", clamp01(m.number(AI_MATKEY_METALLIC_FACTOR).value_or(1.0f)));
+    m.param("roughness", clamp01(m.number(AI_MATKEY_ROUGHNESS_FACTOR).value_or(1.0f)));
+    std::optional<TextureRef> mr = m.texture(aiTextureType_UNKNOWN, "metallic-roughness texture");
+    if (!mr) mr = m.texture(aiTextureType_METALNESS, "metallic-roughness texture");
+    if (mr) m.param("metallic_roughness_texture", *mr);
+    if (auto t = m.texture(aiTextureType_NORMALS, "normal texture")) {
+        m.param("normal_texture", *t);
+        m.param("normal_scale", double(m.number(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0)).value_or(1.0f)));
+    }
+    if (auto t = m.texture(aiTextureType_LIGHTMAP, "occlusion texture")) {
+        m.param("occlusion_texture", *t);
+        m.param("occlusion_strength",
+                clamp01(m.number(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0)).value_or(1.0f)));
+    }
+    const aiColor4D emissive = m.color(AI_MATKEY_COLOR_EMISSIVE).value_or(aiColor4D(0.0f, 0.0f, 0.0f, 1.0f));
+    m.param("emissive", {emissive.r, emissive.g, emissive.b});
+    if (auto t = m.texture(aiTextureType_EMISSIVE, "emissive texture")) m.param("emissive_texture", *t);
+
+    const std::string mode = m.text(AI_MATKEY_GLTF_ALPHAMODE).value_or("OPAQUE");
+    std::string blend;
+    if (mode == "MASK")
+        m.param("alpha_cutoff", clamp01(m.number(AI_MATKEY_GLTF_ALPHACUTOFF).value_or(0.5f)));
+    else if (mode == "BLEND")
+        blend = "alpha";
+    return m.finish("pbr", blend, m.flag(AI_MATKEY_TWOSIDED));
+}
+
+ImportedMaterial classic_material(Mapper& m) {
+    const aiColor4D kd = m.color(AI_MATKEY_COLOR_DIFFUSE).value_or(aiColor4D(0.6f, 0.6f, 0.6f, 1.0f));
+    const aiColor4D ks = m.color(AI_MATKEY_COLOR_SPECULAR).value_or(aiColor4D(0.0f, 0.0f, 0.0f, 1.0f));
+    const aiColor4D ke = m.color(AI_MATKEY_COLOR_EMISSIVE).value_or(aiColor4D(0.0f, 0.0f, 0.0f, 1.0f));
+    m.param("diffuse", {kd.r, kd.g, kd.b});
+    m.param("specular", {ks.r, ks.g, ks.b});
+    m.param("emission", {ke.r, ke.g, ke.b});
+    // Ns is 0..1000 in MTL; phong takes 1 .. 10000.
+    m.param("shininess", std::clamp(double(m.number(AI_MATKEY_SHININESS).value_or(32.0f)), 1.0, 10000.0));
+    if (auto t = m.texture(aiTextureType_DIFFUSE, "diffuse texture (map_Kd)")) m.param("base_texture", *t);
+    if (auto t = m.texture(aiTextureType_NORMALS, "normal map (norm)")) m.param("normal_texture", *t);
+    if (m.has_texture(aiTextureType_HEIGHT))
+        m.note("a bump map (bump, map_bump) is a height map, which facet does not read: left out; "
+               "a normal map (norm) is read");
+    if (m.has_texture(aiTextureType_SPECULAR)) m.note("a specular map (map_Ks): left out");
+    if (m.has_texture(aiTextureType_OPACITY)) m.note("an alpha map (map_d): left out");
+    if (m.number(AI_MATKEY_OPACITY).value_or(1.0f) < 1.0f)
+        m.note("dissolve (d, Tr) below 1: drawn opaque; name a blended material for it in the scene");
+    return m.finish("phong", "", m.flag(AI_MATKEY_TWOSIDED));
+}
+
+}  // namespace
+
+bool is_gltf(const std::filesystem::path& path) {
+    const std::string ext = lower(path.extension().string());
+    return ext == ".gltf" || ext == ".glb";
+}
+
+ImportedMaterial import_material(const aiScene& scene, const aiMaterial& material, bool gltf) {
+    Mapper m(scene, material);
+    return gltf ? gltf_material(m) : classic_material(m);
+}
+
+}  // namespace facet
