@@ -1,4 +1,4 @@
-// The unlit, lit, phong and toon plugins, loaded as the real built .so files,
+// The unlit, lit, phong, toon and pbr plugins, loaded as the real built .so files,
 // against a double-precision reference of the formulas their sources document.
 //
 // Most tests draw one quad in perspective, through the camera matrices a
@@ -163,15 +163,15 @@ struct Setup {
 };
 
 Framebuffer draw(const Setup& s, const ShaderPlugin& shader, const ParamBlock& block,
-                 const TextureBinding* texture = nullptr) {
+                 const TextureBinding* textures = nullptr, int texture_count = 1) {
     Framebuffer fb(s.width, s.height);
     fb.clear(glm::vec4(0.0f), 0.0f);  // reversed-Z: far is 0
     DrawCall call;
     call.mesh = &s.mesh;
     call.shader = &shader;
     call.params = block.bytes;
-    call.textures = texture;
-    call.texture_count = texture ? 1 : 0;
+    call.textures = textures;
+    call.texture_count = textures ? texture_count : 0;
     call.model = s.model;
     call.view = s.view;
     call.projection = s.projection;
@@ -378,18 +378,34 @@ std::optional<dvec3> ref_irradiance(const Setup& s, const Values& p, const dvec3
     return e;
 }
 
-Reference lit_reference(const Setup& s, const Values& p, const TextureBinding* tex) {
+std::optional<dvec3> ref_mapped_normal(const Setup& s, const TextureBinding& map, double scale,
+                                       const Hit& h, dvec3 n, dvec4 t);
+std::vector<dvec4> world_tangents(const Setup& s);
+
+// The interpolated normal at the hit, or with a normal map the one it gives.
+std::optional<dvec3> ref_normal(const Setup& s, const std::vector<dvec3>& nrm,
+                                const std::vector<dvec4>& tan, const TextureBinding* normal_map,
+                                const Values& p, const Hit& h) {
+    const dvec3 n = glm::normalize(interpolate(h, nrm));
+    if (!normal_map) return n;
+    return ref_mapped_normal(s, *normal_map, num(p, "normal_scale"), h, n, interpolate(h, tan));
+}
+
+Reference lit_reference(const Setup& s, const Values& p, const TextureBinding* tex,
+                        const TextureBinding* normal_map = nullptr) {
     const std::vector<dvec3> pos = world_positions(s), nrm = world_normals(s);
+    const std::vector<dvec4> tan = world_tangents(s);
     std::vector<dvec3> vertex_e;  // Gouraud: irradiance of each vertex
     for (size_t i = 0; i < pos.size(); ++i)
         vertex_e.push_back(ref_irradiance(s, p, pos[i], nrm[i]).value());
     const bool per_pixel = num(p, "per_pixel") != 0;
     return [=, &s](const Hit& h) -> std::optional<dvec4> {
         const std::optional<dvec4> texel = ref_texel(s, tex, h);
-        const std::optional<dvec3> e =
-            per_pixel ? ref_irradiance(s, p, h.world, glm::normalize(interpolate(h, nrm)))
-                      : std::optional<dvec3>(interpolate(h, vertex_e));
-        if (!texel || !e) return std::nullopt;
+        const std::optional<dvec3> n = ref_normal(s, nrm, tan, normal_map, p, h);
+        if (!texel || !n) return std::nullopt;
+        const std::optional<dvec3> e = per_pixel ? ref_irradiance(s, p, h.world, *n)
+                                                 : std::optional<dvec3>(interpolate(h, vertex_e));
+        if (!e) return std::nullopt;
         const dvec4 albedo = rgba(p, "base_color") * *texel;
         return dvec4(dvec3(albedo) * *e, albedo.a);
     };
@@ -427,7 +443,9 @@ Values lit_values(bool per_pixel, bool textured) {
             {"ambient", {0.05, 0.06, 0.08}},
             {"base_texture", {double(textured)}},
             {"per_pixel", {double(per_pixel)}},
-            {"alpha_cutoff", {0.0}}});
+            {"alpha_cutoff", {0.0}},
+            {"normal_texture", {0.0}},
+            {"normal_scale", {1.0}}});
 }
 
 // ---- phong ---------------------------------------------------------------------
@@ -438,12 +456,15 @@ double ref_lobe(const dvec3& n, const dvec3& l, const dvec3& v, const Values& p)
     return std::pow(std::max(c, 0.0), num(p, "shininess"));
 }
 
-Reference phong_reference(const Setup& s, const Values& p, const TextureBinding* tex) {
+Reference phong_reference(const Setup& s, const Values& p, const TextureBinding* tex,
+                          const TextureBinding* normal_map = nullptr) {
     const std::vector<dvec3> nrm = world_normals(s);
+    const std::vector<dvec4> tan = world_tangents(s);
     return [=, &s](const Hit& h) -> std::optional<dvec4> {
         const std::optional<dvec4> texel = ref_texel(s, tex, h);
-        if (!texel) return std::nullopt;
-        const dvec3 n = glm::normalize(interpolate(h, nrm));
+        const std::optional<dvec3> mapped = ref_normal(s, nrm, tan, normal_map, p, h);
+        if (!texel || !mapped) return std::nullopt;
+        const dvec3 n = *mapped;
         const dvec3 v = glm::normalize(dvec3(s.eye) - h.world);
         const dvec3 kd = rgb(p, "diffuse") * dvec3(*texel);
         dvec3 c = rgb(p, "emission") + rgb(p, "ambient");
@@ -466,7 +487,9 @@ Values phong_values(bool blinn, double shininess, bool textured) {
             {"shininess", {shininess}},
             {"blinn", {double(blinn)}},
             {"base_texture", {double(textured)}},
-            {"alpha_cutoff", {0.0}}});
+            {"alpha_cutoff", {0.0}},
+            {"normal_texture", {0.0}},
+            {"normal_scale", {1.0}}});
 }
 
 // ---- toon ----------------------------------------------------------------------
@@ -534,7 +557,127 @@ Values toon_values(int bands, double outline_width) {
             {"rim_color", {0.1, 0.15, 0.25}},
             {"rim_threshold", {0.45}},
             {"outline_color", {0.02, 0.01, 0.0}},
-            {"outline_width", {outline_width}}});
+            {"outline_width", {outline_width}},
+            {"normal_texture", {0.0}},
+            {"normal_scale", {1.0}}});
+}
+
+// ---- normal maps -----------------------------------------------------------------
+
+// The quad's tangents: along +u (its +X), and w = -1, because its V runs
+// up the quad (+Y) while the bitangent points to the texture's top (-V).
+void add_tangents(Setup& s) { s.mesh.tangents.assign(4, glm::vec4(1.0f, 0.0f, 0.0f, -1.0f)); }
+
+// A 2x2 normal map (linear), read with nearest filtering: four normals
+// leaning different ways, as n * 0.5 + 0.5.
+TextureBinding normal_texture() {
+    auto tex = std::make_shared<Texture>();
+    tex->width = tex->height = 2;
+    for (const glm::vec3 n : {glm::vec3(0.35f, 0.2f, 1.0f), glm::vec3(-0.45f, 0.1f, 1.0f),
+                              glm::vec3(0.1f, -0.5f, 1.0f), glm::vec3(-0.2f, -0.3f, 1.0f)})
+        tex->texels.push_back(encode_texel(glm::vec4(glm::normalize(n) * 0.5f + 0.5f, 1.0f), false));
+    return {tex, Filter::nearest, Wrap::clamp};
+}
+
+// World tangents as the shaders make them (sdk::world_tangent): by the
+// model's 3x3, normalised, w turned around where it mirrors.
+std::vector<dvec4> world_tangents(const Setup& s) {
+    const glm::dmat3 m(glm::dmat4(s.model));
+    std::vector<dvec4> out;
+    for (const glm::vec4& t : s.mesh.tangents)
+        out.push_back(dvec4(glm::normalize(m * dvec3(t)), glm::determinant(m) < 0 ? -t.w : t.w));
+    return out;
+}
+
+// The normal the map gives at the hit (the glTF convention), from the
+// interpolated normal and tangent; empty near a texel edge.
+std::optional<dvec3> ref_mapped_normal(const Setup& s, const TextureBinding& map, double scale,
+                                       const Hit& h, dvec3 n, dvec4 t) {
+    const std::optional<dvec4> texel = ref_texel(s, &map, h);
+    if (!texel) return std::nullopt;
+    const dvec3 m((texel->x * 2 - 1) * scale, (texel->y * 2 - 1) * scale, texel->z * 2 - 1);
+    const dvec3 tangent = glm::normalize(dvec3(t) - n * glm::dot(n, dvec3(t)));
+    const dvec3 bitangent = glm::cross(n, tangent) * (t.w < 0 ? -1.0 : 1.0);
+    return glm::normalize(tangent * m.x + bitangent * m.y + n * m.z);
+}
+
+// ---- pbr -------------------------------------------------------------------------
+
+Values pbr_values(double metallic, double roughness, bool base_texture, bool normal_map) {
+    return receiving({{"base_color", {0.85, 0.6, 0.4, 0.9}},
+                      {"base_texture", {double(base_texture)}},
+                      {"metallic", {metallic}},
+                      {"roughness", {roughness}},
+                      {"metallic_roughness_texture", {0.0}},
+                      {"normal_texture", {double(normal_map)}},
+                      {"normal_scale", {0.8}},
+                      {"occlusion_texture", {0.0}},
+                      {"occlusion_strength", {1.0}},
+                      {"emissive", {0.02, 0.01, 0.0}},
+                      {"emissive_texture", {0.0}},
+                      {"ambient", {0.05, 0.05, 0.06}},
+                      {"alpha_cutoff", {0.0}}});
+}
+
+// glTF 2.0's metallic-roughness BRDF (its Appendix B), times pi, in double;
+// the ambient share from Karis's fit, as pbr.cpp documents it.
+dvec3 ref_pbr(const Setup& s, const Values& p, const dvec4& base, const dvec3& pos,
+              const dvec3& n, bool& near_edge) {
+    const double metallic = num(p, "metallic");
+    const double roughness = std::max(num(p, "roughness"), 0.03);
+    const dvec3 v = glm::normalize(dvec3(s.eye) - pos);
+    const double n_v = std::max(glm::dot(n, v), 1e-4);
+    const dvec3 c_diff = dvec3(base) * (1 - metallic);
+    const dvec3 f0 = glm::mix(dvec3(0.04), dvec3(base), metallic);
+    const double a2 = std::pow(roughness, 4);
+    const dvec4 r = roughness * dvec4(-1, -0.0275, -0.572, 0.022) + dvec4(1, 0.0425, 1.04, -0.04);
+    const double a = std::min(r.x * r.x, std::exp2(-9.28 * n_v)) * r.x + r.y;
+    dvec3 c = rgb(p, "emissive") + rgb(p, "ambient") * (c_diff + f0 * (-1.04 * a + r.z) + (1.04 * a + r.w));
+    for (const facet_light& l : s.lights) {
+        const RefLight in = ref_light(l, pos);
+        near_edge |= in.near_range;
+        const double n_l = glm::dot(n, in.to_light);
+        if (n_l <= 0) continue;
+        const dvec3 h = glm::normalize(in.to_light + v);
+        const double n_h = std::max(glm::dot(n, h), 0.0), v_h = std::max(glm::dot(v, h), 0.0);
+        const dvec3 f = f0 + (1.0 - f0) * std::pow(1 - v_h, 5);
+        const double d = a2 / (M_PI * std::pow(n_h * n_h * (a2 - 1) + 1, 2));
+        const double vis = 0.5 / (n_l * std::sqrt(n_v * n_v * (1 - a2) + a2) +
+                                  n_v * std::sqrt(n_l * n_l * (1 - a2) + a2));
+        c += in.radiance * n_l * ((1.0 - f) * c_diff + M_PI * f * d * vis);
+    }
+    return c;
+}
+
+// Whether the quad's front faces the camera at the hit (the pipeline's
+// counter-clockwise front: its local +Z side).
+bool quad_front(const Setup& s, const Hit& h) {
+    const dvec3 n = glm::transpose(glm::inverse(glm::dmat3(glm::dmat4(s.model)))) * dvec3(0, 0, 1);
+    return glm::dot(n, dvec3(s.eye) - h.world) > 0;
+}
+
+Reference pbr_reference(const Setup& s, const Values& p, const TextureBinding* base_tex,
+                        const TextureBinding* normal_map) {
+    const std::vector<dvec3> nrm = world_normals(s);
+    const std::vector<dvec4> tan = world_tangents(s);
+    return [=, &s](const Hit& h) -> std::optional<dvec4> {
+        const std::optional<dvec4> texel = ref_texel(s, base_tex, h);
+        if (!texel) return std::nullopt;
+        dvec3 n = glm::normalize(interpolate(h, nrm));
+        dvec4 t = interpolate(h, tan);
+        if (!quad_front(s, h)) n = -n, t = -t;
+        if (normal_map) {
+            const std::optional<dvec3> mapped =
+                ref_mapped_normal(s, *normal_map, num(p, "normal_scale"), h, n, t);
+            if (!mapped) return std::nullopt;
+            n = *mapped;
+        }
+        const dvec4 base = rgba(p, "base_color") * *texel;
+        bool near_edge = false;
+        const dvec3 c = ref_pbr(s, p, base, h.world, n, near_edge);
+        if (near_edge) return std::nullopt;
+        return dvec4(c, base.a);
+    };
 }
 
 // ---- a sphere ------------------------------------------------------------------
@@ -630,15 +773,22 @@ int pixels_differing(const Framebuffer& a, const Framebuffer& b, float tolerance
     return n;
 }
 
-TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit, lit, toon)",
+TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit, lit, toon, pbr)",
           "[shader][wide]") {
     PluginRegistry registry;
-    const Setup s = quad_setup();
-    const TextureBinding texture = checker_texture();
+    Setup s = quad_setup();
+    add_tangents(s);
+    const TextureBinding texture = checker_texture(), normals = normal_texture();
     struct Case {
         std::string shader;
         Values values;
         bool textured;
+        int normal_slot = -1;  // with a normal map in this texture slot
+    };
+    auto mapped = [](Values v) {
+        v["normal_texture"] = {1.0};
+        v["normal_scale"] = {1.3};
+        return v;
     };
     const Case cases[] = {
         {"phong", phong_values(false, 24, false), false},
@@ -660,15 +810,28 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit,
         // below the cutoff.
         {"unlit", unlit_values(1.0, 0.5), true},
         {"lit", cutout(lit_values(true, true), 0.5), true},
-        {"phong", cutout(phong_values(false, 24, true), 0.5), true}};
+        {"phong", cutout(phong_values(false, 24, true), 0.5), true},
+        {"pbr", pbr_values(0.0, 0.5, false, false), false},
+        {"pbr", pbr_values(1.0, 0.25, true, false), true},
+        {"pbr", with_ao(pbr_values(0.3, 0.7, true, false)), true},
+        {"pbr", cutout(pbr_values(0.0, 0.6, true, false), 0.5), true},
+        // Normal maps.
+        {"pbr", pbr_values(0.5, 0.4, true, true), true, 2},
+        {"lit", mapped(lit_values(true, true)), true, 1},
+        {"phong", mapped(phong_values(false, 40, false)), false, 1},
+        {"toon", mapped(toon_values(4, 0.3)), false, 0}};
     for (const Case& c : cases) {
         INFO(c.shader << ", textured " << c.textured);
         const auto wide = registry.get(c.shader);
         const auto scalar = ShaderPlugin::load(
             std::string(FACET_TEST_PLUGIN_DIR) + "/" + c.shader + "_scalar.so", c.shader);
-        const TextureBinding* tex = c.textured ? &texture : nullptr;
-        const Framebuffer a = draw(s, *wide, make_block(*wide, c.values), tex);
-        const Framebuffer b = draw(s, *scalar, make_block(*scalar, c.values), tex);
+        std::vector<TextureBinding> slots(size_t(std::max(1, c.normal_slot + 1)));
+        if (c.textured) slots[0] = texture;
+        if (c.normal_slot >= 0) slots[size_t(c.normal_slot)] = normals;
+        const Framebuffer a =
+            draw(s, *wide, make_block(*wide, c.values), slots.data(), int(slots.size()));
+        const Framebuffer b =
+            draw(s, *scalar, make_block(*scalar, c.values), slots.data(), int(slots.size()));
         // Not a blank image on both sides.
         float brightest = 0.0f;
         for (int y = 0; y < b.height(); ++y)
@@ -677,10 +840,12 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit,
         // wide::pow is within 1e-6 relative of std::pow where it matters;
         // the rest differs by rounding. Toon's bands and thresholds are
         // steps: a pixel within rounding of one may fall on either side.
+        // pbr's specular peaks reach several times 1, where the same
+        // relative rounding is a larger absolute difference.
         if (c.shader == "toon")
             CHECK(pixels_differing(a, b, 2e-5f) <= a.width() * a.height() / 1000);
         else
-            CHECK(max_abs_difference(a, b) < 2e-5f);
+            CHECK(max_abs_difference(a, b) < (c.shader == "pbr" ? 1e-4f : 2e-5f));
     }
 }
 
@@ -710,6 +875,84 @@ TEST_CASE("every shipped shader's fragment_wide draws its demo scene as its scal
             CHECK(pixels_differing(wide, scalar, 2e-5f) <= wide.width() * wide.height() / 1000);
             CHECK(max_abs_difference(wide, scalar) < 0.5f);
         }
+    }
+}
+
+TEST_CASE("pbr.so matches glTF's metallic-roughness BRDF with directional, point and spot lights",
+          "[shader][pbr]") {
+    PluginRegistry registry;
+    const auto pbr = registry.get("pbr");
+    Setup s = quad_setup();
+    add_tangents(s);
+    const TextureBinding checker = checker_texture(), normals = normal_texture();
+    struct Case {
+        double metallic, roughness;
+        bool textured, mapped;
+    };
+    for (const Case c : {Case{0.0, 0.5, false, false}, Case{1.0, 0.3, false, false},
+                         Case{0.4, 0.8, false, false}, Case{0.0, 1.0, true, false},
+                         Case{1.0, 0.45, false, true}, Case{0.0, 0.35, true, true}}) {
+        INFO("metallic " << c.metallic << ", roughness " << c.roughness << ", textured "
+                         << c.textured << ", normal map " << c.mapped);
+        const Values p = pbr_values(c.metallic, c.roughness, c.textured, c.mapped);
+        std::vector<TextureBinding> slots(5);  // base, metallic-roughness, normal, occlusion, emissive
+        if (c.textured) slots[0] = checker;
+        if (c.mapped) slots[2] = normals;
+        const Framebuffer fb = draw(s, *pbr, make_block(*pbr, p), slots.data(), 5);
+        require_match(compare(s, fb, pbr_reference(s, p, c.textured ? &checker : nullptr,
+                                                   c.mapped ? &normals : nullptr)),
+                      1500);
+    }
+    // Metal and roughness both show.
+    auto image = [&](double metallic, double roughness) {
+        return draw(s, *pbr, make_block(*pbr, pbr_values(metallic, roughness, false, false)));
+    };
+    CHECK(max_difference(image(0.0, 0.4), image(1.0, 0.4)) > 10);
+    CHECK(max_difference(image(1.0, 0.2), image(1.0, 0.7)) > 10);
+}
+
+TEST_CASE("lit, phong and toon bend their normal by a normal map in the glTF convention",
+          "[shader][normal]") {
+    PluginRegistry registry;
+    Setup s = quad_setup();
+    add_tangents(s);
+    const TextureBinding normals = normal_texture();
+    const TextureBinding none;
+    // lit and phong read the map in slot 1 (after base_texture), toon in slot 0.
+    const TextureBinding two[2] = {none, normals};
+    auto mapped = [](Values v) {
+        v["normal_texture"] = {1.0};
+        v["normal_scale"] = {0.8};
+        return v;
+    };
+    {
+        const auto lit = registry.get("lit");
+        const Values p = mapped(lit_values(true, false));
+        const Framebuffer fb = draw(s, *lit, make_block(*lit, p), two, 2);
+        require_match(compare(s, fb, lit_reference(s, p, nullptr, &normals)), 1500);
+        const Framebuffer flat = draw(s, *lit, make_block(*lit, lit_values(true, false)));
+        CHECK(max_difference(fb, flat) > 10);  // the map shows
+    }
+    {
+        const auto phong = registry.get("phong");
+        const Values p = mapped(phong_values(true, 24, false));
+        const Framebuffer fb = draw(s, *phong, make_block(*phong, p), two, 2);
+        require_match(compare(s, fb, phong_reference(s, p, nullptr, &normals)), 1500);
+    }
+    {
+        const auto toon = registry.get("toon");
+        const Values p = mapped(toon_values(3, 0.0));
+        const Framebuffer fb = draw(s, *toon, make_block(*toon, p), &normals, 1);
+        const std::vector<dvec3> nrm = world_normals(s);
+        const std::vector<dvec4> tan = world_tangents(s);
+        const Match m = compare(s, fb, [&](const Hit& h) -> std::optional<dvec4> {
+            const std::optional<dvec3> n = ref_normal(s, nrm, tan, &normals, p, h);
+            if (!n) return std::nullopt;
+            const std::optional<ToonRef> t = ref_toon(s, p, h.world, *n);
+            if (!t) return std::nullopt;
+            return dvec4(t->color, 1.0);
+        });
+        require_match(m, 1000);
     }
 }
 

@@ -11,7 +11,8 @@
 // attenuation * spot factor (facet::sdk::incident_light). With per_pixel (the
 // default) the normal and the world position are interpolated and E is
 // evaluated per fragment. Without it E is evaluated per vertex (Gouraud) and
-// interpolated; the texture is still sampled per fragment.
+// interpolated; the texture is still sampled per fragment. A normal_texture
+// bends n per fragment (facet::sdk::normal_mapped), with per_pixel only.
 //
 // With receive_shadows (the default) the term of each light that casts
 // shadows is times the share of it its shadow map lets through, evaluated
@@ -33,6 +34,8 @@ struct Lit {
         int32_t base_texture;  // 1 if bound
         int32_t per_pixel;     // bool
         float alpha_cutoff;
+        int32_t normal_texture;  // 1 if bound
+        float normal_scale;
         Receiving receive;
     };
     struct Varyings {
@@ -40,15 +43,17 @@ struct Lit {
         glm::vec3 normal;      // world space, unit at the vertices
         glm::vec2 uv;
         glm::vec3 irradiance;  // per_pixel off: the vertex's E from unshadowed lights
+        glm::vec4 tangent;     // world space, w the handedness
     };
 
     static constexpr const char* name = "lit";
     static constexpr const char* version = "1.0";
-    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS |
-                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO |
-                                      FACET_NEED_DISCARD;
+    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_TANGENTS |
+                                      FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
+                                      FACET_NEED_SHADOW_MAP | FACET_NEED_AO | FACET_NEED_DISCARD;
     static constexpr facet_varying_desc varyings[] = {
-        varying("position", 3), varying("normal", 3), varying("uv", 2), varying("irradiance", 3)};
+        varying("position", 3), varying("normal", 3), varying("uv", 2), varying("irradiance", 3),
+        varying("tangent", 4)};
     static constexpr auto params = with_receiving(std::array{
         color4("base_color", offsetof(Params, base_color), {0.8f, 0.8f, 0.8f, 1.0f},
                "linear RGBA albedo; alpha is the output alpha"),
@@ -59,6 +64,8 @@ struct Lit {
         boolean("per_pixel", offsetof(Params, per_pixel), true,
                 "light each fragment (true) or each vertex, interpolated (false)"),
         alpha_cutoff(offsetof(Params, alpha_cutoff)),
+        normal_texture(offsetof(Params, normal_texture), 2),
+        normal_scale(offsetof(Params, normal_scale)),
     }, offsetof(Params, receive));
 
     // Which lights a sum of Lambert terms takes: every one, those whose
@@ -92,13 +99,15 @@ struct Lit {
         const glm::vec3 n = glm::normalize(d.normal_matrix() * in.normal);
         const glm::vec3 e =
             p.per_pixel ? glm::vec3(0.0f) : irradiance(world, n, d, p, Lights::unshadowed);
-        return {world, n, in.uv, e};
+        return {world, n, in.uv, e, world_tangent(d, in.tangent)};
     }
 
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         const glm::vec4 albedo = p.base_color * f.texture(0);
         cut_out(f, albedo.a, p.alpha_cutoff);
-        const glm::vec3 n = glm::normalize(v.normal);
+        glm::vec3 n = glm::normalize(v.normal);
+        if (p.normal_texture && p.per_pixel)
+            n = normal_mapped(n, v.tangent, f.texture(1), p.normal_scale);
         const glm::vec3 e =
             p.ambient * ambient_visibility(f, p.receive) +
             (p.per_pixel ? irradiance(v.position, n, d, p, Lights::all)
@@ -113,6 +122,7 @@ struct Lit {
         wide::Vec3 normal;
         wide::Vec2 uv;
         wide::Vec3 irradiance;
+        wide::Vec4 tangent;
     };
 
     // Irradiance from the lights `which` selects, each light's term times its
@@ -153,8 +163,11 @@ struct Lit {
         cut_out(f, albedo.w, p.alpha_cutoff);
         Vec3 e(p.ambient);
         if constexpr (Receives) e = e * ambient_visibility(f, p.receive);
-        if (p.per_pixel)
-            e += irradiance<Receives>(v.position, normalize(v.normal), d, p, Lights::all);
+        if (p.per_pixel) {
+            Vec3 n = normalize(v.normal);
+            if (p.normal_texture) n = normal_mapped(n, v.tangent, f.texture(1), p.normal_scale);
+            e += irradiance<Receives>(v.position, n, d, p, Lights::all);
+        }
         else if (Receives)
             e += v.irradiance +
                  irradiance<Receives>(v.position, normalize(v.normal), d, p, Lights::shadowed);

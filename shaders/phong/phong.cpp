@@ -9,8 +9,9 @@
 //     s      = 0 where n.L <= 0;  alpha = base_texture alpha (1 without one),
 //     and with alpha_cutoff above 0 a fragment of lower alpha is discarded
 //
-// n is the interpolated normal, normalised per fragment; v points from the
-// fragment to the camera. `radiance` is color * intensity * attenuation *
+// n is the interpolated normal, normalised per fragment, or with a
+// normal_texture the normal it gives (facet::sdk::normal_mapped); v points
+// from the fragment to the camera. `radiance` is color * intensity * attenuation *
 // spot factor (facet::sdk::incident_light). All colours are linear. With
 // receive_shadows (the default) each light's term is times the share of it
 // its shadow map lets through, if it casts shadows; with ambient_occlusion
@@ -34,21 +35,24 @@ struct Phong {
         int32_t blinn;         // bool
         int32_t base_texture;  // 1 if bound
         float alpha_cutoff;
+        int32_t normal_texture;  // 1 if bound
+        float normal_scale;
         Receiving receive;
     };
     struct Varyings {
         glm::vec3 position;  // world space
         glm::vec3 normal;    // world space, unit at the vertices
         glm::vec2 uv;
+        glm::vec4 tangent;   // world space, w the handedness
     };
 
     static constexpr const char* name = "phong";
     static constexpr const char* version = "1.0";
-    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS |
-                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP | FACET_NEED_AO |
-                                      FACET_NEED_DISCARD;
+    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_TANGENTS |
+                                      FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
+                                      FACET_NEED_SHADOW_MAP | FACET_NEED_AO | FACET_NEED_DISCARD;
     static constexpr facet_varying_desc varyings[] = {
-        varying("position", 3), varying("normal", 3), varying("uv", 2)};
+        varying("position", 3), varying("normal", 3), varying("uv", 2), varying("tangent", 4)};
     static constexpr auto params = with_receiving(std::array{
         color3("ambient", offsetof(Params, ambient), {0.02f, 0.02f, 0.02f},
                "linear RGB added everywhere"),
@@ -65,6 +69,8 @@ struct Phong {
         texture("base_texture", offsetof(Params, base_texture), 2, true,
                 "colour texture (sRGB) multiplying diffuse; its alpha is the output's"),
         alpha_cutoff(offsetof(Params, alpha_cutoff)),
+        normal_texture(offsetof(Params, normal_texture), 2),
+        normal_scale(offsetof(Params, normal_scale)),
     }, offsetof(Params, receive));
 
     // The specular lobe s for unit n, L, v (n.L > 0).
@@ -77,12 +83,14 @@ struct Phong {
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
         clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
         const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
-        return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv};
+        return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv,
+                world_tangent(d, in.tangent)};
     }
 
     // The reference: plain per-fragment code.
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
-        const glm::vec3 n = glm::normalize(v.normal);
+        glm::vec3 n = glm::normalize(v.normal);
+        if (p.normal_texture) n = normal_mapped(n, v.tangent, f.texture(1), p.normal_scale);
         const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
         const glm::vec4 base = f.texture(0);
         cut_out(f, base.a, p.alpha_cutoff);
@@ -106,6 +114,7 @@ struct Phong {
         wide::Vec3 position;
         wide::Vec3 normal;
         wide::Vec2 uv;
+        wide::Vec4 tangent;
     };
 
     static wide::Float lobe(const wide::Vec3& n, const wide::Vec3& l, const wide::Vec3& v,
@@ -127,7 +136,8 @@ struct Phong {
     static wide::Vec4 shade(const WideVaryings& v, WideFragment& f, const Draw& d,
                             const Params& p) {
         using namespace wide;
-        const Vec3 n = normalize(v.normal);
+        Vec3 n = normalize(v.normal);
+        if (p.normal_texture) n = normal_mapped(n, v.tangent, f.texture(1), p.normal_scale);
         const Vec3 to_eye = normalize(d.camera_position() - v.position);
         const Vec4 base = f.texture(0);
         cut_out(f, base.w, p.alpha_cutoff);

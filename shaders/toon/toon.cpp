@@ -13,8 +13,9 @@
 //                                                    (outline_width 0: no outline)
 //     alpha    = 1
 //
-// n is the interpolated normal, normalised per fragment; v points to the
-// camera, h = normalize(L + v). `radiance` is color * intensity *
+// n is the interpolated normal, normalised per fragment, or with a
+// normal_texture the normal it gives (facet::sdk::normal_mapped); v points
+// to the camera, h = normalize(L + v). `radiance` is color * intensity *
 // attenuation * spot factor (facet::sdk::incident_light): bands quantise the
 // angle term only, so a point light's falloff stays smooth. The outline is
 // drawn where the surface turns away from the viewer, so it is thicker where
@@ -44,19 +45,24 @@ struct Toon {
         float rim_threshold;
         glm::vec3 outline_color;
         float outline_width;
+        int32_t normal_texture;  // 1 if bound
+        float normal_scale;
         Receiving receive;
     };
     struct Varyings {
         glm::vec3 position;  // world space
         glm::vec3 normal;    // world space, unit at the vertices
+        glm::vec2 uv;
+        glm::vec4 tangent;   // world space, w the handedness
     };
 
     static constexpr const char* name = "toon";
     static constexpr const char* version = "1.0";
-    static constexpr uint32_t needs =
-        FACET_NEED_NORMALS | FACET_NEED_LIGHTS | FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
-    static constexpr facet_varying_desc varyings[] = {varying("position", 3),
-                                                      varying("normal", 3)};
+    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_TANGENTS |
+                                      FACET_NEED_TEXTURES | FACET_NEED_LIGHTS |
+                                      FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
+    static constexpr facet_varying_desc varyings[] = {varying("position", 3), varying("normal", 3),
+                                                      varying("uv", 2), varying("tangent", 4)};
     static constexpr auto params = with_receiving(std::array{
         color3("base_color", offsetof(Params, base_color), {0.8f, 0.3f, 0.2f},
                "linear RGB albedo"),
@@ -77,6 +83,8 @@ struct Toon {
                "linear RGB of the silhouette outline"),
         float1("outline_width", offsetof(Params, outline_width), 0.2f, 0.0f, 1.0f,
                "outline where n.v is below this; 0: no outline"),
+        normal_texture(offsetof(Params, normal_texture), 2),
+        normal_scale(offsetof(Params, normal_scale)),
     }, offsetof(Params, receive));
 
     static float band(float n_l, int32_t bands) {
@@ -91,11 +99,13 @@ struct Toon {
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
         clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
         const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
-        return {world, glm::normalize(d.normal_matrix() * in.normal)};
+        return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv,
+                world_tangent(d, in.tangent)};
     }
 
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
-        const glm::vec3 n = glm::normalize(v.normal);
+        glm::vec3 n = glm::normalize(v.normal);
+        if (p.normal_texture) n = normal_mapped(n, v.tangent, f.texture(0), p.normal_scale);
         const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
         const float n_v = glm::dot(n, to_eye);
         if (p.outline_width > 0.0f && n_v < p.outline_width) return {p.outline_color, 1.0f};
@@ -120,6 +130,8 @@ struct Toon {
     struct WideVaryings {
         wide::Vec3 position;
         wide::Vec3 normal;
+        wide::Vec2 uv;
+        wide::Vec4 tangent;
     };
 
     // Two versions: one that receives shadows and AO, and one for draws that
@@ -133,7 +145,8 @@ struct Toon {
     static wide::Vec4 shade(const WideVaryings& v, WideFragment& f, const Draw& d,
                             const Params& p) {
         using namespace wide;
-        const Vec3 n = normalize(v.normal);
+        Vec3 n = normalize(v.normal);
+        if (p.normal_texture) n = normal_mapped(n, v.tangent, f.texture(0), p.normal_scale);
         const Vec3 to_eye = normalize(d.camera_position() - v.position);
         const Float n_v = dot(n, to_eye);
         const Mask outline = p.outline_width > 0.0f ? n_v < p.outline_width : Mask{};

@@ -31,10 +31,9 @@ glm::dmat3 frame(const glm::dvec3& n) {
 
 }  // namespace
 
-// The winding facet culls for an object, as seen through the camera.
-uint8_t culled_winding(const Scene& scene, const Object& o) {
-    const CullMode mode =
-        o.material ? o.material->cull.value_or(scene.settings.cull) : scene.settings.cull;
+// The winding facet culls for a part drawn with material m, as seen through the camera.
+uint8_t culled_winding(const Scene& scene, const Material* m) {
+    const CullMode mode = m ? m->cull.value_or(scene.settings.cull) : scene.settings.cull;
     if (mode == CullMode::none) return 0;
     const bool drop_front = mode == CullMode::front;
     const bool drop_ccw = drop_front == scene.settings.front_ccw;
@@ -61,18 +60,21 @@ void CameraRays::ray(double x, double y, glm::dvec3& origin, glm::dvec3& dir) co
 }
 
 RayCaster::RayCaster(const Scene& scene) {
-    cull_.assign(scene.objects.size(), keep_all);
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
         if (!o.visible || !o.mesh) continue;
-        cull_[i] = Cull(culled_winding(scene, o));
         const glm::dmat4 m(o.transform.matrix());
         const Mesh& mesh = *o.mesh;
-        for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-            glm::dvec3 v[3];
-            for (int k = 0; k < 3; ++k)
-                v[k] = glm::dvec3(m * glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[t + k]]), 1));
-            triangles_.push_back({v[0], v[1], v[2], int(i), int(t / 3)});
+        for (size_t p = 0; p < mesh.part_count(); ++p) {
+            const MeshPart part = mesh.part(p);
+            const Cull cull = Cull(culled_winding(scene, o.material_of(p)));
+            for (size_t t = part.first_index; t < part.first_index + part.index_count; t += 3) {
+                glm::dvec3 v[3];
+                for (int k = 0; k < 3; ++k)
+                    v[k] = glm::dvec3(
+                        m * glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[t + k]]), 1));
+                triangles_.push_back({v[0], v[1], v[2], int(i), int(p), int(t / 3), cull});
+            }
         }
     }
     nodes_.reserve(2 * triangles_.size() + 1);
@@ -127,7 +129,7 @@ int RayCaster::trace(const glm::dvec3& o, const glm::dvec3& d, double& t_max, do
             const glm::dvec3 p = glm::cross(d, e2);
             const double det = glm::dot(e1, p);
             if (std::abs(det) < 1e-300) continue;
-            if (cull && cull_[size_t(tri.object)] == (det > 0 ? drop_ccw : drop_cw)) continue;
+            if (cull && tri.cull == (det > 0 ? drop_ccw : drop_cw)) continue;
             const double inv = 1.0 / det;
             const glm::dvec3 s = o - tri.a;
             const double u = glm::dot(s, p) * inv;
@@ -156,7 +158,7 @@ std::optional<Hit> RayCaster::first_hit(const glm::dvec3& o, const glm::dvec3& d
     glm::dvec3 n = glm::normalize(glm::cross(tri.b - tri.a, tri.c - tri.a));
     const bool ccw = glm::dot(n, d) < 0;
     if (!ccw) n = -n;
-    return Hit{t_max, o + d * t_max, n, tri.object, tri.index, u, v, ccw};
+    return Hit{t_max, o + d * t_max, n, tri.object, tri.part, tri.index, u, v, ccw};
 }
 
 bool RayCaster::occluded(const glm::dvec3& o, const glm::dvec3& d, double t_max) const {

@@ -23,6 +23,7 @@ struct Hit {
     glm::dvec3 point;
     glm::dvec3 normal;  // geometric, unit, facing the ray's origin
     int object;         // index in Scene::objects
+    int part;           // the part of its mesh (Mesh::part)
     int triangle;       // index in that object's mesh (indices 3 * triangle ...)
     double u, v;        // weights of the triangle's second and third vertex
     bool ccw;           // the ray sees the triangle's vertices counter-clockwise
@@ -47,7 +48,7 @@ public:
     explicit RayCaster(const Scene& scene);
 
     // The nearest hit. With `cull`, triangles that the scene's culling (the
-    // render setting, or the object's material's override) removes from the
+    // render setting, or their part's material's override) removes from the
     // camera's view are skipped, as facet's rasterizer skips them; shadow
     // and AO rays see every triangle, as facet's shadow and AO passes do.
     std::optional<Hit> first_hit(const glm::dvec3& origin, const glm::dvec3& dir,
@@ -76,12 +77,14 @@ public:
     bool open(const glm::dvec3& p, const glm::dvec3& n, double radius, double u, double v) const;
 
 private:
+    enum Cull : uint8_t { keep_all, drop_cw, drop_ccw };  // what the camera does not see
     struct Triangle {
         glm::dvec3 a, b, c;
         int object;
+        int part;
         int index;  // in the object's mesh
+        Cull cull;  // its part's material's
     };
-    enum Cull : uint8_t { keep_all, drop_cw, drop_ccw };  // what the camera does not see
     struct Node {
         glm::dvec3 lo, hi;
         int first, count;  // leaf: triangles [first, first + count); inner: count = 0
@@ -93,7 +96,6 @@ private:
               bool cull, bool any) const;
 
     std::vector<Triangle> triangles_;
-    std::vector<Cull> cull_;  // per object
     std::vector<Node> nodes_;
 };
 

@@ -26,7 +26,7 @@ namespace {
 
 constexpr int N = FACET_BLOCK_LANES;
 
-// One drawable object, ready to shade: its draw in three lightings (every
+// One drawable part of an object, ready to shade: its draw in three lightings (every
 // light, none, and each light alone, all without shadow maps), its vertex
 // outputs and its textures at level 0, filtered bilinearly.
 struct Prepared {
@@ -69,11 +69,11 @@ const facet_host kOracleHost = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_h
 void copy_matrix(float* out, const glm::mat4& m) { std::memcpy(out, glm::value_ptr(m), 64); }
 
 // What the plugin sees of object `o` drawn with every light in `lights`.
-facet_draw make_draw(const Scene& scene, const Object& o, const std::vector<facet_light>& lights,
+facet_draw make_draw(const Scene& scene, const Object& o, const Material& m,
+                     const std::vector<facet_light>& lights,
                      const std::vector<TextureBinding>& textures) {
     alignas(16) static const unsigned char kNoParams[FACET_MAX_PARAMS_SIZE] = {};
     const RenderSettings& s = scene.settings;
-    const Material& m = *o.material;
     const glm::mat4 model = o.transform.matrix(), view = scene.camera.view();
     const glm::mat4 projection =
         scene.camera.projection(float(s.width) / float(s.height), s.reversed_z);
@@ -98,8 +98,7 @@ facet_draw make_draw(const Scene& scene, const Object& o, const std::vector<face
     return d;
 }
 
-void check_supported(const Object& o) {
-    const Material& m = *o.material;
+void check_supported(const Object& o, const Material& m) {
     // A shader that can discard is fine while its material does not.
     const uint32_t unsupported = FACET_NEED_DERIVATIVES | FACET_NEED_BLENDING;
     if (m.blend != BlendMode::opaque || (m.plugin->needs() & unsupported) || m.discards ||
@@ -110,11 +109,10 @@ void check_supported(const Object& o) {
                                  "derivative-free materials have a reference");
 }
 
-std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
+std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o, const Material& m,
                                   const std::vector<facet_light>& lights) {
-    check_supported(o);
+    check_supported(o, m);
     const RenderSettings& s = scene.settings;
-    const Material& m = *o.material;
     auto p = std::make_unique<Prepared>();
     p->shader = m.plugin.get();
     p->mesh = o.mesh.get();
@@ -124,7 +122,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
     p->needs_ao = p->shader->needs(FACET_NEED_AO);
     p->ao_radius = s.ao_radius;
 
-    p->all = make_draw(scene, o, lights, p->textures);
+    p->all = make_draw(scene, o, m, lights, p->textures);
     p->none = p->all;
     p->none.light_count = 0;
     for (size_t k = 0; k < lights.size(); ++k) {
@@ -134,7 +132,8 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
         p->alone.push_back(d);
     }
 
-    // The shader's vertex function, once over the whole mesh.
+    // The shader's vertex function, once over the whole mesh (the part's
+    // triangles use some of it).
     const Mesh& mesh = *p->mesh;
     const uint32_t floats = p->shader->varying_floats();
     const size_t count = mesh.vertex_count();
@@ -148,7 +147,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o,
                                    input(FACET_NEED_NORMALS, mesh.normals),
                                    input(FACET_NEED_UVS, mesh.uvs),
                                    input(FACET_NEED_COLORS, mesh.colors),
-                                   nullptr,
+                                   input(FACET_NEED_TANGENTS, mesh.tangents),
                                    glm::value_ptr(clip[0]),
                                    p->varyings.data(),
                                    floats};
@@ -177,7 +176,7 @@ struct Sample {
 
 class Shader {
 public:
-    Shader(const Scene& scene, const std::vector<std::unique_ptr<Prepared>>& objects,
+    Shader(const Scene& scene, const std::vector<std::vector<std::unique_ptr<Prepared>>>& objects,
            const RayCaster& rc, const glm::dmat4& view_projection, const RenderOptions& options)
         : scene_(scene), objects_(objects), rc_(rc), view_projection_(view_projection),
           options_(options) {
@@ -187,12 +186,12 @@ public:
         }
     }
 
-    // Shades lanes `mask` of one 4x4 block, all on object `object` and on
-    // the same side of their triangles; adds each lane's colour to sum.
-    // ao_uv[i] is lane i's first point for AO directions.
-    void shade(int object, bool front, uint32_t mask, int bx, int by, const Sample* samples,
-               const glm::dvec2* ao_uv, glm::dvec4* sum) {
-        const Prepared& p = *objects_[size_t(object)];
+    // Shades lanes `mask` of one 4x4 block, all on part `part` of object
+    // `object` and on the same side of their triangles; adds each lane's
+    // colour to sum. ao_uv[i] is lane i's first point for AO directions.
+    void shade(int object, int part, bool front, uint32_t mask, int bx, int by,
+               const Sample* samples, const glm::dvec2* ao_uv, glm::dvec4* sum) {
+        const Prepared& p = *objects_[size_t(object)][size_t(part)];
         const uint32_t floats = p.shader->varying_floats();
         const uint8_t* interp = p.shader->float_interpolation();
         const int first = std::countr_zero(mask);
@@ -300,7 +299,7 @@ private:
     }
 
     const Scene& scene_;
-    const std::vector<std::unique_ptr<Prepared>>& objects_;
+    const std::vector<std::vector<std::unique_ptr<Prepared>>>& objects_;  // [object][part]
     const RayCaster& rc_;
     const glm::dmat4 view_projection_;
     const RenderOptions& options_;
@@ -317,13 +316,17 @@ std::vector<glm::dvec4> render(const Scene& scene, const RenderOptions& options)
     const int grid = std::max(1, options.grid);
     std::vector<facet_light> lights;
     for (const Light& l : scene.lights) lights.push_back(to_abi(l));
-    std::vector<std::unique_ptr<Prepared>> objects(scene.objects.size());
+    std::vector<std::vector<std::unique_ptr<Prepared>>> objects(scene.objects.size());
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
         if (!o.visible || !o.mesh) continue;  // what the ray caster leaves out too
-        if (!o.material || !o.material->plugin)
-            throw std::runtime_error("reference renderer: object '" + o.name + "' has no bound material");
-        objects[i] = prepare(scene, o, lights);
+        for (size_t k = 0; k < o.mesh->part_count(); ++k) {
+            const Material* m = o.material_of(k);
+            if (!m || !m->plugin)
+                throw std::runtime_error("reference renderer: object '" + o.name +
+                                         "' has a part with no bound material");
+            objects[i].push_back(prepare(scene, o, *m, lights));
+        }
     }
     const RayCaster rc(scene);
     const CameraRays camera(scene);
@@ -374,10 +377,12 @@ std::vector<glm::dvec4> render(const Scene& scene, const RenderOptions& options)
                             for (uint32_t m = left; m; m &= m - 1) {
                                 const int i = std::countr_zero(m);
                                 const Hit& g = *samples[i].hit;
-                                if (g.object == h.object && (g.ccw == s.front_ccw) == front)
+                                if (g.object == h.object && g.part == h.part &&
+                                    (g.ccw == s.front_ccw) == front)
                                     group |= 1u << i;
                             }
-                            shader.shade(h.object, front, group, x0, y0, samples, ao_uv, sum);
+                            shader.shade(h.object, h.part, front, group, x0, y0, samples, ao_uv,
+                                         sum);
                             left &= ~group;
                         }
                     }

@@ -866,6 +866,16 @@ inline wide::Float ambient_visibility(const WideFragment& f, const Receiving& r)
 // passes world_tangent() of VertexIn::tangent to its fragments as a
 // 4-component varying, and shades with normal_mapped().
 
+// The two parameters of a normal map: the texture, sampled at the UV of
+// varying `uv_varying`, and the scale of its X and Y.
+constexpr facet_param_desc normal_texture(size_t offset, int uv_varying) {
+    return texture("normal_texture", offset, uv_varying, false,
+                   "tangent-space normal map (linear; +Y towards the texture's top)");
+}
+constexpr facet_param_desc normal_scale(size_t offset) {
+    return float1("normal_scale", offset, 1.0f, -16.0f, 16.0f, "scales the normal map's X and Y");
+}
+
 // Tangent t (object space, w the handedness) in world space: xyz by the
 // model matrix, and w turned around where the model mirrors, so that the
 // bitangent cross(n, xyz) * w keeps pointing at the texture's top.

@@ -1,0 +1,363 @@
+// Models as artists make them: a mesh file's parts, each drawn with its own
+// material (the file's, mapped to facet's, or the scene's), tangents for
+// normal maps, and the errors of each new path, which name the file.
+#include "reference/metrics.hpp"
+#include "reference/render.hpp"
+#include "support.hpp"
+
+#include <facet/error.hpp>
+#include <facet/renderer.hpp>
+#include <facet/scene.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <fstream>
+
+using namespace facet;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kAssets = fs::path(FACET_SOURCE_DIR) / "assets";
+
+struct SceneDir {
+    test::TempDir folder{"models"};
+    const fs::path& dir = folder.path;
+    PluginRegistry registry;
+    Scene load(const std::string& yaml) {
+        test::write(dir / "scene.yaml", yaml);
+        return load_scene(dir / "scene.yaml", registry);
+    }
+    // The error load() throws.
+    std::string error(const std::string& yaml) {
+        try {
+            load(yaml);
+        } catch (const Error& e) {
+            return e.what();
+        }
+        FAIL("the scene loaded");
+        return {};
+    }
+};
+
+const char* kCameraAndLight =
+    "camera: {position: [2.6, 1.9, 3.2], target: [0, 0.25, 0], fov_y: 38}\n"
+    "render: {size: [96, 64], color_format: rgba32f, shadows: false}\n"
+    "lights: [{type: directional, direction: [-0.5, -1, -0.35], intensity: 2}]\n";
+
+// A glTF 2.0 file of one quad (z = 0, facing +Z, UVs 0..1 with V down) in
+// two primitives, one triangle each, with `materials` (JSON) and each
+// primitive's material index; the buffer beside it. `bad_index` puts a
+// vertex index past the end into the second triangle.
+void write_gltf(const fs::path& file, const std::string& materials, int first, int second,
+                bool bad_index = false, const std::string& images = "[]",
+                const std::string& textures = "[]") {
+    const float positions[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    const float normals[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const float uvs[] = {0, 1, 1, 1, 1, 0, 0, 0};
+    const uint16_t indices[] = {0, 1, 2, 0, 2, uint16_t(bad_index ? 9 : 3)};
+    std::string bin;
+    for (const auto& [data, size] : {std::pair<const void*, size_t>{positions, sizeof positions},
+                                     {normals, sizeof normals},
+                                     {uvs, sizeof uvs},
+                                     {indices, sizeof indices}})
+        bin.append(static_cast<const char*>(data), size);
+    std::ofstream(fs::path(file).replace_extension(".bin"), std::ios::binary) << bin;
+    const std::string bin_name = fs::path(file).replace_extension(".bin").filename().string();
+    auto primitive = [](int index_accessor, int material) {
+        return "{\"attributes\": {\"POSITION\": 0, \"NORMAL\": 1, \"TEXCOORD_0\": 2}, "
+               "\"indices\": " + std::to_string(index_accessor) +
+               (material >= 0 ? ", \"material\": " + std::to_string(material) : "") + "}";
+    };
+    test::write(file,
+                "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],\n"
+                " \"nodes\": [{\"name\": \"quad\", \"mesh\": 0}],\n"
+                " \"meshes\": [{\"name\": \"quad\", \"primitives\": [" + primitive(3, first) + ", " +
+                    primitive(4, second) + "]}],\n"
+                " \"materials\": " + materials + ",\n"
+                " \"images\": " + images + ", \"textures\": " + textures + ",\n"
+                " \"buffers\": [{\"uri\": \"" + bin_name + "\", \"byteLength\": " +
+                    std::to_string(bin.size()) + "}],\n"
+                " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},\n"
+                "   {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 48},\n"
+                "   {\"buffer\": 0, \"byteOffset\": 96, \"byteLength\": 32},\n"
+                "   {\"buffer\": 0, \"byteOffset\": 128, \"byteLength\": 12}],\n"
+                " \"accessors\": [\n"
+                "   {\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\", "
+                "\"min\": [-1, -1, 0], \"max\": [1, 1, 0]},\n"
+                "   {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\"},\n"
+                "   {\"bufferView\": 2, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},\n"
+                "   {\"bufferView\": 3, \"byteOffset\": 0, \"componentType\": 5123, \"count\": 3, "
+                "\"type\": \"SCALAR\"},\n"
+                "   {\"bufferView\": 3, \"byteOffset\": 6, \"componentType\": 5123, \"count\": 3, "
+                "\"type\": \"SCALAR\"}]}\n");
+}
+
+const char* kTwoMaterials =
+    "[{\"name\": \"matte_red\", \"pbrMetallicRoughness\": {\"baseColorFactor\": [0.8, 0.1, 0.1, 1],"
+    " \"metallicFactor\": 0, \"roughnessFactor\": 0.9}},"
+    " {\"name\": \"blue_metal\", \"pbrMetallicRoughness\": {\"baseColorFactor\": [0.1, 0.2, 0.9, 1],"
+    " \"metallicFactor\": 1, \"roughnessFactor\": 0.3}, \"doubleSided\": true,"
+    " \"alphaMode\": \"MASK\", \"alphaCutoff\": 0.25}]";
+
+// The value of float parameter `name` in a bound material.
+float param(const Material& m, const char* name) {
+    const facet_param_desc* d = m.plugin->find_param(name);
+    REQUIRE(d);
+    float v;
+    std::memcpy(&v, m.block->bytes + d->offset, sizeof v);
+    return v;
+}
+
+glm::vec4 pixel_at(const Framebuffer& fb, const Scene& s, glm::vec3 world) {
+    const glm::vec4 c = s.camera.projection(float(s.settings.width) / float(s.settings.height),
+                                            s.settings.reversed_z) *
+                        s.camera.view() * glm::vec4(world, 1.0f);
+    const int x = int((c.x / c.w + 1.0f) * 0.5f * float(s.settings.width));
+    const int y = int((1.0f - c.y / c.w) * 0.5f * float(s.settings.height));
+    return fb.pixel(x, y);
+}
+
+}  // namespace
+
+TEST_CASE("a glTF file's primitives are parts, each with its own material mapped to pbr",
+          "[model]") {
+    SceneDir sd;
+    write_gltf(sd.dir / "quad.gltf", kTwoMaterials, 0, 1);
+    const Scene s = sd.load(
+        "camera: {position: [0, 0, 3], target: [0, 0, 0], fov_y: 50}\n"
+        "render: {size: [64, 64], color_format: rgba32f}\n"
+        "lights: [{type: directional, direction: [0, 0, -1], intensity: 1}]\n"
+        "objects: [{name: quad, mesh: quad.gltf}]\n");
+    const Object& o = s.objects.at(0);
+    REQUIRE(o.mesh->part_count() == 2);
+    CHECK(o.mesh->parts[0].name != o.mesh->parts[1].name);
+    const Material& red = *o.material_of(0);
+    const Material& blue = *o.material_of(1);
+    CHECK(red.shader == "pbr");
+    CHECK(blue.shader == "pbr");
+    CHECK(param(red, "metallic") == 0.0f);
+    CHECK(param(red, "roughness") == Approx(0.9f));
+    CHECK(param(blue, "metallic") == 1.0f);
+    CHECK(param(blue, "roughness") == Approx(0.3f));
+    CHECK(param(blue, "alpha_cutoff") == Approx(0.25f));
+    CHECK(blue.cull == CullMode::none);  // doubleSided
+    CHECK_FALSE(red.cull.has_value());
+    CHECK(red.source == (sd.dir / "quad.gltf").string() + ": material 'matte_red'");
+    // Generated tangents: along +u, the bitangent towards the texture's top.
+    REQUIRE(o.mesh->tangents.size() == o.mesh->vertex_count());
+    for (size_t i = 0; i < o.mesh->vertex_count(); ++i) {
+        const glm::vec4 t = o.mesh->tangents[i];
+        CHECK(glm::vec3(t) == glm::vec3(1, 0, 0));
+        const glm::vec3 bitangent = glm::cross(o.mesh->normals[i], glm::vec3(t)) * t.w;
+        CHECK(bitangent.y == Approx(1.0f));  // V runs down the quad: its top is +Y
+    }
+    // Each triangle is drawn in its own colour: red below the diagonal, blue above.
+    Framebuffer fb;
+    Renderer(1).render(s, fb);
+    const glm::vec4 lower_right = fb.pixel(44, 44), upper_left = fb.pixel(20, 20);
+    CHECK(lower_right.r > 3.0f * lower_right.b);
+    CHECK(upper_left.b > 2.0f * upper_left.r);
+}
+
+TEST_CASE("a scene names materials for a whole object, a part or a file's material", "[model]") {
+    SceneDir sd;
+    write_gltf(sd.dir / "quad.gltf", kTwoMaterials, 0, 1);
+    test::write(sd.dir / "green.yaml", "shader: unlit\nparams: {base_color: [0, 1, 0, 1]}\n");
+    const std::string head = "objects:\n  - name: quad\n    mesh: quad.gltf\n";
+    {
+        const Scene s = sd.load(head + "    material: green.yaml\n");
+        const Object& o = s.objects[0];
+        CHECK(o.material_of(0)->shader == "unlit");
+        CHECK(o.material_of(1)->shader == "unlit");
+    }
+    {
+        const Scene s = sd.load(head + "    materials: {blue_metal: green.yaml}\n");
+        const Object& o = s.objects[0];
+        CHECK(o.material_of(0)->shader == "pbr");
+        CHECK(o.material_of(1)->shader == "unlit");
+        CHECK(o.materials().size() == 2);
+    }
+    {
+        // By part name, over a material for the whole object.
+        const Scene s0 = sd.load(head);
+        const std::string part = s0.objects[0].mesh->parts[0].name;
+        const Scene s = sd.load(head + "    material: {shader: lit}\n    materials: {'" + part +
+                                "': green.yaml}\n");
+        CHECK(s.objects[0].material_of(0)->shader == "unlit");
+        CHECK(s.objects[0].material_of(1)->shader == "lit");
+    }
+}
+
+TEST_CASE("an OBJ with an .mtl renders with its diffuse textures, as the reference does",
+          "[model][reference]") {
+    SceneDir sd;
+    const fs::path crate = kAssets / "crate_obj" / "crate.obj";
+    const Scene s = sd.load(std::string(kCameraAndLight) +
+                            "objects: [{name: crate, mesh: " + crate.string() +
+                            ", position: [0, 0, 0], rotation: [0, 20, 0], scale: 0.8}]\n");
+    const Object& o = s.objects.at(0);
+    REQUIRE(o.mesh->part_count() >= 3);
+    int textured = 0;
+    for (size_t i = 0; i < o.mesh->part_count(); ++i) {
+        const Material& m = *o.material_of(i);
+        CHECK(m.shader == "phong");
+        if (!m.textures.empty() && m.textures[0].texture) {
+            ++textured;
+            CHECK_THAT(m.textures[0].texture->source, Contains("crate_obj"));
+        }
+    }
+    CHECK(textured >= 2);  // wood and label
+    Framebuffer fb;
+    Renderer(1).render(s, fb);
+    const std::vector<glm::dvec4> truth = reference::render(s, {8, 1, 2});
+    const reference::ImageError e =
+        reference::compare(reference::linear_image(fb), truth, s.settings.width, s.settings.height);
+    CAPTURE(e.rmse, e.max, e.dssim);
+    CHECK(e.rmse < 0.05);
+    // Without its textures the crate looks different.
+    Scene plain = s;
+    for (PartMaterial& p : plain.objects[0].part_materials) {
+        if (!p.material) continue;
+        auto m = std::make_shared<Material>(*p.material);
+        for (TextureBinding& t : m->textures) t.texture.reset();
+        p.material = m;
+    }
+    Framebuffer untextured;
+    Renderer(1).render(plain, untextured);
+    const reference::ImageError d = reference::compare(reference::linear_image(untextured),
+                                                       reference::linear_image(fb),
+                                                       s.settings.width, s.settings.height);
+    CHECK(d.rmse > 0.02);
+}
+
+TEST_CASE("the gallery glTF, normal maps and all, matches the reference renderer",
+          "[model][reference]") {
+    SceneDir sd;
+    const fs::path gallery = kAssets / "gallery" / "gallery.gltf";
+    // The reference draws no cutouts: the leaves are drawn opaque here.
+    // Four samples a pixel, as the edges of so small an image are most of its error.
+    Scene s = sd.load(std::string(kCameraAndLight) +
+                      "objects:\n  - name: gallery\n    mesh: " + gallery.string() +
+                      "\n    materials: {leaves_cutout: {shader: pbr}}\n");
+    s.settings.msaa = 4;
+    const Object& o = s.objects.at(0);
+    CHECK(o.mesh->part_count() == 6);
+    int normal_mapped = 0;
+    for (size_t i = 0; i < o.mesh->part_count(); ++i) {
+        const Material& m = *o.material_of(i);
+        const int slot = m.plugin->texture_slot(*m.plugin->find_param("normal_texture"));
+        normal_mapped += m.textures[size_t(slot)].texture != nullptr;
+    }
+    CHECK(normal_mapped == 2);  // the tiles and the bricks
+    Framebuffer fb;
+    Renderer(1).render(s, fb);
+    const std::vector<glm::dvec4> truth = reference::render(s, {8, 1, 2});
+    const reference::ImageError e =
+        reference::compare(reference::linear_image(fb), truth, s.settings.width, s.settings.height);
+    CAPTURE(e.rmse, e.max, e.dssim);
+    CHECK(e.rmse < 0.05);  // with one sample, 0.074: mostly edges
+    // Each part shows its material: the gold sphere is gold, the plastic one red.
+    const glm::vec4 gold = pixel_at(fb, s, {-0.75f, 0.5f, 0.45f});
+    const glm::vec4 red = pixel_at(fb, s, {0.15f, 0.5f, 0.85f});
+    CHECK(gold.r > gold.b);
+    CHECK(gold.g > gold.b);
+    CHECK(red.r > 2.0f * red.g);
+    CHECK(red.r > 2.0f * red.b);
+}
+
+TEST_CASE("tangents split where UVs are mirrored, so each side keeps its frame", "[model]") {
+    SceneDir sd;
+    // Two quads side by side sharing an edge; the right one's texture is
+    // mirrored in u, so the shared vertices meet both handednesses.
+    test::write(sd.dir / "mirror.obj",
+                "v -1 0 0\nv 0 0 0\nv 0 1 0\nv -1 1 0\nv 1 0 0\nv 1 1 0\n"
+                "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                "vn 0 0 1\n"
+                "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n"
+                "f 5/1/1 6/4/1 3/3/1\nf 5/1/1 3/3/1 2/2/1\n");
+    const Scene s = sd.load("objects: [{mesh: mirror.obj, material: {shader: lit}}]\n");
+    const Mesh& m = *s.objects[0].mesh;
+    REQUIRE(m.tangents.size() == m.vertex_count());
+    int left = 0, right = 0;
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = m.indices[3 * t + k];
+            const glm::vec4 tangent = m.tangents[i];
+            // The right quad's +u runs to -X.
+            const bool right_quad = t >= 2;
+            CHECK(tangent.x == Approx(right_quad ? -1.0f : 1.0f));
+            CHECK(std::abs(tangent.y) < 1e-6f);
+            // OBJ's V runs up; either way the bitangent points up the texture: +Y.
+            CHECK((glm::cross(m.normals[i], glm::vec3(tangent)) * tangent.w).y == Approx(1.0f));
+            (right_quad ? right : left) += 1;
+        }
+    }
+    CHECK(left == 6);
+    CHECK(right == 6);
+    CHECK(m.vertex_count() == 8);  // the two shared vertices, split
+}
+
+TEST_CASE("model errors name the file: missing textures, bad indices, names that match nothing",
+          "[model][errors]") {
+    SceneDir sd;
+    const std::string images = "[{\"uri\": \"missing.png\"}]";
+    const std::string textures = "[{\"source\": 0}]";
+    {
+        write_gltf(sd.dir / "untextured.gltf",
+                   "[{\"name\": \"painted\", \"pbrMetallicRoughness\": {\"baseColorTexture\": "
+                   "{\"index\": 0}}}]",
+                   0, 0, false, images, textures);
+        const std::string e = sd.error("objects: [{mesh: untextured.gltf}]\n");
+        CHECK_THAT(e, Contains("scene.yaml:1:"));
+        CHECK_THAT(e, Contains("untextured.gltf: material 'painted'"));
+        CHECK_THAT(e, Contains("missing.png"));
+    }
+    {
+        test::write(sd.dir / "box.obj",
+                    "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                    "usemtl painted\nf 1/1 2/2 3/3\n");
+        test::write(sd.dir / "box.mtl", "newmtl painted\nKd 1 1 1\nmap_Kd nowhere.png\n");
+        const std::string e = sd.error("objects: [{mesh: box.obj}]\n");
+        CHECK_THAT(e, Contains("box.obj: material 'painted'"));
+        CHECK_THAT(e, Contains("nowhere.png"));
+    }
+    {
+        write_gltf(sd.dir / "bad.gltf", kTwoMaterials, 0, 1, true);
+        const std::string e = sd.error("objects: [{mesh: bad.gltf}]\n");
+        CHECK_THAT(e, Contains("bad.gltf"));
+        CHECK_THAT(e, Contains("mesh failed to load") || Contains("invalid mesh"));
+    }
+    {
+        write_gltf(sd.dir / "quad.gltf", kTwoMaterials, 0, 1);
+        const std::string e =
+            sd.error("objects:\n  - mesh: quad.gltf\n    materials: {chrome: {shader: lit}}\n");
+        CHECK_THAT(e, Contains("scene.yaml:3:17"));
+        CHECK_THAT(e, Contains("'chrome' names no part and no material of"));
+        CHECK_THAT(e, Contains("'matte_red', 'blue_metal'"));
+    }
+    {
+        // An OBJ without materials, and no material in the scene.
+        test::write(sd.dir / "bare.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        const std::string e = sd.error("objects: [{name: bare, mesh: bare.obj}]\n");
+        CHECK_THAT(e, Contains("object 'bare'"));
+        CHECK_THAT(e, Contains("has no material in its file"));
+    }
+    {
+        // Textures inside the file are refused, not silently left out.
+        write_gltf(sd.dir / "embedded.gltf",
+                   "[{\"name\": \"inside\", \"pbrMetallicRoughness\": {\"baseColorTexture\": "
+                   "{\"index\": 0}}}]",
+                   0, 0, false,
+                   "[{\"uri\": \"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAf"
+                   "FcSJAAAADUlEQVR42mP8z8DwHwAFBQIAX8jx0gAAAABJRU5ErkJggg==\"}]",
+                   textures);
+        const std::string e = sd.error("objects: [{mesh: embedded.gltf}]\n");
+        CHECK_THAT(e, Contains("embedded.gltf: material 'inside'"));
+        CHECK_THAT(e, Contains("embedded"));
+        // A scene that names its own material for it needs none of it.
+        CHECK_NOTHROW(sd.load("objects: [{mesh: embedded.gltf, material: {shader: lit}}]\n"));
+    }
+}
