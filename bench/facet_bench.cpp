@@ -632,7 +632,7 @@ struct LlvmpipeSide {
 struct Options {
     std::vector<std::string> scenes = {"small", "medium", "large", "fill", "subpixel", "huge"};
     std::vector<std::string> sizes = {"1280x720", "1920x1080"};
-    std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao"};
+    std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao", "pbr"};
     std::vector<int> threads;  // default: 1 and default_threads()
     std::vector<std::string> isas;  // empty: every path this CPU has
     int runs = 5;

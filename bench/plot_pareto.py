@@ -21,11 +21,12 @@ SCENES = [
     ("toon", "MSAA, sub-pixel bits", "msaa"),
     ("shadow", "shadow-map size, PCF kernel", "shadow_map_size"),
     ("ao", "AO samples, radius, resolution", "ao_samples"),
+    ("gallery", "pbr and normal maps: MSAA, filter, bits", "msaa"),
 ]
 
 
 def label(row, scene):
-    if scene in ("default", "lit"):
+    if scene in ("default", "lit", "gallery"):
         vertex = " vtx" if row["per_pixel"] == "0" else ""
         return f"{row['msaa']}x {row['filter'][:3]} {row['subpixel_bits']}b{vertex}"
     if scene in ("phong", "toon"):

@@ -63,10 +63,10 @@ bool same_image(const Framebuffer& a, const Framebuffer& b) {
            std::memcmp(a.depth(), b.depth(), n * sizeof(float)) == 0;
 }
 
-const char* const kDemoScenes[7] = {"default.yaml",      "scenes/lit.yaml",
+const char* const kDemoScenes[8] = {"default.yaml",      "scenes/lit.yaml",
                                     "scenes/phong.yaml",  "scenes/toon.yaml",
                                     "scenes/shadow.yaml", "scenes/ao.yaml",
-                                    "scenes/showcase.yaml"};
+                                    "scenes/showcase.yaml", "scenes/gallery.yaml"};
 
 Scene small_demo_scene(PluginRegistry& registry, const std::string& name) {
     Scene s = load_scene(std::string(FACET_SOURCE_DIR) + "/configs/" + name, registry);

@@ -162,6 +162,17 @@ TEST_CASE("a glTF file's primitives are parts, each with its own material mapped
     CHECK(upper_left.b > 2.0f * upper_left.r);
 }
 
+TEST_CASE("a glTF primitive without a material gets the format's default material", "[model]") {
+    SceneDir sd;
+    write_gltf(sd.dir / "quad.gltf", kTwoMaterials, -1, 1);
+    const Scene s = sd.load("objects: [{mesh: quad.gltf}]\n");
+    const Material& m = *s.objects[0].material_of(0);
+    CHECK(m.shader == "pbr");
+    CHECK(param(m, "metallic") == 1.0f);
+    CHECK(param(m, "roughness") == 1.0f);
+    CHECK(s.objects[0].material_of(1)->source.find("blue_metal") != std::string::npos);
+}
+
 TEST_CASE("a scene names materials for a whole object, a part or a file's material", "[model]") {
     SceneDir sd;
     write_gltf(sd.dir / "quad.gltf", kTwoMaterials, 0, 1);

@@ -527,7 +527,7 @@ TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
     facet_shader_desc desc = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_shader_desc),
                               "probe", "test", 0, 0, nullptr, 0, nullptr, 0,
                               probe_vertex, probe_fragment, nullptr, nullptr, 0,
-                              FACET_KIND_SHADER, nullptr, nullptr};
+                              FACET_KIND_SHADER, nullptr, nullptr, 0, 0};
     Mesh mesh = make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {0, 1, 0.5f}}, {0, 1, 2},
                           std::vector<glm::vec4>(3, glm::vec4(1.0f)));
     mesh.normals.assign(3, {0, 0, 1});

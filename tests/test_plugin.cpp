@@ -145,6 +145,46 @@ TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
     CHECK(code() == ErrorCode::plugin_invalid);
 }
 
+TEST_CASE("conditional varyings: read only under their parameter, and checked at load",
+          "[plugin]") {
+    PluginRegistry registry;
+    const std::shared_ptr<ShaderPlugin> phong = registry.get("phong");
+    // phong's tangent (4 floats, its last varying) serves only its normal map.
+    const facet_shader_desc& real = phong->desc();
+    REQUIRE(real.conditional_varyings == 1);
+    REQUIRE(std::string(real.params[real.varyings_condition].name) == "normal_texture");
+    ParamBlock block;
+    const facet_param_desc& condition = *phong->find_param("normal_texture");
+    CHECK(phong->read_floats(block.bytes) == phong->varying_floats() - 4);
+    const int32_t bound = 1;
+    std::memcpy(block.bytes + condition.offset, &bound, sizeof bound);
+    CHECK(phong->read_floats(block.bytes) == phong->varying_floats());
+
+    facet_shader_desc d = real;
+    auto why = [&]() -> std::string {
+        try {
+            ShaderPlugin::from_descriptor(&d, "test");
+        } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::plugin_invalid);
+            return e.what();
+        }
+        return "accepted";
+    };
+    CHECK(why() == "accepted");
+    d.conditional_varyings = d.varying_count + 1;
+    CHECK_THAT(why(), Catch::Contains("conditional varyings of"));
+    d = real;
+    d.varyings_condition = uint32_t(phong->find_param("diffuse") - d.params);
+    CHECK_THAT(why(), Catch::Contains("not a texture or bool parameter"));
+    d = real;
+    d.varyings_condition = d.param_count;
+    CHECK_THAT(why(), Catch::Contains("not a texture or bool parameter"));
+    // With the UV conditional too, base_texture would be sampled at zeros.
+    d = real;
+    d.conditional_varyings = 2;
+    CHECK_THAT(why(), Catch::Contains("texture 'base_texture' reads its UV from a conditional"));
+}
+
 TEST_CASE("a parameter schema that overlaps, has bad ranges or runs past its table is refused",
           "[plugin]") {
     facet_shader_desc d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();

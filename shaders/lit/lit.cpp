@@ -54,6 +54,9 @@ struct Lit {
     static constexpr facet_varying_desc varyings[] = {
         varying("position", 3), varying("normal", 3), varying("uv", 2), varying("irradiance", 3),
         varying("tangent", 4)};
+    // The tangent: read only with a normal map, and interpolated only then.
+    static constexpr uint32_t conditional_varyings = 1;
+    static constexpr const char* varyings_condition = "normal_texture";
     static constexpr auto params = with_receiving(std::array{
         color4("base_color", offsetof(Params, base_color), {0.8f, 0.8f, 0.8f, 1.0f},
                "linear RGBA albedo; alpha is the output alpha"),
@@ -99,7 +102,8 @@ struct Lit {
         const glm::vec3 n = glm::normalize(d.normal_matrix() * in.normal);
         const glm::vec3 e =
             p.per_pixel ? glm::vec3(0.0f) : irradiance(world, n, d, p, Lights::unshadowed);
-        return {world, n, in.uv, e, world_tangent(d, in.tangent)};
+        const glm::vec4 t = p.normal_texture ? world_tangent(d, in.tangent) : glm::vec4(0.0f);
+        return {world, n, in.uv, e, t};
     }
 
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {

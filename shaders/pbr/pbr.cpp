@@ -72,6 +72,9 @@ struct Pbr {
                                       FACET_NEED_SHADOW_MAP | FACET_NEED_AO | FACET_NEED_DISCARD;
     static constexpr facet_varying_desc varyings[] = {varying("position", 3), varying("normal", 3),
                                                       varying("uv", 2), varying("tangent", 4)};
+    // The tangent: read only with a normal map, and interpolated only then.
+    static constexpr uint32_t conditional_varyings = 1;
+    static constexpr const char* varyings_condition = "normal_texture";
     // Texture slots, in the order of the schema.
     enum Slot { kBase, kMetallicRoughness, kNormal, kOcclusion, kEmissive };
     static constexpr auto params = with_receiving(std::array{
@@ -100,11 +103,11 @@ struct Pbr {
         alpha_cutoff(offsetof(Params, alpha_cutoff)),
     }, offsetof(Params, receive));
 
-    static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, glm::vec4& clip) {
         clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
         const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
         return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv,
-                world_tangent(d, in.tangent)};
+                p.normal_texture ? world_tangent(d, in.tangent) : glm::vec4(0.0f)};
     }
 
     // What a surface point is made of.

@@ -53,6 +53,9 @@ struct Phong {
                                       FACET_NEED_SHADOW_MAP | FACET_NEED_AO | FACET_NEED_DISCARD;
     static constexpr facet_varying_desc varyings[] = {
         varying("position", 3), varying("normal", 3), varying("uv", 2), varying("tangent", 4)};
+    // The tangent: read only with a normal map, and interpolated only then.
+    static constexpr uint32_t conditional_varyings = 1;
+    static constexpr const char* varyings_condition = "normal_texture";
     static constexpr auto params = with_receiving(std::array{
         color3("ambient", offsetof(Params, ambient), {0.02f, 0.02f, 0.02f},
                "linear RGB added everywhere"),
@@ -80,11 +83,11 @@ struct Phong {
         return std::pow(glm::max(c, 0.0f), p.shininess);
     }
 
-    static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, glm::vec4& clip) {
         clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
         const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
         return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv,
-                world_tangent(d, in.tangent)};
+                p.normal_texture ? world_tangent(d, in.tangent) : glm::vec4(0.0f)};
     }
 
     // The reference: plain per-fragment code.

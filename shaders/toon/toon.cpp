@@ -63,6 +63,9 @@ struct Toon {
                                       FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
     static constexpr facet_varying_desc varyings[] = {varying("position", 3), varying("normal", 3),
                                                       varying("uv", 2), varying("tangent", 4)};
+    // The UV and the tangent: read only with a normal map, and interpolated only then.
+    static constexpr uint32_t conditional_varyings = 2;
+    static constexpr const char* varyings_condition = "normal_texture";
     static constexpr auto params = with_receiving(std::array{
         color3("base_color", offsetof(Params, base_color), {0.8f, 0.3f, 0.2f},
                "linear RGB albedo"),
@@ -96,11 +99,11 @@ struct Toon {
         return std::pow(p.specular_threshold, 1.0f / p.shininess);
     }
 
-    static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, glm::vec4& clip) {
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, glm::vec4& clip) {
         clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
         const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
         return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv,
-                world_tangent(d, in.tangent)};
+                p.normal_texture ? world_tangent(d, in.tangent) : glm::vec4(0.0f)};
     }
 
     static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {

@@ -113,7 +113,8 @@ static const facet_shader_desc desc = {
 #endif
     PLUGIN_NAME, "1.0", 0, 0, NULL, PARAM_COUNT, PARAMS, PARAMS_SIZE, vertex, fragment,
     NULL, NULL, 0, /* v1.2: no per-path loops; blocks only (not FACET_SHADER_PACKABLE) */
-    FACET_KIND_SHADER, NULL, NULL}; /* v1.4: a shader; no choices */
+    FACET_KIND_SHADER, NULL, NULL, /* v1.4: a shader; no choices */
+    0, 0};                         /* v1.5: no conditional varyings */
 
 #ifdef NO_ENTRY
 FACET_EXPORT const facet_shader_desc* some_other_symbol(void) { return &desc; }

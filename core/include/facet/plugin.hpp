@@ -61,6 +61,10 @@ public:
     uint32_t needs() const { return desc_.needs; }
     bool needs(facet_need need) const { return (desc_.needs & need) != 0; }
     uint32_t varying_floats() const { return varying_floats_; }
+    // The varying floats a draw with parameter block `params` reads, a
+    // prefix of them: all but the conditional varyings when their condition
+    // is 0 (facet_shader_desc.conditional_varyings, ABI 1.5).
+    uint32_t read_floats(const void* params) const;
     // facet_interpolation of each varying float.
     const uint8_t* float_interpolation() const { return float_interpolation_; }
     // Index of the first varying float of texture slot `slot`'s UV.
@@ -84,6 +88,7 @@ private:
     std::string name_;
     std::string origin_;
     uint32_t varying_floats_ = 0;
+    uint32_t unconditional_floats_ = 0;  // the floats before the conditional varyings
     int texture_count_ = 0;
     uint8_t float_interpolation_[FACET_MAX_VARYING_FLOATS] = {};
     int texture_uv_float_[FACET_MAX_TEXTURES] = {};

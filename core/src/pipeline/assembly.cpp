@@ -63,7 +63,7 @@ void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) co
         }
         const float* varyings[3];
         for (int k = 0; k < 3; ++k)
-            varyings[k] = draw_.varyings.data() + size_t(i[k]) * dc_.varying_floats;
+            varyings[k] = draw_.varyings.data() + size_t(i[k]) * dc_.vertex_floats;
         SetupResult r;
         if (const uint32_t planes = band_code(any)) {
             const SetupVertex v[3] = {{glm::dvec4(draw_.clip[i[0]]), varyings[0]},

@@ -22,7 +22,11 @@ struct DrawContext {
     const TextureBinding* textures = nullptr;  // by slot; slots past texture_count are unbound
     int texture_count = 0;
     bool sample_textures = false;
+    // The varying floats interpolated: all of them, or without the
+    // conditional ones the material does not read (ShaderPlugin::read_floats),
+    // which fragment batches leave unset.
     uint32_t varying_floats = 0;
+    uint32_t vertex_floats = 0;                // all of them: a shaded vertex's stride
     const uint8_t* interpolation = nullptr;    // per varying float
     bool perspective_only = true;              // no varying float is screen-linear
     bool packable = false;                     // fragments may be packed (fragment.hpp)
@@ -47,9 +51,10 @@ struct PostContext {
 };
 
 // Fills the shader's part of `dc`, with its fragment loop for `isa`, for
-// a draw whose fragments the shader `may_discard` (DrawCall::may_discard,
-// if the shader needs FACET_NEED_DISCARD) under `state`.
-void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
+// a draw with parameter block `params` whose fragments the shader
+// `may_discard` (DrawCall::may_discard, if the shader needs
+// FACET_NEED_DISCARD) under `state`.
+void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa, const void* params,
                      const TextureBinding* textures, int texture_count, bool may_discard,
                      const PipelineState& state);
 

@@ -94,12 +94,13 @@ void* host_scratch(const facet_post_frame* frame, uint32_t slot, size_t bytes) {
 
 }  // namespace
 
-void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa,
+void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa, const void* params,
                      const TextureBinding* textures, int texture_count, bool may_discard,
                      const PipelineState& state) {
     dc.shader = &shader;
     dc.fragment = shader.fragment_for(isa);
-    dc.varying_floats = shader.varying_floats();
+    dc.vertex_floats = shader.varying_floats();
+    dc.varying_floats = shader.read_floats(params);
     dc.interpolation = shader.float_interpolation();
     dc.perspective_only = true;
     for (uint32_t k = 0; k < dc.varying_floats; ++k)

@@ -155,7 +155,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     ++stats.draws;
 
     d.dc = {};
-    prepare_context(d.dc, shader, kernels_->isa, call.textures, call.texture_count,
+    prepare_context(d.dc, shader, kernels_->isa, call.params, call.textures, call.texture_count,
                     call.may_discard, call.state);
     d.dc.target = &target;
     d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;

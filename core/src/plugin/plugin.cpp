@@ -252,7 +252,37 @@ facet_shader_desc host_copy(const facet_shader_desc* d) {
         c.post = nullptr;
         c.param_choices = nullptr;
     }
+    if (d->abi_minor < 5) c.conditional_varyings = c.varyings_condition = 0;
     return c;
+}
+
+}  // namespace
+
+namespace {
+
+// v1.5: the conditional varyings are some of the last ones, their condition
+// a TEXTURE or BOOL parameter, and a texture read at one of them is the
+// condition itself (else it would be sampled at zeros).
+void validate_conditional_varyings(const facet_shader_desc& c, const std::string& origin) {
+    if (c.conditional_varyings == 0) return;
+    if (c.conditional_varyings > c.varying_count)
+        refuse(ErrorCode::plugin_invalid, origin,
+               std::to_string(c.conditional_varyings) + " conditional varyings of " +
+                   std::to_string(c.varying_count));
+    if (c.varyings_condition >= c.param_count ||
+        (c.params[c.varyings_condition].type != FACET_PARAM_TEXTURE &&
+         c.params[c.varyings_condition].type != FACET_PARAM_BOOL))
+        refuse(ErrorCode::plugin_invalid, origin,
+               "the conditional varyings' condition is not a texture or bool parameter");
+    const uint32_t first = c.varying_count - c.conditional_varyings;
+    for (uint32_t i = 0; i < c.param_count; ++i) {
+        const facet_param_desc& p = c.params[i];
+        if (p.type == FACET_PARAM_TEXTURE && uint32_t(p.uv_varying) >= first &&
+            i != c.varyings_condition)
+            refuse(ErrorCode::plugin_invalid, origin,
+                   "texture '" + std::string(p.name) + "' reads its UV from a conditional "
+                   "varying, and is not their condition");
+    }
 }
 
 }  // namespace
@@ -301,6 +331,7 @@ void validate_descriptor(const facet_shader_desc* d, const std::string& origin) 
                    to_hex(c.needs & ~kSupportedNeeds) + ")");
     validate_varyings(c, origin);
     validate_params(c, d, origin);
+    validate_conditional_varyings(c, origin);
 }
 
 std::vector<std::string> choice_names(std::string_view choices) {
@@ -397,9 +428,12 @@ void ShaderPlugin::adopt(const facet_shader_desc* desc) {
     varying_floats_ = 0;
     for (uint32_t v = 0; v < desc_.varying_count; ++v) {
         first_float[v] = int(varying_floats_);
+        if (v == desc_.varying_count - desc_.conditional_varyings)
+            unconditional_floats_ = varying_floats_;
         for (uint32_t c = 0; c < desc_.varyings[v].components; ++c)
             float_interpolation_[varying_floats_++] = uint8_t(desc_.varyings[v].interpolation);
     }
+    if (desc_.conditional_varyings == 0) unconditional_floats_ = varying_floats_;
     texture_count_ = 0;
     for (uint32_t i = 0; i < desc_.param_count; ++i)
         if (desc_.params[i].type == FACET_PARAM_TEXTURE)
@@ -413,6 +447,15 @@ ShaderPlugin::~ShaderPlugin() {
     }
     std::error_code ec;
     if (!private_copy_.empty()) fs::remove(private_copy_, ec);
+}
+
+uint32_t ShaderPlugin::read_floats(const void* params) const {
+    if (desc_.conditional_varyings == 0 || !params) return varying_floats_;
+    int32_t condition;  // TEXTURE and BOOL are both an int32
+    std::memcpy(&condition,
+                static_cast<const unsigned char*>(params) + desc_.params[desc_.varyings_condition].offset,
+                sizeof condition);
+    return condition ? varying_floats_ : unconditional_floats_;
 }
 
 const facet_param_desc* ShaderPlugin::find_param(std::string_view name) const {

@@ -134,6 +134,7 @@ const facet_shader_desc* describe_post() {
         nullptr, nullptr,        // fragment_avx2, fragment_avx512
         0u,                      // flags
         FACET_KIND_POST, &detail::post_entry<P>, detail::choice_table<P>(),
+        0, 0,  // no varyings, so none conditional
     };
     return &desc;
 }

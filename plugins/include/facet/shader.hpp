@@ -37,6 +37,14 @@
 // fields the `params` schema points at with offsetof. Shaders are called from
 // several threads at once and must keep no mutable state. fragment() runs
 // only for the covered lanes of a block (those that passed the depth test).
+//
+// Varyings read only under a parameter (ABI 1.5): a shader whose last
+// varyings serve only, say, its normal map declares
+//     static constexpr uint32_t conditional_varyings = 1;      // the last one
+//     static constexpr const char* varyings_condition = "normal_texture";
+// and the host interpolates them only for materials with that parameter
+// set; for the others, their members of Varyings are left unset: read them
+// only under the condition.
 #pragma once
 
 #include <facet/params.hpp>
@@ -962,6 +970,52 @@ constexpr int texture_count() {
 }
 
 template <class S>
+constexpr uint32_t conditional_varyings() {
+    if constexpr (requires { S::conditional_varyings; }) return S::conditional_varyings;
+    return 0;
+}
+
+constexpr bool same_text(const char* a, const char* b) {
+    for (; *a && *a == *b; ++a, ++b) {}
+    return *a == *b;
+}
+
+// The index of the parameter S::varyings_condition names.
+template <class S>
+constexpr uint32_t varyings_condition() {
+    if constexpr (requires { S::varyings_condition; }) {
+        for (uint32_t i = 0; i < uint32_t(std::size(S::params)); ++i)
+            if (same_text(S::params[i].name, S::varyings_condition)) return i;
+        throw "varyings_condition names no parameter";  // a compile error in a constant
+    }
+    return 0;
+}
+
+// The varying floats a draw with `params` reads: all, or those before the
+// conditional varyings when their condition is 0 (the host leaves those
+// uninterpolated).
+template <class S>
+uint32_t read_floats(const typename S::Params& params) {
+    constexpr uint32_t all = varying_floats<S>();
+    if constexpr (conditional_varyings<S>() == 0) {
+        return all;
+    } else {
+        constexpr uint32_t unconditional = [] {
+            uint32_t n = 0;
+            for (uint32_t v = 0; v < varying_count<S>() - conditional_varyings<S>(); ++v)
+                n += S::varyings[v].components;
+            return n;
+        }();
+        int32_t condition;  // a TEXTURE or BOOL: an int32
+        std::memcpy(&condition,
+                    reinterpret_cast<const unsigned char*>(&params) +
+                        S::params[varyings_condition<S>()].offset,
+                    sizeof condition);
+        return condition ? all : unconditional;
+    }
+}
+
+template <class S>
 void vertex_batch(const facet_draw* draw, const facet_vertex_batch* b) {
     using V = typename S::Varyings;
     const Draw d{draw};
@@ -998,6 +1052,7 @@ void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
                   "WideVaryings must hold a wide::Float for every float of Varyings, in order");
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
+    const uint32_t read = read_floats<S>(params);
     const auto load = [](const float* p, float otherwise) {
         wide::Float f = wide::splat(otherwise);
         if (p) std::memcpy(&f, p, sizeof f);
@@ -1013,8 +1068,8 @@ void fragment_batch_wide(const facet_draw* draw, facet_fragment_batch* b) {
             for (int c = 0; c < 4; ++c) std::fill_n(b->color + c * N + first, L, 0.0f);
             continue;
         }
-        W v;
-        for (uint32_t k = 0; k < floats; ++k)
+        W v;  // the floats the draw does not read stay unset
+        for (uint32_t k = 0; k < read; ++k)
             std::memcpy(reinterpret_cast<char*>(&v) + k * sizeof(wide::Float),
                         b->varyings + k * N + first, sizeof(wide::Float));
         WideFragment frag;
@@ -1056,6 +1111,7 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
     constexpr uint32_t floats = varying_floats<S>();
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
+    [[maybe_unused]] const uint32_t read = read_floats<S>(params);
     // Pixel centres: the host's, when it packs batches (ABI 1.2), or a block's.
     const float* coord = draw->host->abi_minor >= 2 ? b->coord : nullptr;
     uint32_t keep = b->mask;
@@ -1064,8 +1120,8 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
         const int i = std::countr_zero(lanes);
         V v{};
         if constexpr (has_varyings<S>()) {
-            float f[floats];
-            for (uint32_t k = 0; k < floats; ++k) f[k] = b->varyings[k * N + i];
+            float f[floats] = {};
+            for (uint32_t k = 0; k < read; ++k) f[k] = b->varyings[k * N + i];
             std::memcpy(&v, f, sizeof v);
         }
         const glm::vec2 centre = coord ? glm::vec2(coord[i], coord[N + i])
@@ -1134,6 +1190,7 @@ const facet_shader_desc* describe() {
                       "too many varying floats");
     }
     static_assert(std::is_trivially_copyable_v<V> && std::is_standard_layout_v<typename S::Params>);
+    constexpr uint32_t condition = detail::varyings_condition<S>();  // at compile time
     static const facet_shader_desc desc = {
         FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_shader_desc)),
         S::name, S::version,
@@ -1150,6 +1207,7 @@ const facet_shader_desc* describe() {
 #endif
         detail::flags<S>(),
         FACET_KIND_SHADER, nullptr, detail::choice_table<S>(),
+        detail::conditional_varyings<S>(), condition,
     };
     return &desc;
 }

@@ -443,6 +443,16 @@ typedef struct facet_shader_desc {
      * parameter, its names separated by '|' ("reinhard|aces"), the value
      * being the index of the name; NULL for the others. */
     const char* const* param_choices;
+    /* v1.5: the last `conditional_varyings` varyings are read only when
+     * parameter `varyings_condition` (an index into params: a TEXTURE or a
+     * BOOL) is not 0, as a normal map's tangent is read only with a normal
+     * map bound. When it is 0 the host may leave them uninterpolated: their
+     * floats in a fragment batch are then unspecified, and the fragment
+     * function must not read them (<facet/shader.hpp> copies only the
+     * others). A TEXTURE parameter whose UV is one of them must be the
+     * condition itself. 0: every varying is read. */
+    uint32_t conditional_varyings;
+    uint32_t varyings_condition;
 } facet_shader_desc;
 
 /* v1.4: what a plugin is. A host of ABI 1.3 or older sees only shaders;
