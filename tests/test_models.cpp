@@ -357,18 +357,58 @@ TEST_CASE("model errors name the file: missing textures, bad indices, names that
         CHECK_THAT(e, Contains("has no material in its file"));
     }
     {
-        // Textures inside the file are refused, not silently left out.
-        write_gltf(sd.dir / "embedded.gltf",
+        // An embedded image that is no image is an error naming it.
+        write_gltf(sd.dir / "garbled.gltf",
                    "[{\"name\": \"inside\", \"pbrMetallicRoughness\": {\"baseColorTexture\": "
                    "{\"index\": 0}}}]",
-                   0, 0, false,
-                   "[{\"uri\": \"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAf"
-                   "FcSJAAAADUlEQVR42mP8z8DwHwAFBQIAX8jx0gAAAABJRU5ErkJggg==\"}]",
+                   0, 0, false, "[{\"uri\": \"data:image/png;base64,bm90IGFuIGltYWdl\"}]",
                    textures);
-        const std::string e = sd.error("objects: [{mesh: embedded.gltf}]\n");
-        CHECK_THAT(e, Contains("embedded.gltf: material 'inside'"));
-        CHECK_THAT(e, Contains("embedded"));
+        const std::string e = sd.error("objects: [{mesh: garbled.gltf}]\n");
+        CHECK_THAT(e, Contains("garbled.gltf: material 'inside'"));
+        CHECK_THAT(e, Contains("garbled.gltf#0"));
         // A scene that names its own material for it needs none of it.
-        CHECK_NOTHROW(sd.load("objects: [{mesh: embedded.gltf, material: {shader: lit}}]\n"));
+        CHECK_NOTHROW(sd.load("objects: [{mesh: garbled.gltf, material: {shader: lit}}]\n"));
     }
+}
+
+namespace {
+
+std::string base64(const std::string& bytes) {
+    static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t n = uint32_t(uint8_t(bytes[i])) << 16;
+        if (i + 1 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+        if (i + 2 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 2]));
+        out += digits[n >> 18 & 63];
+        out += digits[n >> 12 & 63];
+        out += i + 1 < bytes.size() ? digits[n >> 6 & 63] : '=';
+        out += i + 2 < bytes.size() ? digits[n & 63] : '=';
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("textures embedded in a glTF file are read from it", "[model]") {
+    SceneDir sd;
+    const fs::path png = kAssets / "gallery" / "leaves_basecolor.png";
+    std::ifstream in(png, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    write_gltf(sd.dir / "embedded.gltf",
+               "[{\"name\": \"inside\", \"pbrMetallicRoughness\": {\"baseColorTexture\": "
+               "{\"index\": 0}}}]",
+               0, 0, false, "[{\"uri\": \"data:image/png;base64," + base64(bytes) + "\"}]",
+               "[{\"source\": 0}]");
+    const Scene s = sd.load("objects: [{mesh: embedded.gltf}]\n");
+    const Material& m = *s.objects[0].material_of(0);
+    REQUIRE(m.textures.at(0).texture);
+    const Texture& t = *m.textures[0].texture;
+    CHECK_THAT(t.source, Contains("embedded.gltf#0"));
+    CHECK(t.srgb);
+    // The same texels as the file the image came from.
+    const std::shared_ptr<const Texture> file = load_texture(png, true);
+    CHECK(t.width == file->width);
+    CHECK(t.height == file->height);
+    CHECK(t.texels == file->texels);
 }

@@ -69,6 +69,10 @@ struct Mesh {
     // Empty: the whole mesh is one part (whole_part()).
     std::vector<MeshPart> parts;
     std::vector<ImportedMaterial> materials;
+    // Images embedded in the file (a .glb's, a data: URI's), as their image
+    // files' bytes (PNG, JPEG, ...): an ImportedMaterial names image i as
+    // the file "<this mesh file's name>#i" beside it (TextureCache::add_encoded).
+    std::vector<std::shared_ptr<const std::string>> images;  // null: raw texels
     Bounds bounds;
 
     size_t vertex_count() const { return positions.size(); }

@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace facet {
@@ -67,13 +68,24 @@ void generate_mipmaps(Texture& texture);
 // Error(over_budget) when its header gives a size over the memory budget.
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb);
 
+// The same from an image file's bytes (PNG, JPEG, ...); `source` names it
+// in errors and in Texture::source.
+std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
+                                              const std::string& source);
+
 // Loads each (file, srgb) pair once and hands out the shared copy.
 class TextureCache {
 public:
     std::shared_ptr<const Texture> get(const std::filesystem::path& path, bool srgb);
 
+    // Makes `name` (which need not exist on disk) stand for the image file
+    // `bytes`: get(name) decodes them. For textures embedded in a mesh
+    // file (Mesh::images).
+    void add_encoded(const std::filesystem::path& name, std::shared_ptr<const std::string> bytes);
+
 private:
     std::map<std::pair<std::string, bool>, std::shared_ptr<const Texture>> textures_;
+    std::map<std::string, std::shared_ptr<const std::string>> encoded_;
 };
 
 struct TextureBinding {

@@ -219,12 +219,12 @@ Mesh import_mesh(const std::filesystem::path& path) {
     Mesh mesh;
     mesh.source = path.string();
     append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), mesh);
-    const bool gltf = is_gltf(path);
     for (unsigned i = 0; i < scene->mNumMaterials; ++i)
-        mesh.materials.push_back(import_material(*scene, *scene->mMaterials[i], gltf));
+        mesh.materials.push_back(import_material(*scene, *scene->mMaterials[i], path));
+    mesh.images = embedded_images(*scene);
     // assimp gives parts of a file without materials (an OBJ without .mtl)
     // one of its own; glTF's default material is the format's, and kept.
-    if (!gltf)
+    if (!is_gltf(path))
         for (MeshPart& p : mesh.parts)
             if (p.material >= 0 && mesh.materials[size_t(p.material)].name == AI_DEFAULT_MATERIAL_NAME)
                 p.material = -1;
@@ -294,6 +294,11 @@ std::string to_bytes(const Mesh& m) {
     put_value(out, uint64_t(m.materials.size()));
     for (const ImportedMaterial& im : m.materials)
         for (const std::string* s : {&im.name, &im.yaml, &im.notes, &im.problem}) put_string(out, *s);
+    put_value(out, uint64_t(m.images.size()));
+    for (const auto& image : m.images) {
+        put_value(out, uint8_t(image != nullptr));
+        if (image) put_string(out, *image);
+    }
     return out;
 }
 
@@ -319,6 +324,12 @@ void from_bytes(std::string_view in, Mesh& m) {
         ImportedMaterial& im = m.materials.emplace_back();
         for (std::string* s : {&im.name, &im.yaml, &im.notes, &im.problem}) *s = get_string(in);
     }
+    const auto images = get_value<uint64_t>(in);
+    if (images > in.size()) throw std::length_error("a truncated mesh");
+    for (uint64_t i = 0; i < images; ++i)
+        m.images.push_back(get_value<uint8_t>(in)
+                               ? std::make_shared<const std::string>(get_string(in))
+                               : nullptr);
 }
 
 // 30 s, and 1 s more per MiB: assimp reads tens of MiB a second.

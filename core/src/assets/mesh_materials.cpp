@@ -4,6 +4,7 @@
 #include <assimp/GltfMaterial.h>
 #include <assimp/material.h>
 #include <assimp/scene.h>
+#include <assimp/texture.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -30,7 +31,8 @@ std::string lower(std::string s) {
 
 class Mapper {
 public:
-    Mapper(const aiScene& scene, const aiMaterial& m) : scene_(scene), m_(m) {
+    Mapper(const aiScene& scene, const aiMaterial& m, std::string file_name)
+        : scene_(scene), m_(m), file_name_(std::move(file_name)) {
         aiString name;
         if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out_.name = name.C_Str();
     }
@@ -54,15 +56,18 @@ public:
         unsigned uv_set = 0;
         if (m_.GetTexture(type, 0, &path, nullptr, &uv_set, nullptr, nullptr, mode) != AI_SUCCESS)
             return std::nullopt;
-        const std::string file = path.C_Str();
+        std::string file = path.C_Str();
         if (file.empty()) return std::nullopt;
-        if (file[0] == '*' || scene_.GetEmbeddedTexture(path.C_Str())) {
-            if (out_.problem.empty())
-                out_.problem = "its " + std::string(what) +
-                               " is embedded in the file (a .glb, or a data: URI), which facet "
-                               "does not read: keep the textures as image files beside it, or "
-                               "name a material for these parts in the scene";
-            return std::nullopt;
+        if (const auto [embedded, index] = scene_.GetEmbeddedTextureAndIndex(path.C_Str());
+            embedded) {
+            if (embedded->mHeight != 0) {  // raw texels, not an image file
+                if (out_.problem.empty())
+                    out_.problem = "its " + std::string(what) +
+                                   " is embedded as raw texels, which facet does not read: name "
+                                   "a material for these parts in the scene";
+                return std::nullopt;
+            }
+            file = file_name_ + "#" + std::to_string(index);
         }
         if (uv_set != 0) {
             note(std::string(what) + " reads texture coordinates set " + std::to_string(uv_set) +
@@ -140,6 +145,7 @@ public:
 private:
     const aiScene& scene_;
     const aiMaterial& m_;
+    const std::string file_name_;
     ImportedMaterial out_;
     std::vector<std::pair<std::string, std::function<void(YAML::Emitter&)>>> params_;
 };
@@ -205,9 +211,21 @@ bool is_gltf(const std::filesystem::path& path) {
     return ext == ".gltf" || ext == ".glb";
 }
 
-ImportedMaterial import_material(const aiScene& scene, const aiMaterial& material, bool gltf) {
-    Mapper m(scene, material);
-    return gltf ? gltf_material(m) : classic_material(m);
+ImportedMaterial import_material(const aiScene& scene, const aiMaterial& material,
+                                 const std::filesystem::path& file) {
+    Mapper m(scene, material, file.filename().string());
+    return is_gltf(file) ? gltf_material(m) : classic_material(m);
+}
+
+std::vector<std::shared_ptr<const std::string>> embedded_images(const aiScene& scene) {
+    std::vector<std::shared_ptr<const std::string>> images(scene.mNumTextures);
+    for (unsigned i = 0; i < scene.mNumTextures; ++i) {
+        const aiTexture& t = *scene.mTextures[i];
+        if (t.mHeight == 0 && t.pcData)
+            images[i] = std::make_shared<const std::string>(
+                reinterpret_cast<const char*>(t.pcData), t.mWidth);
+    }
+    return images;
 }
 
 }  // namespace facet

@@ -13,9 +13,10 @@
 //   - every other format (OBJ's .mtl first) goes to `phong`: Kd, Ks, Ns and
 //     Ke, map_Kd as base_texture and a normal map (`norm`) as normal_texture.
 // What has no counterpart (textures of a second UV set, transmission,
-// OBJ's dissolve and bump maps, ...) is listed in ImportedMaterial::notes;
-// a texture embedded in the file (a .glb's, a data: URI) makes the material
-// unusable (ImportedMaterial::problem), not silently untextured.
+// OBJ's dissolve and bump maps, ...) is listed in ImportedMaterial::notes.
+// A texture embedded in the file (a .glb's, a data: URI's) is named as
+// Mesh::images says; one stored as raw texels, which glTF never does, makes
+// the material unusable (ImportedMaterial::problem), not silently untextured.
 #pragma once
 
 #include "facet/mesh.hpp"
@@ -30,6 +31,12 @@ namespace facet {
 // Whether `path` names a format whose materials are glTF's metallic-roughness.
 bool is_gltf(const std::filesystem::path& path);
 
-ImportedMaterial import_material(const aiScene& scene, const aiMaterial& material, bool gltf);
+// `file` is the mesh file, whose name embedded images are named after.
+ImportedMaterial import_material(const aiScene& scene, const aiMaterial& material,
+                                 const std::filesystem::path& file);
+
+// The images embedded in `scene`, by their index (Mesh::images); a raw one
+// (not an image file) is null.
+std::vector<std::shared_ptr<const std::string>> embedded_images(const aiScene& scene);
 
 }  // namespace facet

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 namespace facet {
 
@@ -331,6 +332,12 @@ public:
             const std::string source = mesh.source + ": material '" + im.name + "'";
             if (!im.problem.empty())
                 throw Error(ErrorCode::config_invalid, im.problem, source);
+            // Its embedded images, by the names the material gives them.
+            if (images_added_.insert(mesh.source).second)
+                for (size_t i = 0; i < mesh.images.size(); ++i)
+                    if (mesh.images[i])
+                        textures_.add_encoded(mesh.source + "#" + std::to_string(i),
+                                              mesh.images[i]);
             slot = imported_material(im, source, fs::path(mesh.source).parent_path(), registry_,
                                      textures_);
             std::string notes = im.notes;
@@ -377,6 +384,7 @@ private:
     std::map<std::string, std::shared_ptr<const Mesh>> meshes_;
     std::map<std::string, std::shared_ptr<Material>> materials_;
     std::map<std::pair<std::string, int>, std::shared_ptr<Material>> imported_;
+    std::set<std::string> images_added_;  // meshes whose embedded images textures_ knows
 };
 
 // Whether any triangle of `mesh`, moved to world space by `model` in float

@@ -18,6 +18,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace facet {
 
@@ -153,23 +154,23 @@ glm::vec4 decode_texel(Texel8 t, bool srgb) {
     return {colour[t.r], colour[t.g], colour[t.b], tables.linear[t.a]};
 }
 
-std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
-    require_regular_file(path);
-    int width = 0, height = 0, channels = 0;
-    // Its size from the header, against the budget, before decoding: the
-    // decoded image, and the texture with its mipmaps (a third more).
-    if (stbi_info(path.string().c_str(), &width, &height, &channels) && width > 0 && height > 0) {
-        const uint64_t texels = uint64_t(width) * uint64_t(height);
-        require_within_budget(texels * 4 + texels * sizeof(Texel8) * 4 / 3,
-                              "a " + std::to_string(width) + "x" + std::to_string(height) +
-                                  " texture",
-                              path.string());
-    }
-    stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);
-    if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), path.string());
+namespace {
 
+// Its size from the header, against the budget, before decoding: the
+// decoded image, and the texture with its mipmaps (a third more).
+void require_decodable(int width, int height, const std::string& source) {
+    if (width <= 0 || height <= 0) return;
+    const uint64_t texels = uint64_t(width) * uint64_t(height);
+    require_within_budget(texels * 4 + texels * sizeof(Texel8) * 4 / 3,
+                          "a " + std::to_string(width) + "x" + std::to_string(height) + " texture",
+                          source);
+}
+
+// A texture of stb_image's decoded RGBA `pixels`, which it frees.
+std::shared_ptr<const Texture> adopt_pixels(stbi_uc* pixels, int width, int height, int channels,
+                                            bool srgb, const std::string& source) {
     auto texture = std::make_shared<Texture>();
-    texture->source = path.string();
+    texture->source = source;
     texture->width = width;
     texture->height = height;
     texture->srgb = srgb;
@@ -183,15 +184,52 @@ std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, b
     return texture;
 }
 
+}  // namespace
+
+std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
+    require_regular_file(path);
+    int width = 0, height = 0, channels = 0;
+    if (stbi_info(path.string().c_str(), &width, &height, &channels))
+        require_decodable(width, height, path.string());
+    stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);
+    if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), path.string());
+    return adopt_pixels(pixels, width, height, channels, srgb, path.string());
+}
+
+std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
+                                              const std::string& source) {
+    if (bytes.size() > size_t(std::numeric_limits<int>::max()))
+        throw Error(ErrorCode::texture_load_failed, "an image over 2 GiB", source);
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int size = int(bytes.size());
+    int width = 0, height = 0, channels = 0;
+    if (stbi_info_from_memory(data, size, &width, &height, &channels))
+        require_decodable(width, height, source);
+    stbi_uc* pixels = stbi_load_from_memory(data, size, &width, &height, &channels, 4);
+    if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), source);
+    return adopt_pixels(pixels, width, height, channels, srgb, source);
+}
+
 std::shared_ptr<const Texture> TextureCache::get(const std::filesystem::path& path, bool srgb) {
     std::error_code ec;
     std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
     if (ec) canonical = path;
     const auto key = std::make_pair(canonical.string(), srgb);
     if (const auto found = textures_.find(key); found != textures_.end()) return found->second;
-    std::shared_ptr<const Texture> texture = load_texture(path, srgb);
+    const auto encoded = encoded_.find(canonical.string());
+    std::shared_ptr<const Texture> texture =
+        encoded != encoded_.end() ? decode_texture(*encoded->second, srgb, path.string())
+                                  : load_texture(path, srgb);
     textures_.emplace(key, texture);
     return texture;
+}
+
+void TextureCache::add_encoded(const std::filesystem::path& name,
+                               std::shared_ptr<const std::string> bytes) {
+    std::error_code ec;
+    std::filesystem::path canonical = std::filesystem::weakly_canonical(name, ec);
+    if (ec) canonical = name;
+    encoded_[canonical.string()] = std::move(bytes);
 }
 
 void generate_mipmaps(Texture& texture) {
