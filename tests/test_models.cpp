@@ -173,6 +173,63 @@ TEST_CASE("a glTF primitive without a material gets the format's default materia
     CHECK(s.objects[0].material_of(1)->source.find("blue_metal") != std::string::npos);
 }
 
+TEST_CASE("glTF alpha modes, extensions and out-of-range factors map as docs/MATERIALS.md says",
+          "[model]") {
+    SceneDir sd;
+    write_gltf(sd.dir / "modes.gltf",
+               "[{\"name\": \"see_through\", \"pbrMetallicRoughness\": {\"baseColorFactor\": "
+               "[1, 1, 1, 0.4]}, \"alphaMode\": \"BLEND\"},"
+               " {\"name\": \"solid\", \"pbrMetallicRoughness\": {\"baseColorFactor\": "
+               "[1, 1, 1, 0.4]}, \"emissiveFactor\": [0.5, 0.25, 0],"
+               " \"normalTexture\": {\"index\": 0, \"scale\": 40}},"
+               " {\"name\": \"flat\", \"extensions\": {\"KHR_materials_unlit\": {}}}]",
+               0, 1, false, "[{\"uri\": \"" + (kAssets / "gallery" / "tiles_normal.png").string() + "\"}]",
+               "[{\"source\": 0}]");
+    const Scene s = sd.load("camera: {position: [0, 0, 3], target: [0, 0, 0], fov_y: 50}\n"
+                            "render: {size: [64, 64], color_format: rgba32f}\n"
+                            "objects: [{mesh: modes.gltf}]\n");
+    const Object& o = s.objects[0];
+    const Material& blend = *o.material_of(0);
+    const Material& solid = *o.material_of(1);
+    CHECK(blend.blend == BlendMode::alpha);
+    CHECK(param(blend, "opaque_alpha") == 0.0f);  // an int32 0 reads as float 0
+    CHECK(solid.blend == BlendMode::opaque);
+    CHECK(param(solid, "normal_scale") == 16.0f);  // 40, clamped
+    const facet_param_desc* emissive = solid.plugin->find_param("emissive");
+    float e[3];
+    std::memcpy(e, solid.block->bytes + emissive->offset, sizeof e);
+    CHECK(e[0] == Approx(0.5f));
+    CHECK(e[1] == Approx(0.25f));
+    // OPAQUE ignores alpha: the image's alpha is 1 where the solid triangle is.
+    Framebuffer fb;
+    Renderer(1).render(s, fb);
+    CHECK(fb.pixel(44, 44).a == 1.0f);
+    // KHR_materials_unlit, on a quad of its own.
+    write_gltf(sd.dir / "flat.gltf",
+               "[{\"name\": \"flat\", \"pbrMetallicRoughness\": {\"baseColorFactor\": "
+               "[0.2, 0.4, 0.6, 1]}, \"extensions\": {\"KHR_materials_unlit\": {}}}]",
+               0, 0);
+    const Scene flat = sd.load("objects: [{mesh: flat.gltf}]\n");
+    CHECK(flat.objects[0].material_of(0)->shader == "unlit");
+}
+
+TEST_CASE("an OBJ whose material library is missing, or lacks its usemtl, is an error",
+          "[model][errors]") {
+    SceneDir sd;
+    const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl shiny\nf 1 2 3\n";
+    test::write(sd.dir / "lost.obj", "mtllib missing.mtl\n" + triangle);
+    std::string e = sd.error("objects: [{mesh: lost.obj}]\n");
+    CHECK_THAT(e, Contains("lost.obj: material 'shiny'"));
+    CHECK_THAT(e, Contains("material library 'missing.mtl' was not found"));
+    test::write(sd.dir / "other.mtl", "newmtl dull\nKd 1 0 0\n");
+    test::write(sd.dir / "undefined.obj", "mtllib other.mtl\n" + triangle);
+    e = sd.error("objects: [{mesh: undefined.obj}]\n");
+    CHECK_THAT(e, Contains("undefined.obj: material 'shiny'"));
+    CHECK_THAT(e, Contains("no material library (mtllib) of the file defines it"));
+    // Naming a material in the scene needs none of the file's.
+    CHECK_NOTHROW(sd.load("objects: [{mesh: lost.obj, material: {shader: lit}}]\n"));
+}
+
 TEST_CASE("a scene names materials for a whole object, a part or a file's material", "[model]") {
     SceneDir sd;
     write_gltf(sd.dir / "quad.gltf", kTwoMaterials, 0, 1);
@@ -348,6 +405,10 @@ TEST_CASE("model errors name the file: missing textures, bad indices, names that
         CHECK_THAT(e, Contains("scene.yaml:3:17"));
         CHECK_THAT(e, Contains("'chrome' names no part and no material of"));
         CHECK_THAT(e, Contains("'matte_red', 'blue_metal'"));
+        const std::string key = sd.error(
+            "objects:\n  - mesh: quad.gltf\n    materials: {[a, b]: {shader: lit}}\n");
+        CHECK_THAT(key, Contains("scene.yaml:3:17"));
+        CHECK_THAT(key, Contains("expected a key of materials"));
     }
     {
         // An OBJ without materials, and no material in the scene.

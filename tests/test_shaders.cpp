@@ -616,7 +616,8 @@ Values pbr_values(double metallic, double roughness, bool base_texture, bool nor
                       {"emissive", {0.02, 0.01, 0.0}},
                       {"emissive_texture", {0.0}},
                       {"ambient", {0.05, 0.05, 0.06}},
-                      {"alpha_cutoff", {0.0}}});
+                      {"alpha_cutoff", {0.0}},
+                      {"opaque_alpha", {0.0}}});
 }
 
 // glTF 2.0's metallic-roughness BRDF (its Appendix B), times pi, in double;
@@ -676,7 +677,7 @@ Reference pbr_reference(const Setup& s, const Values& p, const TextureBinding* b
         bool near_edge = false;
         const dvec3 c = ref_pbr(s, p, base, h.world, n, near_edge);
         if (near_edge) return std::nullopt;
-        return dvec4(c, base.a);
+        return dvec4(c, num(p, "opaque_alpha") != 0 ? 1.0 : base.a);
     };
 }
 
@@ -894,7 +895,8 @@ TEST_CASE("pbr.so matches glTF's metallic-roughness BRDF with directional, point
                          Case{1.0, 0.45, false, true}, Case{0.0, 0.35, true, true}}) {
         INFO("metallic " << c.metallic << ", roughness " << c.roughness << ", textured "
                          << c.textured << ", normal map " << c.mapped);
-        const Values p = pbr_values(c.metallic, c.roughness, c.textured, c.mapped);
+        Values p = pbr_values(c.metallic, c.roughness, c.textured, c.mapped);
+        p["opaque_alpha"] = {double(c.textured)};  // alpha 1, where the texture's is below
         std::vector<TextureBinding> slots(5);  // base, metallic-roughness, normal, occlusion, emissive
         if (c.textured) slots[0] = checker;
         if (c.mapped) slots[2] = normals;

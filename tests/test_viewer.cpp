@@ -651,6 +651,53 @@ TEST_CASE("the editor changes a material colour and a light by widget, and saves
     CHECK_FALSE(v.pump());
 }
 
+TEST_CASE("the editor edits a part's material file, and shows a mesh file's own without changing it",
+          "[viewer][editor]") {
+    const test::TempDir dir("view-parts");
+    const fs::path crate = fs::path(FACET_SOURCE_DIR) / "assets" / "crate_obj" / "crate.obj";
+    dir.write("red.yaml", "shader: lit\nparams:\n  base_color: [0.8, 0.1, 0.1, 1]\n");
+    auto scene_with = [&](const std::string& materials) {
+        return dir.write("scene.yaml",
+                         "camera: {position: [2, 2, 3], target: [0, 0.5, 0], fov_y: 40}\n"
+                         "lights: [{type: directional, direction: [-1, -1, -1], intensity: 1}]\n"
+                         "objects:\n  - name: crate\n    mesh: " + crate.string() + "\n" +
+                             materials);
+    };
+    {
+        // The crate's sides (its first part, 'wood') take red.yaml: the panel
+        // shows that first, and an edit goes into the file.
+        Options o = small(scene_with("    materials: {wood: red.yaml}\n").string());
+        o.size = glm::ivec2(900, 1000);
+        Viewer v(o);
+        REQUIRE(pump_until(v, [&] { return v.frames_presented() >= 1; }));
+        v.pump();
+        REQUIRE(v.editor().widget("part material"));  // the crate has several
+        const auto colour = v.editor().widget("base_color");
+        REQUIRE(colour);
+        type_into(v, *colour, 6.0f, "0.25");
+        REQUIRE(pump_until(v, [&] { return v.editor().unsaved() == 1; }, 3s));
+        const Material& red = *v.scene().objects[0].material_of(0);
+        CHECK(red.params.at(0).numbers.at(0) == 0.25);
+    }
+    {
+        // Without it the sides draw with the .mtl's material: shown, not changed.
+        Options o = small(scene_with("").string());
+        o.size = glm::ivec2(900, 1000);
+        Viewer v(o);
+        REQUIRE(pump_until(v, [&] { return v.frames_presented() >= 1; }));
+        v.pump();
+        const auto diffuse = v.editor().widget("diffuse");
+        REQUIRE(diffuse);
+        type_into(v, *diffuse, 6.0f, "0.25");
+        for (int i = 0; i < 10; ++i) v.pump();
+        CHECK(v.editor().unsaved() == 0);
+        const Material& wood = *v.scene().objects[0].material_of(0);
+        CHECK(wood.source.find("crate.obj: material 'wood'") != std::string::npos);
+        for (const MaterialParam& p : wood.params)
+            if (p.name == "diffuse") CHECK(p.numbers.at(0) == 1.0);  // Kd 1 1 1, unchanged
+    }
+}
+
 TEST_CASE("the editor's selection is outlined in the shown image only, and E hides the panel",
           "[viewer][editor]") {
     Options o = small((fs::path(FACET_SOURCE_DIR) / "configs/scenes/phong.yaml").string());

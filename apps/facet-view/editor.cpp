@@ -93,6 +93,26 @@ bool is_inline(const Material& m, const Scene& scene) {
     return fs::equivalent(m.file, scene.source, ec);
 }
 
+// Where the panel can save an edit of material `m` of object `o`: its own
+// file, or the object's inline `material:`. Not a part's inline material
+// under `materials:`, nor one a mesh file gives (those are shown only).
+enum class Saved { in_file, inline_object, nowhere };
+
+Saved where_saved(const Material& m, const Object& o, const Scene& scene) {
+    if (is_inline(m, scene)) return &m == o.material.get() ? Saved::inline_object : Saved::nowhere;
+    for (const auto& [file, material] : scene.material_files)
+        if (material.get() == &m) return Saved::in_file;
+    return Saved::nowhere;
+}
+
+// A material's name in the panel.
+std::string material_label(const Material& m, const Scene& scene) {
+    if (is_inline(m, scene)) return "inline (" + m.source + ")";
+    for (const auto& [file, material] : scene.material_files)
+        if (material.get() == &m) return file.filename().string();
+    return m.source;  // a mesh file's: "FILE: material 'NAME'"
+}
+
 // The parameter `name` as written, if it is.
 const MaterialParam* written(const Material& m, const std::string& name) {
     for (const MaterialParam& p : m.params)
@@ -115,6 +135,14 @@ struct ScopedId {
     ~ScopedId() { ImGui::PopID(); }
     ScopedId(const ScopedId&) = delete;
     ScopedId& operator=(const ScopedId&) = delete;
+};
+
+// Widgets shown but not usable while it lives (when `disabled`).
+struct ScopedDisabled {
+    explicit ScopedDisabled(bool disabled) { ImGui::BeginDisabled(disabled); }
+    ~ScopedDisabled() { ImGui::EndDisabled(); }
+    ScopedDisabled(const ScopedDisabled&) = delete;
+    ScopedDisabled& operator=(const ScopedDisabled&) = delete;
 };
 
 // Runs one panel; an error from it (none is expected: every value is
@@ -401,10 +429,14 @@ bool Editor::set_param(EditorTarget& t, Material& material, const facet_param_de
         r.errors.push_back(e.what());
         return false;
     }
-    if (is_inline(material, t.scene))
-        edit(t.scene.source, {"objects", size_t(t.selected), "material", "params", std::string(desc.name)}, text);
-    else
-        edit(material.source, {"params", std::string(desc.name)}, text);
+    const Object& o = t.scene.objects[size_t(t.selected)];
+    switch (where_saved(material, o, t.scene)) {
+        case Saved::inline_object:
+            edit(t.scene.source, {"objects", size_t(t.selected), "material", "params", std::string(desc.name)}, text);
+            break;
+        case Saved::in_file: edit(material.source, {"params", std::string(desc.name)}, text); break;
+        case Saved::nowhere: break;  // the panel shows such materials without widgets that change
+    }
     r.redraw = true;
     return true;
 }
@@ -412,16 +444,39 @@ bool Editor::set_param(EditorTarget& t, Material& material, const facet_param_de
 void Editor::material_panel(EditorTarget& t, EditorResult& r) {
     if (t.scene.objects.empty()) return;
     const Object& o = t.scene.objects[size_t(t.selected)];
-    const std::shared_ptr<Material> material = o.material;
-    if (!material || !material->plugin) {
-        if (o.materials().empty()) ImGui::TextDisabled("(no material)");
-        else ImGui::TextWrapped("Drawn with its mesh file's materials (%zu parts); give it a "
-                                "material file to edit here.", o.mesh ? o.mesh->part_count() : 0);
+    // The materials its parts are drawn with; a mesh of several parts may
+    // have several, chosen here.
+    const std::vector<Material*> materials = o.materials();
+    if (materials.empty()) {
+        ImGui::TextDisabled("(no material)");
         return;
     }
-    Material& m = *material;
-    ImGui::TextWrapped("%s: shader '%s'", is_inline(m, t.scene) ? "inline" : fs::path(m.source).filename().c_str(),
-                       m.plugin->name().c_str());
+    if (material_choice_of_ != t.selected || material_choice_ >= materials.size())
+        material_choice_ = 0;
+    material_choice_of_ = t.selected;
+    if (materials.size() > 1) {
+        const std::string shown = material_label(*materials[material_choice_], t.scene);
+        const bool open = ImGui::BeginCombo("part material", shown.c_str());
+        remember("part material");
+        if (open) {
+            for (size_t i = 0; i < materials.size(); ++i)
+                if (ImGui::Selectable((material_label(*materials[i], t.scene) + "##" + std::to_string(i)).c_str(),
+                                      i == material_choice_))
+                    material_choice_ = i;
+            ImGui::EndCombo();
+        }
+    }
+    Material& m = *materials[material_choice_];
+    if (!m.plugin) {
+        ImGui::TextDisabled("(not bound)");
+        return;
+    }
+    ImGui::TextWrapped("%s: shader '%s'", material_label(m, t.scene).c_str(), m.plugin->name().c_str());
+    const bool editable = where_saved(m, o, t.scene) != Saved::nowhere;
+    if (!editable)
+        ImGui::TextWrapped("Shown only: name a material for these parts in the scene "
+                           "(materials:) to edit it.");
+    const ScopedDisabled disabled(!editable);
     const facet_shader_desc& desc = m.plugin->desc();
     const ScopedId scope("material");
     for (uint32_t k = 0; k < desc.param_count; ++k) {
@@ -554,7 +609,7 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
             r.errors.push_back(name + ": not a finite number; kept the old value");
             changed = false;
         }
-        if (changed) set_param(t, m, d, std::move(p), text, r);
+        if (changed && editable) set_param(t, m, d, std::move(p), text, r);
     }
 }
 

@@ -132,6 +132,8 @@ private:
     glm::vec3 euler_{0.0f};
     glm::quat euler_of_rotation_{1.0f, 0.0f, 0.0f, 0.0f};  // the rotation euler_ was made for
     std::string texture_path_;  // the texture field being typed
+    size_t material_choice_ = 0;  // which of the selected object's materials the panel shows
+    int material_choice_of_ = -1;  // ... for this object
     static constexpr size_t kHistory = 120;
     std::deque<FrameStats> history_;
 };

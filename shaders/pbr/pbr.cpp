@@ -26,8 +26,8 @@
 // and Y; facet::sdk::normal_mapped); on a back face (a double-sided
 // material) n and the tangent frame turn around. v points to the camera.
 // With alpha_cutoff above 0, fragments whose base alpha is below it are
-// discarded; the output alpha is base alpha. glTF materials map to it
-// (docs/MATERIALS.md).
+// discarded; the output alpha is base alpha, or 1 with opaque_alpha (glTF's
+// OPAQUE and MASK modes). glTF materials map to it (docs/MATERIALS.md).
 #include <facet/shader.hpp>
 
 #include <algorithm>
@@ -56,6 +56,7 @@ struct Pbr {
         int32_t occlusion_texture;
         int32_t emissive_texture;
         float alpha_cutoff;
+        int32_t opaque_alpha;  // bool
         Receiving receive;
     };
     struct Varyings {
@@ -101,6 +102,8 @@ struct Pbr {
         color3("ambient", offsetof(Params, ambient), {0.03f, 0.03f, 0.03f},
                "light arriving equally from everywhere"),
         alpha_cutoff(offsetof(Params, alpha_cutoff)),
+        boolean("opaque_alpha", offsetof(Params, opaque_alpha), false,
+                "write alpha 1 (glTF's OPAQUE and MASK) rather than the base alpha"),
     }, offsetof(Params, receive));
 
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, glm::vec4& clip) {
@@ -150,9 +153,10 @@ struct Pbr {
         const float metallic = p.metallic * mr.z;
         const float roughness = std::max(p.roughness * mr.y, kMinRoughness);
         glm::vec3 n = glm::normalize(v.normal);
-        glm::vec4 t = v.tangent;
-        if (!f.front_facing) n = -n, t = -t;
-        if (p.normal_texture) n = normal_mapped(n, t, f.texture(kNormal), p.normal_scale);
+        if (!f.front_facing) n = -n;
+        if (p.normal_texture)  // the tangent is read (and interpolated) only then
+            n = normal_mapped(n, f.front_facing ? v.tangent : -v.tangent, f.texture(kNormal),
+                              p.normal_scale);
         Surface s;
         s.n = n;
         s.v = glm::normalize(d.camera_position() - v.position);
@@ -172,7 +176,7 @@ struct Pbr {
             c += in.radiance * reflected(s, in.to_light, n_l) *
                  light_visibility(d, i, p.receive, v.position, n_l);
         }
-        return {c, base.a};
+        return {c, p.opaque_alpha ? 1.0f : base.a};
     }
 
     // The same for wide::kLanes fragments at once, which facet runs (the
@@ -228,12 +232,12 @@ struct Pbr {
         const Float metallic = mr.z * p.metallic;
         const Float roughness = max(mr.y * p.roughness, splat(kMinRoughness));
         Vec3 n = normalize(v.normal);
-        Vec4 t = v.tangent;
-        if (!f.front_facing) {
-            n = -n;
-            t = {-t.x, -t.y, -t.z, -t.w};
+        if (!f.front_facing) n = -n;
+        if (p.normal_texture) {  // the tangent is read (and interpolated) only then
+            Vec4 t = v.tangent;
+            if (!f.front_facing) t = {-t.x, -t.y, -t.z, -t.w};
+            n = normal_mapped(n, t, f.texture(kNormal), p.normal_scale);
         }
-        if (p.normal_texture) n = normal_mapped(n, t, f.texture(kNormal), p.normal_scale);
         WideSurface s;
         s.n = n;
         s.v = normalize(d.camera_position() - v.position);
@@ -259,7 +263,7 @@ struct Pbr {
             if constexpr (Receives) lit = lit * light_visibility(d, i, p.receive, v.position, n_l);
             c += select(facing, lit, Vec3(splat(0.0f)));
         }
-        return {c, base.w};
+        return {c, p.opaque_alpha ? splat(1.0f) : base.w};
     }
 };
 

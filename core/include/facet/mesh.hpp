@@ -50,7 +50,7 @@ struct MeshPart {
     uint32_t first_vertex = 0;
     uint32_t vertex_count = 0;
     int material = -1;         // into Mesh::materials; -1: the file gives none
-    Bounds bounds;             // of its vertices
+    Bounds bounds;             // of its vertices (load_mesh sets it; set it for parts made in code)
 
     uint32_t triangle_count() const { return index_count / 3; }
 };

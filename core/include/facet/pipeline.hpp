@@ -109,7 +109,9 @@ struct PipelineState {
 struct DrawCall {
     const Mesh* mesh = nullptr;
     // The part drawn (its triangles, and only its vertices are shaded), or
-    // null: the whole mesh.
+    // null: the whole mesh. One that lies outside the mesh throws
+    // Error(config_invalid); its indices must keep to its vertices
+    // (validate_mesh checks both).
     const MeshPart* part = nullptr;
     const ShaderPlugin* shader = nullptr;
     const void* params = nullptr;                // the shader's parameter block

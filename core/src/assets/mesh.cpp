@@ -25,6 +25,8 @@
 #include <new>
 #include <stdexcept>
 #include <string_view>
+#include <unordered_map>
+#include <unordered_set>
 
 namespace facet {
 
@@ -108,29 +110,37 @@ void file_tangents(const aiMesh& src, const glm::mat4& model, Mesh& part) {
         glm::vec3 tangent = m * glm::vec3(t.x, t.y, t.z);
         tangent -= n * glm::dot(n, tangent);
         const float length = glm::length(tangent);
-        tangent = std::isfinite(length) && length > 0.0f ? tangent / length
-                                                         : glm::vec3(1.0f, 0.0f, 0.0f);
+        // None left across the normal: no frame, and a normal map leaves n alone.
+        tangent = std::isfinite(length) && length > 0.0f ? tangent / length : glm::vec3(0.0f);
         const glm::vec3 bitangent = m * glm::vec3(b.x, b.y, b.z);
         part.tangents.emplace_back(tangent,
                                    glm::dot(glm::cross(n, tangent), bitangent) < 0.0f ? -1.0f : 1.0f);
     }
 }
 
-// A part's name: the mesh's, else its node's, else "part N"; made unique
-// with "#2", "#3", ...
-std::string part_name(const aiMesh& src, const aiNode& node, const Mesh& out) {
-    std::string name = src.mName.C_Str();
-    if (name.empty()) name = node.mName.C_Str();
-    if (name.empty()) name = "part " + std::to_string(out.parts.size());
-    const std::string base = name;
-    for (int k = 2; out.find_part(name) >= 0; ++k) name = base + "#" + std::to_string(k);
-    return name;
-}
+// The part names given so far, and for each name the next number to try
+// after it: a mesh placed by thousands of nodes is named in linear time.
+struct PartNames {
+    std::unordered_set<std::string> used;
+    std::unordered_map<std::string, int> next;
+
+    // The mesh's name, else its node's, else "part N"; made unique with
+    // "#2", "#3", ...
+    std::string make(const aiMesh& src, const aiNode& node, size_t index) {
+        std::string base = src.mName.C_Str();
+        if (base.empty()) base = node.mName.C_Str();
+        if (base.empty()) base = "part " + std::to_string(index);
+        std::string name = base;
+        for (int& k = next.try_emplace(base, 2).first->second; !used.insert(name).second; ++k)
+            name = base + "#" + std::to_string(k);
+        return name;
+    }
+};
 
 // One aiMesh placed by a node: a part of its own, with tangents where it
 // has texture coordinates.
 void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, Layout layout,
-                 Mesh& out) {
+                 PartNames& names, Mesh& out) {
     Mesh part;
     append_vertices(src, model, layout, part);
     append_triangles(src, glm::determinant(glm::mat3(model)) < 0.0f, part);
@@ -139,7 +149,7 @@ void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, 
         else generate_tangents(part);
     }
     MeshPart p;
-    p.name = part_name(src, node, out);
+    p.name = names.make(src, node, out.parts.size());
     p.first_index = uint32_t(out.indices.size());
     p.index_count = uint32_t(part.indices.size());
     p.first_vertex = uint32_t(out.positions.size());
@@ -156,14 +166,15 @@ void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, 
 }
 
 void append_node(const aiScene& scene, const aiNode& node, const glm::mat4& parent, Layout layout,
-                 Mesh& out) {
+                 PartNames& names, Mesh& out) {
     const glm::mat4 model = parent * to_glm(node.mTransformation);
     for (unsigned i = 0; i < node.mNumMeshes; ++i) {
         const aiMesh& src = *scene.mMeshes[node.mMeshes[i]];
-        if (is_triangles(src) && src.mNumFaces > 0) append_part(src, node, model, layout, out);
+        if (is_triangles(src) && src.mNumFaces > 0)
+            append_part(src, node, model, layout, names, out);
     }
     for (unsigned i = 0; i < node.mNumChildren; ++i)
-        append_node(scene, *node.mChildren[i], model, layout, out);
+        append_node(scene, *node.mChildren[i], model, layout, names, out);
 }
 
 bool is_finite(const glm::vec3& p) {
@@ -218,9 +229,10 @@ Mesh import_mesh(const std::filesystem::path& path) {
     }
     Mesh mesh;
     mesh.source = path.string();
-    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), mesh);
+    PartNames names;
+    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), names, mesh);
     for (unsigned i = 0; i < scene->mNumMaterials; ++i)
-        mesh.materials.push_back(import_material(*scene, *scene->mMaterials[i], path));
+        mesh.materials.push_back(import_material(*scene, i, path));
     mesh.images = embedded_images(*scene);
     // assimp gives parts of a file without materials (an OBJ without .mtl)
     // one of its own; glTF's default material is the format's, and kept.
@@ -228,6 +240,7 @@ Mesh import_mesh(const std::filesystem::path& path) {
         for (MeshPart& p : mesh.parts)
             if (p.material >= 0 && mesh.materials[size_t(p.material)].name == AI_DEFAULT_MATERIAL_NAME)
                 p.material = -1;
+    if (is_obj(path)) check_obj_libraries(path, mesh.materials);
     return mesh;
 }
 

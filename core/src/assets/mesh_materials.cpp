@@ -3,13 +3,16 @@
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/material.h>
+#include <assimp/material.h>
 #include <assimp/scene.h>
 #include <assimp/texture.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <functional>
+#include <unordered_set>
 #include <optional>
 #include <string>
 
@@ -31,10 +34,11 @@ std::string lower(std::string s) {
 
 class Mapper {
 public:
-    Mapper(const aiScene& scene, const aiMaterial& m, std::string file_name)
+    Mapper(const aiScene& scene, const aiMaterial& m, std::string file_name, unsigned index)
         : scene_(scene), m_(m), file_name_(std::move(file_name)) {
         aiString name;
         if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out_.name = name.C_Str();
+        if (out_.name.empty()) out_.name = "material #" + std::to_string(index);
     }
 
     std::optional<float> number(const char* key, unsigned type, unsigned index) const {
@@ -136,6 +140,13 @@ public:
         return std::nullopt;
     }
     bool has_texture(aiTextureType type) const { return m_.GetTextureCount(type) > 0; }
+    bool has(const char* key, unsigned type, unsigned index) const {
+        const aiMaterialProperty* p = nullptr;
+        return aiGetMaterialProperty(&m_, key, type, index, &p) == AI_SUCCESS;
+    }
+    bool integer(const char* key, unsigned type, unsigned index, int& out) const {
+        return m_.Get(key, type, index, out) == AI_SUCCESS;
+    }
 
     bool flag(const char* key, unsigned type, unsigned index) const {
         int v = 0;
@@ -152,34 +163,80 @@ private:
 
 double clamp01(float v) { return std::clamp(double(v), 0.0, 1.0); }
 
-ImportedMaterial gltf_material(Mapper& m) {
-    const aiColor4D base = m.color(AI_MATKEY_BASE_COLOR).value_or(aiColor4D(1.0f, 1.0f, 1.0f, 1.0f));
+// Texture types whose UVs a KHR_texture_transform may move.
+constexpr aiTextureType kGltfTextures[] = {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE,
+                                           aiTextureType_UNKNOWN, aiTextureType_NORMALS,
+                                           aiTextureType_LIGHTMAP, aiTextureType_EMISSIVE};
+
+// KHR_materials_unlit: the base colour alone, as `unlit` draws it.
+ImportedMaterial gltf_unlit(Mapper& m, const aiColor4D& base) {
     m.param("base_color", {base.r, base.g, base.b, base.a});
     if (auto t = m.texture(aiTextureType_BASE_COLOR, "base colour texture")) m.param("base_texture", *t);
-    m.param("metallic", clamp01(m.number(AI_MATKEY_METALLIC_FACTOR).value_or(1.0f)));
-    m.param("roughness", clamp01(m.number(AI_MATKEY_ROUGHNESS_FACTOR).value_or(1.0f)));
-    std::optional<TextureRef> mr = m.texture(aiTextureType_UNKNOWN, "metallic-roughness texture");
-    if (!mr) mr = m.texture(aiTextureType_METALNESS, "metallic-roughness texture");
-    if (mr) m.param("metallic_roughness_texture", *mr);
+    const std::string mode = m.text(AI_MATKEY_GLTF_ALPHAMODE).value_or("OPAQUE");
+    if (mode == "MASK")
+        m.param("alpha_cutoff", clamp01(m.number(AI_MATKEY_GLTF_ALPHACUTOFF).value_or(0.5f)));
+    return m.finish("unlit", mode == "BLEND" ? "alpha" : "", m.flag(AI_MATKEY_TWOSIDED));
+}
+
+ImportedMaterial gltf_material(Mapper& m) {
+    aiColor4D base = m.color(AI_MATKEY_BASE_COLOR).value_or(aiColor4D(1.0f, 1.0f, 1.0f, 1.0f));
+    int shading = 0;
+    if (m.integer(AI_MATKEY_SHADING_MODEL, shading) && shading == aiShadingMode_Unlit)
+        return gltf_unlit(m, base);
+    // KHR_materials_pbrSpecularGlossiness: its diffuse as the base colour of
+    // a dielectric as rough as it is not glossy.
+    const std::optional<float> glossiness = m.number(AI_MATKEY_GLOSSINESS_FACTOR);
+    if (glossiness) {
+        base = m.color(AI_MATKEY_COLOR_DIFFUSE).value_or(base);
+        m.note("a specular-glossiness material (KHR_materials_pbrSpecularGlossiness) is drawn as "
+               "metallic-roughness: its diffuse colour and texture as the base, metallic 0, "
+               "roughness 1 - glossiness; its specular colour and texture are left out");
+    }
+    m.param("base_color", {base.r, base.g, base.b, base.a});
+    std::optional<TextureRef> base_texture = m.texture(aiTextureType_BASE_COLOR, "base colour texture");
+    if (!base_texture && glossiness) base_texture = m.texture(aiTextureType_DIFFUSE, "diffuse texture");
+    if (base_texture) m.param("base_texture", *base_texture);
+    m.param("metallic", glossiness ? 0.0 : clamp01(m.number(AI_MATKEY_METALLIC_FACTOR).value_or(1.0f)));
+    m.param("roughness", glossiness ? clamp01(1.0f - *glossiness)
+                                    : clamp01(m.number(AI_MATKEY_ROUGHNESS_FACTOR).value_or(1.0f)));
+    if (!glossiness) {
+        std::optional<TextureRef> mr = m.texture(aiTextureType_UNKNOWN, "metallic-roughness texture");
+        if (!mr) mr = m.texture(aiTextureType_METALNESS, "metallic-roughness texture");
+        if (mr) m.param("metallic_roughness_texture", *mr);
+    }
     if (auto t = m.texture(aiTextureType_NORMALS, "normal texture")) {
         m.param("normal_texture", *t);
-        m.param("normal_scale", double(m.number(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0)).value_or(1.0f)));
+        // pbr takes -16 .. 16: far past what any map means.
+        const float scale = m.number(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0)).value_or(1.0f);
+        const double clamped = std::isfinite(scale) ? std::clamp(double(scale), -16.0, 16.0) : 1.0;
+        if (clamped != double(scale)) m.note("normal texture scale " + std::to_string(scale) + " taken as " + std::to_string(clamped));
+        m.param("normal_scale", clamped);
     }
     if (auto t = m.texture(aiTextureType_LIGHTMAP, "occlusion texture")) {
         m.param("occlusion_texture", *t);
         m.param("occlusion_strength",
                 clamp01(m.number(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0)).value_or(1.0f)));
     }
+    // KHR_materials_emissive_strength scales the emissive factor (assimp
+    // 5.2.5, Debian 12's, does not read it yet; later ones do).
     const aiColor4D emissive = m.color(AI_MATKEY_COLOR_EMISSIVE).value_or(aiColor4D(0.0f, 0.0f, 0.0f, 1.0f));
-    m.param("emissive", {emissive.r, emissive.g, emissive.b});
+    const float strength = std::max(m.number(AI_MATKEY_EMISSIVE_INTENSITY).value_or(1.0f), 0.0f);
+    m.param("emissive", {emissive.r * strength, emissive.g * strength, emissive.b * strength});
     if (auto t = m.texture(aiTextureType_EMISSIVE, "emissive texture")) m.param("emissive_texture", *t);
+    for (aiTextureType type : kGltfTextures)
+        if (m.has(_AI_MATKEY_UVTRANSFORM_BASE, type, 0)) {
+            m.note("a texture transform (KHR_texture_transform) is left out: its texture is "
+                   "placed by the file's own UVs");
+            break;
+        }
 
+    // OPAQUE ignores alpha, and what MASK keeps is opaque: both write alpha 1.
     const std::string mode = m.text(AI_MATKEY_GLTF_ALPHAMODE).value_or("OPAQUE");
     std::string blend;
     if (mode == "MASK")
         m.param("alpha_cutoff", clamp01(m.number(AI_MATKEY_GLTF_ALPHACUTOFF).value_or(0.5f)));
-    else if (mode == "BLEND")
-        blend = "alpha";
+    if (mode == "BLEND") blend = "alpha";
+    else m.param("opaque_alpha", true);
     return m.finish("pbr", blend, m.flag(AI_MATKEY_TWOSIDED));
 }
 
@@ -211,9 +268,55 @@ bool is_gltf(const std::filesystem::path& path) {
     return ext == ".gltf" || ext == ".glb";
 }
 
-ImportedMaterial import_material(const aiScene& scene, const aiMaterial& material,
+bool is_obj(const std::filesystem::path& path) { return lower(path.extension().string()) == ".obj"; }
+
+namespace {
+
+std::string trimmed(const std::string& s) {
+    const size_t first = s.find_first_not_of(" \t\r");
+    if (first == std::string::npos) return {};
+    return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+// The rest of `line` after keyword `key` and a blank, or nothing.
+std::optional<std::string> after(const std::string& line, std::string_view key) {
+    const std::string t = trimmed(line);
+    if (t.size() <= key.size() || t.compare(0, key.size(), key) != 0 ||
+        (t[key.size()] != ' ' && t[key.size()] != '\t'))
+        return std::nullopt;
+    return trimmed(t.substr(key.size()));
+}
+
+}  // namespace
+
+void check_obj_libraries(const std::filesystem::path& obj, std::vector<ImportedMaterial>& materials) {
+    std::vector<std::string> missing;
+    std::unordered_set<std::string> defined;
+    std::ifstream in(obj);
+    for (std::string line; std::getline(in, line);) {
+        const std::optional<std::string> library = after(line, "mtllib");
+        if (!library) continue;
+        const std::filesystem::path file = obj.parent_path() / *library;
+        std::ifstream mtl(file);
+        if (!mtl) {
+            missing.push_back(*library);
+            continue;
+        }
+        for (std::string entry; std::getline(mtl, entry);)
+            if (const std::optional<std::string> name = after(entry, "newmtl")) defined.insert(*name);
+    }
+    for (ImportedMaterial& m : materials) {
+        if (m.name == AI_DEFAULT_MATERIAL_NAME || !m.problem.empty() || defined.count(m.name)) continue;
+        m.problem = missing.empty()
+                        ? "usemtl names it, and no material library (mtllib) of the file defines it"
+                        : "its material library '" + missing.front() +
+                              "' was not found beside the file";
+    }
+}
+
+ImportedMaterial import_material(const aiScene& scene, unsigned index,
                                  const std::filesystem::path& file) {
-    Mapper m(scene, material, file.filename().string());
+    Mapper m(scene, *scene.mMaterials[index], file.filename().string(), index);
     return is_gltf(file) ? gltf_material(m) : classic_material(m);
 }
 

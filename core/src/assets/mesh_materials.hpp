@@ -22,6 +22,7 @@
 #include "facet/mesh.hpp"
 
 #include <filesystem>
+#include <vector>
 
 struct aiMaterial;
 struct aiScene;
@@ -31,9 +32,18 @@ namespace facet {
 // Whether `path` names a format whose materials are glTF's metallic-roughness.
 bool is_gltf(const std::filesystem::path& path);
 
-// `file` is the mesh file, whose name embedded images are named after.
-ImportedMaterial import_material(const aiScene& scene, const aiMaterial& material,
+// Material `index` of `scene`; `file` is the mesh file, whose name
+// embedded images are named after. A material the file leaves unnamed is
+// called "material #INDEX".
+ImportedMaterial import_material(const aiScene& scene, unsigned index,
                                  const std::filesystem::path& file);
+
+bool is_obj(const std::filesystem::path& path);
+
+// assimp gives an OBJ whose material library is missing, or whose usemtl
+// names a material no library defines, grey materials of those names: this
+// gives each of them a problem (ImportedMaterial::problem) saying so.
+void check_obj_libraries(const std::filesystem::path& obj, std::vector<ImportedMaterial>& materials);
 
 // The images embedded in `scene`, by their index (Mesh::images); a raw one
 // (not an image file) is null.

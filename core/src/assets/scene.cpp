@@ -15,6 +15,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <unordered_set>
 
 namespace facet {
 
@@ -39,18 +40,19 @@ Material* Object::material_of(size_t part) const {
 
 std::vector<Material*> Object::materials() const {
     std::vector<Material*> out;
+    std::unordered_set<Material*> seen;
     const size_t parts = mesh ? mesh->part_count() : 1;
     for (size_t i = 0; i < parts; ++i)
-        if (Material* m = material_of(i); m && std::find(out.begin(), out.end(), m) == out.end())
-            out.push_back(m);
+        if (Material* m = material_of(i); m && seen.insert(m).second) out.push_back(m);
     return out;
 }
 
 std::vector<Material*> Scene::materials() const {
     std::vector<Material*> out;
+    std::unordered_set<Material*> seen;
     for (const Object& o : objects)
         for (Material* m : o.materials())
-            if (std::find(out.begin(), out.end(), m) == out.end()) out.push_back(m);
+            if (seen.insert(m).second) out.push_back(m);
     return out;
 }
 
@@ -416,6 +418,10 @@ void read_part_materials(Loader& loader, const YAML::Node& map, Object& o) {
     yaml::check_map(ctx, map, "materials");
     const Mesh& mesh = *o.mesh;
     for (const auto& entry : map) {
+        if (!entry.first.IsScalar() || entry.first.Scalar().empty())
+            throw yaml::error(ctx, entry.first, ErrorCode::wrong_type,
+                              "a key of materials: is the name of a part or of a material of "
+                              "the mesh file");
         const std::string key = entry.first.Scalar();
         std::vector<size_t> parts;
         if (const int p = mesh.find_part(key); p >= 0) {

@@ -21,12 +21,6 @@ glm::dvec3 in_plane(const glm::dvec3& v, const glm::dvec3& n) {
     return length > 1e-12 && std::isfinite(length) ? p / length : glm::dvec3(0.0);
 }
 
-// Some unit vector perpendicular to unit n.
-glm::dvec3 any_perpendicular(const glm::dvec3& n) {
-    const glm::dvec3 axis = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    return glm::normalize(glm::cross(axis, n));
-}
-
 // The angle of triangle (a, b, c) at a.
 double corner_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     const glm::dvec3 e = b - a, f = c - a;
@@ -104,8 +98,7 @@ void generate_tangents(Mesh& m) {
     m.tangents.resize(count);
     for (size_t i = 0; i < count; ++i) {
         const glm::dvec3 n(m.normals[i]);
-        glm::dvec3 t = in_plane(sum[i], n);
-        if (t == glm::dvec3(0.0)) t = any_perpendicular(n);
+        const glm::dvec3 t = in_plane(sum[i], n);  // zero: no frame
         m.tangents[i] = glm::vec4(glm::vec3(t), sign[i] < 0 ? -1.0f : 1.0f);
     }
 }

@@ -16,8 +16,8 @@
 //   - a vertex shared by triangles of both handednesses (a mirrored UV seam)
 //     is split in two, one per handedness, so each side keeps its own frame.
 // Triangles with no UV area add nothing; a vertex that none of its
-// triangles gives a direction gets a tangent perpendicular to its normal
-// (any one) and w = +1.
+// triangles gives a direction gets a zero tangent (w = +1): it has no
+// frame, and a normal map leaves its normal as it is.
 #pragma once
 
 #include "facet/mesh.hpp"

@@ -167,6 +167,12 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     const Viewport viewport{target.width(), target.height(), target.samples(),
                             call.state.subpixel_bits};
     const MeshPart part = call.part ? *call.part : mesh.whole_part();
+    if (uint64_t(part.first_index) + part.index_count > mesh.indices.size() ||
+        part.index_count % 3 != 0 ||
+        uint64_t(part.first_vertex) + part.vertex_count > mesh.vertex_count())
+        throw Error(ErrorCode::config_invalid,
+                    "draw call of part '" + part.name + "', which lies outside its mesh",
+                    mesh.source);
     shade_vertices(mesh, part.first_vertex, part.vertex_count, shader, viewport, *pool_, d);
     stats.vertices_shaded += part.vertex_count;
 

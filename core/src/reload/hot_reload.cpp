@@ -21,6 +21,17 @@ fs::path canonical_or_same(const fs::path& p) {
     return ec ? p : c;
 }
 
+// Every material the scene holds, each once: those its parts are drawn
+// with, and each object's own, which its parts may all override now and
+// not after an edit.
+std::vector<Material*> materials_of(const Scene& scene) {
+    std::vector<Material*> out = scene.materials();
+    for (const Object& o : scene.objects)
+        if (o.material && std::find(out.begin(), out.end(), o.material.get()) == out.end())
+            out.push_back(o.material.get());
+    return out;
+}
+
 }  // namespace
 
 HotReload::HotReload(PluginRegistry& registry, Scene& scene)
@@ -135,7 +146,7 @@ bool HotReload::reload_plugin(const std::string& name) {
             return false;
         }
         fresh = registry_.load_fresh(name);
-        for (Material* m : scene_.materials()) {
+        for (Material* m : materials_of(scene_)) {
             if (m->shader != name) continue;
             Material copy = *m;
             bind(copy, fresh, textures_);
@@ -176,7 +187,7 @@ bool HotReload::reload_plugin(const std::string& name) {
 // will not load, a schema that no longer fits) is thrown as it was thrown
 // there.
 std::string HotReload::trial_frame(const std::string& name) {
-    const std::vector<Material*> all = scene_.materials();
+    const std::vector<Material*> all = materials_of(scene_);
     const bool used =
         std::any_of(all.begin(), all.end(), [&](const Material* m) { return m->shader == name; }) ||
         std::any_of(scene_.post.begin(), scene_.post.end(),

@@ -642,7 +642,7 @@ struct VertexIn {
     glm::vec3 normal{0.0f, 0.0f, 1.0f};  // when not asked for: +Z
     glm::vec2 uv{0.0f};                  // when not asked for: 0
     glm::vec4 color{1.0f};               // when not asked for: white
-    glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};
+    glm::vec4 tangent{0.0f};             // when not asked for, or the mesh has none: 0
 };
 
 // A thin view of facet_draw: accessors build GLM values on demand.
@@ -898,7 +898,8 @@ inline glm::vec4 world_tangent(const Draw& d, const glm::vec4& t) {
 // The unit normal a normal map's texel gives, its X and Y times `scale`
 // (glTF's normalTexture.scale), in the frame of unit normal n and the
 // interpolated world tangent t (not unit, nor perpendicular to n: both are
-// mended here). Where t has nothing left across n (a mesh without UVs), n.
+// mended here). Where t has nothing left across n (a mesh without
+// tangents, or a vertex without UVs, gets a zero tangent), n.
 inline glm::vec3 normal_mapped(const glm::vec3& n, const glm::vec4& t, const glm::vec4& texel,
                                float scale) {
     const glm::vec3 m((texel.x * 2.0f - 1.0f) * scale, (texel.y * 2.0f - 1.0f) * scale,

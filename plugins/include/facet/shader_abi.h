@@ -339,9 +339,11 @@ typedef struct facet_vertex_batch {
                              /*   and perpendicular to the normal; w = +1 or */
                              /*   -1, the bitangent (towards the texture's  */
                              /*   top row) being cross(normal, xyz) * w, as */
-                             /*   glTF defines it. NULL unless the shader   */
-                             /*   needs FACET_NEED_TANGENTS (v1.5) and the  */
-                             /*   mesh has texture coordinates              */
+                             /*   glTF defines it; 0 where a vertex has no  */
+                             /*   UVs to give it a frame. NULL unless the   */
+                             /*   shader needs FACET_NEED_TANGENTS (v1.5)   */
+                             /*   and the mesh has tangents (a loaded mesh  */
+                             /*   with UVs does; one made in code may not)  */
     float* clip_position;    /* out: [count][4]                              */
     float* varyings;         /* out: [count][varying_floats]                 */
     uint32_t varying_floats; /* sum of the declared varyings' components    */
