@@ -76,6 +76,12 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
     endforeach()
     message(STATUS "facet: sanitizer build of the paths this CPU runs: portable ${FACET_WIDE_ISAS}")
   endif()
+  # The fuzz targets test loading and the core's kernels: a fuzzing build's
+  # shaders run their portable fragment functions only.
+  set(FACET_SHADER_ISAS ${FACET_WIDE_ISAS})
+  if(FACET_FUZZ)
+    set(FACET_SHADER_ISAS "")
+  endif()
 else()
   set(FACET_WIDE_ISAS "")
 endif()
@@ -143,7 +149,7 @@ function(facet_add_shader NAME)
   endif()
   set(target facet_shader_${NAME})
   facet_plugin_module(${target} ${NAME} ${ARG_SOURCES})
-  foreach(isa IN LISTS FACET_WIDE_ISAS)
+  foreach(isa IN LISTS FACET_SHADER_ISAS)
     facet_isa_objects(${target}_${isa} ${isa} KEEP facet_sdk_fragment_${isa} LIKE ${target}
                       SOURCES ${ARG_SOURCES} DEFINITIONS FACET_SDK_ISA_${isa}
                       OUTPUT object)
