@@ -120,6 +120,15 @@ glm::vec4 pixel_at(const Framebuffer& fb, const Scene& s, glm::vec3 world) {
     return fb.pixel(x, y);
 }
 
+// `s` drawn by facet into `fb`, and its error against the reference
+// renderer (8x8 samples a pixel, 2 threads).
+reference::ImageError render_against_reference(const Scene& s, Framebuffer& fb) {
+    Renderer(1).render(s, fb);
+    const std::vector<glm::dvec4> truth = reference::render(s, {8, 1, 2});
+    return reference::compare(reference::linear_image(fb), truth, s.settings.width,
+                              s.settings.height);
+}
+
 }  // namespace
 
 TEST_CASE("a glTF file's primitives are parts, each with its own material mapped to pbr",
@@ -279,10 +288,7 @@ TEST_CASE("an OBJ with an .mtl renders with its diffuse textures, as the referen
     }
     CHECK(textured >= 2);  // wood and label
     Framebuffer fb;
-    Renderer(1).render(s, fb);
-    const std::vector<glm::dvec4> truth = reference::render(s, {8, 1, 2});
-    const reference::ImageError e =
-        reference::compare(reference::linear_image(fb), truth, s.settings.width, s.settings.height);
+    const reference::ImageError e = render_against_reference(s, fb);
     CAPTURE(e.rmse, e.max, e.dssim);
     CHECK(e.rmse < 0.05);
     // Without its textures the crate looks different.
@@ -321,10 +327,7 @@ TEST_CASE("the gallery glTF, normal maps and all, matches the reference renderer
     }
     CHECK(normal_mapped == 2);  // the tiles and the bricks
     Framebuffer fb;
-    Renderer(1).render(s, fb);
-    const std::vector<glm::dvec4> truth = reference::render(s, {8, 1, 2});
-    const reference::ImageError e =
-        reference::compare(reference::linear_image(fb), truth, s.settings.width, s.settings.height);
+    const reference::ImageError e = render_against_reference(s, fb);
     CAPTURE(e.rmse, e.max, e.dssim);
     CHECK(e.rmse < 0.05);  // with one sample, 0.074: mostly edges
     // Each part shows its material: the gold sphere is gold, the plastic one red.
