@@ -7,9 +7,9 @@ TEST_CASE("command-line sizes and cameras parse strictly", "[core][cli]") {
     CHECK(facet::parse_size("1280x720") == glm::ivec2(1280, 720));
     CHECK(facet::parse_size("64X48") == glm::ivec2(64, 48));
     CHECK(facet::parse_size("16384x1") == glm::ivec2(16384, 1));
-    for (const char* bad : {"", "1280", "1280x", "0x720", "12x34y", "x720", "20000x10", "-5x5",
-                            "4294967297x10", "10x4294967297", "+5x5", " 5x5", "5x 5", "1e3x5",
-                            "5x5x5", "16385x1", "0000001x1"})
+    for (const char* bad : {"", "1280", "1280x", "0x720", "12x34y", "x720", "-5x5",
+                            "4294967297x10", "10x4294967297", "40000x10", "+5x5", " 5x5", "5x 5", "1e3x5",
+                            "5x5x5", "32769x1", "0000001x1"})
         CHECK_FALSE(facet::parse_size(bad));
     facet::Camera base;
     base.fov_y = 50.0f;

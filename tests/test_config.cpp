@@ -371,7 +371,7 @@ TEST_CASE("scene values are checked for sense", "[scene]") {
     check("camera: {fov_y: 180}\n", ErrorCode::out_of_range, 1, 17);
     check("camera: {position: [0, 0, 0], target: [0, 0, 0]}\n", ErrorCode::config_invalid, 1, 39);
     check("render: {size: [0, 100]}\n", ErrorCode::out_of_range, 1, 17);
-    check("render: {size: [100, 20000]}\n", ErrorCode::out_of_range, 1, 22);
+    check("render: {size: [100, 40000]}\n", ErrorCode::out_of_range, 1, 22);
     check("render: {depth_compare: lesser}\n", ErrorCode::config_invalid, 1, 25);
     check("render: {msaa: 3}\n", ErrorCode::out_of_range, 1, 16);
     check("render: {subpixel_bits: 9}\n", ErrorCode::out_of_range, 1, 25);

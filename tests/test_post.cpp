@@ -114,7 +114,7 @@ Picture run_pass(const std::string& name, const std::vector<MaterialParam>& para
     Pipeline pipeline(threads);
     PostChain chain;
     FrameStats stats;
-    chain.run({pass}, frame, target, RenderSettings{}, pipeline, stats);
+    chain.run({pass}, frame, target, RenderSettings{}, 0.0f, pipeline, stats);
     REQUIRE(stats.post_passes == 1);
     Picture out(input.width, input.height);
     for (int y = 0; y < input.height; ++y)

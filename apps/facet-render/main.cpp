@@ -1,10 +1,17 @@
-// facet-render: render a scene headless to a PNG.
+// facet-render: render a scene headless to a PNG, or a sequence of frames.
 //
 //     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]]
 //                  [--msaa N] [--threads N] [--max-memory SIZE] [--wireframe]
+//                  [--time T | --frames A..B|all [--fps N] [--resume]] [--band-rows N]
 //                  [--plugin-path DIR]... [--watch [--rebuild]] [-v|-q] [--version]
 //
-// With no scene, renders the default scene (configs/default.yaml). With
+// With no scene, renders the default scene (configs/default.yaml), posed at
+// its animation's start (or --time T). --frames renders frames A..B of its
+// animation, frame k at time k / fps, each to the output pattern with k in
+// it (-o out_%04d.png), with progress and the time left; --resume skips
+// frames whose files exist. --band-rows N renders the image in bands of N
+// rows, streamed into the PNG, so that no more than a band is in memory
+// (images over 16384x16384 pixels always are). With
 // --watch it keeps running and renders again whenever the scene, a material
 // or a shader plugin changes (hot reload); with --rebuild it also rebuilds
 // the shaders whose sources change: the built-in ones (shaders/, in a build
@@ -23,10 +30,13 @@
 #include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
+#include <facet/sequence.hpp>
 #include <facet/tool.hpp>
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <thread>
@@ -45,7 +55,16 @@ struct Options {
     bool watch = false;
     bool rebuild = false;
     std::string max_memory;
+    std::optional<double> time;
+    std::string frames;
+    double fps = 0.0;  // 0: the scene's
+    bool resume = false;
+    int band_rows = 0;
 };
+
+// Images with more pixels than one target may hold are rendered in bands of
+// this many rows, unless --band-rows says otherwise.
+constexpr int kDefaultBandRows = 256;
 
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
     spdlog::info("rendered {}x{} in {:.2f} ms: {} objects ({} culled), {} triangles in, "
@@ -75,6 +94,56 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                              "nothing"));
 }
 
+// The image in bands of rows, each encoded as it is rendered and streamed
+// into the PNG: the memory a band needs, whatever the image's size.
+void render_bands(const Options& opt, const facet::Scene& scene, facet::Renderer& renderer) {
+    const facet::RenderSettings& s = scene.settings;
+    const int rows = facet::band_rows(opt.band_rows > 0 ? opt.band_rows : kDefaultBandRows);
+    const int bands = facet::band_count(s.height, rows);
+    spdlog::info("rendering {}x{} in {} bands of {} rows", s.width, s.height, bands, rows);
+    facet::PngWriter png(opt.output, s.width, s.height);
+    facet::Progress progress("band", bands);
+    facet::Framebuffer target;
+    std::vector<uint8_t> rgba;
+    for (int b = 0; b < bands; ++b) {
+        const std::vector<facet::PngSegment> segments =
+            facet::render_band(renderer, scene, b, rows, target, rgba);
+        for (const facet::PngSegment& segment : segments) png.add(segment);
+        progress.done(fmt::format("rows {}..{}", b * rows, std::min(s.height, (b + 1) * rows) - 1));
+    }
+    png.finish();
+    spdlog::info("wrote {}", opt.output);
+}
+
+// Frames A..B of the scene's animation, each to its own file.
+void render_sequence(const Options& opt, facet::Scene& scene, facet::Renderer& renderer,
+                     const facet::Interrupts& interrupts) {
+    std::string error;
+    const std::optional<facet::FrameRange> range =
+        facet::parse_frames(opt.frames, scene.timeline, error);
+    if (!range) throw facet::Error(facet::ErrorCode::config_invalid, error, "--frames");
+    const double fps = opt.fps > 0.0 ? opt.fps : scene.timeline.fps;
+    facet::Progress progress("frame", range->count());
+    spdlog::info("rendering frames {}..{} at {} fps ({:.3f} s..{:.3f} s) to {}", range->first,
+                 range->last, fps, double(range->first) / fps, double(range->last) / fps,
+                 opt.output);
+    for (long k = range->first; k <= range->last && !interrupts.stopped(); ++k) {
+        const std::string path = facet::frame_path(opt.output, k);
+        if (opt.resume && std::filesystem::exists(path)) {
+            spdlog::debug("frame {}: {} exists; skipped", k, path);
+            progress.skipped();
+            continue;
+        }
+        const facet::FrameStats stats = facet::render_frame_to_png(renderer, scene, k, fps, path);
+        spdlog::debug("frame {}: {} triangles rasterized, {} fragments shaded in {:.2f} ms", k,
+                      stats.triangles_rasterized, stats.fragments_shaded, stats.milliseconds);
+        progress.done(path);
+    }
+    if (progress.finished() < range->count())
+        spdlog::info("{} of {} frames rendered{}", progress.finished(), range->count(),
+                     opt.resume ? "; the others existed" : "");
+}
+
 // Renders `scene` to the output PNG, with what the command line overrides.
 void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> size,
             const facet::Interrupts& interrupts) {
@@ -85,8 +154,16 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
     if (!opt.camera.empty()) scene.camera = *facet::parse_camera(opt.camera, scene.camera);
     if (opt.msaa) scene.settings.msaa = opt.msaa;
     if (opt.wireframe) scene.settings.wireframe = true;
+    const facet::RenderSettings& s = scene.settings;
+    const bool banded = opt.frames.empty() &&
+                        (opt.band_rows > 0 ||
+                         uint64_t(s.width) * uint64_t(s.height) > facet::Framebuffer::kMaxPixels);
     try {
-        facet::require_frame_within_budget(scene.settings);
+        facet::RenderSettings needed = scene.settings;  // a band's, when in bands
+        if (banded)
+            needed.height = std::min(s.height, facet::band_rows(opt.band_rows > 0 ? opt.band_rows
+                                                                                  : kDefaultBandRows));
+        facet::require_frame_within_budget(needed);
     } catch (const facet::Error& e) {  // named by what asked for the frame
         const std::string options = (size ? "--size " + opt.size : std::string()) +
                                     (size && opt.msaa ? " " : "") +
@@ -95,11 +172,14 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
                            options.empty() ? scene.source.string() + " (render: size, msaa)"
                                            : options);
     }
-    facet::Framebuffer framebuffer;
     facet::Renderer renderer(opt.threads);
     renderer.pipeline().stop_when(&interrupts.stop());
     spdlog::info("{} path on {}, {} threads", facet::isa_name(renderer.isa()), facet::cpu_name(),
                  renderer.threads());
+    if (!opt.frames.empty()) return render_sequence(opt, scene, renderer, interrupts);
+    if (opt.time) scene.pose(*opt.time);
+    if (banded) return render_bands(opt, scene, renderer);
+    facet::Framebuffer framebuffer;
     const facet::FrameStats stats = renderer.render(scene, framebuffer);
     std::vector<uint8_t> rgba;
     renderer.pipeline().resolve_srgb8(framebuffer, rgba);  // a copy of an srgb8 target
@@ -180,16 +260,42 @@ int main(int argc, char** argv) {
                    "memory budget for a target, texture or mesh, e.g. 8G (default: half of RAM, "
                    "or FACET_MAX_MEMORY)");
     app.add_flag("--wireframe", opt.wireframe, "draw triangle edges over the shading");
+    CLI::Option* time = app.add_option("--time", opt.time, "seconds: pose the scene's animation "
+                                                            "at this time (default: its start)")
+                            ->check(CLI::Range(0.0, 1e9));
+    CLI::Option* frames =
+        app.add_option("--frames", opt.frames,
+                       "render frames A..B (or N, or all: the scene's animation) of a sequence, "
+                       "frame k at time k / fps, each to -o's pattern (out_%04d.png)")
+            ->excludes(time);
+    app.add_option("--fps", opt.fps, "frames a second of a sequence (default: the scene's, or 30)")
+        ->check(CLI::Range(0.001, 1000.0))
+        ->needs(frames);
+    app.add_flag("--resume", opt.resume, "skip the frames of a sequence whose files exist")
+        ->needs(frames);
+    app.add_option("--band-rows", opt.band_rows,
+                   "render the image in bands of this many rows (rounded up to a multiple of "
+                   "64), streamed into the PNG: bounded memory for any size")
+        ->check(CLI::Range(1, facet::Framebuffer::kMaxSize))
+        ->excludes(frames);
     app.add_option("--plugin-path", opt.plugin_paths, "extra folder to search for shaders");
     app.add_flag("--watch", opt.watch, "keep running; render again when files change");
     app.add_flag("--rebuild", opt.rebuild,
                  "with --watch: rebuild a shader when its sources change (the built-in ones, "
                  "and projects whose build folder is a plugin folder)")
         ->needs("--watch");
+    frames->excludes("--watch");
     facet::Verbosity verbosity;
     facet::add_common_options(app, verbosity);
     if (const std::optional<int> status = facet::parse_command_line(app, argc, argv)) return *status;
     facet::start_logging(verbosity);
+    if (!opt.frames.empty()) {
+        if (app.count("--output") == 0) opt.output = "facet_%04d.png";
+        if (const std::string error = facet::check_frame_pattern(opt.output); !error.empty()) {
+            spdlog::error("-o: {}", error);
+            return 2;
+        }
+    }
     try {
         return run(opt, interrupts);
     } catch (const facet::Error& e) {

@@ -302,7 +302,7 @@ struct LlvmpipeRenderer::Impl {
     GLuint compile(GLenum stage, const char* source);
     Program& program(const std::string& shader);
     void upload_mesh(const Mesh& mesh);
-    void set_uniforms(const Program& p, const Scene& scene, const Object& o, const Material& m,
+    void set_uniforms(const Program& p, const Scene& scene, const glm::mat4& model, const Material& m,
                       const glm::mat4& view_projection);
     void set_lights(GLuint program, const Scene& scene);
     GLint uniform(GLuint program, const char* name) { return gl.GetUniformLocation(program, name); }
@@ -497,9 +497,9 @@ void LlvmpipeRenderer::Impl::set_lights(GLuint p, const Scene& scene) {
 }
 
 // The matrices facet's draw() gives a shader, and the material's values.
-void LlvmpipeRenderer::Impl::set_uniforms(const Program& p, const Scene& scene, const Object& o,
-                                          const Material& m, const glm::mat4& view_projection) {
-    const glm::mat4 model = o.transform.matrix();
+void LlvmpipeRenderer::Impl::set_uniforms(const Program& p, const Scene& scene,
+                                          const glm::mat4& model, const Material& m,
+                                          const glm::mat4& view_projection) {
     const glm::mat4 mvp = view_projection * model;
     gl.UniformMatrix4fv(uniform(p.id, "model_view_projection"), 1, GL_FALSE,
                         glm::value_ptr(mvp));
@@ -596,7 +596,7 @@ double LlvmpipeRenderer::render(const Scene& scene) {
             gl.DepthMask(m->writes_depth() ? GL_TRUE : GL_FALSE);
             const Program& p = impl_->program(m->shader);
             gl.UseProgram(p.id);
-            impl_->set_uniforms(p, scene, o, *m, view_projection);
+            impl_->set_uniforms(p, scene, o.part_matrix(i), *m, view_projection);
             const MeshBuffers& b = impl_->meshes.at(o.mesh.get());
             gl.BindVertexArray(b.vao);
             const MeshPart part = o.mesh->part(i);

@@ -14,6 +14,7 @@
  *   ABORT_IN_FRAGMENT  abort() in the fragment function
  *   LOOP_IN_FRAGMENT   a fragment function that never returns
  *   SLOW_FRAGMENT      a fragment function that spins ~20 us per call
+ *   TIME_AND_ROW       green is facet_draw.time, blue the pixel's window y / 1024
  * The last two write "probe: shading" to stderr at their first call. */
 #include <facet/shader_abi.h>
 
@@ -89,8 +90,14 @@ static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
 #endif
     for (int i = 0; i < FACET_BLOCK_LANES; ++i) {
         b->color[i] = FILL_RED * GAIN;
+#ifdef TIME_AND_ROW
+        b->color[FACET_BLOCK_LANES + i] = draw->time;
+        b->color[2 * FACET_BLOCK_LANES + i] =
+            (b->coord ? b->coord[FACET_BLOCK_LANES + i] : (float)(b->y + i / 4) + 0.5f) / 1024.0f;
+#else
         b->color[FACET_BLOCK_LANES + i] = 0.5f;
         b->color[2 * FACET_BLOCK_LANES + i] = 0.25f;
+#endif
         b->color[3 * FACET_BLOCK_LANES + i] = 1.0f;
     }
 }

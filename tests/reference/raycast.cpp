@@ -63,9 +63,9 @@ RayCaster::RayCaster(const Scene& scene) {
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
         if (!o.visible || !o.mesh) continue;
-        const glm::dmat4 m(o.transform.matrix());
         const Mesh& mesh = *o.mesh;
         for (size_t p = 0; p < mesh.part_count(); ++p) {
+            const glm::dmat4 m(o.part_matrix(p));
             const MeshPart part = mesh.part(p);
             const Cull cull = Cull(culled_winding(scene, o.material_of(p)));
             for (size_t t = part.first_index; t < part.first_index + part.index_count; t += 3) {

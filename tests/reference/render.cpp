@@ -95,6 +95,7 @@ facet_draw make_draw(const Scene& scene, const Object& o, const Material& m,
     }
     d.viewport_width = uint32_t(s.width);
     d.viewport_height = uint32_t(s.height);
+    d.time = float(scene.time);
     return d;
 }
 

@@ -73,7 +73,12 @@ constexpr int bytes_per_pixel(ColorFormat format) {
 
 class Framebuffer {
 public:
-    static constexpr int kMaxSize = 16384;  // per side; keeps the guard band exact
+    // An image's side, in pixels: the guard band (clip.hpp) stays exact, and
+    // 16-bit pixel coordinates hold it. One target holds at most kMaxPixels,
+    // which keeps every index into it in 32 bits; a larger image is rendered
+    // in bands (Renderer::render_rows).
+    static constexpr int kMaxSize = 32768;
+    static constexpr int64_t kMaxPixels = int64_t(16384) * 16384;
     static constexpr int kMaxSamples = 8;
 
     Framebuffer() = default;

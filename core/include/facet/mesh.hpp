@@ -13,7 +13,13 @@
 // materials come along as ImportedMaterials (mesh_materials.cpp says how
 // each format's are mapped); a scene draws a part with its imported
 // material unless it names one (scene.hpp).
+//
+// A file with node animation (glTF) keeps the nodes that place its parts
+// (Mesh::nodes) with their tracks; pose_parts() gives each part's motion
+// from where the file puts it at rest, at a time.
 #pragma once
+
+#include "facet/animation.hpp"
 
 #include <glm/glm.hpp>
 
@@ -51,8 +57,17 @@ struct MeshPart {
     uint32_t vertex_count = 0;
     int material = -1;         // into Mesh::materials; -1: the file gives none
     Bounds bounds;             // of its vertices (load_mesh sets it; set it for parts made in code)
+    int node = -1;             // into Mesh::nodes: the node that places it; -1: none moves it
 
     uint32_t triangle_count() const { return index_count / 3; }
+};
+
+// A node of a mesh file's hierarchy, kept when the file animates nodes.
+struct MeshNode {
+    std::string name;
+    int parent = -1;        // into Mesh::nodes, before this one; -1: a root
+    Transform rest;         // its place in its parent, as the file gives it
+    TransformTracks tracks; // the file's animation of it (none: it stays at rest)
 };
 
 struct Mesh {
@@ -74,6 +89,9 @@ struct Mesh {
     // the file "<this mesh file's name>#i" beside it (TextureCache::add_encoded).
     std::vector<std::shared_ptr<const std::string>> images;  // null: raw texels
     Bounds bounds;
+    // Parents first. Empty unless the file animates its nodes; the vertices
+    // are where the nodes put them at rest.
+    std::vector<MeshNode> nodes;
 
     size_t vertex_count() const { return positions.size(); }
     size_t triangle_count() const { return indices.size() / 3; }
@@ -114,6 +132,13 @@ std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path,
 // material indices in range.
 // Throws Error(mesh_invalid) naming the first problem.
 void validate_mesh(const Mesh& mesh);
+
+// Each part's motion at time t, from its place at rest to where its node's
+// animation puts it (identity for a part no animated node moves), into
+// `poses` (one per part). `mesh` has nodes.
+void pose_parts(const Mesh& mesh, double t, std::vector<glm::mat4>& poses);
+// When the mesh's node animation ends (0: it has none).
+double animation_end(const Mesh& mesh);
 
 // Recomputes bounds from positions.
 Bounds compute_bounds(const std::vector<glm::vec3>& positions);

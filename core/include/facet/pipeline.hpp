@@ -131,6 +131,13 @@ struct DrawCall {
     uint32_t cube_shadow_map_count = 0;                  // cubes
     const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
     float time = 0.0f;
+    // A band of a taller image: the target holds rows [first_row, first_row
+    // + its height) of an image image_height rows tall (and as wide as the
+    // target). Positions snap on the whole image's grid before moving up by
+    // first_row whole pixels, so the band is bit for bit those rows of the
+    // whole image. 0: the target is the whole image.
+    int image_height = 0;
+    int first_row = 0;
     // false: the material never discards though its shader can
     // (Material::discards), so its fragments may be packed and its depth
     // drawn with no shader call.

@@ -29,6 +29,7 @@ struct DrawItem {
     const MeshPart* part = nullptr;   // null: the whole mesh (it has no parts)
     const Material* material = nullptr;
     const Bounds* bounds = nullptr;   // the part's, object space
+    glm::mat4 model{1.0f};            // where it is drawn (Object::part_matrix)
     size_t order = 0;                 // position in the frame's list of items
 };
 
@@ -58,6 +59,17 @@ public:
     // (Pipeline::stop_when), the frame ends early and render() throws
     // Error(interrupted); the next render() starts afresh.
     FrameStats render(const Scene& scene, Framebuffer& target);
+
+    // Renders rows [first_row, first_row + rows) of the scene's image into
+    // `target` (resized to the scene's width and `rows`), bit for bit as
+    // render() draws those rows of the whole image: what lets a very large
+    // image be made band by band, in bounded memory, on many machines.
+    // first_row must be a multiple of FACET_BLOCK_SIZE (4), as every band
+    // of whole PNG segments (kPngSegmentRows, png.hpp) is.
+    // Screen-space passes read beyond a band's rows, so a frame that would
+    // run AO or a post chain throws Error(config_invalid) saying so; so do
+    // rows outside the image.
+    FrameStats render_rows(const Scene& scene, int first_row, int rows, Framebuffer& target);
 
     // Forgets the shadow maps kept from earlier frames, so that the next
     // render() draws every map it needs: what a frame costs while the

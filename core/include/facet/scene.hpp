@@ -31,6 +31,7 @@
 // typo never passes silently.
 #pragma once
 
+#include "facet/animation.hpp"
 #include "facet/framebuffer.hpp"
 #include "facet/material.hpp"
 #include "facet/math.hpp"
@@ -146,6 +147,17 @@ struct Object {
     Material* material_of(size_t part) const;
     // Every material the object's parts are drawn with, each once.
     std::vector<Material*> materials() const;
+    // Animation (animation.hpp): Scene::pose sets `transform` to `rest`
+    // animated at its time, and `part_poses` to the motion of each part that
+    // the mesh file's own node animation moves (empty: none does).
+    TransformTracks animation = {};
+    Transform rest = {};
+    std::vector<glm::mat4> part_poses = {};
+
+    // Where part i is drawn: transform, after the part's own motion.
+    glm::mat4 part_matrix(size_t part) const {
+        return part_poses.empty() ? transform.matrix() : transform.matrix() * part_poses[part];
+    }
     // Draws every part with `m`, forgetting the parts' own materials.
     void use_material(std::shared_ptr<Material> m) {
         material = std::move(m);
@@ -165,8 +177,20 @@ struct Scene {
     // the same file share one Material.
     std::map<std::filesystem::path, std::shared_ptr<Material>> material_files;
 
+    // Animation (animation.hpp): the time the scene is posed at (every
+    // draw's facet_draw.time), the stretch it plays, and the camera's tracks
+    // over its place at rest.
+    double time = 0.0;
+    Timeline timeline;
+    CameraTracks camera_tracks;
+    Camera camera_rest;
+
     // Every material any object is drawn with, each once, in object order.
     std::vector<Material*> materials() const;
+    // Sets the time, and the camera and every animated object to their
+    // places at that time. A pure function of t and the scene as loaded.
+    void pose(double t);
+    bool animated() const { return timeline.animated(); }
 };
 
 // Parses a scene file, loads its meshes, materials and textures, and finds

@@ -4,6 +4,7 @@
 
 #include "facet/error.hpp"
 #include "facet/math.hpp"
+#include "assets/mesh_animation.hpp"
 #include "assets/mesh_import.hpp"
 #include "assets/mesh_materials.hpp"
 #include "assets/tangents.hpp"
@@ -140,7 +141,7 @@ struct PartNames {
 // One aiMesh placed by a node: a part of its own, with tangents where it
 // has texture coordinates.
 void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, Layout layout,
-                 PartNames& names, Mesh& out) {
+                 PartNames& names, Mesh& out, std::vector<const aiNode*>& placed_by) {
     Mesh part;
     append_vertices(src, model, layout, part);
     append_triangles(src, glm::determinant(glm::mat3(model)) < 0.0f, part);
@@ -163,18 +164,20 @@ void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, 
     append(out.tangents, part.tangents);
     for (uint32_t i : part.indices) out.indices.push_back(p.first_vertex + i);
     out.parts.push_back(std::move(p));
+    placed_by.push_back(&node);
 }
 
+// Each part's node goes to `placed_by`, in the parts' order.
 void append_node(const aiScene& scene, const aiNode& node, const glm::mat4& parent, Layout layout,
-                 PartNames& names, Mesh& out) {
+                 PartNames& names, Mesh& out, std::vector<const aiNode*>& placed_by) {
     const glm::mat4 model = parent * to_glm(node.mTransformation);
     for (unsigned i = 0; i < node.mNumMeshes; ++i) {
         const aiMesh& src = *scene.mMeshes[node.mMeshes[i]];
         if (is_triangles(src) && src.mNumFaces > 0)
-            append_part(src, node, model, layout, names, out);
+            append_part(src, node, model, layout, names, out, placed_by);
     }
     for (unsigned i = 0; i < node.mNumChildren; ++i)
-        append_node(scene, *node.mChildren[i], model, layout, names, out);
+        append_node(scene, *node.mChildren[i], model, layout, names, out, placed_by);
 }
 
 bool is_finite(const glm::vec3& p) {
@@ -230,7 +233,10 @@ Mesh import_mesh(const std::filesystem::path& path) {
     Mesh mesh;
     mesh.source = path.string();
     PartNames names;
-    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), names, mesh);
+    std::vector<const aiNode*> placed_by;
+    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), names, mesh,
+                placed_by);
+    import_node_animation(*scene, placed_by, mesh);
     for (unsigned i = 0; i < scene->mNumMaterials; ++i)
         mesh.materials.push_back(import_material(*scene, i, path));
     mesh.images = embedded_images(*scene);
@@ -289,6 +295,18 @@ T get_value(std::string_view& in) {
     return v;
 }
 
+template <typename T>
+void put_track(std::string& out, const Track<T>& track) {
+    put_array(out, track.times);
+    put_array(out, track.values);
+}
+
+template <typename T>
+void get_track(std::string_view& in, Track<T>& track) {
+    get_array(in, track.times);
+    get_array(in, track.values);
+}
+
 std::string to_bytes(const Mesh& m) {
     std::string out;
     put_array(out, m.positions);
@@ -303,6 +321,16 @@ std::string to_bytes(const Mesh& m) {
         for (uint32_t v : {p.first_index, p.index_count, p.first_vertex, p.vertex_count})
             put_value(out, v);
         put_value(out, int32_t(p.material));
+        put_value(out, int32_t(p.node));
+    }
+    put_value(out, uint64_t(m.nodes.size()));
+    for (const MeshNode& n : m.nodes) {
+        put_string(out, n.name);
+        put_value(out, int32_t(n.parent));
+        put_value(out, n.rest);
+        put_track(out, n.tracks.position);
+        put_track(out, n.tracks.rotation);
+        put_track(out, n.tracks.scale);
     }
     put_value(out, uint64_t(m.materials.size()));
     for (const ImportedMaterial& im : m.materials)
@@ -330,6 +358,18 @@ void from_bytes(std::string_view in, Mesh& m) {
         for (uint32_t* v : {&p.first_index, &p.index_count, &p.first_vertex, &p.vertex_count})
             *v = get_value<uint32_t>(in);
         p.material = get_value<int32_t>(in);
+        p.node = get_value<int32_t>(in);
+    }
+    const auto nodes = get_value<uint64_t>(in);
+    if (nodes > in.size()) throw std::length_error("a truncated mesh");
+    for (uint64_t i = 0; i < nodes; ++i) {
+        MeshNode& n = m.nodes.emplace_back();
+        n.name = get_string(in);
+        n.parent = get_value<int32_t>(in);
+        n.rest = get_value<Transform>(in);
+        get_track(in, n.tracks.position);
+        get_track(in, n.tracks.rotation);
+        get_track(in, n.tracks.scale);
     }
     const auto materials = get_value<uint64_t>(in);
     if (materials > in.size()) throw std::length_error("a truncated mesh");
@@ -454,6 +494,7 @@ void validate_mesh(const Mesh& mesh) {
                                     std::to_string(mesh.indices[i]) + " of " +
                                     std::to_string(mesh.vertex_count()));
     validate_parts(mesh);
+    validate_nodes(mesh);
 }
 
 Bounds compute_bounds(const std::vector<glm::vec3>& positions) {

@@ -99,8 +99,8 @@ void check_camera(const yaml::Context& ctx, const YAML::Node& node, const Camera
 }
 
 Camera read_camera(const yaml::Context& ctx, const YAML::Node& node) {
-    yaml::check_map(ctx, node, "camera",
-                    {"position", "target", "up", "projection", "fov_y", "height", "near", "far"});
+    yaml::check_map(ctx, node, "camera", {"position", "target", "up", "projection", "fov_y",
+                                          "height", "near", "far", "animate"});
     Camera c;
     yaml::read(ctx, node, "position", c.position);
     yaml::read(ctx, node, "target", c.target);
@@ -274,6 +274,124 @@ glm::vec3 read_scale(const yaml::Context& ctx, const YAML::Node& node) {
     ensure(std::isnormal(s.x) && std::isnormal(s.y) && std::isnormal(s.z), ctx, node,
            ErrorCode::out_of_range, "scale is below float's normal range (1.2e-38)");
     return s;
+}
+
+// ---- animation -----------------------------------------------------------------
+
+// A track: {keys: [{time: T, value: V}, ...], interpolation: linear | step},
+// each value read by `value`; times finite, >= 0, strictly increasing.
+template <class T, class Read>
+Track<T> read_track(const yaml::Context& ctx, const YAML::Node& node, const std::string& what,
+                    Read value) {
+    yaml::check_map(ctx, node, what, {"keys", "interpolation"});
+    Track<T> track;
+    if (const YAML::Node i = node["interpolation"])
+        track.interpolation = yaml::as_enum<Interpolation>(
+            ctx, i, {{"linear", Interpolation::linear}, {"step", Interpolation::step}});
+    const YAML::Node keys = yaml::require(ctx, node, "keys");
+    yaml::check_sequence(ctx, keys, what + " keys");
+    ensure(keys.size() > 0, ctx, keys, ErrorCode::config_invalid, "a track needs a key");
+    for (const YAML::Node& key : keys) {
+        yaml::check_map(ctx, key, "key", {"time", "value"});
+        const YAML::Node time = yaml::require(ctx, key, "time");
+        const double t = yaml::as<float>(ctx, time);
+        ensure(t >= 0.0, ctx, time, ErrorCode::out_of_range, "a key's time must be >= 0 seconds");
+        ensure(track.times.empty() || t > track.times.back(), ctx, time,
+               ErrorCode::config_invalid, "keys must be in order of time, each later than the "
+                                          "one before");
+        track.times.push_back(t);
+        track.values.push_back(value(yaml::require(ctx, key, "value")));
+    }
+    return track;
+}
+
+// Degrees a second: a finite number, not zero.
+double read_speed(const yaml::Context& ctx, const YAML::Node& node) {
+    const float speed = yaml::as<float>(ctx, node);
+    ensure(speed != 0.0f, ctx, node, ErrorCode::out_of_range,
+           "a speed of 0 degrees a second does not move; leave the key out");
+    return speed;
+}
+
+TransformTracks read_transform_tracks(const yaml::Context& ctx, const YAML::Node& node) {
+    yaml::check_map(ctx, node, "animate", {"position", "rotation", "scale", "spin"});
+    TransformTracks a;
+    if (const YAML::Node n = node["position"])
+        a.position = read_track<glm::vec3>(ctx, n, "position",
+                                           [&](const YAML::Node& v) { return yaml::as<glm::vec3>(ctx, v); });
+    if (const YAML::Node n = node["rotation"])
+        a.rotation = read_track<glm::quat>(ctx, n, "rotation",
+                                           [&](const YAML::Node& v) { return read_rotation(ctx, v); });
+    if (const YAML::Node n = node["scale"])
+        a.scale = read_track<glm::vec3>(ctx, n, "scale",
+                                        [&](const YAML::Node& v) { return read_scale(ctx, v); });
+    if (const YAML::Node spin = node["spin"]) {
+        if (spin.IsMap()) {
+            yaml::check_map(ctx, spin, "spin", {"axis", "speed"});
+            a.spin = read_speed(ctx, yaml::require(ctx, spin, "speed"));
+            if (const YAML::Node axis = spin["axis"]) {
+                a.spin_axis = unit(yaml::as<glm::vec3>(ctx, axis));
+                ensure(a.spin_axis != glm::vec3(0.0f), ctx, axis, ErrorCode::config_invalid,
+                       "the spin axis must not be zero");
+            }
+        } else {
+            a.spin = read_speed(ctx, spin);
+        }
+    }
+    return a;
+}
+
+CameraTracks read_camera_tracks(const yaml::Context& ctx, const YAML::Node& node) {
+    yaml::check_map(ctx, node, "animate", {"position", "target", "fov_y", "orbit"});
+    CameraTracks a;
+    const auto vec3 = [&](const YAML::Node& v) { return yaml::as<glm::vec3>(ctx, v); };
+    if (const YAML::Node n = node["position"]) a.position = read_track<glm::vec3>(ctx, n, "position", vec3);
+    if (const YAML::Node n = node["target"]) a.target = read_track<glm::vec3>(ctx, n, "target", vec3);
+    if (const YAML::Node n = node["fov_y"])
+        a.fov_y = read_track<float>(ctx, n, "fov_y", [&](const YAML::Node& v) {
+            const float fov = yaml::as<float>(ctx, v);
+            ensure(fov > 0.0f && fov < 180.0f, ctx, v, ErrorCode::out_of_range,
+                   "fov_y must be between 0 and 180 degrees");
+            return fov;
+        });
+    if (const YAML::Node orbit = node["orbit"]) a.orbit = read_speed(ctx, orbit);
+    return a;
+}
+
+// The camera posed at each key of its tracks is a camera: its target is not
+// its position, and up is not along the view.
+void check_camera_tracks(const yaml::Context& ctx, const YAML::Node& node, const Camera& rest,
+                         const CameraTracks& tracks) {
+    std::vector<double> times = tracks.position.times;
+    times.insert(times.end(), tracks.target.times.begin(), tracks.target.times.end());
+    for (double t : times) {
+        const Camera c = tracks.at(t, rest);
+        const glm::vec3 forward = unit(glm::vec3(glm::dvec3(c.target) - glm::dvec3(c.position)));
+        ensure(forward != glm::vec3(0.0f) && glm::length(glm::cross(forward, c.up)) > 1e-6f, ctx,
+               node, ErrorCode::config_invalid,
+               fmt::format("at {:g} s the camera's target is at its position, or up lies along "
+                           "its view", t));
+    }
+}
+
+Timeline read_timeline(const yaml::Context& ctx, const YAML::Node& node, double end) {
+    yaml::check_map(ctx, node, "animation", {"fps", "start", "end"});
+    Timeline t;
+    t.end = end;
+    if (const YAML::Node fps = node["fps"]) {
+        t.fps = yaml::as<float>(ctx, fps);
+        ensure(t.fps > 0.0 && t.fps <= 1000.0, ctx, fps, ErrorCode::out_of_range,
+               "fps must be above 0 and at most 1000");
+    }
+    if (const YAML::Node start = node["start"]) {
+        t.start = yaml::as<float>(ctx, start);
+        ensure(t.start >= 0.0, ctx, start, ErrorCode::out_of_range, "start must be >= 0 seconds");
+    }
+    if (const YAML::Node e = node["end"]) {
+        t.end = yaml::as<float>(ctx, e);
+        ensure(t.end > t.start, ctx, e, ErrorCode::out_of_range, "end must be after start");
+    }
+    return t;
 }
 
 std::string cache_key(const fs::path& file) {
@@ -472,7 +590,7 @@ Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
     const yaml::Context& ctx = loader.ctx;
     yaml::check_map(ctx, node, "object",
                     {"name", "mesh", "material", "materials", "position", "rotation", "scale",
-                     "visible"});
+                     "visible", "animate"});
     Object o;
     o.name = "object " + std::to_string(index);
     yaml::read(ctx, node, "name", o.name);
@@ -483,6 +601,8 @@ Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
         o.transform.rotation = read_rotation(ctx, rotation);
     if (const YAML::Node scale = node["scale"]) o.transform.scale = read_scale(ctx, scale);
     yaml::read(ctx, node, "visible", o.visible);
+    o.rest = o.transform;
+    if (const YAML::Node animate = node["animate"]) o.animation = read_transform_tracks(ctx, animate);
     if (o.mesh->triangle_count() > 0 && !any_triangle_survives(*o.mesh, o.transform.matrix()))
         spdlog::warn("{}:{}:{}: object '{}': none of its {} triangles survives its transform "
                      "(each is degenerate or overflows a float in world space); check its scale",
@@ -501,6 +621,24 @@ void for_each_item(const yaml::Context& ctx, const YAML::Node& map, const std::s
     for (size_t i = 0; i < items.size(); ++i) read(items[i], i);
 }
 
+// The camera's tracks and the time line; poses the scene at its start.
+void read_animation(const yaml::Context& ctx, const YAML::Node& root, Scene& scene) {
+    scene.camera_rest = scene.camera;
+    if (const YAML::Node camera = root["camera"]; camera && camera["animate"]) {
+        scene.camera_tracks = read_camera_tracks(ctx, camera["animate"]);
+        check_camera_tracks(ctx, camera["animate"], scene.camera, scene.camera_tracks);
+    }
+    double end = scene.camera_tracks.end();
+    for (const Object& o : scene.objects) {
+        end = std::max(end, o.animation.end());
+        if (o.mesh) end = std::max(end, animation_end(*o.mesh));
+    }
+    scene.timeline.end = end;
+    if (const YAML::Node animation = root["animation"])
+        scene.timeline = read_timeline(ctx, animation, end);
+    scene.pose(scene.timeline.start);
+}
+
 }  // namespace
 
 void require_frame_within_budget(const RenderSettings& s) {
@@ -515,7 +653,7 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     const yaml::Context& ctx = loader.ctx;
     const YAML::Node root = yaml::load_file(path);
     yaml::check_map(ctx, root, "scene",
-                    {"camera", "render", "plugin_paths", "lights", "objects", "post"});
+                    {"camera", "render", "plugin_paths", "lights", "objects", "post", "animation"});
     Scene scene;
     scene.source = path;
     if (const YAML::Node camera = root["camera"]) scene.camera = read_camera(ctx, camera);
@@ -533,6 +671,7 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
         scene.post.push_back(loader.post_pass(item));
     });
     for (const auto& [file, material] : loader.materials()) scene.material_files[file] = material;
+    read_animation(ctx, root, scene);
     spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),
                  scene.lights.size(), scene.settings.width, scene.settings.height);
     return scene;

@@ -66,7 +66,7 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     for (const DrawItem& d : items) {
         call.mesh = d.object->mesh.get();
         call.part = d.part;
-        call.model = d.object->transform.matrix();
+        call.model = d.model;
         // The faces the main pass draws, and only those: the surfaces the camera
         // sees; a cutout's own shader runs (with no lights) to discard what its
         // alpha cuts away.

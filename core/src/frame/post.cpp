@@ -13,7 +13,8 @@
 namespace facet {
 
 void PostChain::run(const std::vector<PostPass>& passes, Framebuffer& frame, Framebuffer& target,
-                    const RenderSettings& settings, Pipeline& pipeline, FrameStats& stats) {
+                    const RenderSettings& settings, float time, Pipeline& pipeline,
+                    FrameStats& stats) {
     if (scratch_.size() < passes.size()) scratch_.resize(passes.size());
     for (size_t i = 0; i < passes.size() && !pipeline.stopped(); ++i) {
         const PostPass& pass = passes[i];
@@ -30,6 +31,7 @@ void PostChain::run(const std::vector<PostPass>& passes, Framebuffer& frame, Fra
         f.color = reinterpret_cast<float*>(frame.color_data());
         f.depth = frame.depth();
         f.reversed_z = settings.reversed_z ? 1u : 0u;
+        f.time = time;
         {
             const InPlugin in_post(pass.plugin.get(), PluginEntry::post);
             pass.plugin->desc().post(&f);

@@ -29,9 +29,10 @@ class PostChain {
 public:
     // Runs `passes` over `frame` (rgba32f, one sample) and writes the result
     // into `target` (the frame's size, one sample, any colour format).
-    // Stops between passes when the pipeline is stopped.
+    // Stops between passes when the pipeline is stopped. `time` is the
+    // scene's (facet_post_frame.time).
     void run(const std::vector<PostPass>& passes, Framebuffer& frame, Framebuffer& target,
-             const RenderSettings& settings, Pipeline& pipeline, FrameStats& stats);
+             const RenderSettings& settings, float time, Pipeline& pipeline, FrameStats& stats);
 
 private:
     std::vector<std::array<PostScratch, FACET_POST_SCRATCH_SLOTS>> scratch_;  // per position

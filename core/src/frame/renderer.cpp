@@ -23,7 +23,7 @@ namespace {
 
 float view_depth(const DrawItem& d, const glm::mat4& view) {
     const glm::vec3 centre = 0.5f * (d.bounds->min + d.bounds->max);
-    return (view * d.object->transform.matrix() * glm::vec4(centre, 1.0f)).z;
+    return (view * d.model * glm::vec4(centre, 1.0f)).z;
 }
 
 PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
@@ -59,7 +59,8 @@ void add_draw_items(const Object& o, std::vector<DrawItem>& items) {
         const Material* m = o.material_of(i);
         if (!m || !m->plugin) continue;
         const MeshPart* part = mesh.parts.empty() ? nullptr : &mesh.parts[i];
-        items.push_back({&o, part, m, part ? &part->bounds : &mesh.bounds, items.size()});
+        items.push_back({&o, part, m, part ? &part->bounds : &mesh.bounds, o.part_matrix(i),
+                         items.size()});
     }
 }
 
@@ -97,17 +98,42 @@ facet_light to_abi(const Light& l) {
 
 
 FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
+    return render_rows(scene, 0, scene.settings.height, target);
+}
+
+FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
+                                 Framebuffer& target) {
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
+    const bool band = first_row != 0 || rows != s.height;
+    if (rows < 1 || first_row < 0 || first_row > s.height - rows)
+        throw Error(ErrorCode::out_of_range,
+                    "rows " + std::to_string(first_row) + ".." +
+                        std::to_string(int64_t(first_row) + rows - 1) + " of a " +
+                        std::to_string(s.width) + "x" + std::to_string(s.height) + " image",
+                    scene.source.string());
+    // Blocks of pixels start on the image's grid of blocks: each block's
+    // weights, and the quads that give derivatives, are then the whole
+    // image's.
+    if (first_row % FACET_BLOCK_SIZE != 0)
+        throw Error(ErrorCode::out_of_range,
+                    "a band starts at row " + std::to_string(first_row) + ", not on a multiple of " +
+                        std::to_string(FACET_BLOCK_SIZE) + " (the rasterizer's blocks)",
+                    scene.source.string());
     pipeline_.require_flushed(target, "Renderer::render");  // it may resize the target
     const auto fit = [&](Framebuffer& fb, ColorFormat format, int samples) {
-        if (fb.width() != s.width || fb.height() != s.height || fb.samples() != samples ||
+        if (fb.width() != s.width || fb.height() != rows || fb.samples() != samples ||
             fb.format() != format)
-            fb.resize(s.width, s.height, format, samples);
+            fb.resize(s.width, rows, format, samples);
     };
     // With a post chain, the frame is drawn in float and the chain's result
     // goes to the target.
     const bool post = s.post && !scene.post.empty();
+    if (band && post)
+        throw Error(ErrorCode::config_invalid,
+                    "a band of rows cannot run the post chain, whose passes read pixels beyond "
+                    "it; render the whole image, or set render: {post: false}",
+                    scene.source.string());
     Framebuffer& frame = post ? passes_->hdr : target;
     fit(frame, post ? ColorFormat::rgba32f : s.color_format, s.msaa);
     if (post) fit(target, s.color_format, 1);
@@ -117,6 +143,11 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     call.view = scene.camera.view();
     call.projection = scene.camera.projection(float(s.width) / float(s.height), s.reversed_z);
     call.camera_position = scene.camera.position;
+    call.time = float(scene.time);
+    if (band) {
+        call.image_height = s.height;
+        call.first_row = first_row;
+    }
     scratch_.lights.clear();
     for (const Light& l : scene.lights) scratch_.lights.push_back(to_abi(l));
     call.lights = scratch_.lights.data();
@@ -135,7 +166,9 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         add_draw_items(o, scratch_.items);
         if (scratch_.items.size() == first) continue;
         ++stats.objects;
-        if (outside_frustum(o.mesh->bounds, call.projection * call.view * o.transform.matrix())) {
+        // The whole mesh's bounds hold its parts only where none moves.
+        if (o.part_poses.empty() &&
+            outside_frustum(o.mesh->bounds, call.projection * call.view * o.transform.matrix())) {
             ++stats.objects_culled;
             scratch_.casters.insert(scratch_.casters.end(), scratch_.items.begin() + first,
                                     scratch_.items.end());
@@ -144,8 +177,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         for (size_t i = first; i < scratch_.items.size(); ++i) {
             const DrawItem& d = scratch_.items[i];
             scratch_.casters.push_back(d);
-            if (d.part && outside_frustum(*d.bounds, call.projection * call.view *
-                                                         o.transform.matrix()))
+            if (d.part && outside_frustum(*d.bounds, call.projection * call.view * d.model))
                 continue;
             const Material& m = *d.material;
             stats.shadows_needed |= m.uses_shadows;
@@ -167,6 +199,11 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
         call.cube_shadow_map_count = uint32_t(passes_->shadow.cube_abi.size() / 6);
         stats.ms_shadow += elapsed_ms(t);
     }
+    if (needs_ao && band)
+        throw Error(ErrorCode::config_invalid,
+                    "a band of rows cannot run ambient occlusion, which reads depth beyond it; "
+                    "render the whole image, or set render: {ao: false}",
+                    scene.source.string());
     if (needs_ao) {
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s, pipeline_, stats);
         call.ao = passes_->ao.visibility();
@@ -175,7 +212,7 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
     const auto post_start = std::chrono::steady_clock::now();
     if (!pipeline_.stopped()) pipeline_.resolve(frame);
     if (post && !pipeline_.stopped())
-        passes_->post.run(scene.post, frame, target, s, pipeline_, stats);
+        passes_->post.run(scene.post, frame, target, s, float(scene.time), pipeline_, stats);
     stats.ms_post += elapsed_ms(post_start);
     if (pipeline_.stopped()) {
         forget_shadow_maps();  // maps cut short must not be kept as if complete
@@ -200,7 +237,7 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         call.params = m.block ? m.block->bytes : nullptr;
         call.textures = m.textures.data();
         call.texture_count = int(m.textures.size());
-        call.model = d.object->transform.matrix();
+        call.model = d.model;
         call.may_discard = m.discards;
         call.state = pipeline_state(m, scene.settings);
         if (scene.settings.depth_prepass && in_depth_prepass(call.state)) {

@@ -22,7 +22,7 @@ namespace {
 void caster_corners(const std::vector<DrawItem>& casters, std::vector<glm::vec3>& out) {
     out.clear();
     for (const DrawItem& d : casters) {
-        const glm::mat4 m = d.object->transform.matrix();
+        const glm::mat4 m = d.model;
         const Bounds& b = *d.bounds;
         for (int i = 0; i < 8; ++i)
             out.push_back(glm::vec3(m * glm::vec4(i & 1 ? b.max.x : b.min.x,
@@ -119,7 +119,7 @@ uint64_t make_key(const std::vector<DrawItem>& casters, const glm::mat4& view_pr
     key.view_projection = view_projection;
     key.casters.clear();
     for (const DrawItem& d : casters) {
-        const glm::mat4 model = d.object->transform.matrix();
+        const glm::mat4 model = d.model;
         if (outside_frustum(*d.bounds, view_projection * model)) continue;
         const Material& m = *d.material;
         key.casters.push_back({d.object->mesh, d.part, model, m.discards ? &m : nullptr,

@@ -35,6 +35,7 @@ struct DrawContext {
     bool needs_ao = false;                     // the shader asks for AO (all ones without a pass)
     PipelineState state;
     Framebuffer* target = nullptr;
+    int first_row = 0;  // the target's first row in the image (DrawCall::first_row)
 };
 
 // A screen pass's scratch buffer (facet_host.scratch), kept between frames.

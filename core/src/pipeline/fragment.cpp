@@ -366,7 +366,7 @@ void PackedBatch::flush(FrameStats& stats) {
         const simd::Int position = simd::load<simd::Int>(position_ + p * kWidth);
         const simd::Int x = position & 0xFFFF, y = position >> 16;
         simd::store(coord + p * kWidth, simd::to_float(x) + 0.5f);
-        simd::store(coord + N + p * kWidth, simd::to_float(y) + 0.5f);
+        simd::store(coord + N + p * kWidth, simd::to_float(y + dc.first_row) + 0.5f);
         simd::store(pixel + p * kWidth, y * stride + x);
     }
     const uint32_t mask = count_ == N ? 0xFFFFu : (1u << count_) - 1u;
@@ -505,7 +505,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);
         return;
     }
-    facet_fragment_batch batch{b.x,      b.y, mask, t.front_facing ? 1u : 0u, varyings, depth,
+    facet_fragment_batch batch{b.x,      b.y + dc.first_row, mask, t.front_facing ? 1u : 0u, varyings, depth,
                                dc.sample_textures ? texels : nullptr,
                                nullptr,  dc.needs_ao ? ao : nullptr, color, nullptr};
     {

@@ -5,6 +5,7 @@
 
 #include "facet/error.hpp"
 #include "facet/memory.hpp"
+#include "facet/png.hpp"
 
 #include <stb/stb_image_write.h>
 
@@ -186,6 +187,11 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples)
         throw Error(ErrorCode::out_of_range,
                     "framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                         " (each side must be 1.." + std::to_string(kMaxSize) + ")");
+    if (int64_t(width) * height > kMaxPixels)
+        throw Error(ErrorCode::out_of_range,
+                    "framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
+                        " (at most 16384x16384 pixels in one target; render a larger image in "
+                        "bands of rows: facet-render --band-rows)");
     if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
         throw Error(ErrorCode::out_of_range,
                     "MSAA sample count " + std::to_string(samples) + " (must be 1, 2, 4 or 8)");
@@ -262,8 +268,7 @@ void Framebuffer::resolve_srgb8(std::vector<uint8_t>& out) const {
 
 void Framebuffer::write_png(const std::filesystem::path& path) const {
     if (format_ == ColorFormat::srgb8) {  // straight from storage, padding skipped
-        if (!stbi_write_png(path.string().c_str(), width_, height_, 4, color_.data(), stride_ * 4))
-            throw Error(ErrorCode::output_failed, "cannot write PNG", path.string());
+        write_png_rows(path, color_.data(), size_t(stride_) * 4, width_, height_);
         return;
     }
     facet::write_png(path, width_, height_, resolve_srgb8());
@@ -271,9 +276,12 @@ void Framebuffer::write_png(const std::filesystem::path& path) const {
 
 void write_png(const std::filesystem::path& path, int width, int height,
                const std::vector<uint8_t>& rgba8) {
-    if (rgba8.size() != size_t(width) * size_t(height) * 4 ||
-        !stbi_write_png(path.string().c_str(), width, height, 4, rgba8.data(), width * 4))
-        throw Error(ErrorCode::output_failed, "cannot write PNG", path.string());
+    if (rgba8.size() != size_t(width) * size_t(height) * 4)
+        throw Error(ErrorCode::output_failed,
+                    "cannot write PNG: " + std::to_string(rgba8.size()) + " bytes for " +
+                        std::to_string(width) + "x" + std::to_string(height) + " pixels",
+                    path.string());
+    write_png_rows(path, rgba8.data(), size_t(width) * 4, width, height);
 }
 
 }  // namespace facet

@@ -162,10 +162,19 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
     // reads as full visibility: nothing is gathered or packed for it.
     if (!d.dc.ao && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
-    d.abi = make_abi_draw(call, target.width(), target.height(), d.dc);
+    const int image_height = call.image_height > 0 ? call.image_height : target.height();
+    if (call.image_height > 0 &&
+        (call.first_row < 0 || int64_t(call.first_row) + target.height() > call.image_height))
+        throw Error(ErrorCode::out_of_range,
+                    "a band of rows " + std::to_string(call.first_row) + ".." +
+                        std::to_string(int64_t(call.first_row) + target.height() - 1) +
+                        " lies outside its image of " + std::to_string(call.image_height) +
+                        " rows");
+    d.dc.first_row = call.image_height > 0 ? call.first_row : 0;
+    d.abi = make_abi_draw(call, target.width(), image_height, d.dc);
     d.dc.abi = &d.abi;
-    const Viewport viewport{target.width(), target.height(), target.samples(),
-                            call.state.subpixel_bits};
+    const Viewport viewport{target.width(), image_height,      target.samples(),
+                            call.state.subpixel_bits, d.dc.first_row, target.height()};
     const MeshPart part = call.part ? *call.part : mesh.whole_part();
     if (uint64_t(part.first_index) + part.index_count > mesh.indices.size() ||
         part.index_count % 3 != 0 ||

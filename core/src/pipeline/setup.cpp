@@ -66,7 +66,7 @@ bool project_vertex(const glm::dvec4& clip, const Viewport& viewport, WindowVert
     const int bits = std::clamp(viewport.subpixel_bits, 1, kSubpixelBits);
     const glm::dvec2 p = to_window(clip, viewport);
     out.x = int32_t(snap(p.x, bits));
-    out.y = int32_t(snap(p.y, bits));
+    out.y = int32_t(snap(p.y, bits) - int64_t(viewport.first_row) * kSubpixelOne);
     out.z = float(clip.z / clip.w);
     out.w = clip.w;
     return true;
@@ -132,7 +132,7 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
     out.x0 = std::max(out.x0, 0);
     out.y0 = std::max(out.y0, 0);
     out.x1 = std::min(out.x1, viewport.width - 1);
-    out.y1 = std::min(out.y1, viewport.height - 1);
+    out.y1 = std::min(out.y1, viewport.target_rows() - 1);
     if (out.x0 > out.x1 || out.y0 > out.y1) return SetupResult::no_pixels;
     return SetupResult::ok;
 }

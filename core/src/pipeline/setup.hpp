@@ -49,6 +49,13 @@ struct Viewport {
     // pixel, 1..kSubpixelBits. Fewer bits model coarser hardware (Vulkan
     // asks for at least 4); the quality sweep in facet-bench --pareto uses it.
     int subpixel_bits = kSubpixelBits;
+    // A band of the viewport (DrawCall::image_height): the target holds rows
+    // [first_row, first_row + rows) of the `height` the positions map to.
+    // Window positions are the band's, moved up by first_row pixels after
+    // snapping, which is exact. rows 0: all of them.
+    int first_row = 0;
+    int rows = 0;
+    int target_rows() const { return rows > 0 ? rows : height; }
     // Guard-band half-width in NDC units for this viewport (see clip.hpp).
     double guard_ndc() const;
 };

@@ -1,0 +1,88 @@
+// Keyframe tracks and their evaluation (facet/animation.hpp), and posing a
+// scene at a time (Scene::pose).
+#include "facet/animation.hpp"
+
+#include "facet/scene.hpp"
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, float u) { return a + (b - a) * u; }
+float mix(float a, float b, float u) { return a + (b - a) * u; }
+glm::quat mix(const glm::quat& a, const glm::quat& b, float u) { return glm::slerp(a, b, u); }
+
+// The rotation by `degrees` about unit `axis`, with the angle reduced to
+// one turn in double first: a spin's angle grows without limit, and float
+// would lose its fraction after a few hours.
+glm::quat turn(const glm::vec3& axis, double degrees) {
+    return glm::angleAxis(float(glm::radians(std::fmod(degrees, 360.0))), axis);
+}
+
+}  // namespace
+
+template <class T>
+T Track<T>::at(double t) const {
+    if (t <= times.front() || times.size() == 1) return values.front();
+    if (t >= times.back()) return values.back();
+    // The key at or before t, and the one after.
+    const size_t next = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+    const size_t k = next - 1;
+    if (interpolation == Interpolation::step) return values[k];
+    const double u = (t - times[k]) / (times[next] - times[k]);
+    return mix(values[k], values[next], float(u));
+}
+
+template struct Track<glm::vec3>;
+template struct Track<glm::quat>;
+template struct Track<float>;
+
+double TransformTracks::end() const {
+    double end = std::max({position.end(), rotation.end(), scale.end()});
+    if (spin != 0.0) end = std::max(end, 360.0 / std::abs(spin));
+    return end;
+}
+
+Transform TransformTracks::at(double t, const Transform& rest) const {
+    Transform out = rest;
+    if (!position.empty()) out.translation = position.at(t);
+    if (!rotation.empty()) out.rotation = rotation.at(t);
+    if (!scale.empty()) out.scale = scale.at(t);
+    if (spin != 0.0) out.rotation = glm::normalize(turn(spin_axis, spin * t) * out.rotation);
+    return out;
+}
+
+double CameraTracks::end() const {
+    double end = std::max({position.end(), target.end(), fov_y.end()});
+    if (orbit != 0.0) end = std::max(end, 360.0 / std::abs(orbit));
+    return end;
+}
+
+Camera CameraTracks::at(double t, const Camera& rest) const {
+    Camera out = rest;
+    if (!position.empty()) out.position = position.at(t);
+    if (!target.empty()) out.target = target.at(t);
+    if (!fov_y.empty()) out.fov_y = fov_y.at(t);
+    if (orbit != 0.0)
+        out.position = out.target + turn(out.up, orbit * t) * (out.position - out.target);
+    return out;
+}
+
+long Timeline::first_frame() const { return long(std::ceil(start * fps - 1e-9)); }
+long Timeline::end_frame() const { return long(std::ceil(end * fps - 1e-9)); }
+
+void Scene::pose(double t) {
+    time = t;
+    if (!camera_tracks.empty()) camera = camera_tracks.at(t, camera_rest);
+    for (Object& o : objects) {
+        if (!o.animation.empty()) o.transform = o.animation.at(t, o.rest);
+        if (o.mesh && !o.mesh->nodes.empty()) pose_parts(*o.mesh, t, o.part_poses);
+    }
+}
+
+}  // namespace facet
