@@ -749,3 +749,69 @@ TEST_CASE("the editor's Euler angles make the rotation they were read from, at g
             }
     CHECK(checked == 168);
 }
+
+TEST_CASE("the viewer plays, pauses, steps and scrubs a scene's animation", "[viewer][animation]") {
+    Viewer v(small(std::string(FACET_SOURCE_DIR) + "/configs/scenes/turntable.yaml"));
+    v.pump();
+    REQUIRE(v.scene().animated());
+    CHECK(v.playback().time() == 0.0);
+    CHECK_FALSE(v.playback().playing());
+    CHECK(v.following_camera());  // the scene's camera is animated
+    CHECK(stats_text(v.overlay()).find("frame 0  24 fps  paused") != std::string::npos);
+    const std::vector<uint8_t> first = v.shown();
+
+    key(SDLK_SPACE);  // play
+    const uint64_t rendered = v.frames_rendered();
+    REQUIRE(pump_until(v, [&] { return v.playback().time() > 0.2; }));
+    CHECK(v.playback().playing());
+    CHECK(v.frames_rendered() > rendered + 1);  // a frame each pump while it plays
+    CHECK(v.wait_ms() == 0);
+    CHECK(v.shown() != first);
+    // The scene is posed at the playback's time, the view on its camera.
+    CHECK(v.scene().time == v.playback().time());
+    Scene posed = v.scene();
+    posed.pose(v.playback().time());
+    CHECK(v.controller().camera().position == posed.camera.position);
+
+    key(SDLK_SPACE);  // pause
+    v.pump();
+    const double paused = v.playback().time();
+    const uint64_t after_pause = v.frames_rendered();
+    for (int i = 0; i < 5; ++i) v.pump();
+    CHECK(v.playback().time() == paused);
+    CHECK(v.frames_rendered() == after_pause);
+
+    key(SDLK_HOME);
+    key(SDLK_RIGHT);
+    key(SDLK_RIGHT);
+    v.pump();
+    CHECK(v.playback().time() == Approx(2.0 / 24.0));
+    CHECK(v.scene().time == v.playback().time());
+    key(SDLK_LEFT);
+    key(SDLK_LEFT);
+    key(SDLK_LEFT);  // before the start: wraps to the last frame
+    v.pump();
+    CHECK(v.playback().time() == Approx(191.0 / 24.0));
+
+    v.seek(2.0);  // what the editor's time slider does
+    v.pump();
+    CHECK(v.scene().time == 2.0);
+    REQUIRE(v.editor().widget("time"));
+    // Moving the camera by hand stops it following; R follows again.
+    drag(30, 0, SDL_BUTTON_LMASK);
+    v.pump();
+    CHECK_FALSE(v.following_camera());
+    CHECK(stats_text(v.overlay()).find("camera free") != std::string::npos);
+    key(SDLK_r);
+    v.pump();
+    CHECK(v.following_camera());
+}
+
+TEST_CASE("Space on a scene that does not move says so", "[viewer][animation]") {
+    Viewer v(small());
+    v.pump();
+    key(SDLK_SPACE);
+    v.pump();
+    CHECK_FALSE(v.playback().playing());
+    CHECK(has_message(v, "does not move", true));
+}

@@ -19,6 +19,7 @@ view="$build/apps/facet-view"
 bench="$build/bench/facet-bench"
 programs=("$render" "$view" "$bench" "$build/bench/facet-bench-shadow-ao"
           "$source_dir/plugins/facet-new-shader" "$build/libexec/facet-sandbox")
+[ -x "$build/apps/facet-render-mpi" ] && programs+=("$build/apps/facet-render-mpi")
 
 for p in "${programs[@]}"; do
   name=$(basename "$p")

@@ -35,6 +35,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <filesystem>
@@ -250,7 +251,7 @@ public:
         }
         ++mine.items;
         mine.seconds += r.seconds;
-        progress_.done(job_.describe(r.item) + " on rank " + std::to_string(rank));
+        progress_.done(job_.describe(r.item) + " on rank " + std::to_string(rank), r.seconds);
         if (job_.frames || stopped_) return;
         bands_[r.item] = segments_from_bytes(r.payload);
         // Write every band that is next in line.
@@ -466,10 +467,11 @@ int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
         else if (!problem.empty()) spdlog::error("rank {}: {}", rank, problem);
         return 1;
     }
-    const int threads =
-        job.opt.threads > 0
-            ? job.opt.threads
-            : std::max(1, int(std::thread::hardware_concurrency()) / ranks_on_this_machine());
+    // Collective: every rank counts its machine's ranks.
+    const int local_ranks = ranks_on_this_machine();
+    const int threads = job.opt.threads > 0              ? job.opt.threads
+                        : std::getenv("FACET_NUM_THREADS") ? facet::default_threads()
+                        : std::max(1, int(std::thread::hardware_concurrency()) / local_ranks);
     facet::Renderer renderer(threads);
     renderer.pipeline().stop_when(&interrupts.stop());
     if (rank == 0) {

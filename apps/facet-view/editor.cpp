@@ -215,7 +215,7 @@ std::optional<Editor::Rect> Editor::widget(const std::string& label) const {
 }
 
 glm::vec3 Editor::shown_euler(const Scene& scene, size_t i) const {
-    const glm::quat q = scene.objects[i].transform.rotation;
+    const glm::quat q = scene.objects[i].rest.rotation;
     if (const std::optional<glm::vec3> file = written_rotation(scene.source, i)) {
         const glm::quat f = euler_degrees(*file);
         if (std::abs(glm::dot(f, q)) > 1.0f - 1e-6f) return *file;  // the same rotation
@@ -301,6 +301,8 @@ EditorResult Editor::show(EditorTarget& t) {
         ImGui::SameLine();
         if (n) ImGui::Text("%zu unsaved value%s (Ctrl+S)", n, n == 1 ? "" : "s");
         else ImGui::TextDisabled("nothing to save");
+        if (t.scene.animated() && ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen))
+            guarded(r, [&] { animation_panel(t, r); });
         if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen))
             guarded(r, [&] { objects_panel(t, r); });
         if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen))
@@ -318,6 +320,16 @@ EditorResult Editor::show(EditorTarget& t) {
     imgui_.render();
     return r;
 }
+
+namespace {
+
+// `o` where its rest place (which the editor edits, as the file holds it)
+// and its animation put it at `time`.
+void place(Object& o, double time) {
+    o.transform = o.animation.empty() ? o.rest : o.animation.at(time, o.rest);
+}
+
+}  // namespace
 
 void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     const ScopedId scope("objects");
@@ -341,10 +353,10 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     Object& o = objects[size_t(t.selected)];
     const size_t i = size_t(t.selected);
     const fs::path& file = t.scene.source;
-    if (euler_of_ != t.selected || o.transform.rotation != euler_of_rotation_) {
+    if (euler_of_ != t.selected || o.rest.rotation != euler_of_rotation_) {
         euler_ = shown_euler(t.scene, i);  // a new selection, or turned by other means
         euler_of_ = t.selected;
-        euler_of_rotation_ = o.transform.rotation;
+        euler_of_rotation_ = o.rest.rotation;
     }
     if (ImGui::Checkbox("visible", &o.visible)) {
         edit(file, {"objects", i, "visible"}, o.visible ? "true" : "false");
@@ -353,12 +365,13 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     const auto refused = [&](const char* what) {
         r.errors.push_back(std::string(what) + ": not a finite number; kept the old value");
     };
-    glm::vec3 position = o.transform.translation;
+    glm::vec3 position = o.rest.translation;
     if (ImGui::DragFloat3("position", &position.x, 0.01f)) {
         if (!finite(&position.x, 3)) {
             refused("position");
         } else {
-            o.transform.translation = position;
+            o.rest.translation = position;
+            place(o, t.scene.time);
             edit(file, {"objects", i, "position"}, yaml_sequence(&position.x, 3));
             r.redraw = true;
         }
@@ -368,18 +381,20 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     if (ImGui::DragFloat3("rotation", &euler.x, 0.5f, -360.0f, 360.0f, "%.1f deg",
                           ImGuiSliderFlags_AlwaysClamp)) {
         euler_ = euler;
-        o.transform.rotation = euler_of_rotation_ = euler_degrees(euler_);
+        o.rest.rotation = euler_of_rotation_ = euler_degrees(euler_);
+        place(o, t.scene.time);
         edit(file, {"objects", i, "rotation"}, yaml_sequence(&euler_.x, 3));
         r.redraw = true;
     }
-    glm::vec3 scale = o.transform.scale;
+    glm::vec3 scale = o.rest.scale;
     if (ImGui::DragFloat3("scale", &scale.x, 0.005f, -1e4f, 1e4f, "%.3f",
                           ImGuiSliderFlags_AlwaysClamp)) {
         // Never 0 (the loader refuses it); a mirrored axis keeps its sign.
         for (int k = 0; k < 3; ++k)
-            if (std::abs(scale[k]) < 1e-4f) scale[k] = std::copysign(1e-4f, o.transform.scale[k]);
-        o.transform.scale = scale;
-        const glm::vec3& s = o.transform.scale;
+            if (std::abs(scale[k]) < 1e-4f) scale[k] = std::copysign(1e-4f, o.rest.scale[k]);
+        o.rest.scale = scale;
+        place(o, t.scene.time);
+        const glm::vec3& s = o.rest.scale;
         edit(file, {"objects", i, "scale"},
              s.x == s.y && s.y == s.z ? yaml_number(s.x) : yaml_sequence(&s.x, 3));
         r.redraw = true;
@@ -729,6 +744,23 @@ void Editor::render_panel(EditorTarget& t, EditorResult& r) {
         s.ao_samples = std::clamp(s.ao_samples, 1, 256);
         changed(true, "ao_samples", std::to_string(s.ao_samples));
     }
+}
+
+// Play and pause, the time as a slider, and the frame it is.
+void Editor::animation_panel(EditorTarget& t, EditorResult& r) {
+    Playback& p = t.playback;
+    const Timeline& line = p.timeline();
+    if (ImGui::Button(p.playing() ? "Pause" : "Play")) p.set_playing(!p.playing());
+    remember("Play");
+    ImGui::SameLine();
+    ImGui::Text("frame %ld at %g fps (Space, arrows)", long(std::floor(p.time() * line.fps + 1e-9)),
+                line.fps);
+    float time = float(p.time());
+    if (ImGui::SliderFloat("time", &time, float(line.start), float(line.end), "%.3f s")) {
+        p.seek(time);
+        r.time_changed = true;
+    }
+    remember("time");
 }
 
 void Editor::frame_panel() {

@@ -17,6 +17,8 @@
 // when a file changes on disk first, the viewer drops them (and says so).
 #pragma once
 
+#include "playback.hpp"
+
 #include "imgui_sdl.hpp"
 
 #include <facet/material.hpp>
@@ -45,6 +47,7 @@ struct EditorTarget {
     PluginRegistry& registry;
     TextureCache& textures;
     const std::filesystem::path& materials;  // the folder the material choice lists
+    Playback& playback;                      // the time the scene is posed at
 };
 
 // What one frame of the panel did.
@@ -53,6 +56,7 @@ struct EditorResult {
     bool selection_changed = false;
     bool materials_changed = false;  // an object took a material file not watched yet
     bool save = false;               // Save was pressed
+    bool time_changed = false;       // the playback was scrubbed: pose the scene again
     std::vector<std::string> errors; // a value the shader or the loader refused
 };
 
@@ -109,6 +113,7 @@ private:
     void lights_panel(EditorTarget& t, EditorResult& r);
     void render_panel(EditorTarget& t, EditorResult& r);
     void frame_panel();
+    void animation_panel(EditorTarget& t, EditorResult& r);
     // Sets parameter `desc` of `material` to `value` and binds it again;
     // records the edit where the material is written. False (and the old
     // value kept) if the shader refuses it.

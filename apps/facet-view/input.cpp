@@ -44,6 +44,7 @@ bool Viewer::handle(const SDL_Event& e) {
         case SDL_MOUSEWHEEL:
             controller_.zoom(float(e.wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -e.wheel.y
                                                                                 : e.wheel.y));
+            follow_camera_ = false;  // moved by hand
             scene_dirty_ = true;
             break;
         case SDL_WINDOWEVENT: handle_window(e.window); break;
@@ -85,6 +86,7 @@ void Viewer::advance_flight() {
     const glm::vec3 move = flight();
     if (!controller_.flying() || move == glm::vec3(0.0f)) return;
     controller_.fly(move, seconds);
+    follow_camera_ = false;
     scene_dirty_ = true;
 }
 
@@ -99,7 +101,29 @@ bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
         case SDLK_h:
         case SDLK_F1: show_help_ = !show_help_; redraw = false; break;
         case SDLK_o: show_overlay_ = !show_overlay_; redraw = false; break;
-        case SDLK_r: controller_.reset(); break;
+        case SDLK_r:
+            follow_camera_ = !scene_.camera_tracks.empty();
+            controller_.reset(scene_.camera);
+            break;
+        case SDLK_SPACE:
+            if (controller_.flying()) return true;  // a fly key (hold())
+            if (!scene_.animated()) {
+                message("the scene does not move: no animation: key, no animate: tracks", true);
+                return true;
+            }
+            set_playing(!playback_.playing());
+            redraw = false;
+            break;
+        case SDLK_LEFT:
+        case SDLK_RIGHT:
+            playback_.step(key.keysym.sym == SDLK_LEFT ? -1 : 1);
+            pose_due_ = true;
+            redraw = false;
+            break;
+        case SDLK_HOME:
+            seek(playback_.timeline().start);
+            redraw = false;
+            break;
         case SDLK_f: controller_.set_flying(!controller_.flying()); redraw = false; break;
         case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS: controller_.faster(); redraw = false; break;
         case SDLK_MINUS: case SDLK_KP_MINUS: controller_.slower(); redraw = false; break;
@@ -166,6 +190,7 @@ void Viewer::handle_drag(const SDL_MouseMotionEvent& m) {
     } else {
         return;  // a plain move changes nothing
     }
+    follow_camera_ = false;  // moved by hand
     scene_dirty_ = true;
 }
 

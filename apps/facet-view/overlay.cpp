@@ -54,6 +54,7 @@ std::string stats_text(const OverlayInfo& i) {
     t += i.flying ? fmt::format("camera    fly, speed {:.2f}/s\n", i.fly_speed)
                   : std::string("camera    orbit\n");
     t += "selected  " + i.selected + "\n";
+    if (!i.animation.empty()) t += "time      " + i.animation + "\n";
     t += "H: help";
     return t;
 }
@@ -62,7 +63,8 @@ std::string help_text() {
     return "mouse     left drag: orbit (fly: look)   right/middle drag, shift+left: pan\n"
            "          wheel: zoom\n"
            "F         fly mode: W A S D move, Space up, Shift down, + - speed\n"
-           "R         reset the camera to the scene's\n"
+           "R         reset the camera to the scene's (and follow its animation)\n"
+           "Space     play / pause the animation   Left, Right  a frame   Home  its start\n"
            "Tab       select the next object\n"
            "M, shift+M next / previous material from configs/materials\n"
            "L         wireframe          N  MSAA 1, 2, 4, 8\n"

@@ -34,6 +34,7 @@ struct OverlayInfo {
     std::string selected;        // "name: material"
     bool flying = false;
     float fly_speed = 0.0f;
+    std::string animation;       // the time and frame, if the scene moves
 };
 
 // The statistics panel, one line per '\n'.

@@ -172,6 +172,9 @@ void Viewer::adopt_scene(Scene fresh) {
     settings_ = scene_.settings;
     if (options_.msaa) settings_.msaa = options_.msaa;
     controller_.reset(scene_.camera);
+    playback_.reset(scene_.timeline);
+    follow_camera_ = !scene_.camera_tracks.empty();
+    pose_due_ = true;
     selected_ = 0;
     if (reload_) reload_->rewatch();
     show_title();
@@ -217,7 +220,7 @@ bool Viewer::pump() {
 
 // Forever when idle; otherwise until the next thing that needs a frame.
 int Viewer::wait_ms() const {
-    if (scene_dirty_ || overlay_dirty_) return 0;
+    if (scene_dirty_ || overlay_dirty_ || pose_due_ || playback_.playing()) return 0;
     if (controller_.flying() && flight() != glm::vec3(0.0f)) return 1;  // moving
     if (editor_->wants_frame()) return 0;  // the panel has a click to finish
     if (reload_->pending()) return 20;  // a changed file is settling
@@ -229,7 +232,7 @@ int Viewer::wait_ms() const {
 }
 
 void Viewer::apply_reload() {
-    const Camera before = scene_.camera;  // the file's: render() never changes it
+    const Camera before = scene_.camera_rest;  // the file's: posing never changes it
     const bool updated = reload_->update();
     const std::vector<ReloadEvent> events = reload_->take_events();
     // Edits of a file that changed on disk (not by the editor's own save,
@@ -248,7 +251,11 @@ void Viewer::apply_reload() {
         scene_dirty_ = true;
         // A reloaded scene file keeps the viewer's camera unless the file's
         // camera itself changed.
-        if (!same_camera(scene_.camera, before)) controller_.reset(scene_.camera);
+        if (!same_camera(scene_.camera_rest, before)) controller_.reset(scene_.camera);
+        // A reloaded scene is posed at its start; the playback goes on.
+        playback_.retime(scene_.timeline);
+        if (scene_.camera_tracks.empty()) follow_camera_ = false;
+        pose_due_ = true;
         const RenderSettings toggles = settings_;
         settings_ = scene_.settings;
         settings_.msaa = toggles.msaa;
@@ -269,9 +276,32 @@ void Viewer::apply_reload() {
     }
 }
 
+void Viewer::set_playing(bool playing) {
+    playback_.set_playing(playing);
+    overlay_dirty_ = true;
+}
+
+void Viewer::seek(double t) {
+    playback_.seek(t);
+    pose_due_ = true;
+}
+
+void Viewer::pose() {
+    scene_.pose(playback_.time());
+    if (follow_camera_) controller_.reset(scene_.camera);
+    scene_dirty_ = true;
+    pose_due_ = false;
+}
+
+void Viewer::advance_animation() {
+    if (playback_.advance()) pose_due_ = true;
+    if (pose_due_) pose();
+}
+
 bool Viewer::frame() {
     apply_reload();
     advance_flight();
+    advance_animation();
     if (std::chrono::steady_clock::now() >= fade_at_) overlay_dirty_ = true;
     const bool render_now = scene_dirty_,
                present_now = scene_dirty_ || overlay_dirty_ || editor_->wants_frame();
@@ -341,6 +371,17 @@ void Viewer::present() {
     info_.idle_wakeups = idle_wakeups_;
     info_.flying = controller_.flying();
     info_.fly_speed = controller_.speed();
+    info_.animation.clear();
+    if (scene_.animated()) {
+        const Timeline& line = scene_.timeline;
+        info_.animation = fmt::format("{:.3f} s of {:g}..{:g} s  frame {}  {:g} fps  {}{}",
+                                      playback_.time(), line.start, line.end,
+                                      long(std::floor(playback_.time() * line.fps + 1e-9)),
+                                      line.fps, playback_.playing() ? "playing" : "paused (Space)",
+                                      scene_.camera_tracks.empty() || follow_camera_
+                                          ? ""
+                                          : "  camera free (R follows)");
+    }
     if (show_overlay_) {
         const int y = 4 * scale + draw_panel(view, 4 * scale, 4 * scale, stats_text(info_),
                                              {235, 235, 235, 255}, scale);
@@ -366,10 +407,12 @@ void Viewer::present() {
 
 // The editor's panel over the picture; what it changed renders next frame.
 void Viewer::show_editor() {
-    EditorTarget target{scene_, settings_, selected_, registry_, textures_, options_.materials};
+    EditorTarget target{scene_,    settings_,          selected_, registry_,
+                        textures_, options_.materials, playback_};
     const int before = selected_;
     const EditorResult r = editor_->show(target);
     if (r.redraw) scene_dirty_ = true;
+    if (r.time_changed) pose_due_ = true;
     if (r.materials_changed) reload_->rewatch();
     if (r.selection_changed || selected_ != before) {
         update_selected_label();

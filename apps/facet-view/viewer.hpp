@@ -19,6 +19,7 @@
 #include "editor.hpp"
 #include "outline.hpp"
 #include "overlay.hpp"
+#include "playback.hpp"
 
 #include <facet/framebuffer.hpp>
 #include <facet/hot_reload.hpp>
@@ -108,6 +109,14 @@ public:
     uint64_t frames_presented() const { return presents_; }
     bool overlay_visible() const { return show_overlay_; }
     Editor& editor() { return *editor_; }
+    // Animation: the time the scene is posed at, playing or not (Space
+    // toggles it, the arrow keys step a frame, Home goes to the start, the
+    // editor's slider scrubs). While the scene's camera is animated, the
+    // view follows it until the camera is moved by hand (R follows again).
+    const Playback& playback() const { return playback_; }
+    void set_playing(bool playing);
+    void seek(double t);
+    bool following_camera() const { return follow_camera_; }
     // Writes the editor's unsaved values into their files (Ctrl+S, Save).
     void save_edits();
     bool help_visible() const { return show_help_; }
@@ -121,6 +130,8 @@ private:
     glm::vec3 flight() const;  // the fly keys held, as view axes
     void apply_reload();
     void advance_flight();
+    void advance_animation();
+    void pose();  // the scene at the playback's time, the view following its camera
     void render();
     void present();
     void resize_texture();
@@ -172,6 +183,9 @@ private:
     glm::ivec2 window_size_{0};
 
     CameraController controller_;
+    Playback playback_;
+    bool follow_camera_ = false;  // the view is the scene's animated camera
+    bool pose_due_ = false;       // the scene is not posed at the playback's time
     RenderSettings settings_;       // the scene's, with the viewer's toggles
     OverlayInfo info_;
     std::vector<Message> messages_;

@@ -148,10 +148,15 @@ Progress::Progress(std::string what, long total)
     : what_(std::move(what)), total_(total), start_(std::chrono::steady_clock::now()),
       last_(start_) {}
 
-void Progress::done(const std::string& label) {
+void Progress::skipped() {
+    --total_;
+    last_ = std::chrono::steady_clock::now();  // the next item starts now
+}
+
+void Progress::done(const std::string& label, double seconds) {
     const auto now = std::chrono::steady_clock::now();
     ++done_;
-    const double last = std::chrono::duration<double>(now - last_).count();
+    const double last = seconds >= 0.0 ? seconds : std::chrono::duration<double>(now - last_).count();
     const double all = std::chrono::duration<double>(now - start_).count();
     last_ = now;
     const long left = std::max(0L, total_ - done_);

@@ -177,8 +177,9 @@ void PngWriter::finish() {
     std::error_code ec;
     if (closed) std::filesystem::rename(partial_, path_, ec);
     if (!closed || ec) {
+        const std::string why = !closed ? std::strerror(errno) : ec.message();
         std::filesystem::remove(partial_, ec);
-        throw Error(ErrorCode::output_failed, "cannot write PNG", path_.string());
+        throw Error(ErrorCode::output_failed, "cannot write PNG: " + why, path_.string());
     }
 }
 

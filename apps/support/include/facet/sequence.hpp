@@ -58,14 +58,15 @@ int band_count(int height, int rows);
 std::vector<PngSegment> render_band(Renderer& renderer, const Scene& scene, int band, int rows,
                                     Framebuffer& target, std::vector<uint8_t>& rgba);
 
-// "ETA"-style progress: after each item, how many are done, how long the
-// last took, and an estimate of the time left from the mean so far.
+// Progress with an estimate of the time left: after each item, how many
+// are done, how long it took, and the time left at the pace so far.
 class Progress {
 public:
     Progress(std::string what, long total);
-    // Logs one line for an item done (`label`, e.g. "frame 12").
-    void done(const std::string& label);
-    void skipped() { --total_; }
+    // Logs one line for an item done (`label`, e.g. "frame 12") that took
+    // `seconds` (< 0: the time since the item before).
+    void done(const std::string& label, double seconds = -1.0);
+    void skipped();
     long finished() const { return done_; }
 
 private:
