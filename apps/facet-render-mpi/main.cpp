@@ -44,6 +44,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <sched.h>
 #include <unistd.h>
 #include <vector>
 
@@ -406,6 +407,14 @@ int ranks_on_this_machine() {
     return size;
 }
 
+// The cores this process may run on (its affinity, which mpirun sets).
+int cores_allowed() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) return int(std::thread::hardware_concurrency());
+    return std::max(1, CPU_COUNT(&set));
+}
+
 // Loads the scene and applies the command line; every rank does the same,
 // and so fails the same way on bad input.
 void prepare(Job& job, facet::PluginRegistry& registry) {
@@ -469,9 +478,18 @@ int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
     }
     // Collective: every rank counts its machine's ranks.
     const int local_ranks = ranks_on_this_machine();
-    const int threads = job.opt.threads > 0              ? job.opt.threads
-                        : std::getenv("FACET_NUM_THREADS") ? facet::default_threads()
-                        : std::max(1, int(std::thread::hardware_concurrency()) / local_ranks);
+    // mpirun binds a rank to a core by default (to one core per rank for two
+    // ranks or fewer): more threads than the cores a rank may run on only
+    // take turns.
+    const int cores = cores_allowed();
+    const int threads =
+        job.opt.threads > 0                ? job.opt.threads
+        : std::getenv("FACET_NUM_THREADS") ? facet::default_threads()
+        : std::clamp(int(std::thread::hardware_concurrency()) / local_ranks, 1, cores);
+    if (threads > cores)
+        spdlog::warn("rank {}: {} threads on the {} core{} it is bound to; mpirun --bind-to none "
+                     "lets them spread",
+                     rank, threads, cores, cores == 1 ? "" : "s");
     facet::Renderer renderer(threads);
     renderer.pipeline().stop_when(&interrupts.stop());
     if (rank == 0) {

@@ -26,6 +26,9 @@
 //         rotation: [0, 30, 0]            # Euler degrees (X, then Y, then Z), or
 //                                         # {axis: [0, 1, 0], angle: 30}
 //         scale: 1                        # or [sx, sy, sz]
+//         animate: {spin: 45}             # tracks and spins: facet/animation.hpp,
+//                                         # which also has the camera's and the
+//                                         # scene's `animation:` time line
 //
 // Every error names the file, line and column. Unknown keys are errors, so a
 // typo never passes silently.
