@@ -83,7 +83,8 @@ bool same_image(const Framebuffer& a, const Framebuffer& b);
 // The demo scenes in configs/, each as small_demo_scene() loads it.
 extern const char* const kDemoScenes[8];
 // configs/<name>, at 197 x 111 (several tiles, and no multiple of the tile
-// or block size).
+// or block size), with shadow maps 256 texels a side (unless a light asks
+// for its own size).
 Scene small_demo_scene(PluginRegistry& registry, const std::string& name);
 
 // Another plugin for each material of a scene that `replace` gives one

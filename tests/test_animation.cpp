@@ -14,8 +14,10 @@
 #include <glm/gtc/quaternion.hpp>
 #include <stb/stb_image.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <optional>
 
 using namespace facet;
 using Catch::Matchers::Contains;
@@ -62,6 +64,39 @@ std::string plane_object(const std::string& animate) {
 }
 
 bool same_matrix(const glm::mat4& a, const glm::mat4& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// CRC-32 as the PNG specification defines it (ISO 3309), bit by bit: an
+// oracle that shares nothing with zlib's.
+uint32_t crc32_of(const std::string& bytes) {
+    uint32_t c = 0xFFFFFFFFu;
+    for (unsigned char b : bytes) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xFFFFFFFFu;
+}
+
+uint32_t big_endian(const std::string& s, size_t at) {
+    return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 |
+           uint32_t(uint8_t(s[at + 2])) << 8 | uint32_t(uint8_t(s[at + 3]));
+}
+
+// The file's chunk types in order; fails the test at a chunk whose CRC is
+// not its type's and data's.
+std::vector<std::string> checked_chunks(const std::string& png) {
+    std::vector<std::string> types;
+    REQUIRE(png.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
+    for (size_t at = 8; at + 12 <= png.size();) {
+        const size_t length = big_endian(png, at);
+        REQUIRE(at + 12 + length <= png.size());
+        const std::string type = png.substr(at + 4, 4);
+        CAPTURE(type, types.size());
+        CHECK(big_endian(png, at + 8 + length) == crc32_of(png.substr(at + 4, 4 + length)));
+        types.push_back(type);
+        at += 12 + length;
+    }
+    return types;
+}
 
 }  // namespace
 
@@ -161,12 +196,21 @@ TEST_CASE("bad animation input names the file, line and problem", "[animation][e
                Contains("'cubic' (expected one of: linear, step)"));
     CHECK_THAT(dir.error(plane_object("    animate: {wobble: 3}\n")), Contains("wobble"));
     CHECK_THAT(dir.error(plane_object("    animate: {position: {keys: [{time: -1, value: [0, 0, 0]}]}}\n")),
-               Contains(">= 0"));
+               Contains("0..1e9 seconds"));
     CHECK_THAT(dir.error("camera:\n  position: [0, 0, 3]\n  animate:\n    target: {keys: [{time: 2, "
                          "value: [0, 0, 3]}]}\n"),
                Contains("at 2 s") && Contains("target is at its position"));
+    // Between keys too: this path runs through the target half way.
+    CHECK_THAT(dir.error("camera:\n  position: [0, 0, 3]\n  animate:\n    position: {keys: [{time: 0, "
+                         "value: [0, 0, -1]}, {time: 2, value: [0, 0, 1]}]}\n"),
+               Contains("at 1 s") && Contains("target is at its position"));
     CHECK_THAT(dir.error("animation: {fps: 0}\n"), Contains("fps must be above 0"));
     CHECK_THAT(dir.error("animation: {start: 2, end: 1}\n"), Contains("end must be after start"));
+    CHECK_THAT(dir.error("animation: {start: 2}\n" + plane_object("    animate: {position: {keys: "
+                                                                    "[{time: 1, value: [0, 0, 0]}]}}\n")),
+               Contains("at or after the animation's end (1 s)"));
+    Scene still = dir.load(plane_object(""));
+    CHECK_THROWS_WITH(still.pose(std::nan("")), Contains("finite time"));
 }
 
 TEST_CASE("every draw and screen pass sees the scene's time", "[animation]") {
@@ -336,6 +380,10 @@ TEST_CASE("PNGs written in segments decode to their pixels, the same bytes howev
     const std::string bytes_a{std::istreambuf_iterator<char>(a), {}};
     const std::string bytes_b{std::istreambuf_iterator<char>(b), {}};
     CHECK(bytes_a == bytes_b);
+    const std::vector<std::string> chunks = checked_chunks(bytes_a);
+    REQUIRE(chunks.size() >= 3);
+    CHECK(chunks.front() == "IHDR");
+    CHECK(chunks.back() == "IEND");
 
     // A writer that does not finish leaves nothing where the image goes.
     const fs::path cut = dir.path / "cut.png";
@@ -367,6 +415,23 @@ TEST_CASE("frame ranges and output patterns parse strictly", "[animation][cli]")
     }
     CHECK_FALSE(parse_frames("all", Timeline{}, error));
     CHECK_THAT(error, Contains("does not move"));
+    // "all" at another fps counts the frames at that fps.
+    const auto [at_12, fps] = frames_to_render("all", 12, timeline);
+    CHECK(fps == 12);
+    CHECK(at_12.last == 23);
+    CHECK(frames_to_render("all", 0, timeline).first.last == 47);
+    CHECK_THROWS_WITH(frames_to_render("9..3", 0, timeline), Contains("--frames"));
+    // Times that are whole frames up to rounding are those frames.
+    Timeline tenth;
+    tenth.fps = 30;
+    tenth.start = 0.1;
+    tenth.end = 1.1;
+    CHECK(tenth.first_frame() == 3);
+    CHECK(tenth.end_frame() == 33);
+    CHECK(tenth.frame_at(0.1) == 3);
+    CHECK(check_finite_times(std::nan(""), 24).find("--time") != std::string::npos);
+    CHECK(check_finite_times(1.0, std::nan("")).find("--fps") != std::string::npos);
+    CHECK(check_finite_times(std::nullopt, 24).empty());
 
     CHECK(check_frame_pattern("out_%04d.png").empty());
     CHECK(check_frame_pattern("100%%_%d.png").empty());

@@ -44,6 +44,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <sched.h>
 #include <unistd.h>
 #include <vector>
@@ -56,6 +57,7 @@ struct Options {
     std::string size;
     std::string camera;
     int msaa = 0;
+    bool wireframe = false;
     int threads = 0;  // 0: this machine's hardware threads shared by its ranks
     std::vector<std::string> plugin_paths;
     std::string max_memory;
@@ -84,15 +86,16 @@ void on_fault(int signal) {
 }
 
 void note_work(int rank, const char* what, long item) {
+    const bool frame = std::strcmp(what, "frame") == 0;
     std::snprintf(g_crash_note, sizeof g_crash_note,
-                  "facet-render-mpi: rank %d failed on %s %ld (it crashed); the frames already "
-                  "written are kept\n",
-                  rank, what, item);
+                  "facet-render-mpi: rank %d failed on %s %ld (it crashed); %s\n", rank, what,
+                  item, frame ? "the frames already written are kept" : "no image is written");
 }
 
 // ---- Messages --------------------------------------------------------------------
 
-enum class Kind : int32_t { ready, done, failed };
+// ready: the first request; stopped: SIGINT or SIGTERM cut the item short.
+enum class Kind : int32_t { ready, done, failed, stopped };
 
 // A report: its kind, the item, how long it took, and its payload (a band's
 // segments, or why it failed).
@@ -193,12 +196,15 @@ Report render_item(const Job& job, facet::Scene& scene, facet::Renderer& rendere
     try {
         if (job.frames) {
             facet::render_frame_to_png(renderer, scene, item, job.fps,
-                                       facet::frame_path(job.opt.output, item));
+                                       facet::frame_path(job.opt.output, item), target, rgba);
         } else {
             r.payload = segments_to_bytes(
                 facet::render_band(renderer, scene, int(item), job.rows, target, rgba));
         }
         r.kind = Kind::done;
+    } catch (const facet::Error& e) {
+        r.kind = e.code() == facet::ErrorCode::interrupted ? Kind::stopped : Kind::failed;
+        r.payload = e.what();
     } catch (const std::exception& e) {
         r.kind = Kind::failed;
         r.payload = e.what();
@@ -240,26 +246,47 @@ public:
         return next_++;
     }
 
+    // A rank's report. Never throws: what goes wrong (the PNG cannot be
+    // written) is a failure, which stops the work.
     void take(int rank, const Report& r) {
         const std::lock_guard<std::mutex> hold(mutex_);
         if (r.kind == Kind::ready) return;
-        PerRank& mine = per_rank_[size_t(rank)];
+        if (r.kind == Kind::stopped) {
+            stopped_ = interrupted_ = true;
+            return;
+        }
         if (r.kind == Kind::failed) {
-            spdlog::error("rank {} failed on {}: {}", rank, job_.describe(r.item), r.payload);
-            failures_.push_back("rank " + std::to_string(rank) + ", " + job_.describe(r.item));
+            fail(rank, job_.describe(r.item), r.payload);
             if (!job_.frames) stopped_ = true;  // the image cannot be whole
             return;
         }
+        PerRank& mine = per_rank_[size_t(rank)];
         ++mine.items;
         mine.seconds += r.seconds;
         progress_.done(job_.describe(r.item) + " on rank " + std::to_string(rank), r.seconds);
         if (job_.frames || stopped_) return;
-        bands_[r.item] = segments_from_bytes(r.payload);
-        // Write every band that is next in line.
-        for (auto it = bands_.begin(); it != bands_.end() && it->first == next_band_;
-             it = bands_.erase(it), ++next_band_) {
-            for (const facet::PngSegment& s : it->second) png_->add(s);
+        try {
+            bands_[r.item] = segments_from_bytes(r.payload);
+            // Write every band that is next in line.
+            for (auto it = bands_.begin(); it != bands_.end() && it->first == next_band_;
+                 it = bands_.erase(it), ++next_band_)
+                for (const facet::PngSegment& s : it->second) png_->add(s);
+        } catch (const std::exception& e) {
+            fail(0, "writing " + job_.describe(r.item), e.what());
+            stopped_ = true;
         }
+    }
+
+    // Hands out no more work: an interrupt, or rank 0's own thread failed.
+    void stop(bool interrupted) {
+        const std::lock_guard<std::mutex> hold(mutex_);
+        stopped_ = true;
+        interrupted_ |= interrupted;
+    }
+    void failed(int rank, const std::string& what, const std::string& why) {
+        const std::lock_guard<std::mutex> hold(mutex_);
+        fail(rank, what, why);
+        stopped_ = true;
     }
 
     // After every rank has stopped: the image finished, and a summary.
@@ -271,6 +298,12 @@ public:
                          facet::format_duration(per_rank_[r].seconds));
         spdlog::info("{} {}s in {} on {} ranks", progress_.finished(), job_.what(),
                      facet::format_duration(seconds), per_rank_.size());
+        if (interrupted_) {
+            spdlog::warn("stopped; {}", job_.frames ? "the frames written are kept (--resume "
+                                                      "goes on from them)"
+                                                    : "no image was written");
+            return 130;
+        }
         if (!failures_.empty()) {
             std::string list;
             for (const std::string& f : failures_) list += (list.empty() ? "" : "; ") + f;
@@ -287,6 +320,11 @@ public:
     }
 
 private:
+    void fail(int rank, const std::string& what, const std::string& why) {
+        spdlog::error("rank {} failed on {}: {}", rank, what, why);
+        failures_.push_back("rank " + std::to_string(rank) + ", " + what);
+    }
+
     struct PerRank {
         long items = 0;
         double seconds = 0.0;
@@ -295,6 +333,7 @@ private:
     std::mutex mutex_;
     long next_;
     bool stopped_ = false;
+    bool interrupted_ = false;
     facet::Progress progress_;
     std::vector<PerRank> per_rank_;
     std::vector<std::string> failures_;
@@ -311,13 +350,12 @@ void send_item(int rank, long item) {
 
 // Rank 0: hands out work to the other ranks over MPI, and to its own render
 // thread, until all is done.
-int coordinate(Job& job, facet::Renderer& renderer, int ranks) {
+int coordinate(Job& job, facet::Renderer& renderer, int ranks,
+               const facet::Interrupts& interrupts) {
     const auto start = std::chrono::steady_clock::now();
     Coordinator book(job, ranks);
     std::mutex lock;
     std::condition_variable wake;
-    bool local_done = false;
-    std::exception_ptr local_failed;
     std::thread local([&] {
         try {
             facet::Framebuffer target;
@@ -333,17 +371,16 @@ int coordinate(Job& job, facet::Renderer& renderer, int ranks) {
                 if (*item == kNoMore) break;
                 book.take(0, render_item(job, job.scene, renderer, *item, 0, target, rgba));
             }
-        } catch (...) {
-            local_failed = std::current_exception();
+        } catch (const std::exception& e) {
+            book.failed(0, "its render thread", e.what());
         }
-        const std::lock_guard<std::mutex> hold(lock);
-        local_done = true;
     });
     int active = ranks - 1;
     std::deque<int> waiting;  // ranks that asked for work and wait for it
     std::string buffer;
     try {
     while (active > 0) {
+        if (interrupts.stopped()) book.stop(true);
         int pending = 0;
         MPI_Status status;
         MPI_Iprobe(MPI_ANY_SOURCE, kTagReport, MPI_COMM_WORLD, &pending, &status);
@@ -378,8 +415,10 @@ int coordinate(Job& job, facet::Renderer& renderer, int ranks) {
         MPI_Abort(MPI_COMM_WORLD, 1);
     }
     local.join();
-    if (local_failed) std::rethrow_exception(local_failed);
-    return book.finish(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const int status = book.finish(seconds);
+    return status == 130 ? interrupts.exit_code() : status;
 }
 
 // Any other rank: asks rank 0 for work, renders it, reports, asks again.
@@ -437,22 +476,21 @@ void prepare(Job& job, facet::PluginRegistry& registry) {
         if (!camera)
             throw facet::Error(facet::ErrorCode::config_invalid,
                                "expected X,Y,Z,TX,TY,TZ[,FOV]", "--camera " + opt.camera);
-        job.scene.camera = job.scene.camera_rest = *camera;
+        job.scene.set_camera(*camera);
     }
     if (opt.msaa) s.msaa = opt.msaa;
+    if (opt.wireframe) s.wireframe = true;
     job.frames = !opt.frames.empty();
     facet::RenderSettings needed = s;
     if (job.frames) {
-        std::string error;
-        const auto range = facet::parse_frames(opt.frames, job.scene.timeline, error);
-        if (!range) throw facet::Error(facet::ErrorCode::config_invalid, error, "--frames");
-        job.range = *range;
-        job.fps = opt.fps > 0.0 ? opt.fps : job.scene.timeline.fps;
+        std::tie(job.range, job.fps) =
+            facet::frames_to_render(opt.frames, opt.fps, job.scene.timeline);
     } else {
         if (opt.time) job.scene.pose(*opt.time);
-        job.rows = facet::band_rows(opt.band_rows > 0 ? opt.band_rows : 256);
+        job.rows = facet::band_rows(opt.band_rows > 0 ? opt.band_rows : facet::kDefaultBandRows);
         job.bands = facet::band_count(s.height, job.rows);
         needed.height = std::min(s.height, job.rows);
+        facet::check_band(s.width, needed.height);
     }
     facet::require_frame_within_budget(needed);
 }
@@ -472,8 +510,10 @@ int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
     int bad = problem.empty() ? 0 : 1, any_bad = 0;
     MPI_Allreduce(&bad, &any_bad, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     if (any_bad) {
-        if (rank == 0 && !problem.empty()) spdlog::error("{}", problem);
-        else if (!problem.empty()) spdlog::error("rank {}: {}", rank, problem);
+        // Rank 0 says why; another rank only when its problem is its own.
+        int bad0 = rank == 0 ? bad : 0;
+        MPI_Bcast(&bad0, 1, MPI_INT, 0, MPI_COMM_WORLD);
+        if (!problem.empty() && (rank == 0 || !bad0)) spdlog::error("rank {}: {}", rank, problem);
         return 1;
     }
     // Collective: every rank counts its machine's ranks.
@@ -501,7 +541,7 @@ int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
         else
             spdlog::info("{}x{} in {} bands of {} rows to {}", job.scene.settings.width,
                          job.scene.settings.height, job.bands, job.rows, job.opt.output);
-        return coordinate(job, renderer, ranks);
+        return coordinate(job, renderer, ranks, interrupts);
     }
     work(job, renderer, rank);
     return 0;
@@ -530,6 +570,7 @@ int main(int argc, char** argv) {
     app.add_option("--size", opt.size, "image size WxH, overriding the scene's");
     app.add_option("--camera", opt.camera, "camera X,Y,Z,TX,TY,TZ[,FOV]");
     app.add_option("--msaa", opt.msaa, "samples per pixel")->check(CLI::IsMember({1, 2, 4, 8}));
+    app.add_flag("--wireframe", opt.wireframe, "draw triangle edges over the shading");
     app.add_option("--threads", opt.threads,
                    "render threads per rank; 0: this machine's hardware threads over its ranks")
         ->check(CLI::Range(0, 256));
@@ -557,7 +598,10 @@ int main(int argc, char** argv) {
         status = *parsed;
     } else {
         facet::start_logging(verbosity);
-        if (job.frames = !opt.frames.empty(); job.frames) {
+        if (const std::string bad = facet::check_finite_times(opt.time, opt.fps); !bad.empty()) {
+            if (rank == 0) spdlog::error("{}", bad);
+            status = 2;
+        } else if (job.frames = !opt.frames.empty(); job.frames) {
             if (const std::string error = facet::check_frame_pattern(opt.output); !error.empty()) {
                 if (rank == 0) spdlog::error("-o: {}", error);
                 status = 2;

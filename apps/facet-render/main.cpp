@@ -62,9 +62,6 @@ struct Options {
     int band_rows = 0;
 };
 
-// Images with more pixels than one target may hold are rendered in bands of
-// this many rows, unless --band-rows says otherwise.
-constexpr int kDefaultBandRows = 256;
 
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
     spdlog::info("rendered {}x{} in {:.2f} ms: {} objects ({} culled), {} triangles in, "
@@ -98,7 +95,7 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
 // into the PNG: the memory a band needs, whatever the image's size.
 void render_bands(const Options& opt, const facet::Scene& scene, facet::Renderer& renderer) {
     const facet::RenderSettings& s = scene.settings;
-    const int rows = facet::band_rows(opt.band_rows > 0 ? opt.band_rows : kDefaultBandRows);
+    const int rows = facet::band_rows(opt.band_rows > 0 ? opt.band_rows : facet::kDefaultBandRows);
     const int bands = facet::band_count(s.height, rows);
     spdlog::info("rendering {}x{} in {} bands of {} rows", s.width, s.height, bands, rows);
     facet::PngWriter png(opt.output, s.width, s.height);
@@ -118,29 +115,28 @@ void render_bands(const Options& opt, const facet::Scene& scene, facet::Renderer
 // Frames A..B of the scene's animation, each to its own file.
 void render_sequence(const Options& opt, facet::Scene& scene, facet::Renderer& renderer,
                      const facet::Interrupts& interrupts) {
-    std::string error;
-    const std::optional<facet::FrameRange> range =
-        facet::parse_frames(opt.frames, scene.timeline, error);
-    if (!range) throw facet::Error(facet::ErrorCode::config_invalid, error, "--frames");
-    const double fps = opt.fps > 0.0 ? opt.fps : scene.timeline.fps;
-    facet::Progress progress("frame", range->count());
-    spdlog::info("rendering frames {}..{} at {} fps ({:.3f} s..{:.3f} s) to {}", range->first,
-                 range->last, fps, double(range->first) / fps, double(range->last) / fps,
+    const auto [range, fps] = facet::frames_to_render(opt.frames, opt.fps, scene.timeline);
+    facet::Progress progress("frame", range.count());
+    facet::Framebuffer target;
+    std::vector<uint8_t> rgba;
+    spdlog::info("rendering frames {}..{} at {} fps ({:.3f} s..{:.3f} s) to {}", range.first,
+                 range.last, fps, double(range.first) / fps, double(range.last) / fps,
                  opt.output);
-    for (long k = range->first; k <= range->last && !interrupts.stopped(); ++k) {
+    for (long k = range.first; k <= range.last && !interrupts.stopped(); ++k) {
         const std::string path = facet::frame_path(opt.output, k);
         if (opt.resume && std::filesystem::exists(path)) {
             spdlog::debug("frame {}: {} exists; skipped", k, path);
             progress.skipped();
             continue;
         }
-        const facet::FrameStats stats = facet::render_frame_to_png(renderer, scene, k, fps, path);
+        const facet::FrameStats stats =
+            facet::render_frame_to_png(renderer, scene, k, fps, path, target, rgba);
         spdlog::debug("frame {}: {} triangles rasterized, {} fragments shaded in {:.2f} ms", k,
                       stats.triangles_rasterized, stats.fragments_shaded, stats.milliseconds);
         progress.done(path);
     }
-    if (progress.finished() < range->count())
-        spdlog::info("{} of {} frames rendered{}", progress.finished(), range->count(),
+    if (progress.finished() < range.count())
+        spdlog::info("{} of {} frames rendered{}", progress.finished(), range.count(),
                      opt.resume ? "; the others existed" : "");
 }
 
@@ -151,7 +147,7 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
         scene.settings.width = size->x;
         scene.settings.height = size->y;
     }
-    if (!opt.camera.empty()) scene.camera = *facet::parse_camera(opt.camera, scene.camera);
+    if (!opt.camera.empty()) scene.set_camera(*facet::parse_camera(opt.camera, scene.camera));
     if (opt.msaa) scene.settings.msaa = opt.msaa;
     if (opt.wireframe) scene.settings.wireframe = true;
     const facet::RenderSettings& s = scene.settings;
@@ -162,7 +158,7 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
         facet::RenderSettings needed = scene.settings;  // a band's, when in bands
         if (banded)
             needed.height = std::min(s.height, facet::band_rows(opt.band_rows > 0 ? opt.band_rows
-                                                                                  : kDefaultBandRows));
+                                                                                  : facet::kDefaultBandRows));
         facet::require_frame_within_budget(needed);
     } catch (const facet::Error& e) {  // named by what asked for the frame
         const std::string options = (size ? "--size " + opt.size : std::string()) +
@@ -172,6 +168,10 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
                            options.empty() ? scene.source.string() + " (render: size, msaa)"
                                            : options);
     }
+    if (banded)
+        facet::check_band(s.width, std::min(s.height, facet::band_rows(opt.band_rows > 0
+                                                                           ? opt.band_rows
+                                                                           : facet::kDefaultBandRows)));
     facet::Renderer renderer(opt.threads);
     renderer.pipeline().stop_when(&interrupts.stop());
     spdlog::info("{} path on {}, {} threads", facet::isa_name(renderer.isa()), facet::cpu_name(),
@@ -183,7 +183,8 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
     const facet::FrameStats stats = renderer.render(scene, framebuffer);
     std::vector<uint8_t> rgba;
     renderer.pipeline().resolve_srgb8(framebuffer, rgba);  // a copy of an srgb8 target
-    facet::write_png(opt.output, framebuffer.width(), framebuffer.height(), rgba);
+    facet::write_png(opt.output, framebuffer.width(), framebuffer.height(), rgba,
+                     renderer.threads());
     report(stats, scene);
     spdlog::info("wrote {}", opt.output);
 }
@@ -289,6 +290,10 @@ int main(int argc, char** argv) {
     facet::add_common_options(app, verbosity);
     if (const std::optional<int> status = facet::parse_command_line(app, argc, argv)) return *status;
     facet::start_logging(verbosity);
+    if (const std::string bad = facet::check_finite_times(opt.time, opt.fps); !bad.empty()) {
+        spdlog::error("{}", bad);
+        return 2;
+    }
     if (!opt.frames.empty()) {
         if (app.count("--output") == 0) opt.output = "facet_%04d.png";
         if (const std::string error = facet::check_frame_pattern(opt.output); !error.empty()) {
@@ -300,7 +305,9 @@ int main(int argc, char** argv) {
         return run(opt, interrupts);
     } catch (const facet::Error& e) {
         if (e.code() == facet::ErrorCode::interrupted || interrupts.stopped()) {
-            spdlog::warn("stopped; no image written");
+            spdlog::warn(opt.frames.empty() ? "stopped; no image written"
+                                            : "stopped; the frames written are kept (--resume "
+                                              "goes on from them)");
             return interrupts.exit_code();
         }
         spdlog::error("{}", e.what());

@@ -321,16 +321,6 @@ EditorResult Editor::show(EditorTarget& t) {
     return r;
 }
 
-namespace {
-
-// `o` where its rest place (which the editor edits, as the file holds it)
-// and its animation put it at `time`.
-void place(Object& o, double time) {
-    o.transform = o.animation.empty() ? o.rest : o.animation.at(time, o.rest);
-}
-
-}  // namespace
-
 void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     const ScopedId scope("objects");
     std::vector<Object>& objects = t.scene.objects;
@@ -371,7 +361,7 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
             refused("position");
         } else {
             o.rest.translation = position;
-            place(o, t.scene.time);
+            o.pose(t.scene.time);  // the rest place, as the file holds it, animated
             edit(file, {"objects", i, "position"}, yaml_sequence(&position.x, 3));
             r.redraw = true;
         }
@@ -382,7 +372,7 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
                           ImGuiSliderFlags_AlwaysClamp)) {
         euler_ = euler;
         o.rest.rotation = euler_of_rotation_ = euler_degrees(euler_);
-        place(o, t.scene.time);
+        o.pose(t.scene.time);
         edit(file, {"objects", i, "rotation"}, yaml_sequence(&euler_.x, 3));
         r.redraw = true;
     }
@@ -393,7 +383,7 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
         for (int k = 0; k < 3; ++k)
             if (std::abs(scale[k]) < 1e-4f) scale[k] = std::copysign(1e-4f, o.rest.scale[k]);
         o.rest.scale = scale;
-        place(o, t.scene.time);
+        o.pose(t.scene.time);
         const glm::vec3& s = o.rest.scale;
         edit(file, {"objects", i, "scale"},
              s.x == s.y && s.y == s.z ? yaml_number(s.x) : yaml_sequence(&s.x, 3));
@@ -750,11 +740,13 @@ void Editor::render_panel(EditorTarget& t, EditorResult& r) {
 void Editor::animation_panel(EditorTarget& t, EditorResult& r) {
     Playback& p = t.playback;
     const Timeline& line = p.timeline();
-    if (ImGui::Button(p.playing() ? "Pause" : "Play")) p.set_playing(!p.playing());
+    if (ImGui::Button(p.playing() ? "Pause" : "Play")) {
+        p.set_playing(!p.playing());
+        r.redraw = true;  // the overlay says so
+    }
     remember("Play");
     ImGui::SameLine();
-    ImGui::Text("frame %ld at %g fps (Space, arrows)", long(std::floor(p.time() * line.fps + 1e-9)),
-                line.fps);
+    ImGui::Text("frame %ld at %g fps (Space, arrows)", line.frame_at(p.time()), line.fps);
     float time = float(p.time());
     if (ImGui::SliderFloat("time", &time, float(line.start), float(line.end), "%.3f s")) {
         p.seek(time);

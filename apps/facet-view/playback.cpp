@@ -34,8 +34,7 @@ void Playback::seek(double t) {
 }
 
 void Playback::step(int frames) {
-    const double frame = std::floor(time_ * timeline_.fps + 1e-9);
-    time_ = wrapped((frame + frames) / timeline_.fps);
+    time_ = wrapped(timeline_.time_of(timeline_.frame_at(time_) + frames));
 }
 
 bool Playback::advance(Clock::time_point now) {

@@ -127,7 +127,10 @@ Viewer::Viewer(Options options)
         update_selected_label();
     }
     if (!options_.camera.empty()) {
-        if (const auto camera = parse_camera(options_.camera, scene_.camera)) controller_.reset(*camera);
+        if (const auto camera = parse_camera(options_.camera, scene_.camera)) {
+            controller_.reset(*camera);
+            follow_camera_ = false;  // a camera put by hand stays
+        }
         else message("--camera: expected X,Y,Z,TX,TY,TZ[,FOV]; using the scene's camera", true);
     }
 
@@ -376,7 +379,7 @@ void Viewer::present() {
         const Timeline& line = scene_.timeline;
         info_.animation = fmt::format("{:.3f} s of {:g}..{:g} s  frame {}  {:g} fps  {}{}",
                                       playback_.time(), line.start, line.end,
-                                      long(std::floor(playback_.time() * line.fps + 1e-9)),
+                                      line.frame_at(playback_.time()),
                                       line.fps, playback_.playing() ? "playing" : "paused (Space)",
                                       scene_.camera_tracks.empty() || follow_camera_
                                           ? ""

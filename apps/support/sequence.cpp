@@ -90,6 +90,21 @@ std::optional<FrameRange> parse_frames(const std::string& text, const Timeline& 
     return FrameRange{*first, *last};
 }
 
+std::pair<FrameRange, double> frames_to_render(const std::string& text, double fps,
+                                               Timeline timeline) {
+    if (fps > 0.0) timeline.fps = fps;
+    std::string error;
+    const std::optional<FrameRange> range = parse_frames(text, timeline, error);
+    if (!range) throw Error(ErrorCode::config_invalid, error, "--frames");
+    return {*range, timeline.fps};
+}
+
+std::string check_finite_times(const std::optional<double>& time, double fps) {
+    if (time && !std::isfinite(*time)) return "--time: expected a number of seconds, got nan";
+    if (!std::isfinite(fps)) return "--fps: expected a number of frames a second, got nan";
+    return {};
+}
+
 std::string check_frame_pattern(const std::string& pattern) {
     std::string error;
     find_conversion(pattern, error);
@@ -117,11 +132,10 @@ std::string frame_path(const std::string& pattern, long frame) {
 }
 
 FrameStats render_frame_to_png(Renderer& renderer, Scene& scene, long frame, double fps,
-                               const std::string& path) {
+                               const std::string& path, Framebuffer& target,
+                               std::vector<uint8_t>& rgba) {
     scene.pose(double(frame) / fps);
-    Framebuffer target;
     const FrameStats stats = renderer.render(scene, target);
-    std::vector<uint8_t> rgba;
     renderer.pipeline().resolve_srgb8(target, rgba);
     write_png_rows(path, rgba.data(), size_t(target.width()) * 4, target.width(),
                    target.height(), renderer.threads());
@@ -130,6 +144,16 @@ FrameStats render_frame_to_png(Renderer& renderer, Scene& scene, long frame, dou
 
 int band_rows(int rows) {
     return std::max(1, (rows + kPngSegmentRows - 1) / kPngSegmentRows) * kPngSegmentRows;
+}
+
+void check_band(int width, int rows) {
+    if (int64_t(width) * rows <= Framebuffer::kMaxPixels) return;
+    const int64_t most = Framebuffer::kMaxPixels / width / kPngSegmentRows * kPngSegmentRows;
+    throw Error(ErrorCode::out_of_range,
+                "a band of " + std::to_string(width) + "x" + std::to_string(rows) +
+                    " pixels is more than one target holds; at most " + std::to_string(most) +
+                    " rows at this width",
+                "--band-rows");
 }
 
 int band_count(int height, int rows) { return (height + rows - 1) / rows; }

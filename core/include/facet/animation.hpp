@@ -97,6 +97,8 @@ struct Timeline {
     // frames [first, last) a whole sequence renders.
     long first_frame() const;
     long end_frame() const;
+    // The frame showing at time t: the last that starts at or before it.
+    long frame_at(double t) const;
     double time_of(long frame) const { return double(frame) / fps; }
 };
 

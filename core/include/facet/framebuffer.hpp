@@ -193,9 +193,10 @@ uint16_t float_to_half(float value);
 float half_to_float(uint16_t half);
 
 // Writes width x height 8-bit RGBA pixels (rows width * 4 bytes apart) as
-// a PNG; throws Error(output_failed).
+// a PNG, compressed on `threads` threads (0: every hardware thread; see
+// facet/png.hpp); throws Error(output_failed).
 void write_png(const std::filesystem::path& path, int width, int height,
-               const std::vector<uint8_t>& rgba8);
+               const std::vector<uint8_t>& rgba8, int threads = 0);
 
 // Encodes and decodes one pixel in `format` (not none).
 void encode_pixel(ColorFormat format, const glm::vec4& linear, uint8_t* out);

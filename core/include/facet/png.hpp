@@ -53,6 +53,7 @@ public:
     void finish();
 
 private:
+    void start();  // the signature, the header and the stream's header
     void chunk(const char type[4], const void* data, size_t size);
     void put(const void* data, size_t size);
 

@@ -157,6 +157,8 @@ struct Object {
     Transform rest = {};
     std::vector<glm::mat4> part_poses = {};
 
+    // Sets `transform` and `part_poses` to their places at time t.
+    void pose(double t);
     // Where part i is drawn: transform, after the part's own motion.
     glm::mat4 part_matrix(size_t part) const {
         return part_poses.empty() ? transform.matrix() : transform.matrix() * part_poses[part];
@@ -192,7 +194,13 @@ struct Scene {
     std::vector<Material*> materials() const;
     // Sets the time, and the camera and every animated object to their
     // places at that time. A pure function of t and the scene as loaded.
+    // Throws Error(out_of_range) for a time that is not finite.
     void pose(double t);
+    // A camera put by hand (--camera): it stays, whatever the time.
+    void set_camera(const Camera& c) {
+        camera = camera_rest = c;
+        camera_tracks = {};
+    }
     bool animated() const { return timeline.animated(); }
 };
 

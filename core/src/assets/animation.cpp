@@ -2,6 +2,7 @@
 // scene at a time (Scene::pose).
 #include "facet/animation.hpp"
 
+#include "facet/error.hpp"
 #include "facet/scene.hpp"
 
 #include <glm/gtc/quaternion.hpp>
@@ -28,8 +29,9 @@ glm::quat turn(const glm::vec3& axis, double degrees) {
 
 template <class T>
 T Track<T>::at(double t) const {
-    if (t <= times.front() || times.size() == 1) return values.front();
-    if (t >= times.back()) return values.back();
+    // A NaN time takes the first key, as a time before it does.
+    if (times.size() == 1 || !(t > times.front())) return values.front();
+    if (!(t < times.back())) return values.back();
     // The key at or before t, and the one after.
     const size_t next = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin());
     const size_t k = next - 1;
@@ -73,16 +75,28 @@ Camera CameraTracks::at(double t, const Camera& rest) const {
     return out;
 }
 
-long Timeline::first_frame() const { return long(std::ceil(start * fps - 1e-9)); }
-long Timeline::end_frame() const { return long(std::ceil(end * fps - 1e-9)); }
+namespace {
+// Frames that a time falls on up to rounding (0.1 s at 30 fps is frame 3,
+// though 0.1 * 30 is 3.0000000000000004 in double) count as that frame.
+constexpr double kFrameTolerance = 1e-6;
+}  // namespace
+
+long Timeline::first_frame() const { return long(std::ceil(start * fps - kFrameTolerance)); }
+long Timeline::end_frame() const { return long(std::ceil(end * fps - kFrameTolerance)); }
+long Timeline::frame_at(double t) const { return long(std::floor(t * fps + kFrameTolerance)); }
+
+void Object::pose(double t) {
+    if (!animation.empty()) transform = animation.at(t, rest);
+    if (mesh && !mesh->nodes.empty()) pose_parts(*mesh, t, part_poses);
+}
 
 void Scene::pose(double t) {
+    if (!std::isfinite(t))
+        throw Error(ErrorCode::out_of_range, "a scene can only be posed at a finite time",
+                    source.string());
     time = t;
     if (!camera_tracks.empty()) camera = camera_tracks.at(t, camera_rest);
-    for (Object& o : objects) {
-        if (!o.animation.empty()) o.transform = o.animation.at(t, o.rest);
-        if (o.mesh && !o.mesh->nodes.empty()) pose_parts(*o.mesh, t, o.part_poses);
-    }
+    for (Object& o : objects) o.pose(t);
 }
 
 }  // namespace facet

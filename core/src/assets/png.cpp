@@ -58,9 +58,12 @@ void filter_row(const uint8_t* row, const uint8_t* above, size_t bytes, uint8_t*
     }
 }
 
+// A chunk's CRC covers its type and its data. (zlib's crc32 of a null
+// buffer is 0, not the CRC so far: an empty chunk's data is left out.)
 uint32_t crc(const char type[4], const void* data, size_t size) {
     uLong c = crc32(0L, reinterpret_cast<const Bytef*>(type), 4);
-    return uint32_t(crc32_z(c, static_cast<const Bytef*>(data), size));
+    if (size > 0) c = crc32_z(c, static_cast<const Bytef*>(data), size);
+    return uint32_t(c);
 }
 
 void put_u32(uint8_t* out, uint32_t v) {
@@ -111,11 +114,23 @@ PngWriter::PngWriter(const std::filesystem::path& path, int width, int height)
     if (!file_)
         throw Error(ErrorCode::output_failed,
                     std::string("cannot write PNG: ") + std::strerror(errno), path.string());
+    try {
+        start();
+    } catch (...) {
+        std::fclose(file_);
+        file_ = nullptr;
+        std::error_code ec;
+        std::filesystem::remove(partial_, ec);
+        throw;
+    }
+}
+
+void PngWriter::start() {
     static const uint8_t signature[8] = {137, 'P', 'N', 'G', '\r', '\n', 26, '\n'};
     put(signature, 8);
     uint8_t header[13];
-    put_u32(header, uint32_t(width));
-    put_u32(header + 4, uint32_t(height));
+    put_u32(header, uint32_t(width_));
+    put_u32(header + 4, uint32_t(height_));
     header[8] = 8;   // bits per channel
     header[9] = 6;   // RGBA
     header[10] = header[11] = header[12] = 0;  // deflate, adaptive filters, no interlace
@@ -143,7 +158,7 @@ void PngWriter::chunk(const char type[4], const void* data, size_t size) {
     std::memcpy(head + 4, type, 4);
     put_u32(tail, crc(type, data, size));
     put(head, 8);
-    put(data, size);
+    if (size > 0) put(data, size);  // IEND has none, and no pointer to it
     put(tail, 4);
 }
 
@@ -185,6 +200,13 @@ void PngWriter::finish() {
 
 std::vector<PngSegment> encode_png_rows(const uint8_t* rgba, size_t stride, int width,
                                         int first_row, int rows, int height, int threads) {
+    // Segments start every kPngSegmentRows rows of the image, whoever
+    // encodes them: that is what makes the bytes the same however split.
+    if (first_row % kPngSegmentRows != 0 || rows < 1 || first_row + rows > height)
+        throw Error(ErrorCode::output_failed,
+                    "PNG rows " + std::to_string(first_row) + ".." +
+                        std::to_string(first_row + rows - 1) + " of " + std::to_string(height) +
+                        " do not start a segment of " + std::to_string(kPngSegmentRows) + " rows");
     const int count = (rows + kPngSegmentRows - 1) / kPngSegmentRows;
     std::vector<PngSegment> out(size_t(std::max(count, 0)));
     if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));

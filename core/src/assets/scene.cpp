@@ -278,6 +278,9 @@ glm::vec3 read_scale(const yaml::Context& ctx, const YAML::Node& node) {
 
 // ---- animation -----------------------------------------------------------------
 
+// Times beyond this are mistakes (31 years), and keep k * fps within a long.
+constexpr double kMaxSeconds = 1e9;
+
 // A track: {keys: [{time: T, value: V}, ...], interpolation: linear | step},
 // each value read by `value`; times finite, >= 0, strictly increasing.
 template <class T, class Read>
@@ -294,8 +297,9 @@ Track<T> read_track(const yaml::Context& ctx, const YAML::Node& node, const std:
     for (const YAML::Node& key : keys) {
         yaml::check_map(ctx, key, "key", {"time", "value"});
         const YAML::Node time = yaml::require(ctx, key, "time");
-        const double t = yaml::as<float>(ctx, time);
-        ensure(t >= 0.0, ctx, time, ErrorCode::out_of_range, "a key's time must be >= 0 seconds");
+        const double t = yaml::as<double>(ctx, time);
+        ensure(t >= 0.0 && t <= kMaxSeconds, ctx, time, ErrorCode::out_of_range,
+               "a key's time must be 0..1e9 seconds");
         ensure(track.times.empty() || t > track.times.back(), ctx, time,
                ErrorCode::config_invalid, "keys must be in order of time, each later than the "
                                           "one before");
@@ -358,12 +362,17 @@ CameraTracks read_camera_tracks(const yaml::Context& ctx, const YAML::Node& node
     return a;
 }
 
-// The camera posed at each key of its tracks is a camera: its target is not
-// its position, and up is not along the view.
+// The camera posed at each key of its tracks, and at 16 times between each
+// two, is a camera: its target is not its position, and up is not along the
+// view.
 void check_camera_tracks(const yaml::Context& ctx, const YAML::Node& node, const Camera& rest,
                          const CameraTracks& tracks) {
-    std::vector<double> times = tracks.position.times;
-    times.insert(times.end(), tracks.target.times.begin(), tracks.target.times.end());
+    std::vector<double> keys = tracks.position.times;
+    keys.insert(keys.end(), tracks.target.times.begin(), tracks.target.times.end());
+    std::sort(keys.begin(), keys.end());
+    std::vector<double> times = keys;
+    for (size_t i = 1; i < keys.size(); ++i)
+        for (int k = 1; k < 16; ++k) times.push_back(keys[i - 1] + (keys[i] - keys[i - 1]) * k / 16.0);
     for (double t : times) {
         const Camera c = tracks.at(t, rest);
         const glm::vec3 forward = unit(glm::vec3(glm::dvec3(c.target) - glm::dvec3(c.position)));
@@ -379,17 +388,23 @@ Timeline read_timeline(const yaml::Context& ctx, const YAML::Node& node, double 
     Timeline t;
     t.end = end;
     if (const YAML::Node fps = node["fps"]) {
-        t.fps = yaml::as<float>(ctx, fps);
+        t.fps = yaml::as<double>(ctx, fps);
         ensure(t.fps > 0.0 && t.fps <= 1000.0, ctx, fps, ErrorCode::out_of_range,
                "fps must be above 0 and at most 1000");
     }
     if (const YAML::Node start = node["start"]) {
-        t.start = yaml::as<float>(ctx, start);
-        ensure(t.start >= 0.0, ctx, start, ErrorCode::out_of_range, "start must be >= 0 seconds");
+        t.start = yaml::as<double>(ctx, start);
+        ensure(t.start >= 0.0 && t.start <= kMaxSeconds, ctx, start, ErrorCode::out_of_range,
+               "start must be 0..1e9 seconds");
     }
     if (const YAML::Node e = node["end"]) {
-        t.end = yaml::as<float>(ctx, e);
-        ensure(t.end > t.start, ctx, e, ErrorCode::out_of_range, "end must be after start");
+        t.end = yaml::as<double>(ctx, e);
+        ensure(t.end > t.start && t.end <= kMaxSeconds, ctx, e, ErrorCode::out_of_range,
+               "end must be after start, and at most 1e9 seconds");
+    } else {
+        ensure(end > t.start || end == 0.0, ctx, where(node, "start"), ErrorCode::out_of_range,
+               fmt::format("start is at or after the animation's end ({:g} s); give an end",
+                           end));
     }
     return t;
 }

@@ -145,6 +145,12 @@ bool is_integer_text(const std::string& scalar) {
     return scalar.find_first_of(".eE") == std::string::npos;
 }
 
+template <> double as<double>(const Context& ctx, const YAML::Node& node) {
+    const std::optional<double> value = parse_number(node);
+    if (!value) throw wrong_type(ctx, node, "a number");
+    return *value;
+}
+
 template <> float as<float>(const Context& ctx, const YAML::Node& node) {
     const std::optional<double> value = parse_number(node);
     if (!value) throw wrong_type(ctx, node, "a number");

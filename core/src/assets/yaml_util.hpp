@@ -63,6 +63,7 @@ bool is_integer_text(const std::string& scalar);             // no '.', 'e' or '
 // Typed reads; throw Error(wrong_type) saying what was expected.
 template <class T> T as(const Context& ctx, const YAML::Node& node);
 template <> float as<float>(const Context& ctx, const YAML::Node& node);
+template <> double as<double>(const Context& ctx, const YAML::Node& node);  // times
 template <> int as<int>(const Context& ctx, const YAML::Node& node);
 template <> bool as<bool>(const Context& ctx, const YAML::Node& node);
 template <> std::string as<std::string>(const Context& ctx, const YAML::Node& node);

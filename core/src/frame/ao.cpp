@@ -45,8 +45,8 @@ void AoPass::make_directions(int samples) {
 }
 
 void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
-                 const glm::mat4& proj, const RenderSettings& settings, Pipeline& pipeline,
-                 FrameStats& stats) {
+                 const glm::mat4& proj, const RenderSettings& settings, float time,
+                 Pipeline& pipeline, FrameStats& stats) {
     const int width = settings.width, height = settings.height;
     const bool reversed_z = settings.reversed_z;
     ThreadPool& pool = pipeline.pool();
@@ -62,6 +62,7 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     call.state.front_ccw = settings.front_ccw;
     call.state.depth_compare = reversed_z ? DepthCompare::greater : DepthCompare::less;
     call.state.color_write = false;
+    call.time = time;
     FrameStats pass;
     for (const DrawItem& d : items) {
         call.mesh = d.object->mesh.get();

@@ -42,10 +42,11 @@ class AoPass {
 public:
     // Runs the pre-pass (timed into stats.ms_prepass) and the AO, blur and
     // upsample (stats.ms_ao) for a target of the settings' size and depth
-    // range, with their ao_radius, ao_samples and ao_resolution.
+    // range, with their ao_radius, ao_samples and ao_resolution; a cutout's
+    // shader in the pre-pass sees `time`.
     void run(const std::vector<DrawItem>& items, const glm::mat4& view,
-             const glm::mat4& proj, const RenderSettings& settings, Pipeline& pipeline,
-             FrameStats& stats);
+             const glm::mat4& proj, const RenderSettings& settings, float time,
+             Pipeline& pipeline, FrameStats& stats);
 
     // Ambient visibility per target pixel of the last run, row-major.
     const float* visibility() const {

@@ -205,7 +205,8 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
                     "render the whole image, or set render: {ao: false}",
                     scene.source.string());
     if (needs_ao) {
-        passes_->ao.run(scratch_.opaque, call.view, call.projection, s, pipeline_, stats);
+        passes_->ao.run(scratch_.opaque, call.view, call.projection, s, call.time, pipeline_,
+                        stats);
         call.ao = passes_->ao.visibility();
     }
     draw_main_pass(scene, call, frame, stats);

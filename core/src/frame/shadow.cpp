@@ -114,16 +114,18 @@ void spot(const Light& light, const std::vector<glm::vec3>& casters, int size,
 // The key of a map seen through view_projection: the casters it can see.
 // Returns how many it cannot.
 uint64_t make_key(const std::vector<DrawItem>& casters, const glm::mat4& view_projection,
-                  int size, ShadowMapKey& key) {
+                  int size, float time, ShadowMapKey& key) {
     key.size = size;
     key.view_projection = view_projection;
     key.casters.clear();
+    key.time = 0.0f;
     for (const DrawItem& d : casters) {
         const glm::mat4 model = d.model;
         if (outside_frustum(*d.bounds, view_projection * model)) continue;
         const Material& m = *d.material;
         key.casters.push_back({d.object->mesh, d.part, model, m.discards ? &m : nullptr,
                                m.discards ? m.block : nullptr});
+        if (m.discards) key.time = time;
     }
     return casters.size() - key.casters.size();
 }
@@ -147,6 +149,7 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
         call.params = c.cutout ? c.params->bytes : nullptr;
         call.textures = c.cutout ? c.cutout->textures.data() : nullptr;
         call.texture_count = c.cutout ? int(c.cutout->textures.size()) : 0;
+        call.time = key.time;
         pipeline.queue(call, target, stats);
     }
     pipeline.flush(stats);
@@ -229,7 +232,8 @@ void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters
         if (maps.distance_texels.size() <= k) maps.distance_texels.resize(k + 1);
         if (maps.key.size() <= k) maps.key.resize(k + 1);  // empty: nothing drawn yet
         Framebuffer& depth = maps.depth[k];
-        const uint64_t culled = make_key(casters, drawn_proj * view, drawn_size, maps.next);
+        const uint64_t culled = make_key(casters, drawn_proj * view, drawn_size,
+                                        float(scene.time), maps.next);
         if (maps.next == maps.key[k] && depth.width() == drawn_size) {
             ++stats.shadow_maps_reused;
         } else {

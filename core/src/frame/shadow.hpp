@@ -45,6 +45,9 @@ struct ShadowMapKey {
     int size = 0;
     glm::mat4 view_projection{0.0f};
     std::vector<Caster> casters;
+    // The scene's time, which a cutout's shader sees (and may cut by); 0
+    // when no caster runs its shader.
+    float time = 0.0f;
     bool operator==(const ShadowMapKey& o) const = default;
 };
 

@@ -275,13 +275,13 @@ void Framebuffer::write_png(const std::filesystem::path& path) const {
 }
 
 void write_png(const std::filesystem::path& path, int width, int height,
-               const std::vector<uint8_t>& rgba8) {
+               const std::vector<uint8_t>& rgba8, int threads) {
     if (rgba8.size() != size_t(width) * size_t(height) * 4)
         throw Error(ErrorCode::output_failed,
                     "cannot write PNG: " + std::to_string(rgba8.size()) + " bytes for " +
                         std::to_string(width) + "x" + std::to_string(height) + " pixels",
                     path.string());
-    write_png_rows(path, rgba8.data(), size_t(width) * 4, width, height);
+    write_png_rows(path, rgba8.data(), size_t(width) * 4, width, height, threads);
 }
 
 }  // namespace facet

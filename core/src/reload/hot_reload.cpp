@@ -225,6 +225,7 @@ bool HotReload::reload_material(const fs::path& file) {
 bool HotReload::reload_scene() {
     try {
         Scene fresh = load_scene(scene_.source, registry_);
+        fresh.pose(scene_.time);  // an animation goes on where it was
         scene_ = std::move(fresh);
     } catch (const Error& e) {
         scene_failed_ = true;

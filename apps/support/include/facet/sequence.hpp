@@ -34,6 +34,16 @@ struct FrameRange {
 std::optional<FrameRange> parse_frames(const std::string& text, const Timeline& timeline,
                                        std::string& error);
 
+// The frames `--frames` names (`text`) at `fps` (0: the time line's), and
+// the fps: "all" counts the frames at that fps. Throws
+// Error(config_invalid) naming --frames when the text is bad.
+std::pair<FrameRange, double> frames_to_render(const std::string& text, double fps,
+                                               Timeline timeline);
+
+// Why --time or --fps is not a finite number (CLI11's range checks let NaN
+// through), or "".
+std::string check_finite_times(const std::optional<double>& time, double fps);
+
 // Checks that `pattern` holds exactly one integer conversion (%d, or
 // with a width and zero padding: %4d, %04d) and no other, "%%" aside.
 // Returns why not, or "".
@@ -41,14 +51,24 @@ std::string check_frame_pattern(const std::string& pattern);
 // The pattern with `frame` in place of its conversion.
 std::string frame_path(const std::string& pattern, long frame);
 
-// Renders frame `frame` of `scene` at `fps` and writes it to `path`. The
-// scene is posed first, so the image is the same whatever was rendered
-// before. Returns the frame's statistics.
+// Renders frame `frame` of `scene` at `fps` into `target` (its 8-bit
+// pixels into `rgba`) and writes it to `path`. The scene is posed first, so
+// the image is the same whatever was rendered before. Returns the frame's
+// statistics.
 FrameStats render_frame_to_png(Renderer& renderer, Scene& scene, long frame, double fps,
-                               const std::string& path);
+                               const std::string& path, Framebuffer& target,
+                               std::vector<uint8_t>& rgba);
+
+// Rows per band when none are asked for: 256 rows of a 32768-wide image
+// take 32 MiB in 8-bit RGBA.
+constexpr int kDefaultBandRows = 256;
 
 // Rows per band: `rows` rounded up to whole PNG segments.
 int band_rows(int rows);
+// Throws Error(out_of_range) naming --band-rows when a
+// band of `rows` rows of a `width`-wide image is more than one target holds
+// (Framebuffer::kMaxPixels).
+void check_band(int width, int rows);
 // The bands of an image `height` rows tall, `rows` each (the last may be
 // shorter): band b is rows [b * rows, min(height, (b + 1) * rows)).
 int band_count(int height, int rows);
