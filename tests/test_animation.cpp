@@ -178,6 +178,13 @@ TEST_CASE("scenes animate objects and the camera from YAML; posing is a pure fun
     fresh.pose(1.75);
     CHECK(same_matrix(fresh.objects[0].transform.matrix(), at_175));
     CHECK(fresh.camera.position == camera_175);
+
+    // A camera put by hand stays where it is put, whatever the time.
+    Camera still;
+    still.position = {5, 5, 5};
+    fresh.set_camera(still);
+    fresh.pose(0.5);
+    CHECK(fresh.camera.position == still.position);
 }
 
 TEST_CASE("bad animation input names the file, line and problem", "[animation][errors]") {
@@ -429,6 +436,15 @@ TEST_CASE("frame ranges and output patterns parse strictly", "[animation][cli]")
     CHECK(tenth.first_frame() == 3);
     CHECK(tenth.end_frame() == 33);
     CHECK(tenth.frame_at(0.1) == 3);
+    // Read from a file in double: in float, 1000.7 s at 10 fps would start
+    // at frame 10008.
+    SceneDir dir;
+    const Scene late = dir.load("animation: {fps: 10, start: 1000.7, end: 1001}\n");
+    CHECK(late.timeline.first_frame() == 10007);
+    CHECK(late.timeline.end_frame() == 10010);
+    // A band wider than one target holds is refused, saying how many rows fit.
+    CHECK_NOTHROW(check_band(32768, 8192));
+    CHECK_THROWS_WITH(check_band(32768, 8256), Contains("at most 8192 rows"));
     CHECK(check_finite_times(std::nan(""), 24).find("--time") != std::string::npos);
     CHECK(check_finite_times(1.0, std::nan("")).find("--fps") != std::string::npos);
     CHECK(check_finite_times(std::nullopt, 24).empty());

@@ -815,3 +815,27 @@ TEST_CASE("Space on a scene that does not move says so", "[viewer][animation]") 
     CHECK_FALSE(v.playback().playing());
     CHECK(has_message(v, "does not move", true));
 }
+
+TEST_CASE("the editor moves a still object and an animated one's place at rest",
+          "[viewer][editor][animation]") {
+    Options o = small(std::string(FACET_SOURCE_DIR) + "/configs/scenes/turntable.yaml");
+    o.size = glm::ivec2(900, 1000);  // the panel shows the object's fields
+    for (const char* name : {"ground", "spot"}) {  // still, and turning
+        INFO(name);
+        o.select = name;
+        Viewer v(o);
+        REQUIRE(pump_until(v, [&] { return v.frames_presented() >= 1; }));
+        v.pump();
+        const Object& object = v.scene().objects[size_t(v.selected())];
+        REQUIRE(object.name == name);
+        const auto position = v.editor().widget("position");
+        REQUIRE(position);
+        type_into(v, *position, 6.0f, "0.5");
+        REQUIRE(pump_until(v, [&] { return object.rest.translation.x == 0.5f; }, 3s));
+        CHECK(object.transform.translation.x == 0.5f);  // drawn there
+        v.seek(2.0);  // a spin turns Spot; its edited place at rest stays
+        v.pump();
+        CHECK(object.transform.translation.x == 0.5f);
+        CHECK((object.transform.rotation != object.rest.rotation) == !object.animation.empty());
+    }
+}

@@ -418,7 +418,8 @@ int coordinate(Job& job, facet::Renderer& renderer, int ranks,
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int status = book.finish(seconds);
-    return status == 130 ? interrupts.exit_code() : status;
+    // Stopped by a signal that reached another rank and not this one: 130.
+    return status == 130 && interrupts.stopped() ? interrupts.exit_code() : status;
 }
 
 // Any other rank: asks rank 0 for work, renders it, reports, asks again.
@@ -544,7 +545,7 @@ int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
         return coordinate(job, renderer, ranks, interrupts);
     }
     work(job, renderer, rank);
-    return 0;
+    return interrupts.exit_code();  // 0, or 130 or 143 if a signal cut its item short
 }
 
 }  // namespace

@@ -321,6 +321,17 @@ EditorResult Editor::show(EditorTarget& t) {
     return r;
 }
 
+namespace {
+
+// `o` where its rest place, which the editor edits as the file holds it,
+// puts it: there, and for an animated object, animated to `time`.
+void moved(Object& o, double time) {
+    o.transform = o.rest;
+    o.pose(time);
+}
+
+}  // namespace
+
 void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
     const ScopedId scope("objects");
     std::vector<Object>& objects = t.scene.objects;
@@ -361,7 +372,7 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
             refused("position");
         } else {
             o.rest.translation = position;
-            o.pose(t.scene.time);  // the rest place, as the file holds it, animated
+            moved(o, t.scene.time);
             edit(file, {"objects", i, "position"}, yaml_sequence(&position.x, 3));
             r.redraw = true;
         }
@@ -372,7 +383,7 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
                           ImGuiSliderFlags_AlwaysClamp)) {
         euler_ = euler;
         o.rest.rotation = euler_of_rotation_ = euler_degrees(euler_);
-        o.pose(t.scene.time);
+        moved(o, t.scene.time);
         edit(file, {"objects", i, "rotation"}, yaml_sequence(&euler_.x, 3));
         r.redraw = true;
     }
@@ -383,7 +394,7 @@ void Editor::objects_panel(EditorTarget& t, EditorResult& r) {
         for (int k = 0; k < 3; ++k)
             if (std::abs(scale[k]) < 1e-4f) scale[k] = std::copysign(1e-4f, o.rest.scale[k]);
         o.rest.scale = scale;
-        o.pose(t.scene.time);
+        moved(o, t.scene.time);
         const glm::vec3& s = o.rest.scale;
         edit(file, {"objects", i, "scale"},
              s.x == s.y && s.y == s.z ? yaml_number(s.x) : yaml_sequence(&s.x, 3));

@@ -648,6 +648,7 @@ void read_animation(const yaml::Context& ctx, const YAML::Node& root, Scene& sce
         end = std::max(end, o.animation.end());
         if (o.mesh) end = std::max(end, animation_end(*o.mesh));
     }
+    end = std::min(end, kMaxSeconds);  // a spin of 1e-20 degrees a second ends, in practice
     scene.timeline.end = end;
     if (const YAML::Node animation = root["animation"])
         scene.timeline = read_timeline(ctx, animation, end);
