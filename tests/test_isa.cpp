@@ -102,12 +102,12 @@ TEST_CASE("every demo scene renders bit for bit the same on every path", "[isa]"
             }
             INFO(name << ", variant " << variant);
             Framebuffer first;
-            Renderer(2, Isa::portable).render(scene, first);
+            CHECK(Renderer(2, Isa::portable).render(scene, first).fragments_shaded > 1000);
             for (Isa isa : supported_isas()) {
+                if (isa == Isa::portable) continue;  // `first` is its image
                 INFO("path " << isa_name(isa));
                 Framebuffer other;
-                const FrameStats stats = Renderer(2, isa).render(scene, other);
-                CHECK(stats.fragments_shaded > 1000);
+                Renderer(2, isa).render(scene, other);
                 CHECK(test::same_image(first, other));
             }
         }

@@ -62,7 +62,6 @@ struct Options {
     int band_rows = 0;
 };
 
-
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
     spdlog::info("rendered {}x{} in {:.2f} ms: {} objects ({} culled), {} triangles in, "
                  "{} rasterized, {} clipped, {} back-facing, {} outside, {} degenerate, "
