@@ -1,5 +1,7 @@
 #include "support.hpp"
 
+#include <facet/error.hpp>
+
 #include <algorithm>
 
 #include <glm/gtc/constants.hpp>
@@ -67,6 +69,20 @@ const char* const kDemoScenes[8] = {"default.yaml",      "scenes/lit.yaml",
                                     "scenes/phong.yaml",  "scenes/toon.yaml",
                                     "scenes/shadow.yaml", "scenes/ao.yaml",
                                     "scenes/showcase.yaml", "scenes/gallery.yaml"};
+
+Scene SceneDir::load(const std::string& yaml) {
+    write(dir / "scene.yaml", yaml);
+    return load_scene(dir / "scene.yaml", registry);
+}
+
+std::string SceneDir::error(const std::string& yaml) {
+    try {
+        load(yaml);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    throw std::runtime_error("the scene loaded, with no error");
+}
 
 Scene small_demo_scene(PluginRegistry& registry, const std::string& name) {
     Scene s = load_scene(std::string(FACET_SOURCE_DIR) + "/configs/" + name, registry);

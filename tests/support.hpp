@@ -119,6 +119,20 @@ public:
     const std::filesystem::path path;
 };
 
+// A folder for a test's scene file and the files it names, with a
+// registry to load it through.
+struct SceneDir {
+    explicit SceneDir(const std::string& tag = "scene") : folder(tag) {}
+    TempDir folder;
+    const std::filesystem::path& dir = folder.path;
+    PluginRegistry registry;
+    // Writes `yaml` as dir / "scene.yaml" and loads it.
+    Scene load(const std::string& yaml);
+    // The error load() throws; throws std::runtime_error (failing the test)
+    // if the scene loads.
+    std::string error(const std::string& yaml);
+};
+
 // A square of side 18 at z = 0, facing +Z, as OBJ text: it fills the view
 // of a camera at the default position.
 inline constexpr const char* kQuadObj =

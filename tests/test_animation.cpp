@@ -40,23 +40,7 @@ double wrap(double degrees) {
     return degrees;
 }
 
-struct SceneDir {
-    test::TempDir folder{"animation"};
-    PluginRegistry registry;
-    Scene load(const std::string& yaml) {
-        test::write(folder.path / "scene.yaml", yaml);
-        return load_scene(folder.path / "scene.yaml", registry);
-    }
-    std::string error(const std::string& yaml) {
-        try {
-            load(yaml);
-        } catch (const Error& e) {
-            return e.what();
-        }
-        FAIL("the scene loaded");
-        return {};
-    }
-};
+using test::SceneDir;
 
 std::string plane_object(const std::string& animate) {
     return "objects:\n  - name: board\n    mesh: " + (kSource / "assets/plane/plane.obj").string() +
@@ -247,7 +231,7 @@ TEST_CASE("a glTF file's node animation moves its parts through the same tracks"
     // One triangle on a child node (rest translation (0, 1, 0)) under a
     // root turned 90 degrees about +Y; the child moves along its parent's
     // +X by 2 in one second.
-    test::write(dir.folder.path / "mover.gltf", R"({
+    test::write(dir.dir / "mover.gltf", R"({
  "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
  "nodes": [{"name": "root", "rotation": [0, 0.70710678, 0, 0.70710678], "children": [1]},
            {"name": "mover", "mesh": 0, "translation": [0, 1, 0]}],

@@ -22,25 +22,7 @@ namespace {
 
 const fs::path kAssets = fs::path(FACET_SOURCE_DIR) / "assets";
 
-struct SceneDir {
-    test::TempDir folder{"models"};
-    const fs::path& dir = folder.path;
-    PluginRegistry registry;
-    Scene load(const std::string& yaml) {
-        test::write(dir / "scene.yaml", yaml);
-        return load_scene(dir / "scene.yaml", registry);
-    }
-    // The error load() throws.
-    std::string error(const std::string& yaml) {
-        try {
-            load(yaml);
-        } catch (const Error& e) {
-            return e.what();
-        }
-        FAIL("the scene loaded");
-        return {};
-    }
-};
+using test::SceneDir;
 
 const char* kCameraAndLight =
     "camera: {position: [2.6, 1.9, 3.2], target: [0, 0.25, 0], fov_y: 38}\n"
