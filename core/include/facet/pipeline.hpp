@@ -66,8 +66,10 @@ struct FrameStats {
     uint64_t shadow_passes = 0;                // shadow maps drawn
     uint64_t shadow_maps_reused = 0;           // ... kept: nothing they depend on changed
     uint64_t shadow_casters_culled = 0;        // casters outside a drawn map's light frustum
-    uint64_t prepasses = 0;                    // depth pre-pass, for AO
-    uint64_t depth_prepasses = 0;              // RenderSettings::depth_prepass
+    uint64_t prepasses = 0;                    // AO's own depth pre-pass (MSAA frames)
+    // The frame's depth pre-pass: RenderSettings::depth_prepass, or for AO,
+    // which reads it, in a single-sampled frame.
+    uint64_t depth_prepasses = 0;
     uint64_t ao_passes = 0;                    // SSAO and its blur
     uint64_t post_passes = 0;                  // screen passes of the post chain
     // What the visible materials asked for, whether or not the render

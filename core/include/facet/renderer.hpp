@@ -81,8 +81,19 @@ public:
     Isa isa() const { return pipeline_.isa(); }
 
 private:
+    // What part of the frame a queued draw is.
+    enum class Role { prepass, main };
+    // Queues opaque or blended item `d` into `target` as that role: with
+    // `prepassed` (the depth pre-pass is drawn or being drawn), an item that
+    // takes part in it is drawn depth only in the pre-pass and then shaded
+    // where its depth is the nearest; an item that does not is drawn in the
+    // main pass only.
+    void queue_item(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
+                    bool prepassed, Framebuffer& target, FrameStats& counts);
+    void draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffer& target,
+                            FrameStats& stats);
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
-                        FrameStats& stats);
+                        bool prepassed, FrameStats& stats);
 
     struct BlendedItem {
         DrawItem item;

@@ -44,14 +44,12 @@ void AoPass::make_directions(int samples) {
     direction_samples_ = samples;
 }
 
-void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
-                 const glm::mat4& proj, const RenderSettings& settings, float time,
-                 Pipeline& pipeline, FrameStats& stats) {
+void AoPass::draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& view,
+                          const glm::mat4& proj, const RenderSettings& settings, float time,
+                          Pipeline& pipeline, FrameStats& stats) {
     const int width = settings.width, height = settings.height;
     const bool reversed_z = settings.reversed_z;
-    ThreadPool& pool = pipeline.pool();
-    const Kernels& kernels = pipeline.kernels();
-    auto start = std::chrono::steady_clock::now();
+    const auto start = std::chrono::steady_clock::now();
     if (depth_.width() != width || depth_.height() != height)
         depth_.resize(width, height, ColorFormat::none);
     const float background = reversed_z ? 0.0f : 1.0f;
@@ -83,8 +81,19 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     stats.fragments_depth_only += pass.fragments_depth_only;
     stats.prepasses += 1;
     stats.ms_prepass += elapsed_ms(start);
+}
 
-    start = std::chrono::steady_clock::now();
+void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
+                 const glm::mat4& proj, const RenderSettings& settings, float time,
+                 const Framebuffer* depth, Pipeline& pipeline, FrameStats& stats) {
+    const int width = settings.width, height = settings.height;
+    ThreadPool& pool = pipeline.pool();
+    const Kernels& kernels = pipeline.kernels();
+    if (!depth) {
+        draw_prepass(items, view, proj, settings, time, pipeline, stats);
+        depth = &depth_;
+    }
+    const auto start = std::chrono::steady_clock::now();
     scale_ = settings.ao_half_resolution ? 2 : 1;
     AoFrame& f = frame_;
     f.scale = scale_;
@@ -97,12 +106,23 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     f.projection = proj;
     const size_t texels = size_t(f.width) * size_t(f.height);
     for (std::vector<float>* v : {&nx_, &ny_, &nz_, &raw_, &blurred_}) v->resize(texels);
+    // The positions pass writes every texel; only the borders are cleared.
     f.key_stride = f.width + 2;  // with a border of one texel, 0
-    key_.assign(size_t(f.key_stride) * size_t(f.height + 2), 0.0f);
+    key_.resize(size_t(f.key_stride) * size_t(f.height + 2));
+    std::fill_n(key_.begin(), f.key_stride, 0.0f);
+    std::fill_n(key_.end() - f.key_stride, f.key_stride, 0.0f);
+    for (int j = 1; j <= f.height; ++j) {
+        key_[size_t(j) * size_t(f.key_stride)] = 0.0f;
+        key_[size_t(j) * size_t(f.key_stride) + size_t(f.width) + 1] = 0.0f;
+    }
     f.key = key_.data() + f.key_stride + 1;
     f.perspective = proj[2][3] != 0.0f;
     const size_t pad = size_t(f.width) + 16;  // a row and a vector, on either side
-    for (std::vector<float>* v : {&x_, &y_, &z_}) v->assign(texels + 2 * pad, 0.0f);
+    for (std::vector<float>* v : {&x_, &y_, &z_}) {
+        v->resize(texels + 2 * pad);
+        std::fill_n(v->begin(), pad, 0.0f);
+        std::fill_n(v->end() - ptrdiff_t(pad), pad, 0.0f);
+    }
     f.x = x_.data() + pad, f.y = y_.data() + pad, f.z = z_.data() + pad;
     f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
     f.raw = raw_.data();
@@ -110,9 +130,9 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     make_directions(settings.ao_samples);
     f.directions = directions_.data();
     const glm::mat4 inverse = glm::inverse(proj);
-    f.target_depth = depth_.depth();
-    f.target_stride = depth_.stride();
-    f.background = background;
+    f.target_depth = depth->depth();
+    f.target_stride = depth->stride();
+    f.background = settings.reversed_z ? 0.0f : 1.0f;
     f.x_row = {inverse[0][0], inverse[1][0], inverse[2][0], inverse[3][0]};
     f.y_row = {inverse[0][1], inverse[1][1], inverse[2][1], inverse[3][1]};
     f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};

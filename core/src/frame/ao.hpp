@@ -40,13 +40,15 @@ namespace facet {
 
 class AoPass {
 public:
-    // Runs the pre-pass (timed into stats.ms_prepass) and the AO, blur and
-    // upsample (stats.ms_ao) for a target of the settings' size and depth
-    // range, with their ao_radius, ao_samples and ao_resolution; a cutout's
-    // shader in the pre-pass sees `time`.
+    // Runs the AO, blur and upsample (timed into stats.ms_ao) for a target
+    // of the settings' size and depth range, with their ao_radius,
+    // ao_samples and ao_resolution, from `depth`: a single-sampled target
+    // whose depth holds every item's nearest surface (the frame's own depth
+    // pre-pass). Without one, it first draws its own pre-pass of `items`
+    // (timed into stats.ms_prepass), in which a cutout's shader sees `time`.
     void run(const std::vector<DrawItem>& items, const glm::mat4& view,
              const glm::mat4& proj, const RenderSettings& settings, float time,
-             Pipeline& pipeline, FrameStats& stats);
+             const Framebuffer* depth, Pipeline& pipeline, FrameStats& stats);
 
     // Ambient visibility per target pixel of the last run, row-major.
     const float* visibility() const {
@@ -55,8 +57,11 @@ public:
 
 private:
     void make_directions(int samples);
+    void draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& view,
+                      const glm::mat4& proj, const RenderSettings& settings, float time,
+                      Pipeline& pipeline, FrameStats& stats);
 
-    Framebuffer depth_;  // the pre-pass, at the target's size
+    Framebuffer depth_;  // its own pre-pass, at the target's size
     int scale_ = 1;
     AoFrame frame_;
     // Per AO texel; the positions with a row and a vector of padding on

@@ -204,12 +204,25 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
                     "a band of rows cannot run ambient occlusion, which reads depth beyond it; "
                     "render the whole image, or set render: {ao: false}",
                     scene.source.string());
+    // AO needs the depth of every opaque surface before the main pass. When
+    // the frame is single-sampled and every opaque part can take part in the
+    // main pass's depth pre-pass, that pre-pass is drawn first and serves
+    // both: AO reads the frame's depth, and the main pass then shades each
+    // pixel once (the same image, as with depth_prepass). Otherwise AO draws
+    // its own.
+    const bool ao_shares_prepass =
+        needs_ao && s.msaa == 1 &&
+        std::all_of(scratch_.opaque.begin(), scratch_.opaque.end(), [&](const DrawItem& d) {
+            return in_depth_prepass(pipeline_state(*d.material, s));
+        });
+    const bool prepassed = s.depth_prepass || ao_shares_prepass;
+    if (prepassed) draw_depth_prepass(scene, call, frame, stats);
     if (needs_ao) {
-        passes_->ao.run(scratch_.opaque, call.view, call.projection, s, call.time, pipeline_,
-                        stats);
+        passes_->ao.run(scratch_.opaque, call.view, call.projection, s, call.time,
+                        ao_shares_prepass ? &frame : nullptr, pipeline_, stats);
         call.ao = passes_->ao.visibility();
     }
-    draw_main_pass(scene, call, frame, stats);
+    draw_main_pass(scene, call, frame, prepassed, stats);
     const auto post_start = std::chrono::steady_clock::now();
     if (!pipeline_.stopped()) pipeline_.resolve(frame);
     if (post && !pipeline_.stopped())
@@ -223,53 +236,60 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
     return stats;
 }
 
+void Renderer::queue_item(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
+                          bool prepassed, Framebuffer& target, FrameStats& counts) {
+    const Material& m = *d.material;
+    call.mesh = d.object->mesh.get();
+    call.part = d.part;
+    call.shader = m.plugin.get();
+    call.params = m.block ? m.block->bytes : nullptr;
+    call.textures = m.textures.data();
+    call.texture_count = int(m.textures.size());
+    call.model = d.model;
+    call.may_discard = m.discards;
+    call.state = pipeline_state(m, scene.settings);
+    if (prepassed && in_depth_prepass(call.state)) {
+        if (role == Role::prepass) {
+            call.state.color_write = false;  // depth only: no shader runs
+        } else {
+            call.state.depth_compare = DepthCompare::equal;  // the nearest, once
+            call.state.depth_write = false;
+        }
+    } else if (role == Role::prepass) {
+        return;
+    }
+    pipeline_.queue(call, target, counts);
+}
+
+void Renderer::draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffer& target,
+                                  FrameStats& stats) {
+    const auto start = std::chrono::steady_clock::now();
+    FrameStats prepass;  // the main pass's statistics count the main pass only
+    for (const DrawItem& d : scratch_.opaque)
+        queue_item(scene, call, d, Role::prepass, true, target, prepass);
+    pipeline_.flush(prepass);
+    stats.fragments_depth_only += prepass.fragments_depth_only;
+    stats.depth_prepasses += 1;
+    stats.ms_prepass += elapsed_ms(start);
+}
+
 // Opaque objects in scene order, then blended ones farthest first (view z
 // is negative in front of the camera, so the most negative is farthest);
-// ties keep scene order.
+// ties keep scene order. Queued, and rasterized together at the end: the
+// scene (and so each material's plugin, block and textures) outlives the
+// pass.
 void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
-                              FrameStats& stats) {
-    // Queued, and rasterized together at the end: the scene (and so each
-    // material's plugin, block and textures) outlives the pass.
-    auto draw_item = [&](const DrawItem& d, bool prepass, FrameStats& counts) {
-        const Material& m = *d.material;
-        call.mesh = d.object->mesh.get();
-        call.part = d.part;
-        call.shader = m.plugin.get();
-        call.params = m.block ? m.block->bytes : nullptr;
-        call.textures = m.textures.data();
-        call.texture_count = int(m.textures.size());
-        call.model = d.model;
-        call.may_discard = m.discards;
-        call.state = pipeline_state(m, scene.settings);
-        if (scene.settings.depth_prepass && in_depth_prepass(call.state)) {
-            if (prepass) {
-                call.state.color_write = false;  // depth only: no shader runs
-            } else {
-                call.state.depth_compare = DepthCompare::equal;  // the nearest, once
-                call.state.depth_write = false;
-            }
-        } else if (prepass) {
-            return;
-        }
-        pipeline_.queue(call, target, counts);
-    };
-    if (scene.settings.depth_prepass) {
-        const auto start = std::chrono::steady_clock::now();
-        FrameStats prepass;  // the main pass's statistics count the main pass only
-        for (const DrawItem& d : scratch_.opaque) draw_item(d, true, prepass);
-        pipeline_.flush(prepass);
-        stats.fragments_depth_only += prepass.fragments_depth_only;
-        stats.depth_prepasses += 1;
-        stats.ms_prepass += elapsed_ms(start);
-    }
+                              bool prepassed, FrameStats& stats) {
     const auto start = std::chrono::steady_clock::now();
-    for (const DrawItem& d : scratch_.opaque) draw_item(d, false, stats);
+    for (const DrawItem& d : scratch_.opaque)
+        queue_item(scene, call, d, Role::main, prepassed, target, stats);
     for (BlendedItem& b : scratch_.blended) b.depth = view_depth(b.item, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
               [](const BlendedItem& a, const BlendedItem& b) {
                   return a.depth < b.depth || (a.depth == b.depth && a.item.order < b.item.order);
               });
-    for (const BlendedItem& b : scratch_.blended) draw_item(b.item, false, stats);
+    for (const BlendedItem& b : scratch_.blended)
+        queue_item(scene, call, b.item, Role::main, prepassed, target, stats);
     pipeline_.flush(stats);
     stats.ms_main += elapsed_ms(start);
 }
