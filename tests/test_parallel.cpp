@@ -58,6 +58,7 @@ TEST_CASE("a depth pre-pass renders the same image, shading each pixel once", "[
             INFO(name << ", msaa " << msaa);
             Scene scene = test::small_demo_scene(registry, name);
             scene.settings.msaa = msaa;
+            scene.settings.depth_prepass = false;  // as some demo scenes ask
             Framebuffer plain, prepassed;
             const FrameStats a = Renderer(2).render(scene, plain);
             scene.settings.depth_prepass = true;
@@ -72,6 +73,7 @@ TEST_CASE("a depth pre-pass renders the same image, shading each pixel once", "[
     // Four screen-filling quads drawn far to near: every layer passes the
     // depth test without the pre-pass, only the nearest with it.
     Scene scene = test::small_demo_scene(registry, "scenes/phong.yaml");
+    scene.settings.depth_prepass = false;
     std::vector<Object> layers;
     for (int k = 0; k < 4; ++k) {
         const float z = -1.5f + 0.5f * float(k);
