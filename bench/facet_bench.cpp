@@ -684,7 +684,8 @@ void add_options(CLI::App& app, Options& o) {
                  "draw every shadow map in every frame, as while the camera or the casters "
                  "move (by default a map is kept while nothing it depends on changes)");
     app.add_flag("--depth-prepass", o.depth_prepass,
-                 "render with the depth pre-pass (render: depth_prepass), noted in each row");
+                 "render with the depth pre-pass (render: depth_prepass), noted in each row; "
+                 "without it, a scene file's own setting holds");
     app.add_option("--csv", o.csv, "CSV output")->capture_default_str();
     app.add_option("--json", o.json, "JSON output")->capture_default_str();
     app.add_flag("--llvmpipe", o.lp.on,
@@ -779,7 +780,7 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
     const bool file = is_scene_file(name);
     std::string note = file ? "scene file" : "";
     Scene scene = file ? load_scene(name, registry) : make_scene(name, note);
-    scene.settings.depth_prepass = o.depth_prepass;
+    if (o.depth_prepass) scene.settings.depth_prepass = true;  // else as the scene file says
     if (!render.empty()) {
         apply_render_settings(scene.settings, render, "--render");
         note += (note.empty() ? "render " : "; render ") + render;
