@@ -786,7 +786,7 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
         note += (note.empty() ? "render " : "; render ") + render;
     }
     scene.settings.color_format = *parse_color_format(o.lp.target);
-    if (o.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
+    if (scene.settings.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
     if (o.redraw_shadows) note += note.empty() ? "shadow maps redrawn" : "; shadow maps redrawn";
     const std::vector<std::string> shaders = file ? std::vector<std::string>{"(scene)"} : o.shaders;
     const std::string label = file ? std::filesystem::path(name).filename().string() : name;

@@ -93,35 +93,6 @@ TEST_CASE("a depth pre-pass renders the same image, shading each pixel once", "[
     CHECK(b.fragments_shaded == uint64_t(pixels));
 }
 
-TEST_CASE("AO reads the main pass's depth pre-pass, and the image is the one its own gives",
-          "[parallel][depth][ao]") {
-    PluginRegistry registry;
-    Scene scene = test::small_demo_scene(registry, "scenes/ao.yaml");
-    REQUIRE(scene.settings.msaa == 1);
-    REQUIRE(scene.settings.depth_compare == DepthCompare::greater_equal);
-    Framebuffer shared, own;
-    const FrameStats a = Renderer(2).render(scene, shared);
-    CHECK(a.ao_passes == 1);
-    CHECK(a.depth_prepasses == 1);
-    CHECK(a.prepasses == 0);
-    // A strict depth test cannot take a pre-pass (the compare-equal pass
-    // would find nothing), so AO draws its own; no two surfaces of the scene
-    // are at the same depth, so the image is the same.
-    scene.settings.depth_compare = DepthCompare::greater;
-    const FrameStats b = Renderer(2).render(scene, own);
-    CHECK(b.ao_passes == 1);
-    CHECK(b.depth_prepasses == 0);
-    CHECK(b.prepasses == 1);
-    CHECK(test::same_image(shared, own));
-    CHECK(a.fragments_shaded < b.fragments_shaded);  // hidden fragments shaded only without
-    // With MSAA the frame's depth is per sample, and AO keeps its own.
-    scene.settings.depth_compare = DepthCompare::greater_equal;
-    scene.settings.msaa = 4;
-    const FrameStats c = Renderer(2).render(scene, own);
-    CHECK(c.depth_prepasses == 0);
-    CHECK(c.prepasses == 1);
-}
-
 TEST_CASE("MSAA and wireframe render bit for bit the same at any thread count", "[parallel][msaa]") {
     PluginRegistry registry;
     for (const char* name : {"default.yaml", "scenes/shadow.yaml"}) {

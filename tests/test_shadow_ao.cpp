@@ -161,7 +161,8 @@ TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
     scene.settings.ao_half_resolution = resolution == "half";
     Framebuffer fb;
     const FrameStats stats = Renderer().render(scene, fb);
-    CHECK(stats.prepasses + stats.depth_prepasses == 1);  // its own, or the frame's
+    CHECK(stats.depth_prepasses == 1);  // the frame's, which it reads
+    CHECK(stats.prepasses == 0);        // ... rather than one of its own
     CHECK(stats.ao_passes == 1);
     CHECK(stats.fragments_depth_only > 5000);  // the AO pre-pass calls no shader
     double sum = 0, low = 1;
@@ -290,7 +291,8 @@ TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visibl
     CHECK(hidden.ao_passes == 0);
     CHECK(hidden.objects_culled == 1);
     const FrameStats ao = stats_for(unlit + "  - {mesh: cube.obj, material: " + kAoOnly + "}\n");
-    CHECK(ao.prepasses + ao.depth_prepasses == 1);
+    CHECK(ao.depth_prepasses == 1);
+    CHECK(ao.prepasses == 0);
     CHECK(ao.ao_passes == 1);
     CHECK(ao.shadow_passes == 0);
 
@@ -944,4 +946,83 @@ TEST_CASE("a light's shadow_map_size is checked, and a point light's cube is six
     CHECK(renderer.render(scene, fb).shadow_maps_reused == 6);
     scene.lights[0].position.x += 0.1f;  // every face sees it move
     CHECK(renderer.render(scene, fb).shadow_passes == 6);
+}
+
+TEST_CASE("AO reads the main pass's depth pre-pass, and the image is the one its own gives",
+          "[ao][depth]") {
+    PluginRegistry registry;
+    for (const char* name : {"scenes/ao.yaml", "scenes/showcase.yaml"})
+        for (bool half : {true, false}) {
+            INFO(name << (half ? ", half-size AO" : ", full-size AO"));
+            Scene scene = test::small_demo_scene(registry, name);
+            REQUIRE(scene.settings.msaa == 1);
+            REQUIRE(scene.settings.depth_compare == DepthCompare::greater_equal);
+            scene.settings.ao_half_resolution = half;
+            Framebuffer shared, own;
+            const FrameStats a = Renderer(2).render(scene, shared);
+            CHECK(a.ao_passes == 1);
+            CHECK(a.depth_prepasses == 1);
+            CHECK(a.prepasses == 0);
+            // A strict depth test cannot take a pre-pass (the compare-equal
+            // pass would find nothing), so AO draws its own; no two surfaces
+            // of these scenes are at the same depth, so the image is the same.
+            scene.settings.depth_compare = DepthCompare::greater;
+            const FrameStats b = Renderer(2).render(scene, own);
+            CHECK(b.ao_passes == 1);
+            CHECK(b.depth_prepasses == 0);
+            CHECK(b.prepasses == 1);
+            CHECK(test::same_image(shared, own));
+            CHECK(a.fragments_shaded < b.fragments_shaded);  // hidden ones shaded only without
+        }
+    // With MSAA the frame's depth is per sample, and AO keeps its own.
+    Scene scene = test::small_demo_scene(registry, "scenes/ao.yaml");
+    scene.settings.msaa = 4;
+    Framebuffer fb;
+    const FrameStats c = Renderer(2).render(scene, fb);
+    CHECK(c.depth_prepasses == 0);
+    CHECK(c.prepasses == 1);
+}
+
+TEST_CASE("with AO's pre-pass shared, a blended part that writes depth is drawn in the main "
+          "pass alone, and resized buffers give what new ones give",
+          "[ao][depth]") {
+    PluginRegistry registry;
+    Scene scene = test::small_demo_scene(registry, "scenes/ao.yaml");
+    Framebuffer plain;
+    Renderer(2).render(scene, plain);
+    {
+        // A glass pane in front of the objects: through the pre-pass it
+        // would vanish (shaded only where its depth equals the opaque depth).
+        auto pane = std::make_shared<Mesh>(test::make_mesh(
+            {{-1, 0.2f, 1}, {1, 0.2f, 1}, {1, 1.2f, 1}, {-1, 1.2f, 1}}, {0, 1, 2, 0, 2, 3}));
+        pane->normals.assign(4, glm::vec3(0, 0, 1));
+        auto glass = std::make_shared<Material>(*scene.objects.front().material);
+        glass->blend = BlendMode::alpha;
+        glass->depth_write = true;
+        glass->cull = CullMode::none;
+        Scene glazed = scene;
+        glazed.objects.push_back({"pane", pane, {}, glass, true});
+        Framebuffer with_pane, strict;
+        const FrameStats d = Renderer(2).render(glazed, with_pane);
+        CHECK(d.depth_prepasses == 1);
+        glazed.settings.depth_compare = DepthCompare::greater;  // AO's own pre-pass
+        const FrameStats e = Renderer(2).render(glazed, strict);
+        CHECK(e.prepasses == 1);
+        CHECK(test::same_image(with_pane, strict));
+        CHECK(!test::same_image(with_pane, plain));  // the pane is there
+    }
+    {
+        Renderer renderer(2);
+        Framebuffer first, second, fresh;
+        renderer.render(scene, first);
+        scene.settings.width = 131;
+        scene.settings.height = 77;
+        renderer.render(scene, second);
+        Renderer(2).render(scene, fresh);
+        CHECK(test::same_image(second, fresh));
+        scene.settings.ao_half_resolution = !scene.settings.ao_half_resolution;
+        renderer.render(scene, second);
+        Renderer(2).render(scene, fresh);
+        CHECK(test::same_image(second, fresh));
+    }
 }

@@ -771,7 +771,8 @@ void Editor::frame_panel() {
         ImGui::TextDisabled("(no frame yet)");
         return;
     }
-    static const char* const kNames[] = {"frame", "shadow maps", "AO", "main", "resolve + post"};
+    static const char* const kNames[] = {"frame", "shadow maps", "pre-pass + AO", "main",
+                                         "resolve + post"};
     float values[kHistory];
     for (int pass = 0; pass < 5; ++pass) {
         double peak = 0.0;

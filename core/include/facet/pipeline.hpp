@@ -66,7 +66,9 @@ struct FrameStats {
     uint64_t shadow_passes = 0;                // shadow maps drawn
     uint64_t shadow_maps_reused = 0;           // ... kept: nothing they depend on changed
     uint64_t shadow_casters_culled = 0;        // casters outside a drawn map's light frustum
-    uint64_t prepasses = 0;                    // AO's own depth pre-pass (MSAA frames)
+    // AO's own depth pre-pass: in an MSAA frame, or one with a part that
+    // cannot take part in the frame's.
+    uint64_t prepasses = 0;
     // The frame's depth pre-pass: RenderSettings::depth_prepass, or for AO,
     // which reads it, in a single-sampled frame.
     uint64_t depth_prepasses = 0;

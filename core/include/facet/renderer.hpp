@@ -4,7 +4,7 @@
 // target Framebuffer.
 // Gives: the frame drawn, and FrameStats of what it did and skipped.
 // render() decides which objects are visible, which passes the visible
-// materials need (shadow maps, the AO pre-pass and AO, the depth pre-pass)
+// materials need (shadow maps, the depth pre-pass, AO)
 // and in which order the objects go: opaque ones first, then blended ones
 // back to front. It draws through its Pipeline (facet/pipeline.hpp), which
 // embedders and tests may also use directly, and keeps the passes' buffers
@@ -50,8 +50,10 @@ public:
     // the samples. Shadow maps are rendered first only if a visible material
     // needs them (and settings.shadows allows), and only those whose light,
     // casters or fitted bounds changed since the frame that drew them; the
-    // AO pre-pass and AO pass only if a visible material needs AO (and
-    // settings.ao allows). With a post chain (Scene::post, and
+    // AO pass only if a visible material needs AO (and settings.ao allows),
+    // reading the frame's depth pre-pass (drawn for it if need be) in a
+    // single-sampled frame whose opaque parts can all take part, else
+    // drawing a pre-pass of its own. With a post chain (Scene::post, and
     // settings.post), the frame is drawn into a float target of the
     // renderer's own, and the chain's result goes to `target`, which then
     // has one sample. The statistics count the passes that ran and those
@@ -104,7 +106,7 @@ private:
         std::vector<DrawItem> items;         // every drawable part
         std::vector<BlendedItem> blended;
         std::vector<DrawItem> casters;       // every drawable part, for shadow maps
-        std::vector<DrawItem> opaque;        // visible opaque parts, for the AO pre-pass
+        std::vector<DrawItem> opaque;        // visible opaque parts, for the pre-passes
     };
     struct Passes;  // shadow maps and AO buffers, kept between frames
 

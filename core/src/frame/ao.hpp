@@ -5,10 +5,12 @@
 // Gives: a target-sized buffer of ambient visibility, 1 where nothing
 // occludes.
 //
-// A depth-only pre-pass draws the objects at the target's size. The AO grid
-// is that size, or half of it per side (settings.half_resolution), each of
-// its texels standing for one target pixel (i * scale, j * scale). Each
-// texel's view-space position comes from the pre-pass depth, and its normal
+// It reads a depth-only pre-pass at the target's size: the frame's own, which
+// the main pass then shades against (Renderer), or, where the frame cannot
+// use one (MSAA, or a part that cannot take part), one it draws itself. The
+// AO grid is that size, or half of it per side (settings.half_resolution),
+// each of its texels standing for one target pixel (i * scale, j * scale).
+// Each texel's view-space position comes from the pre-pass depth, and its normal
 // from its neighbours' positions (on each axis, the side nearer in depth, so
 // that no normal straddles an edge): the geometric normal, as a ray tracer
 // sees the surface. From each texel `samples` cosine-weighted directions in
@@ -44,7 +46,8 @@ public:
     // of the settings' size and depth range, with their ao_radius,
     // ao_samples and ao_resolution, from `depth`: a single-sampled target
     // whose depth holds every item's nearest surface (the frame's own depth
-    // pre-pass). Without one, it first draws its own pre-pass of `items`
+    // pre-pass), cleared to the far value (settings.reversed_z ? 0 : 1) that
+    // means nothing was drawn. Without one, it first draws its own pre-pass of `items`
     // (timed into stats.ms_prepass), in which a cutout's shader sees `time`.
     void run(const std::vector<DrawItem>& items, const glm::mat4& view,
              const glm::mat4& proj, const RenderSettings& settings, float time,

@@ -248,7 +248,9 @@ void Renderer::queue_item(const Scene& scene, DrawCall& call, const DrawItem& d,
     call.model = d.model;
     call.may_discard = m.discards;
     call.state = pipeline_state(m, scene.settings);
-    if (prepassed && in_depth_prepass(call.state)) {
+    // Only opaque parts are in the pre-pass (a blended one that writes depth
+    // is drawn, far to near, in the main pass alone).
+    if (prepassed && m.blend == BlendMode::opaque && in_depth_prepass(call.state)) {
         if (role == Role::prepass) {
             call.state.color_write = false;  // depth only: no shader runs
         } else {
