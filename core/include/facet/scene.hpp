@@ -4,7 +4,7 @@
 //     render: {size: [960, 540], clear_color: [0.05, 0.05, 0.08, 1], cull: back,
 //              shadow_map_size: 2048, shadow_distance: 20, msaa: 4, subpixel_bits: 8,
 //              wireframe: false, shadows: true, ao: true, ao_radius: 0.5,
-//              ao_samples: 12, color_format: srgb8}
+//              ao_samples: 8, color_format: srgb8}
 //     plugin_paths: [my-shaders]          # extra plugin folders, relative to this file
 //     lights:
 //       - {type: directional, direction: [-1, -2, -1], color: [1, 1, 1], intensity: 2}
@@ -107,7 +107,7 @@ struct RenderSettings {
     // The AO pass's reach (world units, > 0) and directions per texel
     // (1..256). One AO pass serves every material that asks for AO.
     float ao_radius = 0.5f;
-    int ao_samples = 12;
+    int ao_samples = 8;
     // Draw the opaque objects' depth first (no shading), then shade only the
     // fragments that pass depth equal: each pixel is shaded once, whatever
     // the overdraw. Pays for itself with heavy shaders and overdraw.

@@ -1,6 +1,5 @@
 #include "frame/ao.hpp"
 
-#include "plugin/internal_shaders.hpp"
 #include "base/timing.hpp"
 
 #include <glm/gtc/constants.hpp>
@@ -66,15 +65,19 @@ void AoPass::draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& v
         call.mesh = d.object->mesh.get();
         call.part = d.part;
         call.model = d.model;
-        // The faces the main pass draws, and only those: the surfaces the camera
-        // sees; a cutout's own shader runs (with no lights) to discard what its
-        // alpha cuts away.
+        // The faces the main pass draws, and only those, where it draws them:
+        // the material's own vertex shader places them, on the scene's
+        // sub-pixel grid, so that this depth is the frame's pre-pass's bit for
+        // bit; a cutout's own shader runs (with no lights) to discard what its
+        // alpha cuts away, and no other shader runs.
         const Material& m = *d.material;
         call.state.cull = m.cull.value_or(settings.cull);
-        call.shader = m.discards ? m.plugin.get() : &internal::plugin<internal::DepthOnly>();
-        call.params = m.discards ? m.block->bytes : nullptr;
-        call.textures = m.discards ? m.textures.data() : nullptr;
-        call.texture_count = m.discards ? int(m.textures.size()) : 0;
+        call.state.subpixel_bits = settings.subpixel_bits;
+        call.shader = m.plugin.get();
+        call.params = m.block ? m.block->bytes : nullptr;
+        call.textures = m.textures.data();
+        call.texture_count = int(m.textures.size());
+        call.may_discard = m.discards;
         pipeline.queue(call, depth_, pass);
     }
     pipeline.flush(pass);

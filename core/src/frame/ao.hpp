@@ -15,9 +15,10 @@
 // that no normal straddles an edge): the geometric normal, as a ray tracer
 // sees the surface. From each texel `samples` cosine-weighted directions in
 // the hemisphere around its normal (rotated per texel in a 4x4 pattern) are
-// marched in screen space up to `radius` world units; a direction is
-// occluded where it passes behind the pre-pass surface by less than
-// `radius`. This estimates the same quantity a ray tracer does
+// marched in screen space up to `radius` world units, in AoFrame::kSteps
+// steps; a direction is occluded where it passes behind the pre-pass
+// surface by less than `radius`, a surface that stands above the texel's
+// tangent plane. This estimates the same quantity a ray tracer does
 // (cosine-weighted visibility within the radius) from what the screen
 // shows. A depth-aware 4x4 blur removes the pattern's noise without
 // bleeding across depth edges, and at half resolution a depth-aware

@@ -63,6 +63,10 @@ Float spread_next(const Float& v) {
 // How far above the surface marches start at half resolution, in radii.
 constexpr float kLift = 0.07f;
 
+// kSteps steps of up to 2^27 from a start within a 16384-texel grid (16.16
+// fixed point) stay in int range.
+static_assert(AoFrame::kSteps * 134217728.0 + 16384.0 * 65536.0 < 2147483648.0);
+
 }  // namespace
 
 // View positions of AO rows [first, first + count): each texel's target
@@ -228,6 +232,25 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                                 bcw = clip(bx, by, bz, 3);
                     const Float ncx = clip(nx, ny, nz, 0), ncy = clip(nx, ny, nz, 1),
                                 ncw = clip(nx, ny, nz, 3);
+                    // The surface's tangent plane, as a key over the grid: 1/w
+                    // is affine in screen position on a plane, k = (n . u) / d
+                    // along the pixel rays u = ((ndc + P20) / P00, .., -1),
+                    // d = n . p. Only what stands above this plane can block a
+                    // direction of the hemisphere; a lookup up to half a texel
+                    // from the march then never takes the surface itself, seen
+                    // at a grazing angle, for an occluder.
+                    Float plane_key{}, plane_dx{}, plane_dy{};
+                    Int above_only{};
+                    if constexpr (Perspective) {
+                        const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
+                        above_only = surface & (d < -1e-6f * (-pz));
+                        const Float inv_d = 1.0f / select(above_only, d, Float{} - 1.0f);
+                        plane_key = -1.0f / select(surface, pz, Float{} - 1.0f);
+                        plane_dx = nx * inv_d * (2.0f * float(f.scale) /
+                                                 (P[0][0] * float(f.target_width)));
+                        plane_dy = ny * inv_d * (-2.0f * float(f.scale) /
+                                                 (P[1][1] * float(f.target_height)));
+                    }
                     const float* turn = f.directions + size_t(3 * f.samples) *
                                                            size_t(phase * 4 + (y & 3));
                     for (int k = 0; k < f.samples; ++k) {
@@ -248,9 +271,10 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                         } else {
                             k1 = oz + reach * (tz * hx + bz * hy + nz * hz);
                         }
-                        // A step in fixed point, within +-2^27 so that four of
-                        // them stay in int range (a longer one leaves the grid
-                        // at its first step either way); none for NaN.
+                        // A step in fixed point, within +-2^27 so that kSteps
+                        // of them from a start on the grid stay in int range (a
+                        // longer one leaves the grid at its first step either
+                        // way); none for NaN.
                         const auto fixed_step = [&](const Float& v) {
                             const Float c = v < -134217728.0f ? Float{} - 134217728.0f
                                             : v > 134217728.0f ? Float{} + 134217728.0f : v;
@@ -275,7 +299,11 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                             const Float gap = there - here;
                             if constexpr (Perspective) {
                                 const Float both = there * here;
-                                blocked |= (gap > tol * both) & (gap < reach * both);
+                                const Float plane = plane_key +
+                                                    plane_dx * simd::to_float(ix - x) +
+                                                    plane_dy * simd::to_float(iy - y);
+                                blocked |= (gap > tol * both) & (gap < reach * both) &
+                                           (~above_only | (there - plane > tol * there * plane));
                             } else {
                                 blocked |= (there != 0.0f) & (gap > tol) & (gap < reach);
                             }
@@ -302,7 +330,12 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 // marches stay side by side on the screen and each step's loads fall on a
 // few cache lines. A direction's march reaches `radius` along it in
 // AoFrame::kSteps even steps of its segment on the screen, in fixed point,
-// and compares keys (1 / w) rather than depths: no division per step.
+// and compares keys (1 / w) rather than depths: no division per step. With a
+// perspective projection, a step is blocked only by a surface above the
+// texel's tangent plane (whose key is affine over the grid), so that a
+// lookup half a texel off never takes the surface itself for an occluder.
+// (An orthographic projection's marches keep the 2%-of-radius tolerance
+// alone.)
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     if (f.perspective) occlusion_rows<true>(f, first, count, x_first, x_count);
     else occlusion_rows<false>(f, first, count, x_first, x_count);
