@@ -154,11 +154,14 @@ TEST_CASE("a plane facing the light shows no acne, at any angle and kernel", "[s
 
 TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
     const std::string resolution = GENERATE(std::string("full"), std::string("half"));
-    INFO("ao_resolution " << resolution);
+    const bool orthographic = GENERATE(false, true);
+    INFO("ao_resolution " << resolution << (orthographic ? ", orthographic" : ", perspective"));
     SceneDir sd;
     Scene scene = sd.load(camera(160, 120) + "objects:\n  - {mesh: ground.obj, material: " +
                           kAoOnly + "}\n");
     scene.settings.ao_half_resolution = resolution == "half";
+    scene.camera.orthographic = orthographic;
+    scene.camera.ortho_height = 9.0f;  // the plane's far edge in view, as in perspective
     Framebuffer fb;
     const FrameStats stats = Renderer().render(scene, fb);
     CHECK(stats.depth_prepasses == 1);  // the frame's, which it reads

@@ -60,9 +60,6 @@ Float spread_next(const Float& v) {
 #endif
 }
 
-// How far above the surface marches start at half resolution, in radii.
-constexpr float kLift = 0.07f;
-
 // kSteps steps of up to 2^27 from a start within a 16384-texel grid (16.16
 // fixed point) stay in int range.
 static_assert(AoFrame::kSteps * 134217728.0 + 16384.0 * 65536.0 < 2147483648.0);
@@ -176,7 +173,9 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     const float offset = 0.5f * float(f.scale - 1) / float(f.scale);
     constexpr float kFixed = 65536.0f;  // screen positions in 16.16 fixed point
     constexpr float kStep = 1.0f / float(AoFrame::kSteps);
-    const float tol = 0.02f * f.radius, reach = f.radius;
+    // An occluder stands at least tol in front of the march and of the
+    // tangent plane (float error and curvature), and less than reach.
+    const float tol = 0.005f * f.radius, reach = f.radius;
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = 4 * i;
     const int x_end = std::min(x_first + x_count, f.width);
@@ -202,19 +201,12 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                     tx *= inv_t, ty *= inv_t, tz *= inv_t;
                     const Float bx = ny * tz - nz * ty, by = nz * tx - nx * tz,
                                 bz = nx * ty - ny * tx;
-                    // At half resolution the marches start a little off the
-                    // surface, along its normal: a lookup lands up to half a
-                    // texel (a whole pixel) from where the march is, and on a
-                    // surface seen at a grazing angle that much sideways is a
-                    // step in depth. (At full resolution the half pixel stays
-                    // within the 2%-of-radius threshold below.)
-                    const float lift = kLift * f.radius * float(f.scale - 1);
-                    const Float ox = px + lift * nx, oy = py + lift * ny, oz = pz + lift * nz;
-                    // Its clip position; clip positions are linear along a ray.
-                    const Float cpx = P[0][0] * ox + P[1][0] * oy + P[2][0] * oz + P[3][0];
-                    const Float cpy = P[0][1] * ox + P[1][1] * oy + P[2][1] * oz + P[3][1];
-                    const Float cpw = P[0][3] * ox + P[1][3] * oy + P[2][3] * oz + P[3][3];
-                    const Float k0 = Perspective ? 1.0f / cpw : oz;  // the start's key
+                    // The march starts at the surface point: its clip
+                    // position (clip positions are linear along a ray).
+                    const Float cpx = P[0][0] * px + P[1][0] * py + P[2][0] * pz + P[3][0];
+                    const Float cpy = P[0][1] * px + P[1][1] * py + P[2][1] * pz + P[3][1];
+                    const Float cpw = P[0][3] * px + P[1][3] * py + P[2][3] * pz + P[3][3];
+                    const Float k0 = Perspective ? 1.0f / cpw : pz;  // the start's key
                     // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
                     const Float nx0 = Perspective ? cpx * k0 : cpx;
                     const Float ny0 = Perspective ? cpy * k0 : cpy;
@@ -232,24 +224,33 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                                 bcw = clip(bx, by, bz, 3);
                     const Float ncx = clip(nx, ny, nz, 0), ncy = clip(nx, ny, nz, 1),
                                 ncw = clip(nx, ny, nz, 3);
-                    // The surface's tangent plane, as a key over the grid: 1/w
-                    // is affine in screen position on a plane, k = (n . u) / d
-                    // along the pixel rays u = ((ndc + P20) / P00, .., -1),
-                    // d = n . p. Only what stands above this plane can block a
-                    // direction of the hemisphere; a lookup up to half a texel
-                    // from the march then never takes the surface itself, seen
-                    // at a grazing angle, for an occluder.
-                    Float plane_key{}, plane_dx{}, plane_dy{};
-                    Int above_only{};
+                    // The surface's tangent plane, as a key over the grid (the
+                    // key is affine in screen position on a plane): only what
+                    // stands above it can block a direction of the hemisphere,
+                    // and a lookup up to half a texel from the march then never
+                    // takes the surface itself, seen at a grazing angle, for an
+                    // occluder. Along the pixel rays u = ((ndc + P20) / P00,
+                    // (ndc + P21) / P11, -1) of a perspective projection the
+                    // plane n . p = d has key (n . u) / d; an orthographic
+                    // one's has z = (d - nx x - ny y) / nz. Per texel, ndc
+                    // moves 2 scale / W across and -2 scale / H down.
+                    const float per_x = 2.0f * float(f.scale) / (P[0][0] * float(f.target_width));
+                    const float per_y = -2.0f * float(f.scale) / (P[1][1] * float(f.target_height));
+                    Float plane_key, plane_dx, plane_dy;
+                    Int tilted;  // lanes whose plane is not seen edge on
                     if constexpr (Perspective) {
                         const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
-                        above_only = surface & (d < -1e-6f * (-pz));
-                        const Float inv_d = 1.0f / select(above_only, d, Float{} - 1.0f);
+                        tilted = surface & (d < 1e-6f * pz);
+                        const Float inv_d = 1.0f / select(tilted, d, Float{} - 1.0f);
                         plane_key = -1.0f / select(surface, pz, Float{} - 1.0f);
-                        plane_dx = nx * inv_d * (2.0f * float(f.scale) /
-                                                 (P[0][0] * float(f.target_width)));
-                        plane_dy = ny * inv_d * (-2.0f * float(f.scale) /
-                                                 (P[1][1] * float(f.target_height)));
+                        plane_dx = nx * inv_d * per_x;
+                        plane_dy = ny * inv_d * per_y;
+                    } else {
+                        tilted = surface & (nz > 1e-6f);
+                        const Float inv_nz = 1.0f / select(tilted, nz, Float{} + 1.0f);
+                        plane_key = pz;
+                        plane_dx = -nx * inv_nz * per_x;
+                        plane_dy = -ny * inv_nz * per_y;
                     }
                     const float* turn = f.directions + size_t(3 * f.samples) *
                                                            size_t(phase * 4 + (y & 3));
@@ -269,7 +270,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                             k1 = 1.0f / select(ahead, cew, Float{} + 1.0f);
                             nx1 = cex * k1, ny1 = cey * k1;
                         } else {
-                            k1 = oz + reach * (tz * hx + bz * hy + nz * hz);
+                            k1 = pz + reach * (tz * hx + bz * hy + nz * hz);
                         }
                         // A step in fixed point, within +-2^27 so that kSteps
                         // of them from a start on the grid stay in int range (a
@@ -297,15 +298,16 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                             // view units (1/there - 1/here for keys 1/w), but
                             // compared without a division.
                             const Float gap = there - here;
+                            const Float plane = plane_key + plane_dx * simd::to_float(ix - x) +
+                                                plane_dy * simd::to_float(iy - y);
+                            const Float above = there - plane;
                             if constexpr (Perspective) {
                                 const Float both = there * here;
-                                const Float plane = plane_key +
-                                                    plane_dx * simd::to_float(ix - x) +
-                                                    plane_dy * simd::to_float(iy - y);
                                 blocked |= (gap > tol * both) & (gap < reach * both) &
-                                           (~above_only | (there - plane > tol * there * plane));
+                                           (~tilted | (above > tol * there * plane));
                             } else {
-                                blocked |= (there != 0.0f) & (gap > tol) & (gap < reach);
+                                blocked |= (there != 0.0f) & (gap > tol) & (gap < reach) &
+                                           (~tilted | (above > tol));
                             }
                         }
                         blocked &= ahead;
@@ -330,12 +332,10 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 // marches stay side by side on the screen and each step's loads fall on a
 // few cache lines. A direction's march reaches `radius` along it in
 // AoFrame::kSteps even steps of its segment on the screen, in fixed point,
-// and compares keys (1 / w) rather than depths: no division per step. With a
-// perspective projection, a step is blocked only by a surface above the
-// texel's tangent plane (whose key is affine over the grid), so that a
-// lookup half a texel off never takes the surface itself for an occluder.
-// (An orthographic projection's marches keep the 2%-of-radius tolerance
-// alone.)
+// and compares keys (1 / w, or z) rather than depths: no division per step.
+// A step is blocked only by a surface above the texel's tangent plane
+// (whose key is affine over the grid), so that a lookup half a texel off
+// never takes the surface itself for an occluder.
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     if (f.perspective) occlusion_rows<true>(f, first, count, x_first, x_count);
     else occlusion_rows<false>(f, first, count, x_first, x_count);

@@ -53,8 +53,8 @@ enum class EdgeWidth {
 // target pixel i * scale), row-major, and the target's own buffers.
 struct AoFrame {
     // March steps along each direction. Six rather than four: against
-    // ray-traced AO, 6 directions of 6 steps beat 16 of 4
-    // (facet-bench-shadow-ao) with a little over half the loads.
+    // ray-traced AO, 5 directions of 6 steps beat 16 of 4
+    // (facet-bench-shadow-ao) with under half the loads.
     static constexpr int kSteps = 6;
     int width = 0, height = 0;        // the AO grid
     int scale = 1;                    // 1 or 2
