@@ -37,6 +37,10 @@ struct DrawItem {
 // material) to `items`.
 void add_draw_items(const Object& o, std::vector<DrawItem>& items);
 
+// Points `call` at item `d`: its mesh, part and model matrix, and its
+// material's shader, parameters and textures, and whether it may discard.
+void set_item(DrawCall& call, const DrawItem& d);
+
 class Renderer {
 public:
     // A renderer on its own Pipeline(threads, isa).

@@ -86,6 +86,8 @@ struct RenderSettings {
     int height = 540;
     glm::vec4 clear_color{0.0f, 0.0f, 0.0f, 1.0f};  // linear
     bool reversed_z = true;
+    // The depth a target is cleared to, which means nothing was drawn.
+    float far_depth() const { return reversed_z ? 0.0f : 1.0f; }
     DepthCompare depth_compare = DepthCompare::greater_equal;  // matches reversed_z
     CullMode cull = CullMode::back;
     bool front_ccw = true;  // counter-clockwise triangles (as seen) face the viewer

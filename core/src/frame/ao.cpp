@@ -51,8 +51,7 @@ void AoPass::draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& v
     const auto start = std::chrono::steady_clock::now();
     if (depth_.width() != width || depth_.height() != height)
         depth_.resize(width, height, ColorFormat::none);
-    const float background = reversed_z ? 0.0f : 1.0f;
-    pipeline.clear(depth_, glm::vec4(0.0f), background);
+    pipeline.clear(depth_, glm::vec4(0.0f), settings.far_depth());
     DrawCall call;
     call.view = view;
     call.projection = proj;
@@ -62,9 +61,7 @@ void AoPass::draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& v
     call.time = time;
     FrameStats pass;
     for (const DrawItem& d : items) {
-        call.mesh = d.object->mesh.get();
-        call.part = d.part;
-        call.model = d.model;
+        set_item(call, d);
         // The faces the main pass draws, and only those, where it draws them:
         // the material's own vertex shader places them, on the scene's
         // sub-pixel grid, so that this depth is the frame's pre-pass's bit for
@@ -73,11 +70,6 @@ void AoPass::draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& v
         const Material& m = *d.material;
         call.state.cull = m.cull.value_or(settings.cull);
         call.state.subpixel_bits = settings.subpixel_bits;
-        call.shader = m.plugin.get();
-        call.params = m.block ? m.block->bytes : nullptr;
-        call.textures = m.textures.data();
-        call.texture_count = int(m.textures.size());
-        call.may_discard = m.discards;
         pipeline.queue(call, depth_, pass);
     }
     pipeline.flush(pass);
@@ -135,7 +127,7 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     const glm::mat4 inverse = glm::inverse(proj);
     f.target_depth = depth->depth();
     f.target_stride = depth->stride();
-    f.background = settings.reversed_z ? 0.0f : 1.0f;
+    f.background = settings.far_depth();
     f.x_row = {inverse[0][0], inverse[1][0], inverse[2][0], inverse[3][0]};
     f.y_row = {inverse[0][1], inverse[1][1], inverse[2][1], inverse[3][1]};
     f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};

@@ -47,7 +47,7 @@ public:
     // of the settings' size and depth range, with their ao_radius,
     // ao_samples and ao_resolution, from `depth`: a single-sampled target
     // whose depth holds every item's nearest surface (the frame's own depth
-    // pre-pass), cleared to the far value (settings.reversed_z ? 0 : 1) that
+    // pre-pass), cleared to settings.far_depth(), which
     // means nothing was drawn. Without one, it first draws its own pre-pass of `items`
     // (timed into stats.ms_prepass), in which a cutout's shader sees `time`.
     void run(const std::vector<DrawItem>& items, const glm::mat4& view,

@@ -64,6 +64,18 @@ void add_draw_items(const Object& o, std::vector<DrawItem>& items) {
     }
 }
 
+void set_item(DrawCall& call, const DrawItem& d) {
+    const Material& m = *d.material;
+    call.mesh = d.object->mesh.get();
+    call.part = d.part;
+    call.model = d.model;
+    call.shader = m.plugin.get();
+    call.params = m.block ? m.block->bytes : nullptr;
+    call.textures = m.textures.data();
+    call.texture_count = int(m.textures.size());
+    call.may_discard = m.discards;
+}
+
 struct Renderer::Passes {
     ShadowMaps shadow;
     AoPass ao;
@@ -137,7 +149,7 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
     Framebuffer& frame = post ? passes_->hdr : target;
     fit(frame, post ? ColorFormat::rgba32f : s.color_format, s.msaa);
     if (post) fit(target, s.color_format, 1);
-    pipeline_.clear(frame, s.clear_color, s.reversed_z ? 0.0f : 1.0f);
+    pipeline_.clear(frame, s.clear_color, s.far_depth());
 
     DrawCall call;
     call.view = scene.camera.view();
@@ -239,14 +251,7 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
 void Renderer::queue_item(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
                           bool prepassed, Framebuffer& target, FrameStats& counts) {
     const Material& m = *d.material;
-    call.mesh = d.object->mesh.get();
-    call.part = d.part;
-    call.shader = m.plugin.get();
-    call.params = m.block ? m.block->bytes : nullptr;
-    call.textures = m.textures.data();
-    call.texture_count = int(m.textures.size());
-    call.model = d.model;
-    call.may_discard = m.discards;
+    set_item(call, d);
     call.state = pipeline_state(m, scene.settings);
     // Only opaque parts are in the pre-pass (a blended one that writes depth
     // is drawn, far to near, in the main pass alone).

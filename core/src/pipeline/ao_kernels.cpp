@@ -173,6 +173,10 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     const float offset = 0.5f * float(f.scale - 1) / float(f.scale);
     constexpr float kFixed = 65536.0f;  // screen positions in 16.16 fixed point
     constexpr float kStep = 1.0f / float(AoFrame::kSteps);
+    // How far ndc moves per texel, over P00 and P11: 2 scale / W across,
+    // -2 scale / H down (the tangent planes' slopes below).
+    const float per_x = 2.0f * float(f.scale) / (P[0][0] * float(f.target_width));
+    const float per_y = -2.0f * float(f.scale) / (P[1][1] * float(f.target_height));
     // An occluder stands at least tol in front of the march and of the
     // tangent plane (float error and curvature), and less than reach.
     const float tol = 0.005f * f.radius, reach = f.radius;
@@ -232,10 +236,8 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                     // occluder. Along the pixel rays u = ((ndc + P20) / P00,
                     // (ndc + P21) / P11, -1) of a perspective projection the
                     // plane n . p = d has key (n . u) / d; an orthographic
-                    // one's has z = (d - nx x - ny y) / nz. Per texel, ndc
-                    // moves 2 scale / W across and -2 scale / H down.
-                    const float per_x = 2.0f * float(f.scale) / (P[0][0] * float(f.target_width));
-                    const float per_y = -2.0f * float(f.scale) / (P[1][1] * float(f.target_height));
+                    // one's has z = (d - nx x - ny y) / nz; per_x and per_y
+                    // turn their slopes into steps of a texel.
                     Float plane_key, plane_dx, plane_dy;
                     Int tilted;  // lanes whose plane is not seen edge on
                     if constexpr (Perspective) {
