@@ -162,7 +162,28 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
 
 namespace {
 
-// The marches of ao_occlusion_rows for one path and projection.
+// One texel vector's march inputs (occlusion_rows): where it starts, its
+// tangent plane as a key over the grid, and its clip-space start and frame,
+// from which each direction's segment is projected.
+struct MarchStart {
+    Int x, sx0, sy0, surface;
+    Float k0;                               // the start's key
+    Float plane_key, plane_dx, plane_dy;    // the tangent plane's key at x, per texel
+    Float cpx, cpy, cpw, nx0, ny0;          // clip start (cpw: z if orthographic), its ndc
+    Float tcx, tcy, tcw, bcx, bcy, bcw, ncx, ncy, ncw;  // the frame in clip space, reach long
+};
+
+// One direction's march across a texel vector, on the grid in fixed point.
+struct MarchStep {
+    Int dsx, dsy, ahead;
+    Float dk;  // the key's change per step
+};
+
+// The marches of ao_occlusion_rows for one path and projection. A vector's
+// work comes in three stages: each phase's start, then each direction's
+// step, then the marches. The first two are chains of dependent operations
+// (gathers, square roots, divisions); done for all phases and a batch of
+// directions before any march, they overlap, and no march waits on them.
 template <bool Perspective>
 void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     const glm::mat4& P = f.projection;
@@ -180,147 +201,172 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // An occluder stands at least tol in front of the march and of the
     // tangent plane (float error and curvature), and less than reach.
     const float tol = 0.005f * f.radius, reach = f.radius;
+    constexpr int kPhases = 4, kBatch = 8;
+    MarchStart start[kPhases];
+    MarchStep steps[kPhases][kBatch];
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = 4 * i;
     const int x_end = std::min(x_first + x_count, f.width);
+
+    // Texels x (lanes 4 apart) of row y: where their marches start.
+    const auto begin = [&](MarchStart& t, const Int& x, int y) {
+        const int row = y * f.width;
+        const Int in_row = x < x_end;
+        const Int at = select(in_row, x + row, Int{} + row);
+        const Float pz = select(in_row, simd::gather(f.z, at), Float{});
+        t.x = x;
+        t.surface = pz != 0.0f;  // background texels stay visible
+        if (!simd::bits(t.surface)) return;
+        const Float px = simd::gather(f.x, at), py = simd::gather(f.y, at);
+        const Float nx = simd::gather(f.nx, at), ny = simd::gather(f.ny, at),
+                    nz = simd::gather(f.nz, at);
+        // A tangent frame: t perpendicular to n (n x X, or n x Y near X), b = n x t.
+        const Int near_x = (nx < -0.9f) | (nx > 0.9f);
+        Float tx = select(near_x, -nz, Float{}), ty = select(near_x, Float{}, nz),
+              tz = select(near_x, nx, -ny);
+        const Float inv_t = 1.0f / simd::sqrt(tx * tx + ty * ty + tz * tz);
+        tx *= inv_t, ty *= inv_t, tz *= inv_t;
+        const Float bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
+        // The march starts at the surface point: its clip position (clip
+        // positions are linear along a ray).
+        t.cpx = P[0][0] * px + P[1][0] * py + P[2][0] * pz + P[3][0];
+        t.cpy = P[0][1] * px + P[1][1] * py + P[2][1] * pz + P[3][1];
+        t.cpw = Perspective ? P[0][3] * px + P[1][3] * py + P[2][3] * pz + P[3][3] : pz;
+        t.k0 = Perspective ? 1.0f / t.cpw : pz;
+        // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
+        t.nx0 = Perspective ? t.cpx * t.k0 : t.cpx;
+        t.ny0 = Perspective ? t.cpy * t.k0 : t.cpy;
+        t.sx0 = to_int(((t.nx0 + 1.0f) * sx_scale + offset) * kFixed);
+        t.sy0 = to_int(((1.0f - t.ny0) * sy_scale + offset) * kFixed);
+        // The frame in clip space, reach long: a direction's end is the
+        // start plus a mix of these, with the direction's weights. An
+        // orthographic march's key is z, so its third row is the frame's z.
+        const auto clip = [&](const Float& vx, const Float& vy, const Float& vz, int c) {
+            if (!Perspective && c == 3) return reach * vz;
+            return reach * (P[0][c] * vx + P[1][c] * vy + P[2][c] * vz);
+        };
+        t.tcx = clip(tx, ty, tz, 0), t.tcy = clip(tx, ty, tz, 1), t.tcw = clip(tx, ty, tz, 3);
+        t.bcx = clip(bx, by, bz, 0), t.bcy = clip(bx, by, bz, 1), t.bcw = clip(bx, by, bz, 3);
+        t.ncx = clip(nx, ny, nz, 0), t.ncy = clip(nx, ny, nz, 1), t.ncw = clip(nx, ny, nz, 3);
+        // The surface's tangent plane, as a key over the grid (the key is
+        // affine in screen position on a plane): only what stands above it
+        // can block a direction of the hemisphere, and a lookup up to half a
+        // texel from the march then never takes the surface itself, seen at
+        // a grazing angle, for an occluder. Along the pixel rays
+        // u = ((ndc + P20) / P00, (ndc + P21) / P11, -1) of a perspective
+        // projection the plane n . p = d has key (n . u) / d; an
+        // orthographic one's has z = (d - nx x - ny y) / nz; per_x and per_y
+        // turn their slopes into steps of a texel. A plane seen edge on
+        // blocks nothing: its key is one below every march's (0 for keys
+        // 1 / w, which are positive; the lowest float for z).
+        if constexpr (Perspective) {
+            const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
+            const Int tilted = t.surface & (d < 1e-6f * pz);
+            const Float inv_d = 1.0f / select(tilted, d, Float{} - 1.0f);
+            t.plane_key = select(tilted, -1.0f / select(t.surface, pz, Float{} - 1.0f), Float{});
+            t.plane_dx = select(tilted, nx * inv_d * per_x, Float{});
+            t.plane_dy = select(tilted, ny * inv_d * per_y, Float{});
+        } else {
+            const Int tilted = t.surface & (nz > 1e-6f);
+            const Float inv_nz = 1.0f / select(tilted, nz, Float{} + 1.0f);
+            t.plane_key = select(tilted, pz, Float{} - 3.4e38f);
+            t.plane_dx = select(tilted, -nx * inv_nz * per_x, Float{});
+            t.plane_dy = select(tilted, -ny * inv_nz * per_y, Float{});
+        }
+    };
+
+    // Direction h's step from start t: the direction's end, `reach` away,
+    // projected once; on the screen the march is a straight segment,
+    // stepped evenly, along which the key is linear too.
+    const auto aim = [&](MarchStep& m, const MarchStart& t, float hx, float hy, float hz) {
+        const Float cex = t.cpx + (t.tcx * hx + t.bcx * hy + t.ncx * hz);
+        const Float cey = t.cpy + (t.tcy * hx + t.bcy * hy + t.ncy * hz);
+        const Float cew = t.cpw + (t.tcw * hx + t.bcw * hy + t.ncw * hz);
+        m.ahead = t.surface;
+        Float k1 = cew, nx1 = cex, ny1 = cey;
+        if constexpr (Perspective) {
+            m.ahead &= cew > 0.0f;  // a march behind the camera sees nothing
+            k1 = 1.0f / select(m.ahead, cew, Float{} + 1.0f);
+            nx1 = cex * k1, ny1 = cey * k1;
+        }
+        // A step in fixed point, within +-2^27 so that kSteps of them from a
+        // start on the grid stay in int range (a longer one leaves the grid
+        // at its first step either way); none for NaN.
+        const auto fixed_step = [&](const Float& v) {
+            const Float c = v < -134217728.0f ? Float{} - 134217728.0f
+                            : v > 134217728.0f ? Float{} + 134217728.0f : v;
+            return to_int(select(m.ahead & (v == v), c, Float{}));
+        };
+        m.dsx = fixed_step((nx1 - t.nx0) * (sx_scale * kStep * kFixed));
+        m.dsy = fixed_step((t.ny0 - ny1) * (sy_scale * kStep * kFixed));
+        m.dk = (k1 - t.k0) * kStep;
+    };
+
+    // Whether the march is blocked: a step reads a surface nearer than the
+    // march by tol .. reach (in view units, compared on keys without a
+    // division) and above the tangent plane by tol. For keys 1 / w the
+    // first two read there - m > tol there m for m the march's key, and
+    // for m the plane's, which is the one test for the larger of the two;
+    // the last, there - here < reach there here, is
+    // there (1 - reach here) < here.
+    const auto march = [&](const MarchStart& t, const MarchStep& m, int y) {
+        Int sx = t.sx0, sy = t.sy0;
+        Int blocked = Int{};
+        for (int s = 1; s <= AoFrame::kSteps; ++s) {
+            sx += m.dsx, sy += m.dsy;
+            // Off the grid, the border: its key 0 blocks nothing.
+            Int ix = sx >> 16, iy = sy >> 16;
+            ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
+            iy = iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy;
+            const Float there = simd::gather(f.key, iy * f.key_stride + ix);
+            const Float here = t.k0 + float(s) * m.dk;  // the march's key
+            const Float plane = t.plane_key + t.plane_dx * simd::to_float(ix - t.x) +
+                                t.plane_dy * simd::to_float(iy - y);
+            const Float higher = select(plane > here, plane, here);
+            if constexpr (Perspective) {
+                blocked |= (there - tol * higher * there > higher) &
+                           (there * (1.0f - reach * here) < here);
+            } else {
+                blocked |= (there != 0.0f) & (there - higher > tol) & (there - here < reach);
+            }
+        }
+        return blocked & m.ahead;
+    };
+
     for (int y = first; y < first + count; ++y) {
         const int row = y * f.width;
-        for (int x0 = x_first; x0 < x_end; x0 += 4 * kWidth)
-            for (int phase = 0; phase < 4; ++phase) {
-                const Int x = lane + (x0 + phase);
-                const Int in_row = x < x_end;
-                const Int at = select(in_row, x + row, Int{} + row);
-                const Float pz = select(in_row, simd::gather(f.z, at), Float{});
-                const Int surface = pz != 0.0f;  // background texels stay visible
-                Float open = Float{};
-                if (simd::bits(surface)) {
-                    const Float px = simd::gather(f.x, at), py = simd::gather(f.y, at);
-                    const Float nx = simd::gather(f.nx, at), ny = simd::gather(f.ny, at),
-                                nz = simd::gather(f.nz, at);
-                    // A tangent frame: t perpendicular to n (n x X, or n x Y near X), b = n x t.
-                    const Int near_x = (nx < -0.9f) | (nx > 0.9f);
-                    Float tx = select(near_x, -nz, Float{}), ty = select(near_x, Float{}, nz),
-                          tz = select(near_x, nx, -ny);
-                    const Float inv_t = 1.0f / simd::sqrt(tx * tx + ty * ty + tz * tz);
-                    tx *= inv_t, ty *= inv_t, tz *= inv_t;
-                    const Float bx = ny * tz - nz * ty, by = nz * tx - nx * tz,
-                                bz = nx * ty - ny * tx;
-                    // The march starts at the surface point: its clip
-                    // position (clip positions are linear along a ray).
-                    const Float cpx = P[0][0] * px + P[1][0] * py + P[2][0] * pz + P[3][0];
-                    const Float cpy = P[0][1] * px + P[1][1] * py + P[2][1] * pz + P[3][1];
-                    const Float cpw = P[0][3] * px + P[1][3] * py + P[2][3] * pz + P[3][3];
-                    const Float k0 = Perspective ? 1.0f / cpw : pz;  // the start's key
-                    // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
-                    const Float nx0 = Perspective ? cpx * k0 : cpx;
-                    const Float ny0 = Perspective ? cpy * k0 : cpy;
-                    const Int sx0 = to_int(((nx0 + 1.0f) * sx_scale + offset) * kFixed);
-                    const Int sy0 = to_int(((1.0f - ny0) * sy_scale + offset) * kFixed);
-                    // The clip-space frame, reach long: a direction's end is the
-                    // start plus a mix of these, with the direction's weights.
-                    const auto clip = [&](const Float& vx, const Float& vy, const Float& vz,
-                                          int c) {
-                        return reach * (P[0][c] * vx + P[1][c] * vy + P[2][c] * vz);
-                    };
-                    const Float tcx = clip(tx, ty, tz, 0), tcy = clip(tx, ty, tz, 1),
-                                tcw = clip(tx, ty, tz, 3);
-                    const Float bcx = clip(bx, by, bz, 0), bcy = clip(bx, by, bz, 1),
-                                bcw = clip(bx, by, bz, 3);
-                    const Float ncx = clip(nx, ny, nz, 0), ncy = clip(nx, ny, nz, 1),
-                                ncw = clip(nx, ny, nz, 3);
-                    // The surface's tangent plane, as a key over the grid (the
-                    // key is affine in screen position on a plane): only what
-                    // stands above it can block a direction of the hemisphere,
-                    // and a lookup up to half a texel from the march then never
-                    // takes the surface itself, seen at a grazing angle, for an
-                    // occluder. Along the pixel rays u = ((ndc + P20) / P00,
-                    // (ndc + P21) / P11, -1) of a perspective projection the
-                    // plane n . p = d has key (n . u) / d; an orthographic
-                    // one's has z = (d - nx x - ny y) / nz; per_x and per_y
-                    // turn their slopes into steps of a texel.
-                    Float plane_key, plane_dx, plane_dy;
-                    Int tilted;  // lanes whose plane is not seen edge on
-                    if constexpr (Perspective) {
-                        const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
-                        tilted = surface & (d < 1e-6f * pz);
-                        const Float inv_d = 1.0f / select(tilted, d, Float{} - 1.0f);
-                        plane_key = -1.0f / select(surface, pz, Float{} - 1.0f);
-                        plane_dx = nx * inv_d * per_x;
-                        plane_dy = ny * inv_d * per_y;
-                    } else {
-                        tilted = surface & (nz > 1e-6f);
-                        const Float inv_nz = 1.0f / select(tilted, nz, Float{} + 1.0f);
-                        plane_key = pz;
-                        plane_dx = -nx * inv_nz * per_x;
-                        plane_dy = -ny * inv_nz * per_y;
-                    }
+        for (int x0 = x_first; x0 < x_end; x0 += kPhases * kWidth) {
+            uint32_t any = 0;
+            for (int phase = 0; phase < kPhases; ++phase) {
+                begin(start[phase], lane + (x0 + phase), y);
+                any |= simd::bits(start[phase].surface);
+            }
+            Float open[kPhases] = {};
+            for (int k0 = 0; any && k0 < f.samples; k0 += kBatch) {
+                const int batch = std::min(kBatch, f.samples - k0);
+                for (int phase = 0; phase < kPhases; ++phase) {
+                    if (!simd::bits(start[phase].surface)) continue;
                     const float* turn = f.directions + size_t(3 * f.samples) *
                                                            size_t(phase * 4 + (y & 3));
-                    for (int k = 0; k < f.samples; ++k) {
-                        const float hx = turn[k], hy = turn[f.samples + k],
-                                    hz = turn[2 * f.samples + k];
-                        // The direction's end, `reach` away, projected once: on
-                        // the screen the march is a straight segment, stepped
-                        // evenly, along which 1 / w is linear too.
-                        const Float cex = cpx + (tcx * hx + bcx * hy + ncx * hz);
-                        const Float cey = cpy + (tcy * hx + bcy * hy + ncy * hz);
-                        Int ahead = surface;
-                        Float k1, nx1 = cex, ny1 = cey;
-                        if constexpr (Perspective) {
-                            const Float cew = cpw + (tcw * hx + bcw * hy + ncw * hz);
-                            ahead &= cew > 0.0f;  // a march behind the camera sees nothing
-                            k1 = 1.0f / select(ahead, cew, Float{} + 1.0f);
-                            nx1 = cex * k1, ny1 = cey * k1;
-                        } else {
-                            k1 = pz + reach * (tz * hx + bz * hy + nz * hz);
-                        }
-                        // A step in fixed point, within +-2^27 so that kSteps
-                        // of them from a start on the grid stay in int range (a
-                        // longer one leaves the grid at its first step either
-                        // way); none for NaN.
-                        const auto fixed_step = [&](const Float& v) {
-                            const Float c = v < -134217728.0f ? Float{} - 134217728.0f
-                                            : v > 134217728.0f ? Float{} + 134217728.0f : v;
-                            return to_int(select(ahead & (v == v), c, Float{}));
-                        };
-                        const Int dsx = fixed_step((nx1 - nx0) * (sx_scale * kStep * kFixed));
-                        const Int dsy = fixed_step((ny0 - ny1) * (sy_scale * kStep * kFixed));
-                        const Float dk = (k1 - k0) * kStep;
-                        Int sx = sx0, sy = sy0;
-                        Int blocked = Int{};
-                        for (int s = 1; s <= AoFrame::kSteps; ++s) {
-                            sx += dsx, sy += dsy;
-                            // Off the grid, the border: its key 0 blocks nothing.
-                            Int ix = sx >> 16, iy = sy >> 16;
-                            ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
-                            iy = iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy;
-                            const Float there = simd::gather(f.key, iy * f.key_stride + ix);
-                            const Float here = k0 + float(s) * dk;  // the march's key
-                            // The surface nearer than the march by tol .. reach: in
-                            // view units (1/there - 1/here for keys 1/w), but
-                            // compared without a division.
-                            const Float gap = there - here;
-                            const Float plane = plane_key + plane_dx * simd::to_float(ix - x) +
-                                                plane_dy * simd::to_float(iy - y);
-                            const Float above = there - plane;
-                            if constexpr (Perspective) {
-                                const Float both = there * here;
-                                blocked |= (gap > tol * both) & (gap < reach * both) &
-                                           (~tilted | (above > tol * there * plane));
-                            } else {
-                                blocked |= (there != 0.0f) & (gap > tol) & (gap < reach) &
-                                           (~tilted | (above > tol));
-                            }
-                        }
-                        blocked &= ahead;
-                        open += select(blocked, Float{}, Float{} + 1.0f);
-                    }
+                    for (int k = 0; k < batch; ++k)
+                        aim(steps[phase][k], start[phase], turn[k0 + k],
+                            turn[f.samples + k0 + k], turn[2 * f.samples + k0 + k]);
                 }
-                const Float visible = select(surface, open * (1.0f / float(f.samples)),
+                for (int phase = 0; phase < kPhases; ++phase) {
+                    if (!simd::bits(start[phase].surface)) continue;
+                    for (int k = 0; k < batch; ++k)
+                        open[phase] += select(march(start[phase], steps[phase][k], y), Float{},
+                                              Float{} + 1.0f);
+                }
+            }
+            for (int phase = 0; phase < kPhases; ++phase) {
+                const Float visible = select(start[phase].surface,
+                                             open[phase] * (1.0f / float(f.samples)),
                                              Float{} + 1.0f);
                 for (int i = 0; i < kWidth; ++i)
                     if (x0 + phase + 4 * i < x_end) f.raw[row + x0 + phase + 4 * i] = visible[i];
             }
+        }
     }
 }
 
