@@ -101,23 +101,18 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     f.projection = proj;
     const size_t texels = size_t(f.width) * size_t(f.height);
     for (std::vector<float>* v : {&nx_, &ny_, &nz_, &raw_, &blurred_}) v->resize(texels);
-    // The positions pass writes every texel; only the borders are cleared.
-    f.key_stride = f.width + 2;  // with a border of one texel, 0
-    key_.resize(size_t(f.key_stride) * size_t(f.height + 2));
-    std::fill_n(key_.begin(), f.key_stride, 0.0f);
-    std::fill_n(key_.end() - f.key_stride, f.key_stride, 0.0f);
-    for (int j = 1; j <= f.height; ++j) {
-        key_[size_t(j) * size_t(f.key_stride)] = 0.0f;
-        key_[size_t(j) * size_t(f.key_stride) + size_t(f.width) + 1] = 0.0f;
-    }
-    f.key = key_.data() + f.key_stride + 1;
-    f.perspective = proj[2][3] != 0.0f;
+    // The positions pass writes every texel of the grid; the key's border
+    // and the positions' padding are zeroed only when the grid changes.
+    constexpr int border = AoFrame::kBorder;
     const size_t pad = size_t(f.width) + 16;  // a row and a vector, on either side
-    for (std::vector<float>* v : {&x_, &y_, &z_}) {
-        v->resize(texels + 2 * pad);
-        std::fill_n(v->begin(), pad, 0.0f);
-        std::fill_n(v->end() - ptrdiff_t(pad), pad, 0.0f);
+    f.key_stride = f.width + 2 * border;
+    if (zeroed_width_ != f.width || zeroed_height_ != f.height) {
+        key_.assign(size_t(f.key_stride) * size_t(f.height + 2 * border), 0.0f);
+        for (std::vector<float>* v : {&x_, &y_, &z_}) v->assign(texels + 2 * pad, 0.0f);
+        zeroed_width_ = f.width, zeroed_height_ = f.height;
     }
+    f.key = key_.data() + size_t(border) * size_t(f.key_stride) + border;
+    f.perspective = proj[2][3] != 0.0f;
     f.x = x_.data() + pad, f.y = y_.data() + pad, f.z = z_.data() + pad;
     f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
     f.raw = raw_.data();

@@ -71,6 +71,10 @@ private:
     // Per AO texel; the positions with a row and a vector of padding on
     // either side, which the normals' neighbour loads may read.
     std::vector<float> x_, y_, z_, nx_, ny_, nz_, key_;
+    // The grid the positions' padding and the key's border were zeroed for:
+    // the passes write only inside the grid, so they stay zero until it
+    // changes.
+    int zeroed_width_ = 0, zeroed_height_ = 0;
     std::vector<float> directions_;
     int direction_samples_ = 0;  // what directions_ holds
     std::vector<float> raw_, blurred_, visibility_;

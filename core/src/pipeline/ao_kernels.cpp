@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace facet::FACET_KERNEL_NS {
 
@@ -176,7 +177,8 @@ struct MarchStart {
 // One direction's march across a texel vector, on the grid in fixed point.
 struct MarchStep {
     Int dsx, dsy, ahead;
-    Float dk;  // the key's change per step
+    Float dk;      // the key's change per step
+    bool bordered; // every lane's march stays within the key's border
 };
 
 // The marches of ao_occlusion_rows for one path and projection. A vector's
@@ -201,9 +203,12 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // An occluder stands at least tol in front of the march and of the
     // tangent plane (float error and curvature), and less than reach.
     const float tol = 0.005f * f.radius, reach = f.radius;
-    constexpr int kPhases = 4, kBatch = 8;
-    MarchStart start[kPhases];
-    MarchStep steps[kPhases][kBatch];
+    // A group: 64 texels of a row, whatever the path, as kVectors vectors
+    // (vector v: texels x0 + (v / 4) 4 kWidth + (v % 4) + 4 i), so that
+    // every path takes the same groups as open.
+    constexpr int kGroup = 64, kVectors = kGroup / kWidth, kBatch = 8;
+    MarchStart start[kVectors];
+    MarchStep steps[kVectors][kBatch];
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = 4 * i;
     const int x_end = std::min(x_first + x_count, f.width);
@@ -236,8 +241,9 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
         t.nx0 = Perspective ? t.cpx * t.k0 : t.cpx;
         t.ny0 = Perspective ? t.cpy * t.k0 : t.cpy;
-        t.sx0 = to_int(((t.nx0 + 1.0f) * sx_scale + offset) * kFixed);
-        t.sy0 = to_int(((1.0f - t.ny0) * sy_scale + offset) * kFixed);
+        // (Lanes with no surface start at texel 0, which every path can read.)
+        t.sx0 = select(t.surface, to_int(((t.nx0 + 1.0f) * sx_scale + offset) * kFixed), Int{});
+        t.sy0 = select(t.surface, to_int(((1.0f - t.ny0) * sy_scale + offset) * kFixed), Int{});
         // The frame in clip space, reach long: a direction's end is the
         // start plus a mix of these, with the direction's weights. An
         // orthographic march's key is z, so its third row is the frame's z.
@@ -300,6 +306,13 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         m.dsx = fixed_step((nx1 - t.nx0) * (sx_scale * kStep * kFixed));
         m.dsy = fixed_step((t.ny0 - ny1) * (sy_scale * kStep * kFixed));
         m.dk = (k1 - t.k0) * kStep;
+        // A march is straight and starts on the grid: it stays within the
+        // border if its end does.
+        const Int ex = (t.sx0 + AoFrame::kSteps * m.dsx) >> 16;
+        const Int ey = (t.sy0 + AoFrame::kSteps * m.dsy) >> 16;
+        constexpr int border = AoFrame::kBorder;
+        m.bordered = !simd::bits(t.surface & ((ex < -border) | (ex >= f.width + border) |
+                                              (ey < -border) | (ey >= f.height + border)));
     };
 
     // Whether the march is blocked: a step reads a surface nearer than the
@@ -309,15 +322,17 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // for m the plane's, which is the one test for the larger of the two;
     // the last, there - here < reach there here, is
     // there (1 - reach here) < here.
-    const auto march = [&](const MarchStart& t, const MarchStep& m, int y) {
+    const auto march = [&](const MarchStart& t, const MarchStep& m, int y, auto bordered) {
         Int sx = t.sx0, sy = t.sy0;
         Int blocked = Int{};
         for (int s = 1; s <= AoFrame::kSteps; ++s) {
             sx += m.dsx, sy += m.dsy;
-            // Off the grid, the border: its key 0 blocks nothing.
+            // Past the border, its first texel: a key of 0 blocks nothing.
             Int ix = sx >> 16, iy = sy >> 16;
-            ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
-            iy = iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy;
+            if constexpr (!decltype(bordered)::value) {
+                ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
+                iy = iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy;
+            }
             const Float there = simd::gather(f.key, iy * f.key_stride + ix);
             const Float here = t.k0 + float(s) * m.dk;  // the march's key
             const Float plane = t.plane_key + t.plane_dx * simd::to_float(ix - t.x) +
@@ -335,36 +350,59 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 
     for (int y = first; y < first + count; ++y) {
         const int row = y * f.width;
-        for (int x0 = x_first; x0 < x_end; x0 += kPhases * kWidth) {
-            uint32_t any = 0;
-            for (int phase = 0; phase < kPhases; ++phase) {
-                begin(start[phase], lane + (x0 + phase), y);
-                any |= simd::bits(start[phase].surface);
+        for (int x0 = x_first; x0 < x_end; x0 += kGroup) {
+            const auto first_texel = [&](int v) { return x0 + (v / 4) * 4 * kWidth + v % 4; };
+            bool any = false;
+            for (int v = 0; v < kVectors; ++v) {
+                begin(start[v], lane + first_texel(v), y);
+                any |= simd::bits(start[v].surface) != 0;
             }
-            Float open[kPhases] = {};
-            for (int k0 = 0; any && k0 < f.samples; k0 += kBatch) {
-                const int batch = std::min(kBatch, f.samples - k0);
-                for (int phase = 0; phase < kPhases; ++phase) {
-                    if (!simd::bits(start[phase].surface)) continue;
-                    const float* turn = f.directions + size_t(3 * f.samples) *
-                                                           size_t(phase * 4 + (y & 3));
-                    for (int k = 0; k < batch; ++k)
-                        aim(steps[phase][k], start[phase], turn[k0 + k],
-                            turn[f.samples + k0 + k], turn[2 * f.samples + k0 + k]);
+            // The two most grazing directions first (the last two: the
+            // directions' elevations fall with their index); where both are
+            // open for every texel of the group, the group is taken as open.
+            // A grazing direction is the first a nearby occluder blocks; only
+            // an overhang within reach could block a steeper one alone.
+            Float open[kVectors] = {};
+            const auto direction = [&](int i) { return i < 2 ? f.samples - 1 - i : i - 2; };
+            for (int i0 = 0; any && i0 < f.samples;) {
+                const int batch = std::min(i0 == 0 ? 2 : kBatch, f.samples - i0);
+                for (int v = 0; v < kVectors; ++v) {
+                    if (!simd::bits(start[v].surface)) continue;
+                    // Texel x turns its directions by (x & 3) * 4 + (y & 3).
+                    const float* turn =
+                        f.directions + size_t(3 * f.samples) * size_t((v % 4) * 4 + (y & 3));
+                    for (int k = 0; k < batch; ++k) {
+                        const int d = direction(i0 + k);
+                        aim(steps[v][k], start[v], turn[d], turn[f.samples + d],
+                            turn[2 * f.samples + d]);
+                    }
                 }
-                for (int phase = 0; phase < kPhases; ++phase) {
-                    if (!simd::bits(start[phase].surface)) continue;
-                    for (int k = 0; k < batch; ++k)
-                        open[phase] += select(march(start[phase], steps[phase][k], y), Float{},
-                                              Float{} + 1.0f);
+                for (int v = 0; v < kVectors; ++v) {
+                    if (!simd::bits(start[v].surface)) continue;
+                    for (int k = 0; k < batch; ++k) {
+                        const MarchStep& m = steps[v][k];
+                        const Int blocked = m.bordered
+                                                ? march(start[v], m, y, std::true_type{})
+                                                : march(start[v], m, y, std::false_type{});
+                        open[v] += select(blocked, Float{}, Float{} + 1.0f);
+                    }
+                }
+                i0 += batch;
+                if (i0 == 2 && i0 < f.samples) {
+                    uint32_t closed = 0;
+                    for (int v = 0; v < kVectors; ++v)
+                        closed |= simd::bits(start[v].surface & (open[v] != 2.0f));
+                    if (!closed) {
+                        for (Float& o : open) o = Float{} + float(f.samples);
+                        break;
+                    }
                 }
             }
-            for (int phase = 0; phase < kPhases; ++phase) {
-                const Float visible = select(start[phase].surface,
-                                             open[phase] * (1.0f / float(f.samples)),
+            for (int v = 0; v < kVectors; ++v) {
+                const Float visible = select(start[v].surface, open[v] * (1.0f / float(f.samples)),
                                              Float{} + 1.0f);
                 for (int i = 0; i < kWidth; ++i)
-                    if (x0 + phase + 4 * i < x_end) f.raw[row + x0 + phase + 4 * i] = visible[i];
+                    if (first_texel(v) + 4 * i < x_end) f.raw[row + first_texel(v) + 4 * i] = visible[i];
             }
         }
     }
@@ -465,15 +503,12 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
             const Int columns[2] = {i0 < f.width - 1 ? i0 : Int{} + (f.width - 1),
                                     i0 + 1 < f.width - 1 ? i0 + 1 : Int{} + (f.width - 1)};
             const Float inv_z = 1.0f / select(surface, z, Float{} + 1.0f);
-            Float sum = Float{}, weight = Float{}, nearest = Float{} + 1.0f,
-                  closest = Float{} + INFINITY;
             // At half size a vector of pixels spans half as many texels,
             // in order: two loads and a spread of each, where they lie within
             // the row; else gathers.
             const int base = x0 / 2;
             const bool spread = f.scale == 2 && base + kWidth <= f.width;
-            for (int corner = 0; corner < 4; ++corner) {
-                Float zt, at;
+            const auto texels = [&](int corner, Float& zt, Float& at) {
                 const int texel_row = (corner & 2 ? j1 : j0) * f.width;
                 if (spread) {
                     const Float zs = simd::load<Float>(f.z + texel_row + base);
@@ -484,20 +519,37 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
                     const Int k = columns[corner & 1] + texel_row;
                     zt = simd::gather(f.z, k), at = simd::gather(f.blurred, k);
                 }
+            };
+            // A row of texels with no weight (fy 0: the pixel's row is the
+            // texels') adds nothing to the sums.
+            Float sum = Float{}, weight = Float{};
+            for (int corner = 0; corner < (fy == 0.0f ? 2 : 4); ++corner) {
+                Float zt, at;
+                texels(corner, zt, at);
                 const Float wx = corner & 1 ? fx : 1.0f - fx;
                 const float wy = corner & 2 ? fy : 1.0f - fy;
-                const Float difference = (zt - z) * inv_z;
-                const Float w = select(zt != 0.0f, wx * wy * depth_weight(difference), Float{});
+                const Float w =
+                    select(zt != 0.0f, wx * wy * depth_weight((zt - z) * inv_z), Float{});
                 sum += w * at;
                 weight += w;
-                const Float distance =
-                    select(zt != 0.0f, difference * difference, Float{} + INFINITY);
-                const Int nearer = distance < closest;
-                closest = select(nearer, distance, closest);
-                nearest = select(nearer, at, nearest);
             }
             const Int enough = weight > 1e-4f;
-            const Float v = select(enough, sum / select(enough, weight, Float{} + 1.0f), nearest);
+            Float v = sum / select(enough, weight, Float{} + 1.0f);
+            if (simd::bits(surface & ~enough)) {
+                // Rarely (across an edge): the texel of the four nearest in depth.
+                Float nearest = Float{} + 1.0f, closest = Float{} + INFINITY;
+                for (int corner = 0; corner < 4; ++corner) {
+                    Float zt, at;
+                    texels(corner, zt, at);
+                    const Float difference = (zt - z) * inv_z;
+                    const Float distance =
+                        select(zt != 0.0f, difference * difference, Float{} + INFINITY);
+                    const Int nearer = distance < closest;
+                    closest = select(nearer, distance, closest);
+                    nearest = select(nearer, at, nearest);
+                }
+                v = select(enough, v, nearest);
+            }
             store_row(f.visibility + row, x0, f.target_width, select(surface, v, Float{} + 1.0f));
         }
     }

@@ -67,8 +67,10 @@ struct AoFrame {
     float* z = nullptr;               // ... its z; 0 where nothing was drawn
     // What the marches compare, per texel: 1 / -z with a perspective
     // projection, z with an orthographic one; 0 where nothing was drawn,
-    // and in a border of one texel around the grid: texel (i, j) at
-    // key[j * key_stride + i], for -1 <= i <= width and -1 <= j <= height.
+    // and in a border of kBorder texels around the grid: texel (i, j) at
+    // key[j * key_stride + i], for -kBorder <= i < width + kBorder and the
+    // same for j. A march that stays within it needs no clamping.
+    static constexpr int kBorder = 32;
     float* key = nullptr;
     int key_stride = 0;
     bool perspective = true;
