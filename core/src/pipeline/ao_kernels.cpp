@@ -440,14 +440,29 @@ void ao_blur_rows(const AoFrame& f, int first, int count) {
                 store_row(f.blurred + row, x0, f.width, Float{} + 1.0f);
                 continue;
             }
+            const int j_first = std::max(y - 1, 0), j_last = std::min(y + 2, f.height - 1);
+            const bool inside = x0 >= 1 && x0 + kWidth + 2 <= f.width;
+            if (inside) {
+                // Open wherever the window is open: the weighted mean of ones
+                // is exactly one (every term of the sum is its weight's).
+                Int open = Int{} - 1;
+                for (int j = j_first; j <= j_last; ++j)
+                    for (int dx = -1; dx <= 2; ++dx)
+                        open &= simd::load<Float>(f.raw + size_t(j) * size_t(f.width) +
+                                                  size_t(x0 + dx)) == 1.0f;
+                if (simd::bits(open) == (1u << kWidth) - 1u) {
+                    store_row(f.blurred + row, x0, f.width, Float{} + 1.0f);
+                    continue;
+                }
+            }
             const Float inv_z = 1.0f / select(surface, z, Float{} + 1.0f);
             Float sum = Float{}, weight = Float{};
-            for (int j = std::max(y - 1, 0); j <= std::min(y + 2, f.height - 1); ++j) {
+            for (int j = j_first; j <= j_last; ++j) {
                 const size_t at = size_t(j) * size_t(f.width);
                 for (int dx = -1; dx <= 2; ++dx) {
                     Int in = Int{} - 1;  // lanes whose neighbour x0 + i + dx is in the row
                     Float zn{}, raw{};
-                    if (x0 >= 1 && x0 + kWidth + 2 <= f.width) {
+                    if (inside) {
                         zn = simd::load<Float>(f.z + at + size_t(x0 + dx));
                         raw = simd::load<Float>(f.raw + at + size_t(x0 + dx));
                     } else {
@@ -489,25 +504,31 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
             // The pixel's view z, from its depth (rows are padded: whole loads).
             const Float d = simd::load<Float>(depth + x0);
             const Float ndc_x = (simd::to_float(lane + x0) + 0.5f) * (2.0f / float(f.target_width)) - 1.0f;
-            const Float zv = (f.z_row.x * ndc_x + (f.z_row.y * ndc_y + f.z_row.w)) + f.z_row.z * d;
-            const Float wv = (f.w_row.x * ndc_x + (f.w_row.y * ndc_y + f.w_row.w)) + f.w_row.z * d;
             const Int surface = (d != f.background) & (lane + x0 < f.target_width);
-            const Float z = select(surface, zv / select(surface, wv, Float{} + 1.0f), Float{});
-            if (!simd::bits(surface)) {
+            // At half size a vector of pixels spans half as many texels,
+            // in order: two loads and a spread of each, where they lie within
+            // the row; else gathers.
+            const int base = x0 / 2;
+            const bool spread = f.scale == 2 && base + kWidth <= f.width;
+            // Open where the texels around are open: the weighted mean of
+            // ones, and the nearest of them, is exactly one.
+            const bool open =
+                spread && simd::bits((simd::load<Float>(f.blurred + j0 * f.width + base) == 1.0f) &
+                                     (simd::load<Float>(f.blurred + j1 * f.width + base) == 1.0f)) ==
+                              (1u << kWidth) - 1u;
+            if (open || !simd::bits(surface)) {
                 store_row(f.visibility + row, x0, f.target_width, Float{} + 1.0f);
                 continue;
             }
+            const Float zv = (f.z_row.x * ndc_x + (f.z_row.y * ndc_y + f.z_row.w)) + f.z_row.z * d;
+            const Float wv = (f.w_row.x * ndc_x + (f.w_row.y * ndc_y + f.w_row.w)) + f.w_row.z * d;
+            const Float z = select(surface, zv / select(surface, wv, Float{} + 1.0f), Float{});
             const Int x = lane + x0;
             const Int i0 = f.scale == 2 ? x >> 1 : x;
             const Float fx = simd::to_float(x - i0 * f.scale) * inv_scale;
             const Int columns[2] = {i0 < f.width - 1 ? i0 : Int{} + (f.width - 1),
                                     i0 + 1 < f.width - 1 ? i0 + 1 : Int{} + (f.width - 1)};
             const Float inv_z = 1.0f / select(surface, z, Float{} + 1.0f);
-            // At half size a vector of pixels spans half as many texels,
-            // in order: two loads and a spread of each, where they lie within
-            // the row; else gathers.
-            const int base = x0 / 2;
-            const bool spread = f.scale == 2 && base + kWidth <= f.width;
             const auto texels = [&](int corner, Float& zt, Float& at) {
                 const int texel_row = (corner & 2 ? j1 : j0) * f.width;
                 if (spread) {
