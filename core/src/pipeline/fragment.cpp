@@ -175,6 +175,12 @@ Rgba shaded(const float* color, int p) {
 // Ambient visibility of each lane; lanes off the target read 1.
 void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
     const int w = dc.target->width(), h = dc.target->height();
+    if (b.x + 4 <= w && b.y + N / 4 <= h) {  // a whole block: rows of four
+        for (int r = 0; r < N / 4; ++r)
+            std::memcpy(ao + 4 * r, dc.ao + size_t(b.y + r) * size_t(w) + size_t(b.x),
+                        4 * sizeof(float));
+        return;
+    }
     for (int i = 0; i < N; ++i) {
         const int x = b.x + i % 4, y = b.y + i / 4;
         ao[i] = x < w && y < h ? dc.ao[size_t(y) * w + x] : 1.0f;
