@@ -20,10 +20,16 @@
 // surface by less than `radius`, a surface that stands above the texel's
 // tangent plane. This estimates the same quantity a ray tracer does
 // (cosine-weighted visibility within the radius) from what the screen
-// shows. A depth-aware 4x4 blur removes the pattern's noise without
-// bleeding across depth edges, and at half resolution a depth-aware
-// bilinear upsample gives each target pixel the visibility of the texels
-// around it that lie at its depth.
+// shows. The two most grazing directions go first: a group of 64 texels of
+// a row where both are open everywhere is taken as open (a nearby occluder
+// blocks the grazing directions first; only an overhang within reach could
+// block a steeper one alone), which spares the open floor of a typical
+// scene most of its marches and, against the ray caster, cost no accuracy
+// (facet-bench-shadow-ao). A depth-aware 4x4 blur removes the pattern's
+// noise without bleeding across depth edges, and at half resolution a
+// depth-aware bilinear upsample gives each target pixel the visibility of
+// the texels around it that lie at its depth; where everything they would
+// weigh is open, both give open without weighing.
 //
 // The occlusion, blur and upsample are per-ISA kernels (pipeline/ao_kernels.cpp, with the other kernels of the path),
 // kWidth texels at a time, and every stage runs on the pipeline's threads.

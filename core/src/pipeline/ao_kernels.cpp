@@ -421,7 +421,9 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 // and compares keys (1 / w, or z) rather than depths: no division per step.
 // A step is blocked only by a surface above the texel's tangent plane
 // (whose key is affine over the grid), so that a lookup half a texel off
-// never takes the surface itself for an occluder.
+// never takes the surface itself for an occluder. Each group of 64 texels
+// of a row marches its two most grazing directions first, and is taken as
+// open, without the rest, where both are open for all of its texels.
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     if (f.perspective) occlusion_rows<true>(f, first, count, x_first, x_count);
     else occlusion_rows<false>(f, first, count, x_first, x_count);
