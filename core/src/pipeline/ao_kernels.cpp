@@ -204,27 +204,27 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // tangent plane (float error and curvature), and less than reach.
     const float tol = 0.005f * f.radius, reach = f.radius;
     // A group: 64 texels of a row, whatever the path, as kVectors vectors
-    // (vector v: texels x0 + (v / 4) 4 kWidth + (v % 4) + 4 i), so that
-    // every path takes the same groups as open.
+    // of kWidth neighbours, so that every path takes the same groups as
+    // open.
     constexpr int kGroup = 64, kVectors = kGroup / kWidth, kBatch = 8;
     MarchStart start[kVectors];
     MarchStep steps[kVectors][kBatch];
     Int lane;
-    for (int i = 0; i < kWidth; ++i) lane[i] = 4 * i;
+    for (int i = 0; i < kWidth; ++i) lane[i] = i;
     const int x_end = std::min(x_first + x_count, f.width);
 
-    // Texels x (lanes 4 apart) of row y: where their marches start.
-    const auto begin = [&](MarchStart& t, const Int& x, int y) {
-        const int row = y * f.width;
-        const Int in_row = x < x_end;
-        const Int at = select(in_row, x + row, Int{} + row);
-        const Float pz = select(in_row, simd::gather(f.z, at), Float{});
-        t.x = x;
+    // Texels x0 .. x0 + kWidth - 1 of row y: where their marches start.
+    const auto begin = [&](MarchStart& t, int x0, int y) {
+        const size_t row = size_t(y) * size_t(f.width);
+        t.x = lane + x0;
+        const Float pz = select(t.x < x_end, load_row(f.z + row, x0, f.width, 0.0f), Float{});
         t.surface = pz != 0.0f;  // background texels stay visible
         if (!simd::bits(t.surface)) return;
-        const Float px = simd::gather(f.x, at), py = simd::gather(f.y, at);
-        const Float nx = simd::gather(f.nx, at), ny = simd::gather(f.ny, at),
-                    nz = simd::gather(f.nz, at);
+        const Float px = load_row(f.x + row, x0, f.width, 0.0f),
+                    py = load_row(f.y + row, x0, f.width, 0.0f);
+        const Float nx = load_row(f.nx + row, x0, f.width, 0.0f),
+                    ny = load_row(f.ny + row, x0, f.width, 0.0f),
+                    nz = load_row(f.nz + row, x0, f.width, 1.0f);
         // A tangent frame: t perpendicular to n (n x X, or n x Y near X), b = n x t.
         const Int near_x = (nx < -0.9f) | (nx > 0.9f);
         Float tx = select(near_x, -nz, Float{}), ty = select(near_x, Float{}, nz),
@@ -284,7 +284,8 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // Direction h's step from start t: the direction's end, `reach` away,
     // projected once; on the screen the march is a straight segment,
     // stepped evenly, along which the key is linear too.
-    const auto aim = [&](MarchStep& m, const MarchStart& t, float hx, float hy, float hz) {
+    const auto aim = [&](MarchStep& m, const MarchStart& t, const Float& hx, const Float& hy,
+                         const Float& hz) {
         const Float cex = t.cpx + (t.tcx * hx + t.bcx * hy + t.ncx * hz);
         const Float cey = t.cpy + (t.tcy * hx + t.bcy * hy + t.ncy * hz);
         const Float cew = t.cpw + (t.tcw * hx + t.bcw * hy + t.ncw * hz);
@@ -350,11 +351,20 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 
     for (int y = first; y < first + count; ++y) {
         const int row = y * f.width;
+        // Texel x turns its directions by (x & 3) * 4 + (y & 3), and a
+        // vector starts at a multiple of 4: lane i takes turn (i & 3) * 4 +
+        // (y & 3). Direction k of each lane, for the row.
+        const auto lane_direction = [&](int k, Float& hx, Float& hy, Float& hz) {
+            for (int i = 0; i < kWidth; ++i) {
+                const float* turn =
+                    f.directions + size_t(3 * f.samples) * size_t((i & 3) * 4 + (y & 3));
+                hx[i] = turn[k], hy[i] = turn[f.samples + k], hz[i] = turn[2 * f.samples + k];
+            }
+        };
         for (int x0 = x_first; x0 < x_end; x0 += kGroup) {
-            const auto first_texel = [&](int v) { return x0 + (v / 4) * 4 * kWidth + v % 4; };
             bool any = false;
             for (int v = 0; v < kVectors; ++v) {
-                begin(start[v], lane + first_texel(v), y);
+                begin(start[v], x0 + v * kWidth, y);
                 any |= simd::bits(start[v].surface) != 0;
             }
             // The two most grazing directions first (the last two: the
@@ -366,16 +376,11 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
             const auto direction = [&](int i) { return i < 2 ? f.samples - 1 - i : i - 2; };
             for (int i0 = 0; any && i0 < f.samples;) {
                 const int batch = std::min(i0 == 0 ? 2 : kBatch, f.samples - i0);
-                for (int v = 0; v < kVectors; ++v) {
-                    if (!simd::bits(start[v].surface)) continue;
-                    // Texel x turns its directions by (x & 3) * 4 + (y & 3).
-                    const float* turn =
-                        f.directions + size_t(3 * f.samples) * size_t((v % 4) * 4 + (y & 3));
-                    for (int k = 0; k < batch; ++k) {
-                        const int d = direction(i0 + k);
-                        aim(steps[v][k], start[v], turn[d], turn[f.samples + d],
-                            turn[2 * f.samples + d]);
-                    }
+                for (int k = 0; k < batch; ++k) {
+                    Float hx{}, hy{}, hz{};
+                    lane_direction(direction(i0 + k), hx, hy, hz);
+                    for (int v = 0; v < kVectors; ++v)
+                        if (simd::bits(start[v].surface)) aim(steps[v][k], start[v], hx, hy, hz);
                 }
                 for (int v = 0; v < kVectors; ++v) {
                     if (!simd::bits(start[v].surface)) continue;
@@ -399,10 +404,11 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                 }
             }
             for (int v = 0; v < kVectors; ++v) {
+                const int first_texel = x0 + v * kWidth;
+                if (first_texel >= x_end) break;
                 const Float visible = select(start[v].surface, open[v] * (1.0f / float(f.samples)),
                                              Float{} + 1.0f);
-                for (int i = 0; i < kWidth; ++i)
-                    if (first_texel(v) + 4 * i < x_end) f.raw[row + first_texel(v) + 4 * i] = visible[i];
+                store_row(f.raw + size_t(row), first_texel, x_end, visible);
             }
         }
     }
@@ -414,9 +420,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 // the share of the texel's `samples` directions whose march is not blocked,
 // over columns [x_first, x_first + x_count) (x_first a multiple of 64).
 // Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
-// are texels of one row 4 apart, which share that turn, so that their
-// marches stay side by side on the screen and each step's loads fall on a
-// few cache lines. A direction's march reaches `radius` along it in
+// are neighbours in a row, so that its start reads whole vectors. A direction's march reaches `radius` along it in
 // AoFrame::kSteps even steps of its segment on the screen, in fixed point,
 // and compares keys (1 / w, or z) rather than depths: no division per step.
 // A step is blocked only by a surface above the texel's tangent plane
