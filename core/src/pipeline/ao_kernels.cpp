@@ -269,7 +269,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
             const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
             const Int tilted = t.surface & (d < 1e-6f * pz);
             const Float inv_d = 1.0f / select(tilted, d, Float{} - 1.0f);
-            t.plane_key = select(tilted, -1.0f / select(t.surface, pz, Float{} - 1.0f), Float{});
+            t.plane_key = select(tilted, t.k0, Float{});  // the texel's own key: w = -z
             t.plane_dx = select(tilted, nx * inv_d * per_x, Float{});
             t.plane_dy = select(tilted, ny * inv_d * per_y, Float{});
         } else {
