@@ -144,6 +144,9 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     // within a few hundred kilobytes; row bands as wide as the image would
     // reach over several megabytes and miss the cache.
     constexpr int kTileWidth = 128, kTileRows = 16;
+    // Tiles start at multiples of 64: the occlusion's groups of 64 texels,
+    // and each texel's turn of the direction set, depend on it.
+    static_assert(kTileWidth % 64 == 0);
     const int columns = (f.width + kTileWidth - 1) / kTileWidth;
     const int tile_rows = (f.height + kTileRows - 1) / kTileRows;
     pool.parallel_for(columns * tile_rows, [&](int tile, int) {

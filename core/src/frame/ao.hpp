@@ -23,16 +23,18 @@
 // shows. The two most grazing directions go first: a group of 64 texels of
 // a row where both are open everywhere is taken as open (a nearby occluder
 // blocks the grazing directions first; only an overhang within reach could
-// block a steeper one alone), which spares the open floor of a typical
-// scene most of its marches and, against the ray caster, cost no accuracy
+// block a steeper one alone). That spares the open floor of a typical
+// scene most of its marches, at no cost in accuracy against the ray caster
 // (facet-bench-shadow-ao). A depth-aware 4x4 blur removes the pattern's
 // noise without bleeding across depth edges, and at half resolution a
 // depth-aware bilinear upsample gives each target pixel the visibility of
-// the texels around it that lie at its depth; where everything they would
-// weigh is open, both give open without weighing.
+// the texels around it that lie at its depth. Where everything they would
+// weigh is open, both give open without weighing (the blur away from a
+// row's ends, the upsample where a vector's texels are in whole loads).
 //
-// The occlusion, blur and upsample are per-ISA kernels (pipeline/ao_kernels.cpp, with the other kernels of the path),
-// kWidth texels at a time, and every stage runs on the pipeline's threads.
+// The occlusion, blur and upsample are per-ISA kernels
+// (pipeline/ao_kernels.cpp, with the other kernels of the path), kWidth
+// texels at a time, and every stage runs on the pipeline's threads.
 #pragma once
 
 #include "pipeline/kernels.hpp"
@@ -80,7 +82,7 @@ private:
     // The grid the positions' padding and the key's border were zeroed for:
     // the passes write only inside the grid, so they stay zero until it
     // changes.
-    int zeroed_width_ = 0, zeroed_height_ = 0;
+    int zeroed_width_ = -1, zeroed_height_ = -1;  // -1: never
     std::vector<float> directions_;
     int direction_samples_ = 0;  // what directions_ holds
     std::vector<float> raw_, blurred_, visibility_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 namespace facet::FACET_KERNEL_NS {
@@ -182,9 +183,9 @@ struct MarchStep {
 };
 
 // The marches of ao_occlusion_rows for one path and projection. A vector's
-// work comes in three stages: each phase's start, then each direction's
-// step, then the marches. The first two are chains of dependent operations
-// (gathers, square roots, divisions); done for all phases and a batch of
+// work comes in three stages: its start, then each direction's step, then
+// the marches. The first two are chains of dependent operations (square
+// roots, divisions); done for every vector of a group and a batch of
 // directions before any march, they overlap, and no march waits on them.
 template <bool Perspective>
 void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
@@ -265,6 +266,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         // turn their slopes into steps of a texel. A plane seen edge on
         // blocks nothing: its key is one below every march's (0 for keys
         // 1 / w, which are positive; the lowest float for z).
+        constexpr float kLowest = std::numeric_limits<float>::lowest();
         if constexpr (Perspective) {
             const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
             const Int tilted = t.surface & (d < 1e-6f * pz);
@@ -275,7 +277,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         } else {
             const Int tilted = t.surface & (nz > 1e-6f);
             const Float inv_nz = 1.0f / select(tilted, nz, Float{} + 1.0f);
-            t.plane_key = select(tilted, pz, Float{} - 3.4e38f);
+            t.plane_key = select(tilted, pz, Float{} + kLowest);
             t.plane_dx = select(tilted, -nx * inv_nz * per_x, Float{});
             t.plane_dy = select(tilted, -ny * inv_nz * per_y, Float{});
         }
@@ -318,17 +320,17 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 
     // Whether the march is blocked: a step reads a surface nearer than the
     // march by tol .. reach (in view units, compared on keys without a
-    // division) and above the tangent plane by tol. For keys 1 / w the
-    // first two read there - m > tol there m for m the march's key, and
-    // for m the plane's, which is the one test for the larger of the two;
-    // the last, there - here < reach there here, is
-    // there (1 - reach here) < here.
+    // division) and above the tangent plane by tol. For keys 1 / w the two
+    // tests by tol read there - m > tol there m, for m the march's key and
+    // for m the plane's, which is the one test for the larger m; the reach
+    // test, there - here < reach there here, is there (1 - reach here) < here.
     const auto march = [&](const MarchStart& t, const MarchStep& m, int y, auto bordered) {
         Int sx = t.sx0, sy = t.sy0;
         Int blocked = Int{};
         for (int s = 1; s <= AoFrame::kSteps; ++s) {
             sx += m.dsx, sy += m.dsy;
-            // Past the border, its first texel: a key of 0 blocks nothing.
+            // Off the grid, the border (key 0, which blocks nothing): read as
+            // it is by a bordered march, else clamped to its first texel.
             Int ix = sx >> 16, iy = sy >> 16;
             if constexpr (!decltype(bordered)::value) {
                 ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
@@ -420,9 +422,10 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 // the share of the texel's `samples` directions whose march is not blocked,
 // over columns [x_first, x_first + x_count) (x_first a multiple of 64).
 // Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
-// are neighbours in a row, so that its start reads whole vectors. A direction's march reaches `radius` along it in
-// AoFrame::kSteps even steps of its segment on the screen, in fixed point,
-// and compares keys (1 / w, or z) rather than depths: no division per step.
+// are neighbours in a row, so that its start reads whole vectors. A
+// direction's march reaches `radius` along it in AoFrame::kSteps even steps
+// of its segment on the screen, in fixed point, and compares keys (1 / w,
+// or z) rather than depths: no division per step.
 // A step is blocked only by a surface above the texel's tangent plane
 // (whose key is affine over the grid), so that a lookup half a texel off
 // never takes the surface itself for an occluder. Each group of 64 texels
@@ -509,7 +512,8 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
         for (int x0 = 0; x0 < f.target_width; x0 += kWidth) {
             // The pixel's view z, from its depth (rows are padded: whole loads).
             const Float d = simd::load<Float>(depth + x0);
-            const Float ndc_x = (simd::to_float(lane + x0) + 0.5f) * (2.0f / float(f.target_width)) - 1.0f;
+            const Float ndc_x =
+                (simd::to_float(lane + x0) + 0.5f) * (2.0f / float(f.target_width)) - 1.0f;
             const Int surface = (d != f.background) & (lane + x0 < f.target_width);
             // At half size a vector of pixels spans half as many texels,
             // in order: two loads and a spread of each, where they lie within
@@ -518,10 +522,10 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
             const bool spread = f.scale == 2 && base + kWidth <= f.width;
             // Open where the texels around are open: the weighted mean of
             // ones, and the nearest of them, is exactly one.
-            const bool open =
-                spread && simd::bits((simd::load<Float>(f.blurred + j0 * f.width + base) == 1.0f) &
-                                     (simd::load<Float>(f.blurred + j1 * f.width + base) == 1.0f)) ==
-                              (1u << kWidth) - 1u;
+            const auto ones = [&](int j) {
+                return simd::load<Float>(f.blurred + j * f.width + base) == 1.0f;
+            };
+            const bool open = spread && simd::bits(ones(j0) & ones(j1)) == (1u << kWidth) - 1u;
             if (open || !simd::bits(surface)) {
                 store_row(f.visibility + row, x0, f.target_width, Float{} + 1.0f);
                 continue;

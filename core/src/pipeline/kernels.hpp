@@ -128,13 +128,11 @@ struct Kernels {
     void (*decode_pixels)(ColorFormat format, const uint8_t* in, size_t count, glm::vec4* linear);
     // AO rows [first, first + count) (ao_kernels.cpp): the view position of
     // each texel's surface, then its normal (the positions of the rows
-    // around it must be done);
-    // (within columns [x_first, x_first + x_count), x_first a multiple of
-    // 64) and its blur, on the AO grid; the depth-aware upsample, on the
-    // target's.
+    // around it must be done), its raw visibility (within columns
+    // [x_first, x_first + x_count), x_first a multiple of 64) and its blur,
+    // on the AO grid; the depth-aware upsample, on the target's.
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
     void (*ao_normal_rows)(const AoFrame& f, int first, int count);
-    // raw visibility
     void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
     void (*ao_blur_rows)(const AoFrame& f, int first, int count);
     void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
