@@ -33,13 +33,15 @@ glm::vec3 hemisphere(int k, int n, float angle) {
 void AoPass::make_directions(int samples) {
     if (direction_samples_ == samples) return;
     directions_.resize(size_t(16 * 3 * samples));
-    for (int rotation = 0; rotation < 16; ++rotation)
-        for (int k = 0; k < samples; ++k) {
-            const glm::vec3 d =
-                hemisphere(k, samples, float(rotation) * (glm::two_pi<float>() / 16.0f));
-            for (int c = 0; c < 3; ++c)
-                directions_[size_t((rotation * 3 + c) * samples + k)] = d[c];
-        }
+    for (int row = 0; row < 4; ++row)         // y & 3
+        for (int k = 0; k < samples; ++k)
+            for (int column = 0; column < 4; ++column) {  // x & 3
+                const int rotation = column * 4 + row;
+                const glm::vec3 d =
+                    hemisphere(k, samples, float(rotation) * (glm::two_pi<float>() / 16.0f));
+                for (int c = 0; c < 3; ++c)
+                    directions_[size_t(((row * samples + k) * 3 + c) * 4 + column)] = d[c];
+            }
     direction_samples_ = samples;
 }
 
@@ -144,9 +146,9 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     // within a few hundred kilobytes; row bands as wide as the image would
     // reach over several megabytes and miss the cache.
     constexpr int kTileWidth = 128, kTileRows = 16;
-    // Tiles start at multiples of 64: the occlusion's groups of 64 texels,
-    // and each texel's turn of the direction set, depend on it.
-    static_assert(kTileWidth % 64 == 0);
+    // Tiles start at multiples of the occlusion's group of texels, on which
+    // its groups and each texel's turn of the direction set depend.
+    static_assert(kTileWidth % AoFrame::kGroup == 0);
     const int columns = (f.width + kTileWidth - 1) / kTileWidth;
     const int tile_rows = (f.height + kTileRows - 1) / kTileRows;
     pool.parallel_for(columns * tile_rows, [&](int tile, int) {

@@ -207,7 +207,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // A group: 64 texels of a row, whatever the path, as kVectors vectors
     // of kWidth neighbours, so that every path takes the same groups as
     // open.
-    constexpr int kGroup = 64, kVectors = kGroup / kWidth, kBatch = 8;
+    constexpr int kGroup = AoFrame::kGroup, kVectors = kGroup / kWidth, kBatch = 8;
     MarchStart start[kVectors];
     MarchStep steps[kVectors][kBatch];
     Int lane;
@@ -354,14 +354,12 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     for (int y = first; y < first + count; ++y) {
         const int row = y * f.width;
         // Texel x turns its directions by (x & 3) * 4 + (y & 3), and a
-        // vector starts at a multiple of 4: lane i takes turn (i & 3) * 4 +
-        // (y & 3). Direction k of each lane, for the row.
+        // vector starts at a multiple of 4: lane i takes turn i & 3 of the
+        // row's four. Direction k of each lane, for the row.
         const auto lane_direction = [&](int k, Float& hx, Float& hy, Float& hz) {
-            for (int i = 0; i < kWidth; ++i) {
-                const float* turn =
-                    f.directions + size_t(3 * f.samples) * size_t((i & 3) * 4 + (y & 3));
-                hx[i] = turn[k], hy[i] = turn[f.samples + k], hz[i] = turn[2 * f.samples + k];
-            }
+            const float* turns = f.directions + size_t(((y & 3) * f.samples + k) * 3) * 4;
+            for (int i = 0; i < kWidth; ++i)
+                hx[i] = turns[i & 3], hy[i] = turns[4 + (i & 3)], hz[i] = turns[8 + (i & 3)];
         };
         for (int x0 = x_first; x0 < x_end; x0 += kGroup) {
             bool any = false;
@@ -420,7 +418,8 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 
 // Ambient visibility of AO rows [first, first + count), before the blur:
 // the share of the texel's `samples` directions whose march is not blocked,
-// over columns [x_first, x_first + x_count) (x_first a multiple of 64).
+// over columns [x_first, x_first + x_count) (x_first a multiple of
+// AoFrame::kGroup).
 // Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
 // are neighbours in a row, so that its start reads whole vectors. A
 // direction's march reaches `radius` along it in AoFrame::kSteps even steps

@@ -71,13 +71,18 @@ struct AoFrame {
     // key[j * key_stride + i], for -kBorder <= i < width + kBorder and the
     // same for j. A march that stays within it needs no clamping.
     static constexpr int kBorder = 32;
+    // The occlusion decides whether texels are open 64 of a row at a time,
+    // whatever the path: its columns start at multiples of kGroup.
+    static constexpr int kGroup = 64;
     float* key = nullptr;
     int key_stride = 0;
     bool perspective = true;
     float* nx = nullptr;              // view-space unit normal
     float* ny = nullptr;
     float* nz = nullptr;
-    // Hemisphere directions around +Z: [16 rotations][x, y, z][samples].
+    // Hemisphere directions around +Z, turned for texel (x, y) by
+    // (x & 3) * 4 + (y & 3): [y & 3][samples][x, y, z][x & 3], so that the
+    // four turns along a row are four floats in a row.
     const float* directions = nullptr;
     float* raw = nullptr;             // visibility before the blur
     float* blurred = nullptr;         // ... after it
@@ -129,7 +134,7 @@ struct Kernels {
     // AO rows [first, first + count) (ao_kernels.cpp): the view position of
     // each texel's surface, then its normal (the positions of the rows
     // around it must be done), its raw visibility (within columns
-    // [x_first, x_first + x_count), x_first a multiple of 64) and its blur,
+    // [x_first, x_first + x_count), x_first a multiple of kGroup) and its blur,
     // on the AO grid; the depth-aware upsample, on the target's.
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
     void (*ao_normal_rows)(const AoFrame& f, int first, int count);
