@@ -132,6 +132,8 @@ struct DrawCall {
     const facet_shadow_distances* shadow_distances = nullptr;  // the same maps, or null
     const facet_shadow_map* cube_shadow_maps = nullptr;  // point lights: 6 faces a cube
     const facet_shadow_distances* cube_shadow_distances = nullptr;
+    const facet_shadow_planes* shadow_planes = nullptr;       // the distances' bounds, or null
+    const facet_shadow_planes* cube_shadow_planes = nullptr;
     uint32_t cube_shadow_map_count = 0;                  // cubes
     const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
     float time = 0.0f;

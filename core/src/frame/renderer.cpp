@@ -208,6 +208,8 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
         call.shadow_distances = passes_->shadow.distances.data();
         call.cube_shadow_maps = passes_->shadow.cube_abi.data();
         call.cube_shadow_distances = passes_->shadow.cube_distances.data();
+        call.shadow_planes = passes_->shadow.planes.data();
+        call.cube_shadow_planes = passes_->shadow.cube_planes.data();
         call.cube_shadow_map_count = uint32_t(passes_->shadow.cube_abi.size() / 6);
         stats.ms_shadow += elapsed_ms(t);
     }

@@ -52,19 +52,23 @@ struct ShadowMapKey {
 };
 
 // The maps of one frame: `abi` is the contiguous array of directional and
-// spot maps shaders receive, and `distances` the same maps as 16-bit
-// distances from the light (ABI 1.3); `cube_abi` and `cube_distances` the
-// faces of the point lights' cube maps, six a light. What each map (or
-// face) was drawn from is by slot, in the order of the lights: its depth
-// buffer, its distances with their border, and the key that describes them.
-// Storage is reused from frame to frame.
+// spot maps shaders receive, `distances` the same maps as 16-bit distances
+// from the light (ABI 1.3) and `planes` the planes that bound those tile by
+// tile (ABI 1.6); `cube_abi`, `cube_distances` and `cube_planes` the faces
+// of the point lights' cube maps, six a light. What each map (or face) was
+// drawn from is by slot, in the order of the lights: its depth buffer, its
+// distances with their border, their planes, and the key that describes
+// them. Storage is reused from frame to frame.
 struct ShadowMaps {
     std::vector<facet_shadow_map> abi;
     std::vector<facet_shadow_distances> distances;
+    std::vector<facet_shadow_planes> planes;
     std::vector<facet_shadow_map> cube_abi;
     std::vector<facet_shadow_distances> cube_distances;
+    std::vector<facet_shadow_planes> cube_planes;
     std::vector<Framebuffer> depth;
     std::vector<std::vector<uint16_t>> distance_texels;
+    std::vector<std::vector<float>> plane_tiles;
     std::vector<ShadowMapKey> key;
     ShadowMapKey next;               // scratch: this frame's key of one map
     std::vector<glm::vec3> corners;  // scratch for fitting

@@ -147,6 +147,8 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
         d.cube_shadow_map_count = call.cube_shadow_map_count;
         d.cube_shadow_maps = call.cube_shadow_maps;
         d.cube_shadow_distances = call.cube_shadow_distances;
+        d.shadow_planes = call.shadow_planes;
+        d.cube_shadow_planes = call.cube_shadow_planes;
     }
     d.viewport_width = uint32_t(width);
     d.viewport_height = uint32_t(height);

@@ -16,6 +16,7 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
 void ao_blur_rows(const AoFrame& f, int first, int count);
 void ao_upsample_rows(const AoFrame& f, int first, int count);
 void shadow_distance_rows(const ShadowDistanceRows& rows, int first, int count);  // shadow_kernels.cpp
+void shadow_plane_rows(const ShadowPlaneRows& rows, int first, int count);
 
 namespace {
 
@@ -71,4 +72,5 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::ao_blur_rows,
     &facet::FACET_KERNEL_NS::ao_upsample_rows,
     &facet::FACET_KERNEL_NS::shadow_distance_rows,
+    &facet::FACET_KERNEL_NS::shadow_plane_rows,
 };

@@ -110,6 +110,17 @@ struct ShadowDistanceRows {
     float near_plane = 0.0f, far_plane = 1.0f;
 };
 
+// What the shadow pass's other kernel reads and writes: a map's distances,
+// stored FACET_SHADOW_BORDER texels past each side, and the planes that
+// bound them tile by tile (facet_shadow_planes), width / FACET_SHADOW_TILE
+// tiles a row.
+struct ShadowPlaneRows {
+    const uint16_t* distances = nullptr;  // texel (0, 0)
+    int stride = 0;                       // texels from one row to the next
+    int width = 0;                        // the map's: a multiple of FACET_SHADOW_TILE
+    float* tiles = nullptr;               // tile (0, 0)'s four floats
+};
+
 struct Kernels {
     Isa isa;
     // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
@@ -144,6 +155,8 @@ struct Kernels {
     // Shadow map rows [first, first + count): window depth to distance
     // (shadow_kernels.cpp).
     void (*shadow_distance_rows)(const ShadowDistanceRows& rows, int first, int count);
+    // Rows of tiles [first, first + count): each tile's planes.
+    void (*shadow_plane_rows)(const ShadowPlaneRows& rows, int first, int count);
 };
 
 // The kernels of a supported path; throws Error(isa_unavailable) otherwise.

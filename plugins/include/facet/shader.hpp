@@ -319,10 +319,14 @@ inline wide::Float shadow_visibility(const facet_shadow_map& sm, const wide::Vec
 // from a host of ABI 1.3, the same map as 16-bit distances from the light
 // (facet_shadow_distances), which the filters below read when it is there:
 // half the bytes of a float map, read four texels a gather, no conversion per
-// tap, and no bounds test (the map's border reads as lit).
+// tap, and no bounds test (the map's border reads as lit). From a host of
+// ABI 1.6 also the planes that bound the distances tile by tile
+// (facet_shadow_planes), from which the filters settle most receivers
+// without reading a texel.
 struct ShadowMap {
     const facet_shadow_map* map = nullptr;
     const facet_shadow_distances* distances = nullptr;  // null: filter `map`
+    const facet_shadow_planes* planes = nullptr;        // null: read the taps
     explicit operator bool() const { return map != nullptr; }
 };
 
@@ -333,8 +337,11 @@ struct CubeShadow {
     const facet_shadow_map* faces = nullptr;
     const facet_shadow_distances* distances = nullptr;
     glm::vec3 light{0.0f};  // the light's position
+    const facet_shadow_planes* planes = nullptr;  // six, or null
     explicit operator bool() const { return faces != nullptr; }
-    ShadowMap face(int f) const { return {faces + f, distances + f}; }
+    ShadowMap face(int f) const {
+        return {faces + f, distances + f, planes && planes[f].tiles ? planes + f : nullptr};
+    }
 };
 
 // The face of a cube map that holds direction d: its largest component's
@@ -372,6 +379,24 @@ struct TapDistances {
 inline int32_t tap_threshold(float q) {
     if (!(q == q)) return 65535;
     return int32_t(std::ceil(std::clamp(q, 0.0f, 65535.0f)));
+}
+
+// The lowest and the highest distance a kernel of radius r <=
+// FACET_SHADOW_REACH around texel (cx, cy) can read, from the planes of the
+// tile that holds (cx, cy): the planes at (cx, cy), moved apart by the most
+// they rise or fall r texels away on each axis, and by a quarter unit more
+// than float rounding can move them (the host's slopes are at most 4096
+// units a texel, so no sum here reaches 2^18, below which each rounding is
+// within 1/64).
+static_assert(FACET_SHADOW_TILE == 8, "a texel's tile is its coordinates >> 3");
+struct Slab {
+    float low, high;
+};
+inline Slab slab(const facet_shadow_planes& g, int cx, int cy, int r) {
+    const float* t = g.tiles + 4 * (ptrdiff_t(cy >> 3) * ptrdiff_t(g.stride) + (cx >> 3));
+    const float nearest = t[0] + t[1] * float(cx & 7) + t[2] * float(cy & 7);
+    const float spread = (std::abs(t[1]) + std::abs(t[2])) * float(r);
+    return {nearest - spread - 0.25f, nearest + t[3] + spread + 0.25f};
 }
 }  // namespace detail
 
@@ -414,6 +439,13 @@ inline float shadow_visibility(const ShadowMap& m, glm::vec3 p, float n_dot_l, i
     const float step = texel * tan_t;  // a tap k texels away sees the receiver k * step deeper
     const int r = std::clamp(kernel, 1, 15) / 2;
     constexpr detail::TapDistances kTaps{};
+    if (m.planes && r <= FACET_SHADOW_REACH) {
+        // Taps are whole units and the centre's threshold the highest: above
+        // it less one, every tap is lit; below the corners', none is.
+        const detail::Slab s = detail::slab(*m.planes, int(fx), int(fy), r);
+        if (s.low > float(detail::tap_threshold(receiver - step * kTaps.at[0][0]) - 1)) return 1.0f;
+        if (s.high < float(detail::tap_threshold(receiver - step * kTaps.at[r][r]))) return 0.0f;
+    }
     const ptrdiff_t stride = m.distances->stride;
     const uint16_t* centre = m.distances->texels + ptrdiff_t(fy) * stride + ptrdiff_t(fx);
     int lit = 0;
@@ -552,6 +584,26 @@ inline wide::Mask lit_distances(const facet_shadow_distances& d, const wide::Mas
     }
     return join_halves(sum[0], sum[1]) - kExtra * (2 * R + 1);
 }
+
+// slab for each lane. Lane and scalar may round differently (one may fuse
+// a multiply and an add), but each is within its margin: either settles
+// only receivers that every tap or no tap of the kernel lights.
+struct WideSlab {
+    wide::Float low, high;
+};
+inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const wide::Mask& cy,
+                     int r) {
+    using namespace wide;
+    const Mask at = 4 * ((cy >> 3) * int(g.stride) + (cx >> 3));
+    const auto tile = [&](int k) {
+        return std::bit_cast<Float>(gather(reinterpret_cast<const uint32_t*>(g.tiles), at + k));
+    };
+    const Float nearest0 = tile(0), dx = tile(1), dy = tile(2), depth = tile(3);
+    const Float nearest = nearest0 + dx * __builtin_convertvector(cx & 7, Float) +
+                          dy * __builtin_convertvector(cy & 7, Float);
+    const Float spread = (select(dx < 0.0f, -dx, dx) + select(dy < 0.0f, -dy, dy)) * float(r);
+    return {nearest - spread - 0.25f, nearest + depth + spread + 0.25f};
+}
 }  // namespace detail
 
 inline wide::Float shadow_visibility(const ShadowMap& m, const wide::Vec3& p,
@@ -592,6 +644,16 @@ inline wide::Float shadow_visibility(const ShadowMap& m, const wide::Vec3& p,
     const Float receiver = q - texel * (bias + slope_bias * tan_t);
     const Float step = texel * tan_t;
     const int r = std::clamp(kernel, 1, 15) / 2;
+    if (m.planes && r <= FACET_SHADOW_REACH) {  // as the scalar filter does, lane by lane
+        constexpr detail::TapDistances kTaps{};
+        const detail::WideSlab s = detail::slab(*m.planes, cx, cy, r);
+        const Mask centre = detail::tap_threshold(receiver - step * kTaps.at[0][0]);
+        const Mask corner = detail::tap_threshold(receiver - step * kTaps.at[r][r]);
+        const Mask all_lit = s.low > __builtin_convertvector(centre - 1, Float);
+        const Mask none_lit = s.high < __builtin_convertvector(corner, Float);
+        if (!any(seen & !(all_lit | none_lit)))
+            return select(seen & none_lit, splat(0.0f), splat(1.0f));
+    }
     const facet_shadow_distances& d = *m.distances;
     Mask lit;
     switch (r) {  // each kernel's loops unrolled
@@ -669,7 +731,12 @@ struct Draw {
     ShadowMap shadow(uint32_t i) const {
         const facet_shadow_map* map = shadow_map(i);
         if (!map || raw->host->abi_minor < 3 || !raw->shadow_distances) return {map, nullptr};
-        return {map, &raw->shadow_distances[map - raw->shadow_maps]};
+        const ptrdiff_t k = map - raw->shadow_maps;
+        const facet_shadow_planes* planes = raw->host->abi_minor >= 6 && raw->shadow_planes &&
+                                                    raw->shadow_planes[k].tiles
+                                                ? &raw->shadow_planes[k]
+                                                : nullptr;
+        return {map, &raw->shadow_distances[k], planes};
     }
     // The cube map of point light `i`, or false if it casts none (ABI 1.3).
     CubeShadow cube_shadow(uint32_t i) const {
@@ -677,7 +744,10 @@ struct Draw {
         for (uint32_t k = 0; k < raw->cube_shadow_map_count; ++k)
             if (raw->cube_shadow_maps[6 * k].light == i)
                 return {raw->cube_shadow_maps + 6 * k, raw->cube_shadow_distances + 6 * k,
-                        glm::make_vec3(raw->lights[i].position)};
+                        glm::make_vec3(raw->lights[i].position),
+                        raw->host->abi_minor >= 6 && raw->cube_shadow_planes
+                            ? raw->cube_shadow_planes + 6 * k
+                            : nullptr};
         return {};
     }
     // Whether light `i` has a shadow map or a cube this draw can filter.

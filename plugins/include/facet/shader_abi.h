@@ -59,7 +59,7 @@ extern "C" {
 #endif
 
 #define FACET_ABI_MAJOR 1
-#define FACET_ABI_MINOR 5
+#define FACET_ABI_MINOR 6
 
 /* The one symbol a plugin exports. */
 #define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
@@ -252,6 +252,30 @@ typedef struct facet_shadow_distances {
     uint32_t reserved;       /* 0                                           */
 } facet_shadow_distances;
 
+/* v1.6: the same distances bounded, tile by tile, between two parallel
+ * planes, from which a filter sees at once, for most receivers, that every
+ * tap of its kernel is lit or that none is, and reads no texel (see
+ * facet::sdk::shadow_visibility). Tile (tx, ty), for 0 <= tx < width /
+ * FACET_SHADOW_TILE and the same for ty by height, begins at texel (x0, y0)
+ * = FACET_SHADOW_TILE (tx, ty); its entry, the four floats from
+ * tiles + 4 (ty * stride + tx), is {nearest, dx, dy, depth}: every stored
+ * texel (x, y) within FACET_SHADOW_REACH texels of the tile on each axis
+ * (x0 - REACH <= x < x0 + TILE + REACH, and the same for y; border
+ * included) holds a distance between nearest + dx (x - x0) + dy (y - y0)
+ * and that plus depth, the floats taken as exact numbers, with |dx| and
+ * |dy| at most 4096. The host makes them for a map whose width and height
+ * are multiples of FACET_SHADOW_TILE once it has kept the map for a frame;
+ * until then the entry's tiles are NULL. An array parallel to
+ * facet_draw.shadow_maps (and cube_shadow_maps), so frozen for ABI 1. */
+#define FACET_SHADOW_TILE 8
+#define FACET_SHADOW_REACH 4
+
+typedef struct facet_shadow_planes {
+    const float* tiles;  /* tile (0, 0)                                  */
+    uint32_t stride;     /* tiles from one row of tiles to the next      */
+    uint32_t reserved;   /* 0                                            */
+} facet_shadow_planes;
+
 /* ------------------------------------------------------------------------ */
 /* Host services, passed with every draw. */
 
@@ -325,6 +349,10 @@ struct facet_draw {
     uint32_t cube_shadow_map_count;                      /* cubes               */
     const facet_shadow_map* cube_shadow_maps;            /* [6 * count]         */
     const facet_shadow_distances* cube_shadow_distances; /* [6 * count]         */
+    /* v1.6: shadow_maps[i] and cube_shadow_maps[i] bounded by planes
+     * (facet_shadow_planes); NULL, or an entry with tiles NULL, where not */
+    const facet_shadow_planes* shadow_planes;
+    const facet_shadow_planes* cube_shadow_planes;                  /* [6 * count] */
 };
 
 /* A batch of vertices. Inputs are arrays indexed by vertex; an input the
