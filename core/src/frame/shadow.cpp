@@ -157,11 +157,11 @@ void draw_depth(const ShadowMapKey& key, const glm::mat4& view, const glm::mat4&
 }
 
 // Texels from one row of a map's distances to the next: the map and its
-// border, rounded up to whole cache lines, and one line more where that
-// would be a multiple of 4096 bytes, whose rows would share the few cache
-// sets that a filter's neighbouring rows then compete for (the shadow scene
-// at 1920x1080 filtered its two 2048-texel maps 2% faster on one thread
-// with 2080 texels a row than with 2064).
+// border, rounded up to a whole number of cache lines (the shadow scene at
+// 1920x1080 filtered its two 2048-texel maps 2% faster on one thread with
+// rows 2080 texels, 65 lines, apart than 2064, 64.5 lines), and one line
+// more where that would be a multiple of 4096 bytes, whose rows would all
+// fall in the same few cache sets (not measured: no shipped size does).
 int distance_stride(int width) {
     const int stride = (width + 2 * FACET_SHADOW_BORDER + 31) & ~31;
     return stride % 2048 == 0 ? stride + 32 : stride;
@@ -170,7 +170,8 @@ int distance_stride(int width) {
 // The map's window depths as distances (facet_shadow_distances), on all
 // threads, into `texels`: a map drawn `size` texels a side, into a distance
 // array FACET_SHADOW_BORDER texels wider on every side whose border reads
-// 65535 (set when it is made); or, for a cube face drawn with its border
+// 65535 (set again each time: the slot may have held a cube face, whose
+// border is drawn); or, for a cube face drawn with its border
 // (`with_border`), the whole drawing.
 void make_distances(const facet_shadow_map& sm, const Framebuffer& depth, bool with_border,
                     Pipeline& pipeline, std::vector<uint16_t>& texels) {
@@ -178,6 +179,18 @@ void make_distances(const facet_shadow_map& sm, const Framebuffer& depth, bool w
     const int stride = distance_stride(int(sm.width));
     const size_t size = size_t(stride) * size_t(sm.height + 2 * kBorder);
     if (texels.size() != size) texels.assign(size, uint16_t(65535));
+    if (!with_border) {
+        const size_t width = size_t(sm.width) + 2 * kBorder, height = size_t(sm.height);
+        for (size_t y = 0; y < height + 2 * kBorder; ++y) {
+            uint16_t* row = texels.data() + y * size_t(stride);
+            if (y < kBorder || y >= height + kBorder) {
+                std::fill(row, row + width, uint16_t(65535));
+            } else {
+                std::fill(row, row + kBorder, uint16_t(65535));
+                std::fill(row + width - kBorder, row + width, uint16_t(65535));
+            }
+        }
+    }
     ShadowDistanceRows rows;
     rows.depth = depth.depth();
     rows.depth_stride = depth.stride();

@@ -42,13 +42,14 @@ void shadow_distance_rows(const ShadowDistanceRows& r, int first, int count) {
 
 // Each tile's planes: slopes fitted to its own texels by least squares,
 // then the lowest and highest distance less those slopes over the texels
-// within FACET_SHADOW_REACH of it, a row of 16 texels a vector. The slopes
-// need not be exact (any planes bound the texels they are measured
-// against), so float sums do; one past 4096 units a texel (a tile across a
-// silhouette) is taken as 0, so that the filters' sums stay small: such a
-// tile's planes lie far apart, and its receivers read their taps. The
-// residuals' rounding is below 1/32 of a unit, and the planes are moved a
-// quarter unit further apart.
+// within FACET_SHADOW_REACH of it, the window's rows of 16 texels kWidth at
+// a time. The slopes need not be exact (any planes bound the texels they are
+// measured against), so float sums do; one past 2048 units a texel (a tile
+// across a silhouette) is taken as 0, so that the planes stay within the
+// ABI's +-2^17 (distances are at most 65535, and a window reaches 11
+// texels from the tile's first): such a tile's planes lie far apart, and
+// its receivers read their taps. The residuals' rounding is below 1/64 of
+// a unit, and the planes are moved a quarter unit out each.
 namespace {
 
 // kWidth texels from `first`, as floats.
@@ -92,8 +93,8 @@ void shadow_plane_rows(const ShadowPlaneRows& r, int first, int count) {
                 }
             const auto add = [](float a, float b) { return a + b; };
             float dx = across(sx, add) / 672.0f, dy = across(sy, add) / 672.0f;
-            if (!(std::abs(dx) <= 4096.0f)) dx = 0.0f;
-            if (!(std::abs(dy) <= 4096.0f)) dy = 0.0f;
+            if (!(std::abs(dx) <= 2048.0f)) dx = 0.0f;
+            if (!(std::abs(dy) <= 2048.0f)) dy = 0.0f;
             Float plane_x[kParts];
             for (int p = 0; p < kParts; ++p) plane_x[p] = dx * x_offset[p];
             Float low = Float{} + 262144.0f, high = Float{} - 262144.0f;

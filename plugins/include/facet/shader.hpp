@@ -385,9 +385,9 @@ inline int32_t tap_threshold(float q) {
 // FACET_SHADOW_REACH around texel (cx, cy) can read, from the planes of the
 // tile that holds (cx, cy): the planes at (cx, cy), moved apart by the most
 // they rise or fall r texels away on each axis, and by a quarter unit more
-// than float rounding can move them (the host's slopes are at most 4096
-// units a texel, so no sum here reaches 2^18, below which each rounding is
-// within 1/64).
+// than float rounding can move them (the ABI bounds the slopes by 2048
+// units a texel and the planes by 2^17, so no sum here reaches 2^18, below
+// which each rounding is within 1/64).
 static_assert(FACET_SHADOW_TILE == 8, "a texel's tile is its coordinates >> 3");
 struct Slab {
     float low, high;
@@ -595,9 +595,7 @@ inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const w
                      int r) {
     using namespace wide;
     const Mask at = 4 * ((cy >> 3) * int(g.stride) + (cx >> 3));
-    const auto tile = [&](int k) {
-        return std::bit_cast<Float>(gather(reinterpret_cast<const uint32_t*>(g.tiles), at + k));
-    };
+    const auto tile = [&](int k) { return gather(g.tiles, at + k, Mask{} - 1, 0.0f); };
     const Float nearest0 = tile(0), dx = tile(1), dy = tile(2), depth = tile(3);
     const Float nearest = nearest0 + dx * __builtin_convertvector(cx & 7, Float) +
                           dy * __builtin_convertvector(cy & 7, Float);

@@ -263,7 +263,9 @@ typedef struct facet_shadow_distances {
  * (x0 - REACH <= x < x0 + TILE + REACH, and the same for y; border
  * included) holds a distance between nearest + dx (x - x0) + dy (y - y0)
  * and that plus depth, the floats taken as exact numbers, with |dx| and
- * |dy| at most 4096. The host makes them for a map whose width and height
+ * |dy| at most 2048 and nearest and nearest + depth within +-2^17 (so
+ * that a filter's float sums stay within 2^18, where they round by 1/64
+ * at most). The host makes them for a map whose width and height
  * are multiples of FACET_SHADOW_TILE once it has kept the map for a frame;
  * until then the entry's tiles are NULL. An array parallel to
  * facet_draw.shadow_maps (and cube_shadow_maps), so frozen for ABI 1. */

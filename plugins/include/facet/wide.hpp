@@ -138,21 +138,6 @@ inline Float gather(const float* base, const Mask& index, const Mask& m, float o
 #endif
 }
 
-// base[index[i]] for every lane, each index inside the array.
-inline Mask gather(const uint32_t* base, const Mask& index) {
-#if defined(__AVX512F__)
-    return std::bit_cast<Mask>(_mm512_mask_i32gather_epi32(  // masked: see gather_quads
-        _mm512_setzero_si512(), 0xFFFF, std::bit_cast<__m512i>(index), base, 4));
-#elif defined(__AVX2__)
-    return std::bit_cast<Mask>(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base),
-                                                      std::bit_cast<__m256i>(index), 4));
-#else
-    Mask r;
-    for (int i = 0; i < kLanes; ++i) r[i] = int32_t(base[index[i]]);
-    return r;
-#endif
-}
-
 // For kLanes / 2 lanes, as many 64-bit lanes: the four 16-bit values
 // base[index[i]] .. base[index[i] + 3] of each, the first in the lowest
 // bits; every index and the three after it must be inside the array.
