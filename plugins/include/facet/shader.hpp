@@ -585,9 +585,10 @@ inline wide::Mask lit_distances(const facet_shadow_distances& d, const wide::Mas
     return join_halves(sum[0], sum[1]) - kExtra * (2 * R + 1);
 }
 
-// slab for each lane. Lane and scalar may round differently (one may fuse
-// a multiply and an add), but each is within its margin: either settles
-// only receivers that every tap or no tap of the kernel lights.
+// slab for each lane: the same operations as the scalar one (plugins are
+// built with -ffp-contract=off, so neither fuses a multiply and an add),
+// and either way within the margin: it settles only receivers that every
+// tap or no tap of the kernel lights.
 struct WideSlab {
     wide::Float low, high;
 };
