@@ -458,7 +458,7 @@ void ao_blur_rows(const AoFrame& f, int first, int count) {
                     for (int dx = -1; dx <= 2; ++dx)
                         open &= simd::load<Float>(f.raw + size_t(j) * size_t(f.width) +
                                                   size_t(x0 + dx)) == 1.0f;
-                if (simd::bits(open) == (1u << kWidth) - 1u) {
+                if (simd::bits(open) == simd::kPartMask) {
                     store_row(f.blurred + row, x0, f.width, Float{} + 1.0f);
                     continue;
                 }
@@ -524,7 +524,7 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
             const auto ones = [&](int j) {
                 return simd::load<Float>(f.blurred + j * f.width + base) == 1.0f;
             };
-            const bool open = spread && simd::bits(ones(j0) & ones(j1)) == (1u << kWidth) - 1u;
+            const bool open = spread && simd::bits(ones(j0) & ones(j1)) == simd::kPartMask;
             if (open || !simd::bits(surface)) {
                 store_row(f.visibility + row, x0, f.target_width, Float{} + 1.0f);
                 continue;
