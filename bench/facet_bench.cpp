@@ -38,6 +38,8 @@
 // black drawn by each. The GLSL computes the plugins' colours but does a
 // little less work: facet's phong and unlit also interpolate UVs and
 // multiply in their base_texture slot (unbound here, so it reads white).
+// The GLSL receives no shadows, so facet draws those rows without them
+// (render: shadows: false, said in the row's note).
 // With --target srgb8 both encode each fragment to 8-bit sRGB as they write
 // it (GL_FRAMEBUFFER_SRGB; 4 bytes a pixel). When a worker fails (a crash, a
 // timeout, settings llvmpipe cannot model such as MSAA or wireframe), the
@@ -58,7 +60,8 @@
 //   huge      a sphere of ~5M triangles (memory: a draw holds per-vertex
 //             results and a bounded batch of triangles, never the whole mesh)
 // Every object gets the shader under test with its default parameters, one
-// shadow-casting directional light and one point light. Each configuration
+// shadow-casting directional light and one point light (no shadows in rows
+// against llvmpipe, above). Each configuration
 // renders one warm-up frame, then --runs frames; the median is reported, with
 // the thread count and the peak resident memory while rendering that scene
 // (Linux: VmHWM, reset when the scene starts; it includes the scene itself,
@@ -786,13 +789,20 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
         note += (note.empty() ? "render " : "; render ") + render;
     }
     scene.settings.color_format = *parse_color_format(o.lp.target);
-    if (scene.settings.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
-    if (o.redraw_shadows) note += note.empty() ? "shadow maps redrawn" : "; shadow maps redrawn";
     const std::vector<std::string> shaders = file ? std::vector<std::string>{"(scene)"} : o.shaders;
     const std::string label = file ? std::filesystem::path(name).filename().string() : name;
     // llvmpipe draws a scene as it is written (a scene file with its own
     // materials), never under --render settings, which its worker lacks.
     const bool versus = o.lp.on && render.empty() && (!file || llvmpipe_draws_scene(scene, o.lp));
+    // Its GLSL shaders receive no shadows: facet draws the same work.
+    const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                      [](const Light& l) { return l.casts_shadow; });
+    if (versus && shadowed && scene.settings.shadows) {
+        scene.settings.shadows = false;
+        note += note.empty() ? "no shadows (llvmpipe draws none)" : "; no shadows (llvmpipe draws none)";
+    }
+    if (scene.settings.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
+    if (o.redraw_shadows) note += note.empty() ? "shadow maps redrawn" : "; shadow maps redrawn";
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
         scene.settings.width = wh.x;

@@ -1,7 +1,9 @@
 # CTest facet-bench.llvmpipe: runs facet-bench --llvmpipe on the small scene
 # and checks what it did, so that the test fails on a non-zero exit (a
-# worker failed), on missing or unexpected llvmpipe columns, and on more
-# than MAX_PIXELS pixels of coverage difference in any row.
+# worker failed), on missing or unexpected llvmpipe columns, on more
+# than MAX_PIXELS pixels of coverage difference in any row, and on a row
+# that does not say facet drew it without the scene's shadows, as llvmpipe
+# does.
 #
 #     cmake -DBENCH=path/to/facet-bench -DMAX_PIXELS=2 -P check_bench.cmake
 #
@@ -26,7 +28,7 @@ endif()
 file(STRINGS llvmpipe.csv lines)
 list(POP_FRONT lines header)
 string(REPLACE "," ";" header "${header}")
-foreach(column shader isa threads llvmpipe_median_ms coverage_diff_pixels)
+foreach(column note shader isa threads llvmpipe_median_ms coverage_diff_pixels)
   list(FIND header ${column} ${column}_at)
   if(${column}_at LESS 0)
     message(FATAL_ERROR "llvmpipe.csv has no column ${column}")
@@ -45,7 +47,11 @@ foreach(line IN LISTS lines)
   list(APPEND paths ${isa})
   list(GET fields ${llvmpipe_median_ms_at} ms)
   list(GET fields ${coverage_diff_pixels_at} pixels)
+  list(GET fields ${note_at} note)
   set(row "${shader} at ${threads} threads")
+  if(NOT note MATCHES "no shadows \\(llvmpipe draws none\\)")
+    message(FATAL_ERROR "${row}: drawn with shadows, which llvmpipe does not draw ('${note}')")
+  endif()
   if(shader STREQUAL "lit")
     if(NOT ms STREQUAL "")
       message(FATAL_ERROR "${row}: llvmpipe columns where llvmpipe has no shader")
