@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <random>
 
 using namespace facet;
 namespace fs = std::filesystem;
@@ -948,63 +947,6 @@ TEST_CASE("the AO pass's normals take the neighbour nearer in depth on each axis
         normals.push_back(nx), normals.push_back(ny), normals.push_back(nz);
     }
     for (size_t i = 3; i < normals.size(); ++i) CHECK(normals[i] == normals[i % 3]);
-}
-
-TEST_CASE("the AO upsample of a tile is that part of the whole target's, the same on every path",
-          "[ao][isa]") {
-    // A half-size grid of 75x45 texels under a 150x90 target (and a target
-    // one pixel narrower and shorter, whose last texels stand for no
-    // pixel), with random view z (some texels empty) and visibility (some
-    // open), and random window depths (some background): the main pass
-    // upsamples it 64x64 pixels at a time, and each tile must hold exactly
-    // what upsampling the whole target gives there.
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    const glm::mat4 proj = perspective(glm::radians(50.0f), 150.0f / 90.0f, 0.1f, 20.0f, false);
-    const glm::mat4 inverse = glm::inverse(proj);
-    for (const glm::ivec2 target : {glm::ivec2(150, 90), glm::ivec2(149, 89)}) {
-        AoFrame f;
-        f.scale = 2;
-        f.width = 75, f.height = 45;
-        f.target_width = target.x, f.target_height = target.y;
-        std::vector<float> z(75 * 45), blurred(75 * 45);
-        for (size_t i = 0; i < z.size(); ++i) {
-            z[i] = unit(rng) < 0.1f ? 0.0f : -1.0f - 3.0f * unit(rng);
-            blurred[i] = unit(rng) < 0.3f ? 1.0f : unit(rng);
-        }
-        const int stride = 160;  // padded rows, as a framebuffer's
-        std::vector<float> depth(size_t(stride) * 90, 1.0f);
-        for (int y = 0; y < target.y; ++y)
-            for (int x = 0; x < target.x; ++x)
-                if (unit(rng) > 0.05f) depth[size_t(y) * stride + x] = 0.9f + 0.1f * unit(rng);
-        f.z = z.data(), f.blurred = blurred.data();
-        f.target_depth = depth.data(), f.target_stride = stride;
-        f.background = 1.0f;
-        f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
-        f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
-        INFO(target.x << "x" << target.y);
-        std::vector<float> first;
-        for (Isa isa : supported_isas()) {
-            INFO(isa_name(isa));
-            std::vector<float> whole(size_t(target.x) * target.y, -1.0f);
-            kernels(isa).ao_upsample_rect(f, 0, 0, target.x, target.y, whole.data(), target.x);
-            for (const float v : whole) REQUIRE((v >= 0.0f && v <= 1.0f));
-            for (int ty = 0; ty < target.y; ty += 64)
-                for (int tx = 0; tx < target.x; tx += 64) {
-                    std::vector<float> tile(64 * 64, -1.0f);
-                    const int x_end = std::min(tx + 64, target.x), y_end = std::min(ty + 64, target.y);
-                    kernels(isa).ao_upsample_rect(f, tx, ty, x_end, y_end, tile.data(), 64);
-                    for (int y = ty; y < y_end; ++y)
-                        for (int x = tx; x < x_end; ++x) {
-                            INFO("pixel " << x << ", " << y);
-                            REQUIRE(tile[size_t(y - ty) * 64 + size_t(x - tx)] ==
-                                    whole[size_t(y) * target.x + size_t(x)]);
-                        }
-                }
-            if (first.empty()) first = whole;
-            CHECK(whole == first);
-        }
-    }
 }
 
 // ---- shadows and AO as services of every lit shader (ABI 1.3) --------------

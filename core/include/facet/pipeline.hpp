@@ -40,7 +40,6 @@ struct TextureBinding;
 class ThreadPool;  // core/src/base/thread_pool.hpp
 struct Kernels;    // core/src/pipeline/kernels.hpp
 struct DrawQueue;  // core/src/pipeline/draw_queue.hpp
-struct AoFrame;    // core/src/pipeline/kernels.hpp
 
 // What a frame did and what it skipped. Triangle counts are per input
 // triangle: each ends in exactly one of culled_frustum, culled_backface,
@@ -136,11 +135,7 @@ struct DrawCall {
     const facet_shadow_planes* shadow_planes = nullptr;       // the distances' bounds, or null
     const facet_shadow_planes* cube_shadow_planes = nullptr;
     uint32_t cube_shadow_map_count = 0;                  // cubes
-    // Ambient visibility for FACET_NEED_AO: per target pixel, or (ao_grid)
-    // the AO pass's half-size grid, upsampled by depth tile by tile as the
-    // tiles are shaded. Either, or neither (no AO: full visibility).
-    const float* ao = nullptr;
-    const AoFrame* ao_grid = nullptr;
+    const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
     float time = 0.0f;
     // A band of a taller image: the target holds rows [first_row, first_row
     // + its height) of an image image_height rows tall (and as wide as the

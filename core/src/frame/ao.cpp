@@ -129,6 +129,10 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     f.y_row = {inverse[0][1], inverse[1][1], inverse[2][1], inverse[3][1]};
     f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
     f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
+    if (scale_ > 1) {
+        visibility_.resize(size_t(width) * size_t(height));
+        f.visibility = visibility_.data();
+    }
 
     constexpr int kBand = 8;  // rows per task
     const auto bands = [&](int rows, auto&& fn) {
@@ -153,6 +157,8 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
                                   tx * kTileWidth, kTileWidth);
     });
     bands(f.height, [&](int first, int count) { kernels.ao_blur_rows(f, first, count); });
+    if (scale_ > 1)
+        bands(height, [&](int first, int count) { kernels.ao_upsample_rows(f, first, count); });
     stats.ao_passes += 1;
     stats.ms_ao += elapsed_ms(start);
 }

@@ -2,8 +2,8 @@
 //
 // Takes: the visible opaque parts (DrawItem), the camera's view and projection, the
 // target size, and the AO radius, sample count and resolution.
-// Gives: ambient visibility, 1 where nothing occludes: a target-sized
-// buffer, or at half resolution the grid that the main pass upsamples.
+// Gives: a target-sized buffer of ambient visibility, 1 where nothing
+// occludes.
 //
 // It reads a depth-only pre-pass at the target's size: the frame's own, which
 // the main pass then shades against (Renderer), or, where the frame cannot
@@ -26,14 +26,11 @@
 // block a steeper one alone). That spares the open floor of a typical
 // scene most of its marches, at no cost in accuracy against the ray caster
 // (facet-bench-shadow-ao). A depth-aware 4x4 blur removes the pattern's
-// noise without bleeding across depth edges. At half resolution the main
-// pass gives each pixel the visibility of the texels around it that lie at
-// its depth (a depth-aware bilinear upsample), a 64x64 tile at a time when
-// the tile's first block that needs AO is shaded (TileAo, fragment.hpp): no
-// target-sized buffer is written and read again, and a tile with no AO
-// material costs nothing. Where everything they would weigh is open, both
-// give open without weighing (the blur away from a row's ends, the upsample
-// where a vector's texels are in whole loads).
+// noise without bleeding across depth edges, and at half resolution a
+// depth-aware bilinear upsample gives each target pixel the visibility of
+// the texels around it that lie at its depth. Where everything they would
+// weigh is open, both give open without weighing (the blur away from a
+// row's ends, the upsample where a vector's texels are in whole loads).
 //
 // The occlusion, blur and upsample are per-ISA kernels
 // (pipeline/ao_kernels.cpp, with the other kernels of the path), kWidth
@@ -54,7 +51,7 @@ namespace facet {
 
 class AoPass {
 public:
-    // Runs the AO and its blur (timed into stats.ms_ao) for a target
+    // Runs the AO, blur and upsample (timed into stats.ms_ao) for a target
     // of the settings' size and depth range, with their ao_radius,
     // ao_samples and ao_resolution, from `depth`: a single-sampled target
     // whose depth holds every item's nearest surface (the frame's own depth
@@ -65,11 +62,10 @@ public:
              const glm::mat4& proj, const RenderSettings& settings, float time,
              const Framebuffer* depth, Pipeline& pipeline, FrameStats& stats);
 
-    // The last run's ambient visibility: at full size per target pixel,
-    // row-major (else null); at half size the grid, which the main pass
-    // upsamples tile by tile as it shades (DrawCall::ao_grid; else null).
-    const float* visibility() const { return scale_ == 1 ? blurred_.data() : nullptr; }
-    const AoFrame* grid() const { return scale_ > 1 ? &frame_ : nullptr; }
+    // Ambient visibility per target pixel of the last run, row-major.
+    const float* visibility() const {
+        return scale_ == 1 ? blurred_.data() : visibility_.data();
+    }
 
 private:
     void make_directions(int samples);
@@ -89,7 +85,7 @@ private:
     int zeroed_width_ = -1, zeroed_height_ = -1;  // -1: never
     std::vector<float> directions_;
     int direction_samples_ = 0;  // what directions_ holds
-    std::vector<float> raw_, blurred_;
+    std::vector<float> raw_, blurred_, visibility_;
 };
 
 }  // namespace facet

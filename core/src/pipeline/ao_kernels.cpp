@@ -492,26 +492,23 @@ void ao_blur_rows(const AoFrame& f, int first, int count) {
     }
 }
 
-// Target pixels [x_first, x_end) x [y_first, y_end) (x_first a multiple
-// of kWidth) into `out` (pixel (x, y) at out[(y - y_first) * stride + x -
-// x_first]), from the blurred AO texels around each pixel: the bilinear
-// weights of the four nearest, each times its depth similarity to the
-// pixel's own view z, so that an edge's near side never takes the far
-// side's occlusion; where no texel is alike, the one nearest in depth.
-void ao_upsample_rect(const AoFrame& f, int x_first, int y_first, int x_end, int y_end,
-                      float* out, int stride) {
+// Target rows [first, first + count) of `visibility`, from the blurred AO
+// texels around each pixel: the bilinear weights of the four nearest, each
+// times its depth similarity to the pixel's own view z, so that an edge's
+// near side never takes the far side's occlusion; where no texel is alike,
+// the one nearest in depth.
+void ao_upsample_rows(const AoFrame& f, int first, int count) {
     const float inv_scale = 1.0f / float(f.scale);
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = i;
-    for (int y = y_first; y < y_end; ++y) {
+    for (int y = first; y < first + count; ++y) {
         // Texel j stands for target pixel j * scale: rows j0 and j1 straddle y.
         const int j0 = std::min(y / f.scale, f.height - 1), j1 = std::min(j0 + 1, f.height - 1);
         const float fy = float(y - j0 * f.scale) * inv_scale;
-        float* const row = out + size_t(y - y_first) * size_t(stride);
-        const auto put = [&](int x0, const Float& v) { store_row(row, x0 - x_first, x_end - x_first, v); };
+        const size_t row = size_t(y) * size_t(f.target_width);
         const float* depth = f.target_depth + size_t(y) * size_t(f.target_stride);
         const float ndc_y = 1.0f - (float(y) + 0.5f) * (2.0f / float(f.target_height));
-        for (int x0 = x_first; x0 < x_end; x0 += kWidth) {
+        for (int x0 = 0; x0 < f.target_width; x0 += kWidth) {
             // The pixel's view z, from its depth (rows are padded: whole loads).
             const Float d = simd::load<Float>(depth + x0);
             const Float ndc_x =
@@ -529,7 +526,7 @@ void ao_upsample_rect(const AoFrame& f, int x_first, int y_first, int x_end, int
             };
             const bool open = spread && simd::bits(ones(j0) & ones(j1)) == simd::kPartMask;
             if (open || !simd::bits(surface)) {
-                put(x0, Float{} + 1.0f);
+                store_row(f.visibility + row, x0, f.target_width, Float{} + 1.0f);
                 continue;
             }
             const Float zv = (f.z_row.x * ndc_x + (f.z_row.y * ndc_y + f.z_row.w)) + f.z_row.z * d;
@@ -583,7 +580,7 @@ void ao_upsample_rect(const AoFrame& f, int x_first, int y_first, int x_end, int
                 }
                 v = select(enough, v, nearest);
             }
-            put(x0, select(surface, v, Float{} + 1.0f));
+            store_row(f.visibility + row, x0, f.target_width, select(surface, v, Float{} + 1.0f));
         }
     }
 }

@@ -172,30 +172,18 @@ Rgba shaded(const float* color, int p) {
             simd::load<Float>(color + 2 * N + first), simd::load<Float>(color + 3 * N + first)};
 }
 
-// Ambient visibility of each lane, from the target-sized buffer or the
-// tile's upsample (made now if the tile has none yet); lanes off the target
-// read 1.
-void gather_ao(const DrawContext& dc, const Block& b, TileAo& tile, float* ao) {
+// Ambient visibility of each lane; lanes off the target read 1.
+void gather_ao(const DrawContext& dc, const Block& b, float* ao) {
     const int w = dc.target->width(), h = dc.target->height();
-    const float* from = dc.ao + size_t(b.y) * size_t(w) + size_t(b.x);
-    size_t stride = size_t(w);
-    if (dc.ao_grid) {
-        if (tile.grid != dc.ao_grid) {
-            ao_upsample_rect(*dc.ao_grid, tile.x, tile.y, std::min(tile.x + kTileSize, w),
-                             std::min(tile.y + kTileSize, h), tile.visibility, kTileSize);
-            tile.grid = dc.ao_grid;
-        }
-        from = tile.visibility + size_t(b.y - tile.y) * kTileSize + size_t(b.x - tile.x);
-        stride = kTileSize;
-    }
     if (b.x + 4 <= w && b.y + N / 4 <= h) {  // a whole block: rows of four
         for (int r = 0; r < N / 4; ++r)
-            std::memcpy(ao + 4 * r, from + size_t(r) * stride, 4 * sizeof(float));
+            std::memcpy(ao + 4 * r, dc.ao + size_t(b.y + r) * size_t(w) + size_t(b.x),
+                        4 * sizeof(float));
         return;
     }
     for (int i = 0; i < N; ++i) {
         const int x = b.x + i % 4, y = b.y + i / 4;
-        ao[i] = x < w && y < h ? from[size_t(i / 4) * stride + size_t(i % 4)] : 1.0f;
+        ao[i] = x < w && y < h ? dc.ao[size_t(y) * w + x] : 1.0f;
     }
 }
 
@@ -484,7 +472,7 @@ uint32_t alpha_to_coverage(const Block& b, const float* alpha, int n, uint32_t m
 }
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
-                 const Block& b, PackedBatch& packed, TileAo& tile_ao, FrameStats& stats) {
+                 const Block& b, PackedBatch& packed, FrameStats& stats) {
     const int n_samples = dc.target->samples();
     const bool msaa = n_samples > 1;
     Float z[kParts];
@@ -510,7 +498,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     if (dc.sample_textures) sample_textures(dc, varyings, mask, texels);
     alignas(64) float color[4 * N];
     alignas(64) float ao[N];
-    if (dc.ao || dc.ao_grid) gather_ao(dc, b, tile_ao, ao);
+    if (dc.ao) gather_ao(dc, b, ao);
     else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
 
     alignas(64) float depth[N];

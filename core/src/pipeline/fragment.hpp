@@ -18,7 +18,6 @@
 // a small triangle has.
 #pragma once
 
-#include "pipeline/bin.hpp"
 #include "pipeline/draw_context.hpp"
 #include "pipeline/kernels.hpp"
 #include "pipeline/setup.hpp"
@@ -84,27 +83,9 @@ class BlockCoverage;
 void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
                      int x0, int y0, int x1, int y1, FrameStats& stats);
 
-// The ambient visibility of one tile of the target at half AO resolution
-// (DrawContext::ao_grid): upsampled from the AO grid, with the depth it was
-// made from, when the first block of the tile that needs it is shaded, and
-// kept while the tile is drawn. So no target-sized buffer is written and
-// read again, and a tile with no AO material costs nothing.
-struct TileAo {
-    int x = 0, y = 0;                   // the tile's first pixel
-    const AoFrame* grid = nullptr;      // what `visibility` holds; null: nothing yet
-    alignas(64) float visibility[kTileSize * kTileSize];  // row-major, kTileSize a row
-};
-
-// Target pixels [x_first, x_end) x [y_first, y_end) of the depth-aware
-// upsample of f's blurred AO into `out`, `stride` floats a row
-// (ao_kernels.cpp; x_first a multiple of kWidth).
-void ao_upsample_rect(const AoFrame& f, int x_first, int y_first, int x_end, int y_end,
-                      float* out, int stride);
-
 // Shades one covered block: through `packed` when the draw's shader allows
 // it, else on its own (first shading what `packed` holds, to keep order).
-// `ao` is the block's tile's.
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
-                 const Block& b, PackedBatch& packed, TileAo& ao, FrameStats& stats);
+                 const Block& b, PackedBatch& packed, FrameStats& stats);
 
 }  // namespace facet::FACET_KERNEL_NS

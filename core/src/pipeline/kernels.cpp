@@ -14,6 +14,7 @@ void ao_normal_rows(const AoFrame& f, int first, int count);
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
                        int x_count);  // ao_kernels.cpp
 void ao_blur_rows(const AoFrame& f, int first, int count);
+void ao_upsample_rows(const AoFrame& f, int first, int count);
 void shadow_distance_rows(const ShadowDistanceRows& rows, int first, int count);  // shadow_kernels.cpp
 void shadow_plane_rows(const ShadowPlaneRows& rows, int first, int count);
 
@@ -25,8 +26,6 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     g.bins.rect(tile, x0, y0, x1, y1);
     const int samples = g.target->samples();
     PackedBatch packed;
-    TileAo ao;
-    ao.x = x0, ao.y = y0;
     for (const uint32_t entry : g.bins.entries(tile)) {
         const SetupChunk& chunk = g.chunks[entry >> 16];
         const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
@@ -42,7 +41,7 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
         rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
             if (!prepared) prepare_varyings(dc, t, tv);
             prepared = true;
-            shade_block(dc, t, tv, b, packed, ao, stats);
+            shade_block(dc, t, tv, b, packed, stats);
         });
     }
     packed.flush(stats);
@@ -71,7 +70,7 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::ao_normal_rows,
     &facet::FACET_KERNEL_NS::ao_occlusion_rows,
     &facet::FACET_KERNEL_NS::ao_blur_rows,
-    &facet::FACET_KERNEL_NS::ao_upsample_rect,
+    &facet::FACET_KERNEL_NS::ao_upsample_rows,
     &facet::FACET_KERNEL_NS::shadow_distance_rows,
     &facet::FACET_KERNEL_NS::shadow_plane_rows,
 };

@@ -94,6 +94,7 @@ struct AoFrame {
     int target_stride = 0;
     float background = 0.0f;
     glm::vec4 x_row{0.0f}, y_row{0.0f}, z_row{0.0f}, w_row{0.0f};
+    float* visibility = nullptr;      // per target pixel (scale 2 only)
 };
 
 // What the shadow pass's kernel reads and writes (frame/shadow.hpp): a
@@ -145,18 +146,12 @@ struct Kernels {
     // each texel's surface, then its normal (the positions of the rows
     // around it must be done), its raw visibility (within columns
     // [x_first, x_first + x_count), x_first a multiple of kGroup) and its blur,
-    // on the AO grid. At half size the fragment stage upsamples the result
-    // tile by tile as it shades (fragment.hpp, TileAo).
+    // on the AO grid; the depth-aware upsample, on the target's.
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
     void (*ao_normal_rows)(const AoFrame& f, int first, int count);
     void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
     void (*ao_blur_rows)(const AoFrame& f, int first, int count);
-    // Target pixels [x_first, x_end) x [y_first, y_end) (x_first a multiple
-    // of the path's width) of the depth-aware upsample of a half-size grid,
-    // into `out`, `stride` floats a row. The fragment stage calls its own
-    // path's (fragment.hpp); this entry is for tests.
-    void (*ao_upsample_rect)(const AoFrame& f, int x_first, int y_first, int x_end, int y_end,
-                             float* out, int stride);
+    void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
     // Shadow map rows [first, first + count): window depth to distance
     // (shadow_kernels.cpp).
     void (*shadow_distance_rows)(const ShadowDistanceRows& rows, int first, int count);

@@ -158,10 +158,10 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     prepare_context(d.dc, shader, kernels_->isa, call.params, call.textures, call.texture_count,
                     call.may_discard, call.state);
     d.dc.target = &target;
-    if (shader.needs(FACET_NEED_AO)) d.dc.ao = call.ao, d.dc.ao_grid = call.ao_grid;
+    d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
     // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
     // reads as full visibility: nothing is gathered or packed for it.
-    if (!d.dc.ao && !d.dc.ao_grid && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
+    if (!d.dc.ao && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
     const int image_height = call.image_height > 0 ? call.image_height : target.height();
     if (call.image_height > 0 &&
         (call.first_row < 0 || int64_t(call.first_row) + target.height() > call.image_height))
