@@ -38,8 +38,8 @@
 // black drawn by each. The GLSL computes the plugins' colours but does a
 // little less work: facet's phong and unlit also interpolate UVs and
 // multiply in their base_texture slot (unbound here, so it reads white).
-// The GLSL receives no shadows, so facet draws those rows without them
-// (render: shadows: false, said in the row's note).
+// The GLSL receives no shadows, so facet draws the rows that have llvmpipe
+// columns without them (render: shadows: false, said in the row's note).
 // With --target srgb8 both encode each fragment to 8-bit sRGB as they write
 // it (GL_FRAMEBUFFER_SRGB; 4 bytes a pixel). When a worker fails (a crash, a
 // timeout, settings llvmpipe cannot model such as MSAA or wireframe), the
@@ -743,8 +743,10 @@ int run_pareto(const CLI::App& app, Options& o, const Interrupts& interrupts) {
 
 // Every row of scene `name` under `render` settings: each size, shader,
 // thread count and path. With --llvmpipe, llvmpipe draws each configuration
-// once, for all paths' rows. A scene file's rows keep its own materials and
-// settings (but the size, the target, --render and --depth-prepass).
+// once, for all paths' rows, which facet draws without shadows, as
+// llvmpipe does. A scene file's rows keep its own materials and settings
+// (but the size, the target, --render, --depth-prepass and, against
+// llvmpipe, shadows).
 
 // True when llvmpipe can draw every visible object of a scene file as facet
 // does: GLSL versions of their shaders, no texture, no blending.
@@ -794,15 +796,13 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
     // llvmpipe draws a scene as it is written (a scene file with its own
     // materials), never under --render settings, which its worker lacks.
     const bool versus = o.lp.on && render.empty() && (!file || llvmpipe_draws_scene(scene, o.lp));
-    // Its GLSL shaders receive no shadows: facet draws the same work.
-    const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(),
-                                      [](const Light& l) { return l.casts_shadow; });
-    if (versus && shadowed && scene.settings.shadows) {
-        scene.settings.shadows = false;
-        note += note.empty() ? "no shadows (llvmpipe draws none)" : "; no shadows (llvmpipe draws none)";
-    }
+    // Its GLSL shaders receive no shadows, so the rows compared with it are
+    // drawn without them: both draw the same work.
+    const bool shadows_on = scene.settings.shadows;
+    const bool shadows = shadows_on && std::any_of(scene.lights.begin(), scene.lights.end(),
+                                                   [](const Light& l) { return l.casts_shadow; });
     if (scene.settings.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
-    if (o.redraw_shadows) note += note.empty() ? "shadow maps redrawn" : "; shadow maps redrawn";
+    const auto noted = [&](const char* what) { return note + (note.empty() ? "" : "; ") + what; };
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
         scene.settings.width = wh.x;
@@ -810,15 +810,20 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
         o.lp.coverage.reset();
         for (const std::string& shader : shaders) {
             if (!file) set_shader(scene, registry, shader);
+            const bool compared = versus && (file || o.lp.draws(shader));
+            scene.settings.shadows = shadows_on && !compared;
+            const std::string row_note = compared && shadows ? noted("no shadows (llvmpipe draws none)")
+                                         : o.redraw_shadows && shadows ? noted("shadow maps redrawn")
+                                                                       : note;
             for (int t : o.threads) {
                 std::optional<Versus> llvmpipe;
                 for (Isa isa : isas) {
                     sink.progress.begin(label + " " + size + " " + shader + " " +
                                         std::to_string(t) + "t " + std::string(isa_name(isa)) +
                                         (render.empty() ? "" : " " + render));
-                    Result r = measure(scene, label, note, shader, t, isa, o.runs,
+                    Result r = measure(scene, label, row_note, shader, t, isa, o.runs,
                                        o.redraw_shadows, peak, sink.stop);
-                    if (versus && (file || o.lp.draws(shader)) && isa == isas.front()) {
+                    if (compared && isa == isas.front()) {
                         r.scene = name;  // the worker loads a scene file by its path
                         llvmpipe = o.lp.measure(r, size, o.runs, scene, registry, peak);
                         r.scene = label;
