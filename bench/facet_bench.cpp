@@ -801,8 +801,8 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
     const bool shadows_on = scene.settings.shadows;
     const bool shadows = shadows_on && std::any_of(scene.lights.begin(), scene.lights.end(),
                                                    [](const Light& l) { return l.casts_shadow; });
-    if (scene.settings.depth_prepass) note += note.empty() ? "depth pre-pass" : "; depth pre-pass";
     const auto noted = [&](const char* what) { return note + (note.empty() ? "" : "; ") + what; };
+    if (scene.settings.depth_prepass) note = noted("depth pre-pass");
     for (const std::string& size : o.sizes) {
         const glm::ivec2 wh = *parse_size(size);  // run_table checked every size
         scene.settings.width = wh.x;
