@@ -25,16 +25,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct SceneDir {
-    test::TempDir folder{"reference"};
-    const fs::path& dir = folder.path;
-    Scene load(const std::string& yaml) {
-        test::write(dir / "scene.yaml", yaml);
-        return load_scene(dir / "scene.yaml", registry);
-    }
-    PluginRegistry registry;
-};
-
 // Area of the convex polygon `poly` inside the unit square at (x, y)
 // (Sutherland-Hodgman against its four sides, then the shoelace formula).
 double area_in_pixel(std::vector<glm::dvec2> poly, int x, int y) {
@@ -77,7 +67,7 @@ const char* kUnlitWhite = "{shader: unlit, params: {base_color: [1, 1, 1, 1]}}";
 }  // namespace
 
 TEST_CASE("reference: a pixel's value is the triangle's exact area in it", "[reference]") {
-    SceneDir sd;
+    test::SceneDir sd("reference");
     test::write(sd.dir / "tri.obj", "v -0.9 -0.4 0\nv 0.8 -0.7 0.3\nv 0.1 0.9 -0.2\nf 1 2 3\n");
     const Scene scene = sd.load(
         "camera: {position: [0.2, 0.3, 3], target: [0, 0, 0], fov_y: 40}\n"
@@ -111,7 +101,7 @@ TEST_CASE("reference: a pixel's value is the triangle's exact area in it", "[ref
 
 TEST_CASE("reference: a perspective texture ramp matches ray-plane intersection",
           "[reference]") {
-    SceneDir sd;
+    test::SceneDir sd("reference");
     // Black and white texels: with clamping and bilinear filtering the
     // texture is clamp(2u - 0.5, 0, 1) in linear light.
     Framebuffer ramp(2, 1);
@@ -156,7 +146,7 @@ TEST_CASE("reference: a perspective texture ramp matches ray-plane intersection"
 }
 
 TEST_CASE("reference: hard shadows and open-sky AO come out exactly", "[reference]") {
-    SceneDir sd;
+    test::SceneDir sd("reference");
     test::write(sd.dir / "ground.obj",
                 "v -6 0 -6\nv 6 0 -6\nv 6 0 6\nv -6 0 6\nvn 0 1 0\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n");
     fs::copy_file(fs::path(FACET_SOURCE_DIR) / "plugins/template/cube.obj", sd.dir / "cube.obj");
@@ -226,7 +216,7 @@ TEST_CASE("reference: hard shadows and open-sky AO come out exactly", "[referenc
 }
 
 TEST_CASE("facet converges to the reference: more MSAA samples, less error", "[reference][msaa]") {
-    SceneDir sd;
+    test::SceneDir sd("reference");
     fs::copy_file(fs::path(FACET_SOURCE_DIR) / "plugins/template/cube.obj", sd.dir / "cube.obj");
     auto scene_with = [&](int msaa) {
         return sd.load(

@@ -25,20 +25,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct SceneDir {
-    test::TempDir folder{"shadow-ao"};
-    const fs::path& dir = folder.path;
-    SceneDir() {
-        std::ofstream(dir / "ground.obj")
-            << "v -6 0 -6\nv 6 0 -6\nv 6 0 6\nv -6 0 6\nvn 0 1 0\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n";
+// A scene folder with a ground plane (ground.obj, 12 units square at y = 0)
+// and the template's unit cube (cube.obj).
+struct ShadowAoDir : test::SceneDir {
+    ShadowAoDir() : test::SceneDir("shadow-ao") {
+        folder.write("ground.obj",
+                     "v -6 0 -6\nv 6 0 -6\nv 6 0 6\nv -6 0 6\nvn 0 1 0\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n");
         fs::copy_file(fs::path(FACET_SOURCE_DIR) / "plugins/template/cube.obj", dir / "cube.obj");
     }
-
-    Scene load(const std::string& yaml) {
-        std::ofstream(dir / "scene.yaml") << yaml;
-        return load_scene(dir / "scene.yaml", registry);
-    }
-    PluginRegistry registry;
 };
 
 // Material that shows only the light (white, no ambient): its colour is
@@ -69,7 +63,7 @@ bool in_inner_cone(const Light& l, const glm::dvec3& p) {
 // every ground pixel away from the penumbra to be lit or dark as the ray
 // caster's hard shadow says.
 void check_hard_shadows(const std::string& material, const std::string& light) {
-    SceneDir sd;
+    ShadowAoDir sd;
     const Scene scene = sd.load(camera(200, 150) + "lights: [" + light + "]\nobjects:\n" +
                                 "  - {mesh: ground.obj, material: " + material + "}\n" +
                                 "  - {mesh: cube.obj, position: [0, 0.8, 0], material: " +
@@ -128,7 +122,7 @@ TEST_CASE("a plane facing the light shows no acne, at any angle and kernel", "[s
         for (int kernel : {1, 3, 5, 9}) {
             INFO(degrees << " degrees, kernel " << kernel);
             const double a = glm::radians(degrees);
-            SceneDir sd;
+            ShadowAoDir sd;
             const std::string dir = "[" + std::to_string(-std::sin(a)) + ", " +
                                     std::to_string(-std::cos(a)) + ", 0]";
             const std::string material =
@@ -156,7 +150,7 @@ TEST_CASE("ambient occlusion: an open plane is unoccluded", "[ao]") {
     const std::string resolution = GENERATE(std::string("full"), std::string("half"));
     const bool orthographic = GENERATE(false, true);
     INFO("ao_resolution " << resolution << (orthographic ? ", orthographic" : ", perspective"));
-    SceneDir sd;
+    ShadowAoDir sd;
     Scene scene = sd.load(camera(160, 120) + "objects:\n  - {mesh: ground.obj, material: " +
                           kAoOnly + "}\n");
     scene.settings.ao_half_resolution = resolution == "half";
@@ -202,7 +196,7 @@ TEST_CASE("ambient occlusion: the inside corner of a box is darker than its face
     // keep each wall's occlusion off the others.
     const std::string resolution = GENERATE(std::string("full"), std::string("half"));
     INFO("ao_resolution " << resolution);
-    SceneDir sd;
+    ShadowAoDir sd;
     const Scene scene = sd.load(room_corner("ao_resolution: " + resolution));
     Framebuffer fb;
     Renderer().render(scene, fb);
@@ -237,7 +231,7 @@ TEST_CASE("the AO pass reaches as far as render: ao_radius says, for every AO ma
           "[ao]") {
     // The same room corner with a short and a long reach: near the corner's
     // edges, ambient visibility must fall as the radius grows.
-    SceneDir sd;
+    ShadowAoDir sd;
     auto corner_visibility = [&](const char* radius) {
         const Scene scene = sd.load(room_corner("ao_samples: 8, ao_radius: " + std::string(radius)));
         Framebuffer fb;
@@ -267,7 +261,7 @@ TEST_CASE("the AO pass reaches as far as render: ao_radius says, for every AO ma
 TEST_CASE("the frame plan runs shadow, pre-pass and AO passes only when a visible material "
           "needs them",
           "[shadow][ao][skip]") {
-    SceneDir sd;
+    ShadowAoDir sd;
     const std::string lights =
         "lights: [{type: directional, direction: [0, -1, 0], casts_shadow: true},\n"
         "         {type: spot, position: [0, 3, 0], direction: [0, -1, 0], casts_shadow: true},\n"
@@ -330,7 +324,7 @@ TEST_CASE("shadow.so and ao.so match Lambert plus ambient where nothing occludes
         "strength: 0}}"};
     for (const char* material : materials) {
         INFO(material);
-        SceneDir sd;
+        ShadowAoDir sd;
         const Scene scene = sd.load(
             camera(120, 90) +
             "lights:\n"
@@ -375,7 +369,7 @@ TEST_CASE("shadow.so and ao.so match Lambert plus ambient where nothing occludes
 TEST_CASE("two shadow-casting lights each cast their own shadow in one frame", "[shadow]") {
     // A directional light and a spot light, both casting: each ground pixel
     // shows the sum of n.l over the lights that the ray caster says it sees.
-    SceneDir sd;
+    ShadowAoDir sd;
     const Scene scene = sd.load(
         camera(200, 150) +
         "lights:\n"
@@ -417,7 +411,7 @@ TEST_CASE("two shadow-casting lights each cast their own shadow in one frame", "
 TEST_CASE("a shadow map is drawn again only when its casters, its light or its fitted bounds "
           "change, and never shows a stale map",
           "[shadow][skip]") {
-    SceneDir sd;
+    ShadowAoDir sd;
     Scene scene = sd.load(
         camera(96, 72) +
         "lights:\n"
@@ -487,7 +481,7 @@ TEST_CASE("a shadow map is drawn again only when its casters, its light or its f
 TEST_CASE("the frame report says which passes ran, which were skipped and why, and the early "
           "depth test's count, as the frame's statistics have them",
           "[shadow][skip][report]") {
-    SceneDir sd;
+    ShadowAoDir sd;
     Scene scene = sd.load(
         camera(96, 72) +
         "lights:\n"
@@ -975,7 +969,7 @@ TEST_CASE("phong, toon and lit receive shadows from directional, spot and point 
 
 TEST_CASE("shadow maps and AO are drawn only for the visible materials that use them",
           "[shadow][ao][skip]") {
-    SceneDir sd;
+    ShadowAoDir sd;
     const auto frame = [&](const std::string& params) {
         const Scene scene = sd.load(
             camera(96, 72) +
@@ -1057,7 +1051,7 @@ TEST_CASE("a parameter that says whether a pass is used must be of a type the ho
 
 TEST_CASE("a light's shadow_map_size is checked, and a point light's cube is six maps",
           "[shadow][config]") {
-    SceneDir sd;
+    ShadowAoDir sd;
     const std::string objects =
         "objects:\n  - {mesh: ground.obj, material: " + std::string(kShadowed) + "}\n";
     try {
