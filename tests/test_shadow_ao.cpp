@@ -1,5 +1,6 @@
 // Shadows and ambient occlusion against the exact ray caster, and the frame
 // plan's skips. Scenes are YAML, rendered through the real shadow.so / ao.so.
+#include "frame/shadow.hpp"
 #include "pipeline/kernels.hpp"
 #include "reference/raycast.hpp"
 #include "support.hpp"
@@ -475,6 +476,64 @@ TEST_CASE("a shadow map is drawn again only when its casters, its light or its f
         frame(0, 0);
         scene.settings.shadows = true;
         frame(0, 2);
+    }
+}
+
+TEST_CASE("a directional or spot map that takes over a cube face's slot reads as nothing drawn "
+          "past its edge",
+          "[shadow][skip]") {
+    // A point light inside a box: each cube face is drawn with a margin as
+    // wide as the distances' border, and the box fills it. Then the same
+    // slots hold a spot light's map, then a directional one's, of the same
+    // size: their border must read 65535 (nothing drawn, so lit), not the
+    // face's distances, whichever slot a filter kernel reaches past the
+    // map's edge through.
+    ShadowAoDir sd;
+    const std::string box = "objects:\n  - {mesh: cube.obj, scale: 4, material: " +
+                            std::string(kShadowed) + "}\n";
+    const std::string point = "lights: [{type: point, position: [0, 0, 0], casts_shadow: true, "
+                              "shadow_map_size: 64}]\n";
+    const std::string spot = "lights: [{type: spot, position: [0, 0, 0], direction: [0, -1, 0], "
+                             "casts_shadow: true, shadow_map_size: 64}]\n";
+    const std::string sun = "lights: [{type: directional, direction: [0.2, -1, 0.1], "
+                            "casts_shadow: true, shadow_map_size: 64}]\n";
+    Pipeline pipeline(2);
+    ShadowMaps maps;
+    FrameStats stats;
+    // The texels of slot 0 past the map's edge that hold `value`, and all
+    // of them.
+    const auto border = [&](uint16_t value) {
+        const std::vector<uint16_t>& texels = maps.distance_texels.at(0);
+        constexpr int b = FACET_SHADOW_BORDER;
+        const int size = 64, stride = int(maps.distance_texels.at(0).size()) / (size + 2 * b);
+        int count = 0, all = 0;
+        for (int y = 0; y < size + 2 * b; ++y)
+            for (int x = 0; x < size + 2 * b; ++x) {
+                if (y >= b && y < size + b && x >= b && x < size + b) continue;  // the map
+                count += texels[size_t(y) * size_t(stride) + size_t(x)] == value;
+                ++all;
+            }
+        return std::pair(count, all);
+    };
+    const auto draw = [&](const std::string& lights) {
+        const Scene scene = sd.load(camera(32, 24) + lights + box);
+        std::vector<DrawItem> casters;
+        for (const Object& o : scene.objects) add_draw_items(o, casters);
+        render_shadow_maps(scene, casters, pipeline, maps, stats);
+    };
+    draw(point);
+    REQUIRE(maps.cube_abi.size() == 6);
+    const auto [face_far, face_all] = border(65535);
+    REQUIRE(face_all > 0);
+    REQUIRE(face_far < face_all / 2);  // the face drew the box into its margin
+    for (const std::string& lights : {spot, point, sun}) {
+        INFO(lights);
+        draw(lights);
+        if (lights == point) continue;  // back to a face, to be taken over again
+        REQUIRE(maps.abi.size() == 1);
+        REQUIRE(maps.abi[0].width == 64);
+        const auto [far, all] = border(65535);
+        CHECK(far == all);
     }
 }
 
