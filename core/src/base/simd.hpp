@@ -233,6 +233,8 @@ public:
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), lo);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + first_), hi);
 #else
+        // A whole block (as most are, inside a triangle) moves as it is.
+        if (count_ == 16) return static_cast<void>(std::memcpy(dst, src, 16 * sizeof(uint32_t)));
         const auto* in = static_cast<const uint32_t*>(src);
         auto* out = static_cast<uint32_t*>(dst);
         for (int n = 0; n < count_; ++n) out[n] = in[lane_[n]];
