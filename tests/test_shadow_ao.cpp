@@ -958,25 +958,24 @@ TEST_CASE("16-bit distance maps: every path turns window depth into the same dis
 TEST_CASE("the AO pass's normals take the neighbour nearer in depth on each axis, so that no "
           "normal straddles an edge, the same on every path",
           "[ao][isa]") {
-    // A 32x24 grid of view positions: a plane tilted about x (z = -2 - 0.1 y)
-    // left of column 12, and one far behind it (z = -6, facing the camera)
-    // from column 12 on; nothing drawn in the last row.
+    // A 32x24 grid of view positions, seen orthographically (x = 0.01 i,
+    // y = -0.01 j): a plane tilted about x (z = -2 - 0.1 y) left of column
+    // 12, and one far behind it (z = -6, facing the camera) from column 12
+    // on; nothing drawn in the last row.
     const int w = 32, h = 24, pad = w + 16;
-    std::vector<float> x(w * h + 2 * pad), y(w * h + 2 * pad), z(w * h + 2 * pad);
+    std::vector<float> z(w * h + 2 * pad);
     for (int j = 0; j < h - 1; ++j)
-        for (int i = 0; i < w; ++i) {
-            const size_t k = size_t(pad + j * w + i);
-            x[k] = 0.01f * float(i);
-            y[k] = -0.01f * float(j);
-            z[k] = i < 12 ? -2.0f - 0.1f * float(j) : -6.0f;
-        }
+        for (int i = 0; i < w; ++i)
+            z[size_t(pad + j * w + i)] = i < 12 ? -2.0f - 0.1f * float(j) : -6.0f;
     std::vector<std::vector<float>> normals;
     for (Isa isa : supported_isas()) {
         INFO(isa_name(isa));
         std::vector<float> nx(w * h), ny(w * h), nz(w * h);
         AoFrame f;
-        f.width = w, f.height = h;
-        f.x = x.data() + pad, f.y = y.data() + pad, f.z = z.data() + pad;
+        f.width = f.target_width = w, f.height = f.target_height = h;
+        f.perspective = false;
+        f.x1 = 0.01f, f.y1 = -0.01f;
+        f.z = z.data() + pad;
         f.nx = nx.data(), f.ny = ny.data(), f.nz = nz.data();
         kernels(isa).ao_normal_rows(f, 0, h);
         for (int j = 0; j < h; ++j)

@@ -104,18 +104,18 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     const size_t texels = size_t(f.width) * size_t(f.height);
     for (std::vector<float>* v : {&nx_, &ny_, &nz_, &raw_, &blurred_}) v->resize(texels);
     // The positions pass writes every texel of the grid; the key's border
-    // and the positions' padding are zeroed only when the grid changes.
+    // and z's padding are zeroed only when the grid changes.
     constexpr int border = AoFrame::kBorder;
     const size_t pad = size_t(f.width) + 16;  // a row and a vector, on either side
     f.key_stride = f.width + 2 * border;
     if (zeroed_width_ != f.width || zeroed_height_ != f.height) {
         key_.assign(size_t(f.key_stride) * size_t(f.height + 2 * border), 0.0f);
-        for (std::vector<float>* v : {&x_, &y_, &z_}) v->assign(texels + 2 * pad, 0.0f);
+        z_.assign(texels + 2 * pad, 0.0f);
         zeroed_width_ = f.width, zeroed_height_ = f.height;
     }
     f.key = key_.data() + size_t(border) * size_t(f.key_stride) + border;
     f.perspective = proj[2][3] != 0.0f;
-    f.x = x_.data() + pad, f.y = y_.data() + pad, f.z = z_.data() + pad;
+    f.z = z_.data() + pad;
     f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
     f.raw = raw_.data();
     f.blurred = blurred_.data();
@@ -125,8 +125,20 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     f.target_depth = depth->depth();
     f.target_stride = depth->stride();
     f.background = settings.far_depth();
-    f.x_row = {inverse[0][0], inverse[1][0], inverse[2][0], inverse[3][0]};
-    f.y_row = {inverse[0][1], inverse[1][1], inverse[2][1], inverse[3][1]};
+    // A texel's x and y from its z (AoFrame): pixel column px has ndc x
+    // (px + 1/2) 2 / W - 1, which the projection (facet's, with no skew and,
+    // in perspective, the eye at the origin) makes P00 x + P20 z over
+    // w = P23 z, or P00 x + P30 over w = 1; and the same for y.
+    const float to_ndc_x = 2.0f / float(width), to_ndc_y = 2.0f / float(height);
+    const float ndc_x0 = 0.5f * to_ndc_x - 1.0f, ndc_y0 = 1.0f - 0.5f * to_ndc_y;
+    if (f.perspective) {
+        const float w = proj[2][3];
+        f.x1 = to_ndc_x * w / proj[0][0], f.x0 = (ndc_x0 * w - proj[2][0]) / proj[0][0];
+        f.y1 = -to_ndc_y * w / proj[1][1], f.y0 = (ndc_y0 * w - proj[2][1]) / proj[1][1];
+    } else {
+        f.x1 = to_ndc_x / proj[0][0], f.x0 = (ndc_x0 - proj[3][0]) / proj[0][0];
+        f.y1 = -to_ndc_y / proj[1][1], f.y0 = (ndc_y0 - proj[3][1]) / proj[1][1];
+    }
     f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
     f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
     if (scale_ > 1) {

@@ -10,7 +10,8 @@
 // use one (MSAA, or a part that cannot take part), one it draws itself. The
 // AO grid is that size, or half of it per side (settings.half_resolution),
 // each of its texels standing for one target pixel (i * scale, j * scale).
-// Each texel's view-space position comes from the pre-pass depth, and its normal
+// Each texel's view-space position comes from the pre-pass depth (only z is
+// stored: x and y follow from it on the pixel's ray), and its normal
 // from its neighbours' positions (on each axis, the side nearer in depth, so
 // that no normal straddles an edge): the geometric normal, as a ray tracer
 // sees the surface. From each texel `samples` cosine-weighted directions in
@@ -76,10 +77,10 @@ private:
     Framebuffer depth_;  // its own pre-pass, at the target's size
     int scale_ = 1;
     AoFrame frame_;
-    // Per AO texel; the positions with a row and a vector of padding on
-    // either side, which the normals' neighbour loads may read.
-    std::vector<float> x_, y_, z_, nx_, ny_, nz_, key_;
-    // The grid the positions' padding and the key's border were zeroed for:
+    // Per AO texel; z with a row and a vector of padding on either side,
+    // which the normals' neighbour loads may read.
+    std::vector<float> z_, nx_, ny_, nz_, key_;
+    // The grid z's padding and the key's border were zeroed for:
     // the passes write only inside the grid, so they stay zero until it
     // changes.
     int zeroed_width_ = -1, zeroed_height_ = -1;  // -1: never

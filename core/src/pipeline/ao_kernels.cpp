@@ -36,6 +36,25 @@ void store_row(float* row, int x0, int width, const Float& v) {
 // Truncated to integers; every lane must be in int range.
 Int to_int(const Float& v) { return __builtin_convertvector(v, Int); }
 
+// The target pixel column of AO texel columns i, and the pixel row of AO
+// row j: texel i stands for pixel i * scale, the last within the target.
+Int pixel_column(const AoFrame& f, const Int& i) {
+    const Int px = i * f.scale;
+    return px < f.target_width - 1 ? px : Int{} + (f.target_width - 1);
+}
+int pixel_row(const AoFrame& f, int j) { return std::min(j * f.scale, f.target_height - 1); }
+
+// The view x of texels in pixel columns px whose view z is z, and the view
+// y of texels in pixel row py (AoFrame::x0).
+Float view_x(const AoFrame& f, const Int& px, const Float& z) {
+    const Float a = f.x0 + f.x1 * simd::to_float(px);
+    return f.perspective ? a * z : a;
+}
+Float view_y(const AoFrame& f, int py, const Float& z) {
+    const float a = f.y0 + f.y1 * float(py);
+    return f.perspective ? a * z : Float{} + a;
+}
+
 // 1 / (1 + 2500 r^2): the blur's and the upsample's weight for a relative
 // depth difference r: 1/2 at 2%, about 1/10 at 6%.
 Float depth_weight(const Float& relative) { return 1.0f / (1.0f + 2500.0f * relative * relative); }
@@ -68,7 +87,7 @@ static_assert(AoFrame::kSteps * 134217728.0 + 16384.0 * 65536.0 < 2147483648.0);
 
 }  // namespace
 
-// View positions of AO rows [first, first + count): each texel's target
+// View z and keys of AO rows [first, first + count): each texel's target
 // pixel (i * scale, j * scale) unprojected from the pre-pass depth through
 // the inverse projection's rows; 0 where nothing was drawn.
 void ao_position_rows(const AoFrame& f, int first, int count) {
@@ -76,23 +95,19 @@ void ao_position_rows(const AoFrame& f, int first, int count) {
     for (int i = 0; i < kWidth; ++i) lane[i] = i;
     const float to_ndc_x = 2.0f / float(f.target_width), to_ndc_y = 2.0f / float(f.target_height);
     for (int j = first; j < first + count; ++j) {
-        const int py = std::min(j * f.scale, f.target_height - 1);
+        const int py = pixel_row(f, j);
         const float* depth = f.target_depth + size_t(py) * size_t(f.target_stride);
         const float ndc_y = 1.0f - (float(py) + 0.5f) * to_ndc_y;
         const size_t row = size_t(j) * size_t(f.width);
         for (int i0 = 0; i0 < f.width; i0 += kWidth) {
-            Int px = (lane + i0) * f.scale;
-            px = px < f.target_width - 1 ? px : Int{} + (f.target_width - 1);
+            const Int px = pixel_column(f, lane + i0);
             const Float d = simd::gather(depth, px);
             const Int surface = d != f.background;
             const Float ndc_x = (simd::to_float(px) + 0.5f) * to_ndc_x - 1.0f;
             const auto dot = [&](const glm::vec4& r) {
                 return (r.x * ndc_x + (r.y * ndc_y + r.w)) + r.z * d;
             };
-            const Float inv_w = 1.0f / dot(f.w_row);
-            store_row(f.x + row, i0, f.width, select(surface, dot(f.x_row) * inv_w, Float{}));
-            store_row(f.y + row, i0, f.width, select(surface, dot(f.y_row) * inv_w, Float{}));
-            const Float z = select(surface, dot(f.z_row) * inv_w, Float{});
+            const Float z = select(surface, dot(f.z_row) / dot(f.w_row), Float{});
             store_row(f.z + row, i0, f.width, z);
             const Float inv_depth = -1.0f / select(surface, z, Float{} - 1.0f);
             store_row(f.key + size_t(j) * size_t(f.key_stride), i0, f.width,
@@ -113,18 +128,19 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
         Int found;
         Float x, y, z;
     };
-    // The step from p (lanes of texel k on) to the neighbours `apart`
-    // texels before and after, where `after` and `before` say they exist.
-    // The positions are padded by a row and a vector on either side, so the
-    // loads stay in their storage; what they read past the grid is masked.
-    const auto step = [&](size_t k, ptrdiff_t apart, Int after, Int before, const Float& px,
+    // The step from p (lanes of texel k on, in pixel columns px and row py)
+    // to the neighbours `apart` texels before and after, where `after` and
+    // `before` say they exist: along a row (apart 1), in columns a and b
+    // and row py; else in p's columns and rows a and b. z is padded by a row
+    // and a vector on either side, so the loads stay in its storage; what
+    // they read past the grid is masked.
+    const auto step = [&](size_t k, ptrdiff_t apart, Int after, Int before, const Int& a_column,
+                          const Int& b_column, int a_row, int b_row, const Float& px,
                           const Float& py, const Float& pz) {
-        const Float ax = simd::load<Float>(f.x + k + apart),
-                    ay = simd::load<Float>(f.y + k + apart),
-                    az = simd::load<Float>(f.z + k + apart);
-        const Float bx = simd::load<Float>(f.x + k - apart),
-                    by = simd::load<Float>(f.y + k - apart),
-                    bz = simd::load<Float>(f.z + k - apart);
+        const Float az = simd::load<Float>(f.z + k + apart),
+                    ax = view_x(f, a_column, az), ay = view_y(f, a_row, az);
+        const Float bz = simd::load<Float>(f.z + k - apart),
+                    bx = view_x(f, b_column, bz), by = view_y(f, b_row, bz);
         after &= az != 0.0f;
         before &= bz != 0.0f;
         const Float da = select(az - pz < 0.0f, pz - az, az - pz);
@@ -139,12 +155,17 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
             const Int i = lane + i0;
             const Int in_row = i < f.width;
             const size_t k = row + size_t(i0);
-            const Float px = simd::load<Float>(f.x + k), py = simd::load<Float>(f.y + k),
-                        pz = simd::load<Float>(f.z + k);
+            const Int column = pixel_column(f, i);
+            const int py_row = pixel_row(f, j);
+            const Float pz = simd::load<Float>(f.z + k);
+            const Float px = view_x(f, column, pz), py = view_y(f, py_row, pz);
             const Int all = Int{} - 1;
-            const Step u = step(k, 1, in_row & (i + 1 < f.width), in_row & (i > 0), px, py, pz);
+            const Step u = step(k, 1, in_row & (i + 1 < f.width), in_row & (i > 0),
+                                pixel_column(f, i + 1), pixel_column(f, i - 1), py_row, py_row,
+                                px, py, pz);
             const Step v = step(k, ptrdiff_t(f.width), in_row & (j + 1 < f.height ? all : Int{}),
-                                in_row & (j > 0 ? all : Int{}), px, py, pz);
+                                in_row & (j > 0 ? all : Int{}), column, column,
+                                pixel_row(f, j + 1), pixel_row(f, j - 1), px, py, pz);
             const Float cx = u.y * v.z - u.z * v.y, cy = u.z * v.x - u.x * v.z,
                         cz = u.x * v.y - u.y * v.x;
             const Int crossed = u.found & v.found & ((cx * cx + cy * cy + cz * cz) > 0.0f);
@@ -221,8 +242,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         const Float pz = select(t.x < x_end, load_row(f.z + row, x0, f.width, 0.0f), Float{});
         t.surface = pz != 0.0f;  // background texels stay visible
         if (!simd::bits(t.surface)) return;
-        const Float px = load_row(f.x + row, x0, f.width, 0.0f),
-                    py = load_row(f.y + row, x0, f.width, 0.0f);
+        const Float px = view_x(f, pixel_column(f, t.x), pz), py = view_y(f, pixel_row(f, y), pz);
         const Float nx = load_row(f.nx + row, x0, f.width, 0.0f),
                     ny = load_row(f.ny + row, x0, f.width, 0.0f),
                     nz = load_row(f.nz + row, x0, f.width, 1.0f);

@@ -62,9 +62,16 @@ struct AoFrame {
     int samples = 0;                  // directions per texel
     float radius = 0.0f;              // world (view) units
     glm::mat4 projection{1.0f};
-    float* x = nullptr;               // view-space position of each texel's surface
-    float* y = nullptr;
-    float* z = nullptr;               // ... its z; 0 where nothing was drawn
+    // The view-space z of each texel's surface, 0 where nothing was drawn;
+    // read a row and a vector past the grid on either side (zeros).
+    float* z = nullptr;
+    // Its x and y follow from z, on the ray of the texel's target pixel
+    // (column px = min(i * scale, target_width - 1), row py the same):
+    // x = (x0 + x1 * px) * z with a perspective projection, x0 + x1 * px
+    // with an orthographic one, and y likewise from py. (Neither is stored:
+    // at half size on a 1920x1080 target they were 8 MB to write and read
+    // again each frame.)
+    float x0 = 0.0f, x1 = 0.0f, y0 = 0.0f, y1 = 0.0f;
     // What the marches compare, per texel: 1 / -z with a perspective
     // projection, z with an orthographic one; 0 where nothing was drawn,
     // and in a border of kBorder texels around the grid: texel (i, j) at
@@ -88,12 +95,12 @@ struct AoFrame {
     float* blurred = nullptr;         // ... after it
     // The target's window depth (rows target_stride floats apart), whose
     // `background` value means nothing was drawn, and the rows of the
-    // inverse projection that give a pixel's view position: x = dot(x_row,
-    // ndc) / dot(w_row, ndc) and so on, ndc = (x, y, depth, 1).
+    // inverse projection that give a pixel's view z: z = dot(z_row, ndc) /
+    // dot(w_row, ndc), ndc = (x, y, depth, 1).
     const float* target_depth = nullptr;
     int target_stride = 0;
     float background = 0.0f;
-    glm::vec4 x_row{0.0f}, y_row{0.0f}, z_row{0.0f}, w_row{0.0f};
+    glm::vec4 z_row{0.0f}, w_row{0.0f};
     float* visibility = nullptr;      // per target pixel (scale 2 only)
 };
 
