@@ -18,7 +18,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <fstream>
 
 using namespace facet;
 namespace fs = std::filesystem;

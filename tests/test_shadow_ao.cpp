@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 
 using namespace facet;
 namespace fs = std::filesystem;
@@ -529,7 +528,10 @@ TEST_CASE("a directional or spot map that takes over a cube face's slot reads as
     for (const std::string& lights : {spot, point, sun}) {
         INFO(lights);
         draw(lights);
-        if (lights == point) continue;  // back to a face, to be taken over again
+        if (lights == point) {  // back to a face, to be taken over again
+            REQUIRE(border(65535).first < face_all / 2);
+            continue;
+        }
         REQUIRE(maps.abi.size() == 1);
         REQUIRE(maps.abi[0].width == 64);
         const auto [far, all] = border(65535);
@@ -999,6 +1001,66 @@ TEST_CASE("the AO pass's normals take the neighbour nearer in depth on each axis
         normals.push_back(nx), normals.push_back(ny), normals.push_back(nz);
     }
     for (size_t i = 3; i < normals.size(); ++i) CHECK(normals[i] == normals[i % 3]);
+}
+
+TEST_CASE("the AO pass finds a plane's view positions and normal from its depth under a "
+          "perspective projection, at half size on an odd-sized target, the same on every path",
+          "[ao][isa]") {
+    // A 33x25 target whose every pixel sees one tilted plane, its window
+    // depth worked out in double; the AO grid is 17x13, its last column
+    // standing for the target's last pixel column (32, not 34).
+    const int tw = 33, th = 25;
+    const glm::mat4 proj = facet::perspective(glm::radians(50.0f), float(tw) / float(th), 0.1f,
+                                              100.0f, false);
+    const glm::dvec3 normal = glm::normalize(glm::dvec3(0.25, 0.6, 0.76));  // faces the eye
+    const glm::dvec3 on_plane(0.3, -0.2, -5.0);
+    const glm::dmat4 dproj(proj), inverse = glm::inverse(dproj);
+    // The view position pixel (px, py)'s ray meets the plane at.
+    const auto seen = [&](int px, int py) {
+        const glm::dvec4 ndc(((px + 0.5) * 2.0 / tw) - 1.0, 1.0 - ((py + 0.5) * 2.0 / th), 0.5, 1.0);
+        const glm::dvec4 p = inverse * ndc;
+        const glm::dvec3 ray = glm::dvec3(p) / p.w;  // from the eye at the origin
+        return ray * (glm::dot(normal, on_plane) / glm::dot(normal, ray));
+    };
+    std::vector<float> depth(size_t(tw) * size_t(th));
+    for (int py = 0; py < th; ++py)
+        for (int px = 0; px < tw; ++px) {
+            const glm::dvec4 clip = dproj * glm::dvec4(seen(px, py), 1.0);
+            depth[size_t(py * tw + px)] = float(clip.z / clip.w);
+        }
+    const int w = (tw + 1) / 2, h = (th + 1) / 2, pad = w + 16;
+    constexpr int border = AoFrame::kBorder;
+    std::vector<std::vector<float>> results;
+    for (Isa isa : supported_isas()) {
+        INFO(isa_name(isa));
+        std::vector<float> z(size_t(w * h + 2 * pad)), nx(size_t(w * h)), ny(size_t(w * h)),
+            nz(size_t(w * h)), key(size_t((w + 2 * border) * (h + 2 * border)));
+        AoFrame f;
+        f.width = w, f.height = h, f.scale = 2, f.target_width = tw, f.target_height = th;
+        f.set_pixel_rays(proj);
+        REQUIRE(f.perspective);
+        const glm::mat4 inv = glm::inverse(proj);
+        f.z_row = {inv[0][2], inv[1][2], inv[2][2], inv[3][2]};
+        f.w_row = {inv[0][3], inv[1][3], inv[2][3], inv[3][3]};
+        f.target_depth = depth.data(), f.target_stride = tw, f.background = 1.0f;
+        f.z = z.data() + pad;
+        f.key_stride = w + 2 * border;
+        f.key = key.data() + size_t(border * f.key_stride + border);
+        f.nx = nx.data(), f.ny = ny.data(), f.nz = nz.data();
+        kernels(isa).ao_position_rows(f, 0, h);
+        kernels(isa).ao_normal_rows(f, 0, h);
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                INFO("texel " << i << ", " << j);
+                const size_t k = size_t(j * w + i);
+                const glm::dvec3 truth = seen(std::min(2 * i, tw - 1), std::min(2 * j, th - 1));
+                CHECK(f.z[k] == Approx(truth.z).epsilon(1e-5));
+                const glm::dvec3 n(nx[k], ny[k], nz[k]);
+                CHECK(glm::length(n - normal) < 1e-3);
+            }
+        results.push_back(z), results.push_back(nx), results.push_back(ny), results.push_back(nz);
+    }
+    for (size_t i = 4; i < results.size(); ++i) CHECK(results[i] == results[i % 4]);
 }
 
 // ---- shadows and AO as services of every lit shader (ABI 1.3) --------------

@@ -5,6 +5,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -43,6 +44,28 @@ void AoPass::make_directions(int samples) {
                     directions_[size_t(((row * samples + k) * 3 + c) * 4 + column)] = d[c];
             }
     direction_samples_ = samples;
+}
+
+void AoFrame::set_pixel_rays(const glm::mat4& proj) {
+    // Pixel column px has ndc x (px + 1/2) 2 / W - 1, which is
+    // (P00 x + P20 z) / (P23 z) in perspective and P00 x + P30 in
+    // orthographic (w = 1): solved for x, affine in px, times z in
+    // perspective. The same for y, whose ndc falls as the row grows.
+    assert(proj[1][0] == 0.0f && proj[0][1] == 0.0f && proj[0][3] == 0.0f &&
+           proj[1][3] == 0.0f);
+    perspective = proj[2][3] != 0.0f;
+    const float to_ndc_x = 2.0f / float(target_width), to_ndc_y = 2.0f / float(target_height);
+    const float ndc_x0 = 0.5f * to_ndc_x - 1.0f, ndc_y0 = 1.0f - 0.5f * to_ndc_y;
+    if (perspective) {
+        assert(proj[3][0] == 0.0f && proj[3][1] == 0.0f && proj[3][3] == 0.0f);
+        const float w = proj[2][3];
+        x1 = to_ndc_x * w / proj[0][0], x0 = (ndc_x0 * w - proj[2][0]) / proj[0][0];
+        y1 = -to_ndc_y * w / proj[1][1], y0 = (ndc_y0 * w - proj[2][1]) / proj[1][1];
+    } else {
+        assert(proj[2][0] == 0.0f && proj[2][1] == 0.0f && proj[3][3] == 1.0f);
+        x1 = to_ndc_x / proj[0][0], x0 = (ndc_x0 - proj[3][0]) / proj[0][0];
+        y1 = -to_ndc_y / proj[1][1], y0 = (ndc_y0 - proj[3][1]) / proj[1][1];
+    }
 }
 
 void AoPass::draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& view,
@@ -114,7 +137,6 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
         zeroed_width_ = f.width, zeroed_height_ = f.height;
     }
     f.key = key_.data() + size_t(border) * size_t(f.key_stride) + border;
-    f.perspective = proj[2][3] != 0.0f;
     f.z = z_.data() + pad;
     f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
     f.raw = raw_.data();
@@ -125,20 +147,7 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     f.target_depth = depth->depth();
     f.target_stride = depth->stride();
     f.background = settings.far_depth();
-    // A texel's x and y from its z (AoFrame): pixel column px has ndc x
-    // (px + 1/2) 2 / W - 1, which the projection (facet's, with no skew and,
-    // in perspective, the eye at the origin) makes P00 x + P20 z over
-    // w = P23 z, or P00 x + P30 over w = 1; and the same for y.
-    const float to_ndc_x = 2.0f / float(width), to_ndc_y = 2.0f / float(height);
-    const float ndc_x0 = 0.5f * to_ndc_x - 1.0f, ndc_y0 = 1.0f - 0.5f * to_ndc_y;
-    if (f.perspective) {
-        const float w = proj[2][3];
-        f.x1 = to_ndc_x * w / proj[0][0], f.x0 = (ndc_x0 * w - proj[2][0]) / proj[0][0];
-        f.y1 = -to_ndc_y * w / proj[1][1], f.y0 = (ndc_y0 * w - proj[2][1]) / proj[1][1];
-    } else {
-        f.x1 = to_ndc_x / proj[0][0], f.x0 = (ndc_x0 - proj[3][0]) / proj[0][0];
-        f.y1 = -to_ndc_y / proj[1][1], f.y0 = (ndc_y0 - proj[3][1]) / proj[1][1];
-    }
+    f.set_pixel_rays(proj);
     f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
     f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
     if (scale_ > 1) {

@@ -69,9 +69,13 @@ struct AoFrame {
     // (column px = min(i * scale, target_width - 1), row py the same):
     // x = (x0 + x1 * px) * z with a perspective projection, x0 + x1 * px
     // with an orthographic one, and y likewise from py. (Neither is stored:
-    // at half size on a 1920x1080 target they were 8 MB to write and read
-    // again each frame.)
+    // at half size on a 1920x1080 target they were 4 MB to write and 4 MB
+    // to read again each frame.)
     float x0 = 0.0f, x1 = 0.0f, y0 = 0.0f, y1 = 0.0f;
+    // Sets perspective and x0 .. y1 for `proj` (facet::perspective's or
+    // facet::orthographic's form: no skew, and in perspective the eye at
+    // the origin) and the target's size (frame/ao.cpp).
+    void set_pixel_rays(const glm::mat4& proj);
     // What the marches compare, per texel: 1 / -z with a perspective
     // projection, z with an orthographic one; 0 where nothing was drawn,
     // and in a border of kBorder texels around the grid: texel (i, j) at
@@ -149,9 +153,9 @@ struct Kernels {
     // ones of framebuffer.hpp).
     void (*encode_pixels)(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out);
     void (*decode_pixels)(ColorFormat format, const uint8_t* in, size_t count, glm::vec4* linear);
-    // AO rows [first, first + count) (ao_kernels.cpp): the view position of
-    // each texel's surface, then its normal (the positions of the rows
-    // around it must be done), its raw visibility (within columns
+    // AO rows [first, first + count) (ao_kernels.cpp): the view z and key
+    // of each texel's surface, then its normal (the rows around it must be
+    // done), its raw visibility (within columns
     // [x_first, x_first + x_count), x_first a multiple of kGroup) and its blur,
     // on the AO grid; the depth-aware upsample, on the target's.
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
