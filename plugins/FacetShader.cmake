@@ -74,7 +74,7 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
         set(FACET_WIDE_ISAS "")
       endif()
     endforeach()
-    # The thread sanitizer and fuzzing presets run the CPU's best path only
+    # The sanitizer and fuzzing presets run the CPU's best path only
     # (FACET_SANITIZE_BEST_PATH): they build it and the portable one, and
     # not, on an AVX-512 CPU, the AVX2 path they would never run.
     if(FACET_SANITIZE_BEST_PATH AND FACET_WIDE_ISAS)

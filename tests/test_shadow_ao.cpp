@@ -29,8 +29,8 @@ namespace {
 // and the template's unit cube (cube.obj).
 struct ShadowAoDir : test::SceneDir {
     ShadowAoDir() : test::SceneDir("shadow-ao") {
-        folder.write("ground.obj",
-                     "v -6 0 -6\nv 6 0 -6\nv 6 0 6\nv -6 0 6\nvn 0 1 0\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n");
+        folder.write("ground.obj", "v -6 0 -6\nv 6 0 -6\nv 6 0 6\nv -6 0 6\nvn 0 1 0\n"
+                                   "f 1//1 3//1 2//1\nf 1//1 4//1 3//1\n");
         fs::copy_file(fs::path(FACET_SOURCE_DIR) / "plugins/template/cube.obj", dir / "cube.obj");
     }
 };
