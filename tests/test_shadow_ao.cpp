@@ -1007,8 +1007,8 @@ TEST_CASE("the AO pass finds a plane's view positions and normal from its depth 
           "perspective projection, at half size on an odd-sized target, the same on every path",
           "[ao][isa]") {
     // A 33x25 target whose every pixel sees one tilted plane, its window
-    // depth worked out in double; the AO grid is 17x13, its last column
-    // standing for the target's last pixel column (32, not 34).
+    // depth worked out in double; the AO grid is 17x13, its last column and
+    // row standing for the target's last pixel column and row (32 and 24).
     const int tw = 33, th = 25;
     const glm::mat4 proj = facet::perspective(glm::radians(50.0f), float(tw) / float(th), 0.1f,
                                               100.0f, false);
