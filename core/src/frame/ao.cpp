@@ -130,7 +130,11 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     // and z's padding are zeroed only when the grid changes.
     constexpr int border = AoFrame::kBorder;
     const size_t pad = size_t(f.width) + 16;  // a row and a vector, on either side
-    f.key_stride = f.width + 2 * border;
+    // Rows an odd number of cache lines (16 floats) apart: a march down a
+    // column then reads its rows through different cache sets. Rows 4 KiB
+    // apart (960 texels and the border, at 1920x1080 and half size) share
+    // a few, which cost the occlusion a tenth of its time.
+    f.key_stride = (((f.width + 2 * border + 15) / 16) | 1) * 16;
     if (zeroed_width_ != f.width || zeroed_height_ != f.height) {
         key_.assign(size_t(f.key_stride) * size_t(f.height + 2 * border), 0.0f);
         z_.assign(texels + 2 * pad, 0.0f);
@@ -169,7 +173,7 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     constexpr int kTileWidth = 128, kTileRows = 16;
     // Tiles start at multiples of the occlusion's group of texels, on which
     // its groups and each texel's turn of the direction set depend.
-    static_assert(kTileWidth % AoFrame::kGroup == 0);
+    static_assert(kTileWidth % AoFrame::kGroupWidth == 0 && kTileRows % AoFrame::kGroupRows == 0);
     const int columns = (f.width + kTileWidth - 1) / kTileWidth;
     const int tile_rows = (f.height + kTileRows - 1) / kTileRows;
     pool.parallel_for(columns * tile_rows, [&](int tile, int) {

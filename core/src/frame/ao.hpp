@@ -21,12 +21,13 @@
 // surface by less than `radius`, a surface that stands above the texel's
 // tangent plane. This estimates the same quantity a ray tracer does
 // (cosine-weighted visibility within the radius) from what the screen
-// shows. The two most grazing directions go first: a group of 64 texels of
-// a row where both are open everywhere is taken as open (a nearby occluder
+// shows. The most grazing direction goes first: a group of 16 texels of
+// 4 rows where it is open everywhere is taken as open (a nearby occluder
 // blocks the grazing directions first; only an overhang within reach could
-// block a steeper one alone). That spares the open floor of a typical
-// scene most of its marches, at no cost in accuracy against the ray caster
-// (facet-bench-shadow-ao). A depth-aware 4x4 blur removes the pattern's
+// block a steeper one alone; the group's texels turn the direction set all
+// 16 ways, so between them they look all round). That spares the open
+// floor of a typical scene most of its marches, at no cost in accuracy
+// against the ray caster (facet-bench-shadow-ao). A depth-aware 4x4 blur removes the pattern's
 // noise without bleeding across depth edges, and at half resolution a
 // depth-aware bilinear upsample gives each target pixel the visibility of
 // the texels around it that lie at its depth. Where everything they would

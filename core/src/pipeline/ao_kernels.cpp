@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -78,6 +79,20 @@ Float spread_next(const Float& v) {
     return __builtin_shufflevector(v, v, 1, 1, 2, 2, 3, 3, 4, 4);
 #else
     return __builtin_shufflevector(v, v, 1, 1, 2, 2);
+#endif
+}
+
+// Lanes 0, 1, 2, 3, 0, 1, 2, 3, ...: four floats from p, repeated.
+Float repeat4(const float* p) {
+    using Float4 = float __attribute__((vector_size(16)));
+    Float4 v;
+    std::memcpy(&v, p, sizeof v);
+#if FACET_SIMD_WIDTH == 16
+    return __builtin_shufflevector(v, v, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3);
+#elif FACET_SIMD_WIDTH == 8
+    return __builtin_shufflevector(v, v, 0, 1, 2, 3, 0, 1, 2, 3);
+#else
+    return v;
 #endif
 }
 
@@ -225,10 +240,11 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // An occluder stands at least tol in front of the march and of the
     // tangent plane (float error and curvature), and less than reach.
     const float tol = 0.005f * f.radius, reach = f.radius;
-    // A group: 64 texels of a row, whatever the path, as kVectors vectors
-    // of kWidth neighbours, so that every path takes the same groups as
-    // open.
-    constexpr int kGroup = AoFrame::kGroup, kVectors = kGroup / kWidth, kBatch = 8;
+    // A group: 16 texels of each of 4 rows, whatever the path, as kAcross
+    // vectors of kWidth neighbours per row, so that every path takes the
+    // same groups as open.
+    constexpr int kGroupWidth = AoFrame::kGroupWidth, kGroupRows = AoFrame::kGroupRows;
+    constexpr int kAcross = kGroupWidth / kWidth, kVectors = kAcross * kGroupRows, kBatch = 8;
     MarchStart start[kVectors];
     MarchStep steps[kVectors][kBatch];
     Int lane;
@@ -371,52 +387,60 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         return blocked & m.ahead;
     };
 
-    for (int y = first; y < first + count; ++y) {
-        const int row = y * f.width;
-        // Texel x turns its directions by (x & 3) * 4 + (y & 3), and a
-        // vector starts at a multiple of 4: lane i takes turn i & 3 of the
-        // row's four. Direction k of each lane, for the row.
-        const auto lane_direction = [&](int k, Float& hx, Float& hy, Float& hz) {
+    const int y_end = first + count;
+    for (int y0 = first; y0 < y_end; y0 += kGroupRows) {
+        // Texel (x, y) turns its directions by (x & 3) * 4 + (y & 3), and a
+        // vector starts at a multiple of 4: lane i takes turn i & 3 of its
+        // row's four. Direction k of each lane of row y.
+        const auto lane_direction = [&](int k, int y, Float& hx, Float& hy, Float& hz) {
             const float* turns = f.directions + size_t(((y & 3) * f.samples + k) * 3) * 4;
-            for (int i = 0; i < kWidth; ++i)
-                hx[i] = turns[i & 3], hy[i] = turns[4 + (i & 3)], hz[i] = turns[8 + (i & 3)];
+            hx = repeat4(turns), hy = repeat4(turns + 4), hz = repeat4(turns + 8);
         };
-        for (int x0 = x_first; x0 < x_end; x0 += kGroup) {
+        for (int x0 = x_first; x0 < x_end; x0 += kGroupWidth) {
+            // Vector v: row y0 + v / kAcross, texels from x0 + (v % kAcross) kWidth.
+            const auto row_of = [&](int v) { return y0 + v / kAcross; };
+            const auto column_of = [&](int v) { return x0 + (v % kAcross) * kWidth; };
             bool any = false;
             for (int v = 0; v < kVectors; ++v) {
-                begin(start[v], x0 + v * kWidth, y);
+                start[v].surface = Int{};
+                if (row_of(v) < y_end) begin(start[v], column_of(v), row_of(v));
                 any |= simd::bits(start[v].surface) != 0;
             }
-            // The two most grazing directions first (the last two: the
-            // directions' elevations fall with their index); where both are
-            // open for every texel of the group, the group is taken as open.
-            // A grazing direction is the first a nearby occluder blocks; only
-            // an overhang within reach could block a steeper one alone.
+            // The most grazing direction first (the last: the directions'
+            // elevations fall with their index); where it is open for every
+            // texel of the group, the group is taken as open. A grazing
+            // direction is the first a nearby occluder blocks; only an
+            // overhang within reach could block a steeper one alone. The
+            // group's 16 texels of a row and 4 rows turn the direction set
+            // all 16 ways: between them they look for an occluder all round.
             Float open[kVectors] = {};
-            const auto direction = [&](int i) { return i < 2 ? f.samples - 1 - i : i - 2; };
+            const auto direction = [&](int i) { return i < 1 ? f.samples - 1 : i - 1; };
             for (int i0 = 0; any && i0 < f.samples;) {
-                const int batch = std::min(i0 == 0 ? 2 : kBatch, f.samples - i0);
+                const int batch = std::min(i0 == 0 ? 1 : kBatch, f.samples - i0);
                 for (int k = 0; k < batch; ++k) {
-                    Float hx{}, hy{}, hz{};
-                    lane_direction(direction(i0 + k), hx, hy, hz);
-                    for (int v = 0; v < kVectors; ++v)
-                        if (simd::bits(start[v].surface)) aim(steps[v][k], start[v], hx, hy, hz);
+                    for (int r = 0; r < kGroupRows; ++r) {
+                        Float hx{}, hy{}, hz{};
+                        lane_direction(direction(i0 + k), y0 + r, hx, hy, hz);
+                        for (int v = r * kAcross; v < (r + 1) * kAcross; ++v)
+                            if (simd::bits(start[v].surface))
+                                aim(steps[v][k], start[v], hx, hy, hz);
+                    }
                 }
                 for (int v = 0; v < kVectors; ++v) {
                     if (!simd::bits(start[v].surface)) continue;
                     for (int k = 0; k < batch; ++k) {
                         const MarchStep& m = steps[v][k];
                         const Int blocked = m.bordered
-                                                ? march(start[v], m, y, std::true_type{})
-                                                : march(start[v], m, y, std::false_type{});
+                                                ? march(start[v], m, row_of(v), std::true_type{})
+                                                : march(start[v], m, row_of(v), std::false_type{});
                         open[v] += select(blocked, Float{}, Float{} + 1.0f);
                     }
                 }
                 i0 += batch;
-                if (i0 == 2 && i0 < f.samples) {
+                if (i0 == 1 && i0 < f.samples) {
                     uint32_t closed = 0;
                     for (int v = 0; v < kVectors; ++v)
-                        closed |= simd::bits(start[v].surface & (open[v] != 2.0f));
+                        closed |= simd::bits(start[v].surface & (open[v] != 1.0f));
                     if (!closed) {
                         for (Float& o : open) o = Float{} + float(f.samples);
                         break;
@@ -424,11 +448,11 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                 }
             }
             for (int v = 0; v < kVectors; ++v) {
-                const int first_texel = x0 + v * kWidth;
-                if (first_texel >= x_end) break;
+                const int first_texel = column_of(v);
+                if (first_texel >= x_end || row_of(v) >= y_end) continue;
                 const Float visible = select(start[v].surface, open[v] * (1.0f / float(f.samples)),
                                              Float{} + 1.0f);
-                store_row(f.raw + size_t(row), first_texel, x_end, visible);
+                store_row(f.raw + size_t(row_of(v)) * size_t(f.width), first_texel, x_end, visible);
             }
         }
     }
@@ -439,7 +463,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 // Ambient visibility of AO rows [first, first + count), before the blur:
 // the share of the texel's `samples` directions whose march is not blocked,
 // over columns [x_first, x_first + x_count) (x_first a multiple of
-// AoFrame::kGroup).
+// AoFrame::kGroupWidth, first of AoFrame::kGroupRows).
 // Texels turn their direction set by (x & 3) * 4 + (y & 3). A vector's lanes
 // are neighbours in a row, so that its start reads whole vectors. A
 // direction's march reaches `radius` along it in AoFrame::kSteps even steps
@@ -447,9 +471,9 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
 // or z) rather than depths: no division per step.
 // A step is blocked only by a surface above the texel's tangent plane
 // (whose key is affine over the grid), so that a lookup half a texel off
-// never takes the surface itself for an occluder. Each group of 64 texels
-// of a row marches its two most grazing directions first, and is taken as
-// open, without the rest, where both are open for all of its texels.
+// never takes the surface itself for an occluder. Each group of 16 texels
+// of 4 rows marches its most grazing direction first, and is taken as
+// open, without the rest, where it is open for all of its texels.
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     if (f.perspective) occlusion_rows<true>(f, first, count, x_first, x_count);
     else occlusion_rows<false>(f, first, count, x_first, x_count);

@@ -82,9 +82,10 @@ struct AoFrame {
     // key[j * key_stride + i], for -kBorder <= i < width + kBorder and the
     // same for j. A march that stays within it needs no clamping.
     static constexpr int kBorder = 32;
-    // The occlusion decides whether texels are open 64 of a row at a time,
-    // whatever the path: its columns start at multiples of kGroup.
-    static constexpr int kGroup = 64;
+    // The occlusion decides whether texels are open in groups of 16 texels
+    // of each of 4 rows, whatever the path: its columns start at multiples
+    // of kGroupWidth, its rows at multiples of kGroupRows.
+    static constexpr int kGroupWidth = 16, kGroupRows = 4;
     float* key = nullptr;
     int key_stride = 0;
     bool perspective = true;
@@ -156,7 +157,8 @@ struct Kernels {
     // AO rows [first, first + count) (ao_kernels.cpp): the view z and key
     // of each texel's surface, then its normal (the rows around it must be
     // done), its raw visibility (within columns
-    // [x_first, x_first + x_count), x_first a multiple of kGroup) and its blur,
+    // [x_first, x_first + x_count), x_first a multiple of kGroupWidth and
+    // first of kGroupRows) and its blur,
     // on the AO grid; the depth-aware upsample, on the target's.
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
     void (*ao_normal_rows)(const AoFrame& f, int first, int count);
