@@ -1003,6 +1003,40 @@ TEST_CASE("the AO pass's normals take the neighbour nearer in depth on each axis
     for (size_t i = 3; i < normals.size(); ++i) CHECK(normals[i] == normals[i % 3]);
 }
 
+TEST_CASE("an AO texel with neighbours on one axis only gets the normal nearest the eye's "
+          "direction across its step; an orthographic eye looks along -Z",
+          "[ao][isa]") {
+    // Orthographic positions x = 0.01 i, y = -0.01 j on a 32x8 grid: row 5
+    // alone drawn, a strip of the plane z = -2 - 0.5 x (so texels there have
+    // neighbours across but none up or down), and texel (20, 2) alone.
+    const int w = 32, h = 8, pad = w + 16;
+    std::vector<float> z(w * h + 2 * pad);
+    for (int i = 0; i < w; ++i) z[size_t(pad + 5 * w + i)] = -2.0f - 0.5f * (0.01f * float(i));
+    z[size_t(pad + 2 * w + 20)] = -3.0f;
+    std::vector<std::vector<float>> normals;
+    for (Isa isa : supported_isas()) {
+        INFO(isa_name(isa));
+        std::vector<float> nx(w * h), ny(w * h), nz(w * h);
+        AoFrame f;
+        f.width = f.target_width = w, f.height = f.target_height = h;
+        f.perspective = false;
+        f.x1 = 0.01f, f.y1 = -0.01f;
+        f.z = z.data() + pad;
+        f.nx = nx.data(), f.ny = ny.data(), f.nz = nz.data();
+        kernels(isa).ao_normal_rows(f, 0, h);
+        const glm::vec3 strip = glm::normalize(glm::vec3(0.5f, 0.0f, 1.0f));  // the plane's
+        for (int i = 0; i < w; ++i) {
+            INFO("texel " << i << ", 5");
+            const size_t k = size_t(5 * w + i);
+            CHECK(glm::length(glm::vec3(nx[k], ny[k], nz[k]) - strip) < 1e-4f);
+        }
+        const size_t alone = size_t(2 * w + 20);
+        CHECK(glm::length(glm::vec3(nx[alone], ny[alone], nz[alone]) - glm::vec3(0, 0, 1)) < 1e-6f);
+        normals.push_back(nx), normals.push_back(ny), normals.push_back(nz);
+    }
+    for (size_t i = 3; i < normals.size(); ++i) CHECK(normals[i] == normals[i % 3]);
+}
+
 TEST_CASE("the AO pass finds a plane's view positions and normal from its depth under a "
           "perspective projection, at half size on an odd-sized target, the same on every path",
           "[ao][isa]") {

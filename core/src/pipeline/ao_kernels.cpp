@@ -134,8 +134,9 @@ void ao_position_rows(const AoFrame& f, int first, int count) {
 // Normals of AO rows [first, first + count): the cross product of the
 // position's steps to a neighbour along each axis, taking the neighbour
 // nearer in depth (the one after it on a tie), turned towards the camera.
-// A texel with no neighbour on an axis faces the camera; one where nothing
-// was drawn gets +Z.
+// A texel with a neighbour on one axis only faces the camera as nearly as a
+// normal to that step can; one with none faces the camera; one where
+// nothing was drawn gets +Z.
 void ao_normal_rows(const AoFrame& f, int first, int count) {
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = i;
@@ -184,10 +185,23 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
             const Float cx = u.y * v.z - u.z * v.y, cy = u.z * v.x - u.x * v.z,
                         cz = u.x * v.y - u.y * v.x;
             const Int crossed = u.found & v.found & ((cx * cx + cy * cy + cz * cz) > 0.0f);
-            const Int away = (cx * px + cy * py + cz * pz) > 0.0f;
-            Float nx = select(crossed, select(away, -cx, cx), -px);
-            Float ny = select(crossed, select(away, -cy, cy), -py);
-            Float nz = select(crossed, select(away, -cz, cz), -pz);
+            // Towards the eye: along -p in perspective, +Z in orthographic.
+            const Float ex = f.perspective ? -px : Float{}, ey = f.perspective ? -py : Float{};
+            const Float ez = f.perspective ? -pz : Float{} + 1.0f;
+            const Int away = (cx * ex + cy * ey + cz * ez) < 0.0f;
+            // With a step t on one axis only (or two that cross at nothing):
+            // the eye's direction less its part along t.
+            const Float tx = select(u.found, u.x, v.x), ty = select(u.found, u.y, v.y),
+                        tz = select(u.found, u.z, v.z);
+            const Float tt = select(u.found | v.found, tx * tx + ty * ty + tz * tz, Float{});
+            const Float along =
+                (ex * tx + ey * ty + ez * tz) / select(tt > 0.0f, tt, Float{} + 1.0f);
+            const Float a = select(tt > 0.0f, along, Float{});
+            Float nx = select(crossed, select(away, -cx, cx), ex - a * tx);
+            Float ny = select(crossed, select(away, -cy, cy), ey - a * ty);
+            Float nz = select(crossed, select(away, -cz, cz), ez - a * tz);
+            const Int none = (nx * nx + ny * ny + nz * nz) == 0.0f;  // t along the eye's ray
+            nx = select(none, ex, nx), ny = select(none, ey, ny), nz = select(none, ez, nz);
             const Int surface = in_row & (pz != 0.0f);
             const Float inv =
                 1.0f / simd::sqrt(select(surface, nx * nx + ny * ny + nz * nz, Float{} + 1.0f));
