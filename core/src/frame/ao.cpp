@@ -125,7 +125,7 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     f.radius = settings.ao_radius;
     f.projection = proj;
     const size_t texels = size_t(f.width) * size_t(f.height);
-    for (std::vector<float>* v : {&nx_, &ny_, &nz_, &raw_, &blurred_}) v->resize(texels);
+    for (std::vector<float>* v : {&raw_, &blurred_}) v->resize(texels);
     // The positions pass writes every texel of the grid; the key's border
     // and z's padding are zeroed only when the grid changes.
     constexpr int border = AoFrame::kBorder;
@@ -142,7 +142,6 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     }
     f.key = key_.data() + size_t(border) * size_t(f.key_stride) + border;
     f.z = z_.data() + pad;
-    f.nx = nx_.data(), f.ny = ny_.data(), f.nz = nz_.data();
     f.raw = raw_.data();
     f.blurred = blurred_.data();
     make_directions(settings.ao_samples);
@@ -166,7 +165,6 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
         });
     };
     bands(f.height, [&](int first, int count) { kernels.ao_position_rows(f, first, count); });
-    bands(f.height, [&](int first, int count) { kernels.ao_normal_rows(f, first, count); });
     // Occlusion in tiles, whose marches' loads (up to `radius` away) stay
     // within a few hundred kilobytes; row bands as wide as the image would
     // reach over several megabytes and miss the cache.

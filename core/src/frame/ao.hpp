@@ -80,7 +80,7 @@ private:
     AoFrame frame_;
     // Per AO texel; z with a row and a vector of padding on either side,
     // which the normals' neighbour loads may read.
-    std::vector<float> z_, nx_, ny_, nz_, key_;
+    std::vector<float> z_, key_;
     // The grid z's padding and the key's border were zeroed for:
     // the passes write only inside the grid, so they stay zero until it
     // changes.

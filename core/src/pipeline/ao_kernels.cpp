@@ -131,13 +131,16 @@ void ao_position_rows(const AoFrame& f, int first, int count) {
     }
 }
 
-// Normals of AO rows [first, first + count): the cross product of the
-// position's steps to a neighbour along each axis, taking the neighbour
-// nearer in depth (the one after it on a tie), turned towards the camera.
-// A texel with a neighbour on one axis only faces the camera as nearly as a
-// normal to that step can; one with none faces the camera; one where
-// nothing was drawn gets +Z.
-void ao_normal_rows(const AoFrame& f, int first, int count) {
+namespace {
+
+// The unit normals of texels i0 .. i0 + kWidth - 1 of AO row j: the cross
+// product of the position's steps to a neighbour along each axis, taking
+// the neighbour nearer in depth (the one after it on a tie), turned towards
+// the camera. A texel with a neighbour on one axis only faces the camera as
+// nearly as a normal to that step can; one with none faces the camera; one
+// where nothing was drawn gets +Z.
+void texel_normals(const AoFrame& f, int i0, int j, Float& nx_out, Float& ny_out,
+                   Float& nz_out) {
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = i;
     struct Step {
@@ -165,49 +168,62 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
         return Step{after | before, select(take_before, px - bx, ax - px),
                     select(take_before, py - by, ay - py), select(take_before, pz - bz, az - pz)};
     };
+    const Int i = lane + i0;
+    const Int in_row = i < f.width;
+    const size_t k = size_t(j) * size_t(f.width) + size_t(i0);
+    const Int column = pixel_column(f, i);
+    const int py_row = pixel_row(f, j);
+    const Float pz = simd::load<Float>(f.z + k);
+    const Float px = view_x(f, column, pz), py = view_y(f, py_row, pz);
+    const Int all = Int{} - 1;
+    const Step u = step(k, 1, in_row & (i + 1 < f.width), in_row & (i > 0),
+                        pixel_column(f, i + 1), pixel_column(f, i - 1), py_row, py_row,
+                        px, py, pz);
+    const Step v = step(k, ptrdiff_t(f.width), in_row & (j + 1 < f.height ? all : Int{}),
+                        in_row & (j > 0 ? all : Int{}), column, column,
+                        pixel_row(f, j + 1), pixel_row(f, j - 1), px, py, pz);
+    const Float cx = u.y * v.z - u.z * v.y, cy = u.z * v.x - u.x * v.z,
+                cz = u.x * v.y - u.y * v.x;
+    const Int crossed = u.found & v.found & ((cx * cx + cy * cy + cz * cz) > 0.0f);
+    // Towards the eye: along -p in perspective, +Z in orthographic.
+    const Float ex = f.perspective ? -px : Float{}, ey = f.perspective ? -py : Float{};
+    const Float ez = f.perspective ? -pz : Float{} + 1.0f;
+    const Int away = (cx * ex + cy * ey + cz * ez) < 0.0f;
+    // With a step t on one axis only (or two that cross at nothing):
+    // the eye's direction less its part along t.
+    const Float tx = select(u.found, u.x, v.x), ty = select(u.found, u.y, v.y),
+                tz = select(u.found, u.z, v.z);
+    const Float tt = select(u.found | v.found, tx * tx + ty * ty + tz * tz, Float{});
+    const Float along =
+        (ex * tx + ey * ty + ez * tz) / select(tt > 0.0f, tt, Float{} + 1.0f);
+    const Float a = select(tt > 0.0f, along, Float{});
+    Float nx = select(crossed, select(away, -cx, cx), ex - a * tx);
+    Float ny = select(crossed, select(away, -cy, cy), ey - a * ty);
+    Float nz = select(crossed, select(away, -cz, cz), ez - a * tz);
+    const Int none = (nx * nx + ny * ny + nz * nz) == 0.0f;  // t along the eye's ray
+    nx = select(none, ex, nx), ny = select(none, ey, ny), nz = select(none, ez, nz);
+    const Int surface = in_row & (pz != 0.0f);
+    const Float inv =
+        1.0f / simd::sqrt(select(surface, nx * nx + ny * ny + nz * nz, Float{} + 1.0f));
+    nx_out = select(surface, nx * inv, Float{});
+    ny_out = select(surface, ny * inv, Float{});
+    nz_out = select(surface, nz * inv, Float{} + 1.0f);
+}
+
+}  // namespace
+
+// Normals of AO rows [first, first + count) (texel_normals): what the
+// occlusion works out for itself as it starts each texel's marches, written
+// out.
+void ao_normal_rows(const AoFrame& f, int first, int count) {
     for (int j = first; j < first + count; ++j) {
         const size_t row = size_t(j) * size_t(f.width);
         for (int i0 = 0; i0 < f.width; i0 += kWidth) {
-            const Int i = lane + i0;
-            const Int in_row = i < f.width;
-            const size_t k = row + size_t(i0);
-            const Int column = pixel_column(f, i);
-            const int py_row = pixel_row(f, j);
-            const Float pz = simd::load<Float>(f.z + k);
-            const Float px = view_x(f, column, pz), py = view_y(f, py_row, pz);
-            const Int all = Int{} - 1;
-            const Step u = step(k, 1, in_row & (i + 1 < f.width), in_row & (i > 0),
-                                pixel_column(f, i + 1), pixel_column(f, i - 1), py_row, py_row,
-                                px, py, pz);
-            const Step v = step(k, ptrdiff_t(f.width), in_row & (j + 1 < f.height ? all : Int{}),
-                                in_row & (j > 0 ? all : Int{}), column, column,
-                                pixel_row(f, j + 1), pixel_row(f, j - 1), px, py, pz);
-            const Float cx = u.y * v.z - u.z * v.y, cy = u.z * v.x - u.x * v.z,
-                        cz = u.x * v.y - u.y * v.x;
-            const Int crossed = u.found & v.found & ((cx * cx + cy * cy + cz * cz) > 0.0f);
-            // Towards the eye: along -p in perspective, +Z in orthographic.
-            const Float ex = f.perspective ? -px : Float{}, ey = f.perspective ? -py : Float{};
-            const Float ez = f.perspective ? -pz : Float{} + 1.0f;
-            const Int away = (cx * ex + cy * ey + cz * ez) < 0.0f;
-            // With a step t on one axis only (or two that cross at nothing):
-            // the eye's direction less its part along t.
-            const Float tx = select(u.found, u.x, v.x), ty = select(u.found, u.y, v.y),
-                        tz = select(u.found, u.z, v.z);
-            const Float tt = select(u.found | v.found, tx * tx + ty * ty + tz * tz, Float{});
-            const Float along =
-                (ex * tx + ey * ty + ez * tz) / select(tt > 0.0f, tt, Float{} + 1.0f);
-            const Float a = select(tt > 0.0f, along, Float{});
-            Float nx = select(crossed, select(away, -cx, cx), ex - a * tx);
-            Float ny = select(crossed, select(away, -cy, cy), ey - a * ty);
-            Float nz = select(crossed, select(away, -cz, cz), ez - a * tz);
-            const Int none = (nx * nx + ny * ny + nz * nz) == 0.0f;  // t along the eye's ray
-            nx = select(none, ex, nx), ny = select(none, ey, ny), nz = select(none, ez, nz);
-            const Int surface = in_row & (pz != 0.0f);
-            const Float inv =
-                1.0f / simd::sqrt(select(surface, nx * nx + ny * ny + nz * nz, Float{} + 1.0f));
-            store_row(f.nx + row, i0, f.width, select(surface, nx * inv, Float{}));
-            store_row(f.ny + row, i0, f.width, select(surface, ny * inv, Float{}));
-            store_row(f.nz + row, i0, f.width, select(surface, nz * inv, Float{} + 1.0f));
+            Float nx, ny, nz;
+            texel_normals(f, i0, j, nx, ny, nz);
+            store_row(f.nx + row, i0, f.width, nx);
+            store_row(f.ny + row, i0, f.width, ny);
+            store_row(f.nz + row, i0, f.width, nz);
         }
     }
 }
@@ -273,9 +289,8 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         t.surface = pz != 0.0f;  // background texels stay visible
         if (!simd::bits(t.surface)) return;
         const Float px = view_x(f, pixel_column(f, t.x), pz), py = view_y(f, pixel_row(f, y), pz);
-        const Float nx = load_row(f.nx + row, x0, f.width, 0.0f),
-                    ny = load_row(f.ny + row, x0, f.width, 0.0f),
-                    nz = load_row(f.nz + row, x0, f.width, 1.0f);
+        Float nx, ny, nz;
+        texel_normals(f, x0, y, nx, ny, nz);
         // A tangent frame: t perpendicular to n (n x X, or n x Y near X), b = n x t.
         const Int near_x = (nx < -0.9f) | (nx > 0.9f);
         Float tx = select(near_x, -nz, Float{}), ty = select(near_x, Float{}, nz),
