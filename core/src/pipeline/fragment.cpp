@@ -481,8 +481,10 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     stats.fragments_depth_rejected += simd::popcount(b.mask) - simd::popcount(mask);
     if (!mask) return;
     // Packed batches write depth before they shade, and opaque colours only.
+    // A block whose every lane passes is a full batch as it is: shaded on its
+    // own, it is copied nowhere, and its colours are written a row at a time.
     const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
-                      dc.state.blend == BlendMode::opaque;
+                      dc.state.blend == BlendMode::opaque && mask != 0xFFFFu;
     if (!pack && !packed.empty()) packed.flush(stats);  // what came first is written first
     if (!dc.state.color_write && !dc.may_discard) {
         // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
