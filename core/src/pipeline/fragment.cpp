@@ -12,6 +12,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 namespace facet::FACET_KERNEL_NS {
 
@@ -389,14 +390,24 @@ void PackedBatch::flush(FrameStats& stats) {
     Framebuffer& fb = *dc.target;
     const ColorFormat format = fb.format();
     const size_t bytes = size_t(bytes_per_pixel(format));
-    for (int p = 0; p * kWidth < count_; ++p) {
-        Packed packed;
-        pack(format, shaded(color, p), packed.bytes);
-        for (uint32_t m = simd::part_mask(mask, p); m; m &= m - 1) {
-            const int j = std::countr_zero(m);
-            std::memcpy(fb.color_data() + size_t(pixel[p * kWidth + j]) * bytes,
-                        packed.bytes + size_t(j) * bytes, bytes);
+    // Each pixel's bytes, of a size known here (a copy of a size known only
+    // at run time is a call).
+    const auto scatter = [&](auto size) {
+        for (int p = 0; p * kWidth < count_; ++p) {
+            Packed packed;
+            pack(format, shaded(color, p), packed.bytes);
+            for (uint32_t m = simd::part_mask(mask, p); m; m &= m - 1) {
+                const int j = std::countr_zero(m);
+                std::memcpy(fb.color_data() + size_t(pixel[p * kWidth + j]) * size,
+                            packed.bytes + size_t(j) * size, size);
+            }
         }
+    };
+    switch (bytes) {
+        case 4: scatter(std::integral_constant<size_t, 4>{}); break;
+        case 8: scatter(std::integral_constant<size_t, 8>{}); break;
+        case 16: scatter(std::integral_constant<size_t, 16>{}); break;
+        default: scatter(bytes);
     }
     count_ = 0;
 }
