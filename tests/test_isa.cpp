@@ -229,6 +229,42 @@ TEST_CASE("packed fragment batches draw what block batches draw", "[isa][packing
         }
 }
 
+TEST_CASE("a block whose every lane passes is shaded after the fragments packed before it",
+          "[isa][packing]") {
+    // One draw on a 64x64 target: a small triangle inside block (8, 8),
+    // then a large one in front of it whose first block, (8, 8), is whole.
+    // That block is shaded on its own while the small triangle's fragments
+    // still wait in the packed batch: they must be written first, or they
+    // would cover it.
+    const auto at = [](float x, float y, float z) {
+        glm::vec3 p = test::window_to_ndc({x, y}, 64, 64);
+        p.z = z;
+        return p;
+    };
+    const Mesh mesh = test::make_mesh(
+        {at(9, 9, 0.5f), at(11.5f, 9, 0.5f), at(9, 11.5f, 0.5f),  //
+         at(8, 8, 0.9f), at(60, 8, 0.9f), at(8, 60, 0.9f)},
+        {0, 1, 2, 3, 4, 5},
+        {{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}, {0, 1, 0, 1}, {0, 1, 0, 1}});
+    const auto packable = test::plugin<Shade>(), blocks = test::plugin<ShadeBlocks>();
+    for (Isa isa : supported_isas()) {
+        INFO("path " << isa_name(isa));
+        const auto draw = [&](const ShaderPlugin& shader) {
+            Framebuffer fb(64, 64, ColorFormat::rgba32f);
+            fb.clear(glm::vec4(0.0f), 0.0f);
+            Pipeline pipeline(1, isa);
+            DrawCall call = test::clip_space_call(mesh, shader);
+            call.state.depth_compare = DepthCompare::greater_equal;
+            FrameStats stats;
+            pipeline.draw(call, fb, stats);
+            return fb;
+        };
+        const Framebuffer packed = draw(*packable), blocked = draw(*blocks);
+        CHECK(test::same_image(packed, blocked));
+        CHECK(packed.pixel(9, 9).r == 0.0f);  // the large triangle's (no red in its colour)
+    }
+}
+
 namespace {
 
 // The pixel's window coordinates as its colour.

@@ -26,8 +26,8 @@
 // blocks the grazing directions first; only an overhang within reach could
 // block a steeper one alone; the group's texels turn the direction set all
 // 16 ways, so between them they look all round). That spares the open
-// floor of a typical scene most of its marches, at no cost in accuracy
-// against the ray caster (facet-bench-shadow-ao). A depth-aware 4x4 blur removes the pattern's
+// floor of a typical scene most of its marches, at little cost in accuracy
+// against the ray caster (within 0.001 RMSE, facet-bench-shadow-ao). A depth-aware 4x4 blur removes the pattern's
 // noise without bleeding across depth edges, and at half resolution a
 // depth-aware bilinear upsample gives each target pixel the visibility of
 // the texels around it that lie at its depth. Where everything they would

@@ -87,7 +87,7 @@ struct AoFrame {
     // of kGroupWidth, its rows at multiples of kGroupRows.
     static constexpr int kGroupWidth = 16, kGroupRows = 4;
     float* key = nullptr;
-    int key_stride = 0;
+    int key_stride = 0;               // at least width + 2 kBorder; may be padded
     bool perspective = true;
     // View-space unit normals, which ao_normal_rows writes; the occlusion
     // works out its texels' own as it starts their marches (no pass writes
@@ -159,11 +159,12 @@ struct Kernels {
     void (*encode_pixels)(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out);
     void (*decode_pixels)(ColorFormat format, const uint8_t* in, size_t count, glm::vec4* linear);
     // AO rows [first, first + count) (ao_kernels.cpp): the view z and key
-    // of each texel's surface, then its normal (the rows around it must be
-    // done), its raw visibility (within columns
-    // [x_first, x_first + x_count), x_first a multiple of kGroupWidth and
-    // first of kGroupRows) and its blur,
-    // on the AO grid; the depth-aware upsample, on the target's.
+    // of each texel's surface; then, with every row's done, its raw
+    // visibility (within columns [x_first, x_first + x_count), x_first a
+    // multiple of kGroupWidth and first of kGroupRows; each texel's normal
+    // worked out as its marches start, from z a row above and below) and
+    // its blur, on the AO grid; the depth-aware upsample, on the target's.
+    // ao_normal_rows writes the normals the occlusion works out (for tests).
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
     void (*ao_normal_rows)(const AoFrame& f, int first, int count);
     void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);

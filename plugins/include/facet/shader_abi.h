@@ -115,12 +115,14 @@ enum facet_shader_flag {
     /* Lanes of one fragment batch may come from different blocks and
      * triangles of one draw (all front-facing or all back-facing): the host
      * then shades only covered pixels, packed into as few batches as it
-     * can. Each lane's pixel is in facet_fragment_batch.coord; x and y say
-     * nothing. For shaders that compute nothing across lanes.
-     * <facet/shader.hpp> sets it unless the shader says packable = false.
-     * The host packs only opaque, single-sample, filled draws that write
-     * colour, and never a shader that needs FACET_NEED_DERIVATIVES or
-     * FACET_NEED_DISCARD; everything else gets 4x4 blocks. */
+     * can. In a packed batch each lane's pixel is in
+     * facet_fragment_batch.coord, and x and y say nothing; a block whose
+     * every lane is covered and passes still comes as a 4x4 block (coord
+     * NULL), as does everything the host does not pack. For shaders that
+     * compute nothing across lanes. <facet/shader.hpp> sets it unless the
+     * shader says packable = false. The host packs only opaque,
+     * single-sample, filled draws that write colour, and never a shader
+     * that needs FACET_NEED_DERIVATIVES or FACET_NEED_DISCARD. */
     FACET_SHADER_PACKABLE = 1u << 0
 };
 
