@@ -407,7 +407,7 @@ void PackedBatch::flush(FrameStats& stats) {
         case 4: scatter(std::integral_constant<size_t, 4>{}); break;
         case 8: scatter(std::integral_constant<size_t, 8>{}); break;
         case 16: scatter(std::integral_constant<size_t, 16>{}); break;
-        default: scatter(bytes);
+        default: break;  // no colour
     }
     count_ = 0;
 }
