@@ -1,7 +1,9 @@
 // facet/wide.hpp, the SDK's shader vector maths, against double precision
 // over tables of arguments, with the precision each function states. This
 // file is built for the baseline (4 lanes); the shader tests hold wide
-// shaders built for 8 and 16 lanes to their scalar code on every path.
+// shaders built for 8 and 16 lanes to their scalar code on every path, and
+// the last test here holds the loads, built for each path, to indexing.
+#include <facet/isa.hpp>
 #include <facet/wide.hpp>
 
 #include <catch2/catch.hpp>
@@ -9,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 using namespace facet::sdk::wide;
 
@@ -151,4 +154,60 @@ TEST_CASE("wide floor and ceil as std::floor and std::ceil, gather as indexing",
     for (int i = 0; i < kLanes; ++i) index[i] = (i * 37) % 64, odd[i] = i % 2 ? -1 : 0;
     const Float g = gather(table, index, odd, -7.0f);
     for (int i = 0; i < kLanes; ++i) CHECK(g[i] == (i % 2 ? table[(i * 37) % 64] : -7.0f));
+}
+
+// wide_paths.cpp, built for each path (tests/CMakeLists.txt).
+extern "C" {
+using WideLoads = int(const float*, const uint16_t*, const int32_t*, int, float*, float*,
+                      uint64_t*);
+WideLoads facet_wide_loads_portable;
+#if FACET_WIDE_LOADS_avx2
+WideLoads facet_wide_loads_avx2;
+#endif
+#if FACET_WIDE_LOADS_avx512
+WideLoads facet_wide_loads_avx512;
+#endif
+}
+
+TEST_CASE("wide loads as plain indexing on every path: gather4, gather and gather_quads",
+          "[wide][isa]") {
+    std::mt19937 rng(11);
+    std::vector<float> table(256);
+    std::vector<uint16_t> texels(256);
+    for (size_t i = 0; i < table.size(); ++i) {
+        table[i] = float(i) * 0.75f - 40.0f;
+        texels[i] = uint16_t(rng());
+    }
+    const int n = 64;
+    std::vector<int32_t> index(n);
+    for (int32_t& i : index) i = int32_t(rng() % 253);  // each and the three after it inside
+    for (facet::Isa isa : facet::supported_isas()) {
+        INFO("path " << facet::isa_name(isa));
+        WideLoads* loads = nullptr;
+        int lanes = 4;
+        switch (isa) {
+            case facet::Isa::portable: loads = facet_wide_loads_portable; break;
+#if FACET_WIDE_LOADS_avx2
+            case facet::Isa::avx2: loads = facet_wide_loads_avx2, lanes = 8; break;
+#endif
+#if FACET_WIDE_LOADS_avx512
+            case facet::Isa::avx512: loads = facet_wide_loads_avx512, lanes = 16; break;
+#endif
+            default: FAIL("no loads built for this path");
+        }
+        std::vector<float> records(4 * n, std::nanf("")), gathered(n, std::nanf(""));
+        std::vector<uint64_t> quads(n / 2, 0);
+        CHECK(loads(table.data(), texels.data(), index.data(), n, records.data(), gathered.data(),
+                    quads.data()) == lanes);
+        for (int i = 0; i < n; ++i) {
+            INFO("lane " << i);
+            for (int k = 0; k < 4; ++k) REQUIRE(records[size_t(k * n + i)] == table[size_t(index[i] + k)]);
+            REQUIRE(gathered[size_t(i)] == (i % 2 ? -1.0f : table[size_t(index[i])]));
+            if (i % 2 == 0) {
+                uint64_t want = 0;
+                for (int k = 0; k < 4; ++k) want |= uint64_t(texels[size_t(index[i] + k)]) << (16 * k);
+                REQUIRE(quads[size_t(i / 2)] == want);
+            }
+        }
+    }
 }

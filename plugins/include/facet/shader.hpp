@@ -595,9 +595,9 @@ struct WideSlab {
 inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const wide::Mask& cy,
                      int r) {
     using namespace wide;
-    const Mask at = 4 * ((cy >> 3) * int(g.stride) + (cx >> 3));
-    const auto tile = [&](int k) { return gather(g.tiles, at + k, Mask{} - 1, 0.0f); };
-    const Float nearest0 = tile(0), dx = tile(1), dy = tile(2), depth = tile(3);
+    Float tile[4];
+    gather4(g.tiles, 4 * ((cy >> 3) * int(g.stride) + (cx >> 3)), tile);
+    const Float nearest0 = tile[0], dx = tile[1], dy = tile[2], depth = tile[3];
     const Float nearest = nearest0 + dx * __builtin_convertvector(cx & 7, Float) +
                           dy * __builtin_convertvector(cy & 7, Float);
     const Float spread = (select(dx < 0.0f, -dx, dx) + select(dy < 0.0f, -dy, dy)) * float(r);

@@ -138,6 +138,54 @@ inline Float gather(const float* base, const Mask& index, const Mask& m, float o
 #endif
 }
 
+// The four floats base[index[i]] .. base[index[i] + 3] of every lane i:
+// out[k][i] = base[index[i] + k], for records of four floats (every index
+// and the three after it must be inside the array). One 16-byte load per
+// lane and a 4x4 transpose in each 128-bit part, where four gathers would
+// fetch each float on its own.
+inline void gather4(const float* base, const Mask& index, Float out[4]) {
+#if defined(__AVX512F__)
+    __m512 r[4];  // part j of r[k]: lane 4j + k's record
+    for (int k = 0; k < 4; ++k) {
+        const auto part = [&](int j) { return _mm_loadu_ps(base + index[4 * j + k]); };
+        r[k] = _mm512_insertf32x4(_mm512_castps128_ps512(part(0)), part(1), 1);
+        r[k] = _mm512_insertf32x4(r[k], part(2), 2);
+        r[k] = _mm512_insertf32x4(r[k], part(3), 3);
+    }
+    // Masked unpacks: GCC 12 warns that the plain ones' source is undefined.
+    const auto lo = [](__m512 a, __m512 b) { return _mm512_mask_unpacklo_ps(a, 0xFFFF, a, b); };
+    const auto hi = [](__m512 a, __m512 b) { return _mm512_mask_unpackhi_ps(a, 0xFFFF, a, b); };
+    const __m512 t0 = lo(r[0], r[1]), t1 = hi(r[0], r[1]), t2 = lo(r[2], r[3]), t3 = hi(r[2], r[3]);
+    out[0] = std::bit_cast<Float>(_mm512_shuffle_ps(t0, t2, 0x44));
+    out[1] = std::bit_cast<Float>(_mm512_shuffle_ps(t0, t2, 0xEE));
+    out[2] = std::bit_cast<Float>(_mm512_shuffle_ps(t1, t3, 0x44));
+    out[3] = std::bit_cast<Float>(_mm512_shuffle_ps(t1, t3, 0xEE));
+#elif defined(__AVX__)
+    __m256 r[4];  // r[k]: lane k's record, then lane k + 4's
+    for (int k = 0; k < 4; ++k)
+        r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(base + index[k])),
+                                    _mm_loadu_ps(base + index[k + 4]), 1);
+    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+    out[0] = std::bit_cast<Float>(_mm256_shuffle_ps(t0, t2, 0x44));
+    out[1] = std::bit_cast<Float>(_mm256_shuffle_ps(t0, t2, 0xEE));
+    out[2] = std::bit_cast<Float>(_mm256_shuffle_ps(t1, t3, 0x44));
+    out[3] = std::bit_cast<Float>(_mm256_shuffle_ps(t1, t3, 0xEE));
+#elif defined(__SSE2__)
+    __m128 r[4];
+    for (int k = 0; k < 4; ++k) r[k] = _mm_loadu_ps(base + index[k]);
+    const __m128 t0 = _mm_unpacklo_ps(r[0], r[1]), t1 = _mm_unpackhi_ps(r[0], r[1]);
+    const __m128 t2 = _mm_unpacklo_ps(r[2], r[3]), t3 = _mm_unpackhi_ps(r[2], r[3]);
+    out[0] = std::bit_cast<Float>(_mm_movelh_ps(t0, t2));
+    out[1] = std::bit_cast<Float>(_mm_movehl_ps(t2, t0));
+    out[2] = std::bit_cast<Float>(_mm_movelh_ps(t1, t3));
+    out[3] = std::bit_cast<Float>(_mm_movehl_ps(t3, t1));
+#else
+    for (int i = 0; i < kLanes; ++i)
+        for (int k = 0; k < 4; ++k) out[k][i] = base[index[i] + k];
+#endif
+}
+
 // For kLanes / 2 lanes, as many 64-bit lanes: the four 16-bit values
 // base[index[i]] .. base[index[i] + 3] of each, the first in the lowest
 // bits; every index and the three after it must be inside the array.
