@@ -1,6 +1,7 @@
 // Shadows and ambient occlusion against the exact ray caster, and the frame
 // plan's skips. Scenes are YAML, rendered through the real shadow.so / ao.so.
 #include "frame/shadow.hpp"
+#include "pipeline/bin.hpp"
 #include "pipeline/kernels.hpp"
 #include "reference/raycast.hpp"
 #include "support.hpp"
@@ -1318,5 +1319,110 @@ TEST_CASE("with AO's pre-pass shared, a blended part that writes depth is drawn 
         renderer.render(scene, second);
         Renderer(2).render(scene, fresh);
         CHECK(test::same_image(second, fresh));
+    }
+}
+
+TEST_CASE("the half-size AO upsample weighs the four nearest texels by likeness in depth, a "
+          "tile at a time, the same on every path",
+          "[ao][isa]") {
+    // A 150x70 target (tiles of 64 with ragged right and bottom ones; an
+    // AO grid of 75x35) under a perspective projection: a near plane over
+    // the left part, a far one behind it, a post one pixel wide in an odd
+    // column (so no texel sees it: its pixels take the texel nearest in
+    // depth), nothing drawn in a corner. The texels' view z are the
+    // surfaces' at their pixels, and their blurred visibility random, with
+    // a region all open.
+    const int tw = 150, th = 70, w = tw / 2, h = th / 2, stride = tw + 18;
+    const glm::mat4 proj = facet::perspective(glm::radians(50.0f), float(tw) / float(th), 0.1f,
+                                              100.0f, false);
+    const glm::dmat4 dproj(proj), inverse = glm::inverse(dproj);
+    // View z of pixel (px, py) and its window depth (1, the background,
+    // where nothing was drawn).
+    const auto view_z = [&](int px, int py) {
+        if (px > 120 && py > 50) return 0.0;
+        if (px == 101) return -2.0;
+        return px < 60 ? -3.0 - 0.01 * px : -9.0 + 0.02 * py;
+    };
+    const auto window = [&](double z) { return z == 0.0 ? 1.0 : (dproj[2][2] * z + dproj[3][2]) / -z; };
+    std::vector<float> depth(size_t(stride) * size_t(th) + 32, 1.0f);
+    for (int py = 0; py < th; ++py)
+        for (int px = 0; px < tw; ++px)
+            depth[size_t(py * stride + px)] = float(window(view_z(px, py)));
+    std::vector<float> z(size_t(w * h) + 2 * size_t(w + 16)), blurred(size_t(w * h));
+    uint32_t seed = 5;
+    const auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            z[size_t(w + 16 + j * w + i)] = float(view_z(2 * i, 2 * j));
+            const bool open = i >= 30 && i < 50 && j < 20;
+            blurred[size_t(j * w + i)] = open || next() % 4 == 0 ? 1.0f : float(next() % 1000) / 1000.0f;
+        }
+    AoFrame f;
+    f.scale = 2, f.width = w, f.height = h, f.target_width = tw, f.target_height = th;
+    f.z = z.data() + (w + 16);
+    f.blurred = blurred.data();
+    f.target_depth = depth.data();
+    f.target_stride = stride;
+    f.background = 1.0f;
+    f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
+    f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
+    // The rule in double: bilinear weights times 1 / (1 + 2500 r^2) for a
+    // relative difference r in view z; the nearest in depth where the
+    // weights sum to 1e-4 or less. Pixels near that edge are not compared.
+    const auto reference = [&](int px, int py, bool& clear, bool& alike) {
+        clear = true, alike = true;
+        const double d = depth[size_t(py * stride + px)];
+        if (d == 1.0) return 1.0;
+        const glm::dvec4 ndc((px + 0.5) * 2.0 / tw - 1.0, 1.0 - (py + 0.5) * 2.0 / th, d, 1.0);
+        const glm::dvec4 p = inverse * ndc;
+        const double pz = p.z / p.w;
+        double sum = 0.0, weight = 0.0, nearest = 1.0, closest = INFINITY;
+        for (int k = 0; k < 4; ++k) {
+            const int i = std::min(px / 2 + (k & 1), w - 1), j = std::min(py / 2 + (k >> 1), h - 1);
+            const double zt = z[size_t(w + 16 + j * w + i)], a = blurred[size_t(j * w + i)];
+            if (zt == 0.0) continue;
+            const double wx = k & 1 ? (px & 1) * 0.5 : 1.0 - (px & 1) * 0.5;
+            const double wy = k & 2 ? (py & 1) * 0.5 : 1.0 - (py & 1) * 0.5;
+            const double r = (zt - pz) / pz, wk = wx * wy / (1.0 + 2500.0 * r * r);
+            sum += wk * a, weight += wk;
+            if (r * r < closest) closest = r * r, nearest = a;
+        }
+        clear = std::abs(weight - 1e-4) > 0.5e-4;
+        alike = weight > 1e-4;
+        return alike ? sum / weight : nearest;
+    };
+    std::vector<float> first;  // the first path's image
+    for (Isa isa : supported_isas()) {
+        INFO("path " << isa_name(isa));
+        std::vector<float> image(size_t(tw * th), std::nanf(""));
+        for (int ty = 0; ty < th; ty += kTileSize)
+            for (int tx = 0; tx < tw; tx += kTileSize) {
+                std::vector<float> tile(size_t(kTileSize * kTileSize), std::nanf(""));
+                const int rows = std::min(kTileSize, th - ty), columns = std::min(kTileSize, tw - tx);
+                kernels(isa).ao_upsample_rows(f, ty, rows, tx, (columns + 15) / 16 * 16,
+                                              tile.data(), kTileSize);
+                for (int y = 0; y < rows; ++y)
+                    for (int x = 0; x < columns; ++x)
+                        image[size_t((ty + y) * tw + tx + x)] = tile[size_t(y * kTileSize + x)];
+            }
+        int compared = 0, blended = 0, unlike = 0;
+        for (int py = 0; py < th; ++py)
+            for (int px = 0; px < tw; ++px) {
+                INFO("pixel " << px << ", " << py);
+                bool clear, alike;
+                const double want = reference(px, py, clear, alike);
+                const float got = image[size_t(py * tw + px)];
+                REQUIRE(got >= 0.0f);  // not NaN: every pixel written
+                if (!clear) continue;
+                REQUIRE(std::abs(got - want) < 1e-4);  // float against double
+                ++compared;
+                blended += want != 1.0 && want != std::floor(want * 1000.0) / 1000.0;
+                unlike += !alike;
+            }
+        CHECK(compared > tw * th * 9 / 10);
+        CHECK(blended > tw * th / 4);  // most pixels mix texels
+        CHECK(unlike > th / 2);  // the post's pixels
+        if (first.empty()) first = image;
+        else CHECK(image == first);
     }
 }

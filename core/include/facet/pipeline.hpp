@@ -40,6 +40,7 @@ struct TextureBinding;
 class ThreadPool;  // core/src/base/thread_pool.hpp
 struct Kernels;    // core/src/pipeline/kernels.hpp
 struct DrawQueue;  // core/src/pipeline/draw_queue.hpp
+struct AoFrame;    // core/src/pipeline/kernels.hpp
 
 // What a frame did and what it skipped. Triangle counts are per input
 // triangle: each ends in exactly one of culled_frustum, culled_backface,
@@ -135,7 +136,11 @@ struct DrawCall {
     const facet_shadow_planes* shadow_planes = nullptr;       // the distances' bounds, or null
     const facet_shadow_planes* cube_shadow_planes = nullptr;
     uint32_t cube_shadow_map_count = 0;                  // cubes
-    const float* ao = nullptr;  // target-sized ambient visibility, for FACET_NEED_AO
+    // Ambient visibility, for FACET_NEED_AO: target-sized, or the renderer's
+    // AO pass at half size (its grid, which the fragment stage upsamples
+    // block by block, by each fragment's depth). At most one is set.
+    const float* ao = nullptr;
+    const AoFrame* ao_grid = nullptr;
     float time = 0.0f;
     // A band of a taller image: the target holds rows [first_row, first_row
     // + its height) of an image image_height rows tall (and as wide as the

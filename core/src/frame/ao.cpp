@@ -153,10 +153,6 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     f.set_pixel_rays(proj);
     f.z_row = {inverse[0][2], inverse[1][2], inverse[2][2], inverse[3][2]};
     f.w_row = {inverse[0][3], inverse[1][3], inverse[2][3], inverse[3][3]};
-    if (scale_ > 1) {
-        visibility_.resize(size_t(width) * size_t(height));
-        f.visibility = visibility_.data();
-    }
 
     constexpr int kBand = 8;  // rows per task
     const auto bands = [&](int rows, auto&& fn) {
@@ -180,8 +176,6 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
                                   tx * kTileWidth, kTileWidth);
     });
     bands(f.height, [&](int first, int count) { kernels.ao_blur_rows(f, first, count); });
-    if (scale_ > 1)
-        bands(height, [&](int first, int count) { kernels.ao_upsample_rows(f, first, count); });
     stats.ao_passes += 1;
     stats.ms_ao += elapsed_ms(start);
 }

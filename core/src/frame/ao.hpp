@@ -2,8 +2,9 @@
 //
 // Takes: the visible opaque parts (DrawItem), the camera's view and projection, the
 // target size, and the AO radius, sample count and resolution.
-// Gives: a target-sized buffer of ambient visibility, 1 where nothing
-// occludes.
+// Gives: ambient visibility, 1 where nothing occludes: a target-sized
+// buffer, or at half size the AO grid, which the main pass upsamples a
+// tile at a time as it shades (fragment.hpp's TileAo).
 //
 // It reads a depth-only pre-pass at the target's size: the frame's own, which
 // the main pass then shades against (Renderer), or, where the frame cannot
@@ -36,7 +37,10 @@
 //
 // The occlusion, blur and upsample are per-ISA kernels
 // (pipeline/ao_kernels.cpp, with the other kernels of the path), kWidth
-// texels at a time, and every stage runs on the pipeline's threads.
+// texels at a time, and every stage runs on the pipeline's threads; the
+// upsample runs in the main pass, a tile at a time, where the tile's
+// buffer stays in the cache (a main pass cut into several flushes, by
+// more than 32k triangles or 256 draws, upsamples a tile again in each).
 #pragma once
 
 #include "pipeline/kernels.hpp"
@@ -64,10 +68,12 @@ public:
              const glm::mat4& proj, const RenderSettings& settings, float time,
              const Framebuffer* depth, Pipeline& pipeline, FrameStats& stats);
 
-    // Ambient visibility per target pixel of the last run, row-major.
-    const float* visibility() const {
-        return scale_ == 1 ? blurred_.data() : visibility_.data();
-    }
+    // The last run's ambient visibility, for the main pass (DrawCall::ao,
+    // ao_grid): per target pixel, row-major, at full size; at half size
+    // its grid, which the fragment stage upsamples block by block (null
+    // otherwise).
+    const float* visibility() const { return scale_ == 1 ? blurred_.data() : nullptr; }
+    const AoFrame* grid() const { return scale_ == 2 ? &frame_ : nullptr; }
 
 private:
     void make_directions(int samples);
@@ -87,7 +93,7 @@ private:
     int zeroed_width_ = -1, zeroed_height_ = -1;  // -1: never
     std::vector<float> directions_;
     int direction_samples_ = 0;  // what directions_ holds
-    std::vector<float> raw_, blurred_, visibility_;
+    std::vector<float> raw_, blurred_;
 };
 
 }  // namespace facet

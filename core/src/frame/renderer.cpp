@@ -235,6 +235,7 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s, call.time,
                         ao_shares_prepass ? &frame : nullptr, pipeline_, stats);
         call.ao = passes_->ao.visibility();
+        call.ao_grid = passes_->ao.grid();
     }
     draw_main_pass(scene, call, frame, prepassed, stats);
     const auto post_start = std::chrono::steady_clock::now();

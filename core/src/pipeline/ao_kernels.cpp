@@ -565,23 +565,42 @@ void ao_blur_rows(const AoFrame& f, int first, int count) {
     }
 }
 
-// Target rows [first, first + count) of `visibility`, from the blurred AO
-// texels around each pixel: the bilinear weights of the four nearest, each
-// times its depth similarity to the pixel's own view z, so that an edge's
-// near side never takes the far side's occlusion; where no texel is alike,
-// the one nearest in depth.
-void ao_upsample_rows(const AoFrame& f, int first, int count) {
+// The visibility of target pixels [x_first, x_first + x_count) of rows
+// [first, first + count) (x_first and x_count multiples of kWidth), into
+// `out` (pixel (x_first, first) first, rows `out_stride` floats apart),
+// from the blurred AO texels around each pixel: the bilinear weights of the
+// four nearest, each times its depth similarity to the pixel's own view z,
+// so that an edge's near side never takes the far side's occlusion; where
+// no texel is alike, the one nearest in depth. Pixels past the target's
+// edge get 1.
+void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x_count,
+                      float* out, int out_stride) {
     const float inv_scale = 1.0f / float(f.scale);
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = i;
+    // The rows' loads would miss the cache (a tile's rows are too short for
+    // the hardware's prefetcher to follow): each row asks for the depth of
+    // the row kAhead on and, every other row, for the row of texels that
+    // row will reach first (at half size, the only size this runs at).
+    constexpr int kAhead = 4;
     for (int y = first; y < first + count; ++y) {
         // Texel j stands for target pixel j * scale: rows j0 and j1 straddle y.
         const int j0 = std::min(y / f.scale, f.height - 1), j1 = std::min(j0 + 1, f.height - 1);
         const float fy = float(y - j0 * f.scale) * inv_scale;
-        const size_t row = size_t(y) * size_t(f.target_width);
+        float* row = out + size_t(y - first) * size_t(out_stride) - x_first;
         const float* depth = f.target_depth + size_t(y) * size_t(f.target_stride);
         const float ndc_y = 1.0f - (float(y) + 0.5f) * (2.0f / float(f.target_height));
-        for (int x0 = 0; x0 < f.target_width; x0 += kWidth) {
+        if (y + kAhead < first + count)
+            for (int x = x_first; x < x_first + x_count; x += 16)
+                __builtin_prefetch(depth + kAhead * size_t(f.target_stride) + size_t(x));
+        if (y % 2 == 0 && j0 + kAhead / 2 + 1 < f.height)
+            for (int i = x_first / 2; i < (x_first + x_count) / 2; i += 16) {
+                const size_t at = size_t(j0 + kAhead / 2 + 1) * size_t(f.width) + size_t(i);
+                __builtin_prefetch(f.z + at);
+                __builtin_prefetch(f.blurred + at);
+            }
+        const int x_end = std::min(x_first + x_count, f.target_width);
+        for (int x0 = x_first; x0 < x_end; x0 += kWidth) {
             // The pixel's view z, from its depth (rows are padded: whole loads).
             const Float d = simd::load<Float>(depth + x0);
             const Float ndc_x =
@@ -599,18 +618,21 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
             };
             const bool open = spread && simd::bits(ones(j0) & ones(j1)) == simd::kPartMask;
             if (open || !simd::bits(surface)) {
-                store_row(f.visibility + row, x0, f.target_width, Float{} + 1.0f);
+                simd::store(row + x0, Float{} + 1.0f);
                 continue;
             }
             const Float zv = (f.z_row.x * ndc_x + (f.z_row.y * ndc_y + f.z_row.w)) + f.z_row.z * d;
             const Float wv = (f.w_row.x * ndc_x + (f.w_row.y * ndc_y + f.w_row.w)) + f.w_row.z * d;
-            const Float z = select(surface, zv / select(surface, wv, Float{} + 1.0f), Float{});
+            // z = zv / wv and 1 / z = wv / zv, with one division (once the
+            // loads come from the cache, divisions bound this loop).
+            const Float inv_zw = 1.0f / select(surface, zv * wv, Float{} + 1.0f);
+            const Float z = select(surface, zv * zv * inv_zw, Float{});
+            const Float inv_z = select(surface, wv * wv * inv_zw, Float{} + 1.0f);
             const Int x = lane + x0;
             const Int i0 = f.scale == 2 ? x >> 1 : x;
             const Float fx = simd::to_float(x - i0 * f.scale) * inv_scale;
             const Int columns[2] = {i0 < f.width - 1 ? i0 : Int{} + (f.width - 1),
                                     i0 + 1 < f.width - 1 ? i0 + 1 : Int{} + (f.width - 1)};
-            const Float inv_z = 1.0f / select(surface, z, Float{} + 1.0f);
             const auto texels = [&](int corner, Float& zt, Float& at) {
                 const int texel_row = (corner & 2 ? j1 : j0) * f.width;
                 if (spread) {
@@ -623,20 +645,39 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
                     zt = simd::gather(f.z, k), at = simd::gather(f.blurred, k);
                 }
             };
-            // A row of texels with no weight (fy 0: the pixel's row is the
-            // texels') adds nothing to the sums.
-            Float sum = Float{}, weight = Float{};
-            for (int corner = 0; corner < (fy == 0.0f ? 2 : 4); ++corner) {
-                Float zt, at;
-                texels(corner, zt, at);
+            // Corner k weighs c_k / d_k: its bilinear weight c_k (0 where
+            // nothing was drawn) over d_k = 1 / depth_weight. The weighted
+            // mean sum(c_k a_k / d_k) / sum(c_k / d_k) is taken with both
+            // sums times the product of the d_k, which needs no division:
+            // d_k is capped at 1e8 (a weight below 1e-8 changes nothing that
+            // shows), so that the product stays finite. A row of texels with
+            // no weight (fy 0: the pixel's row is the texels') adds nothing.
+            Float c[4], dk[4], a[4];
+            for (int corner = 0; corner < 4; ++corner) {
+                if (corner >= 2 && fy == 0.0f) {
+                    c[corner] = Float{}, dk[corner] = Float{} + 1.0f, a[corner] = Float{};
+                    continue;
+                }
+                Float zt;
+                texels(corner, zt, a[corner]);
                 const Float wx = corner & 1 ? fx : 1.0f - fx;
                 const float wy = corner & 2 ? fy : 1.0f - fy;
-                const Float w =
-                    select(zt != 0.0f, wx * wy * depth_weight((zt - z) * inv_z), Float{});
-                sum += w * at;
+                const Float r = (zt - z) * inv_z;
+                const Int drawn = zt != 0.0f;
+                c[corner] = select(drawn, wx * wy, Float{});
+                dk[corner] = select(drawn, select(r * r < 4e4f, 1.0f + 2500.0f * r * r,
+                                                  Float{} + 1e8f),
+                                    Float{} + 1.0f);
+            }
+            const Float d01 = dk[0] * dk[1], d23 = dk[2] * dk[3];
+            const Float others[4] = {dk[1] * d23, dk[0] * d23, dk[3] * d01, dk[2] * d01};
+            Float sum = Float{}, weight = Float{};
+            for (int corner = 0; corner < 4; ++corner) {
+                const Float w = c[corner] * others[corner];
+                sum += w * a[corner];
                 weight += w;
             }
-            const Int enough = weight > 1e-4f;
+            const Int enough = weight > 1e-4f * (d01 * d23);  // the mean weight above 1e-4
             Float v = sum / select(enough, weight, Float{} + 1.0f);
             if (simd::bits(surface & ~enough)) {
                 // Rarely (across an edge): the texel of the four nearest in depth.
@@ -653,7 +694,7 @@ void ao_upsample_rows(const AoFrame& f, int first, int count) {
                 }
                 v = select(enough, v, nearest);
             }
-            store_row(f.visibility + row, x0, f.target_width, select(surface, v, Float{} + 1.0f));
+            simd::store(row + x0, select(surface, v, Float{} + 1.0f));
         }
     }
 }

@@ -434,8 +434,20 @@ void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const Tr
     const bool write = dc.state.depth_write;
     const float z0 = t.z[0], d1 = t.z[1] - t.z[0], d2 = t.z[2] - t.z[0];
     uint64_t written = 0, rejected = 0;
+    // Depth rows a block row ahead are asked for as each block row starts:
+    // a tile's rows are too short for the hardware's prefetcher, and
+    // otherwise a pre-pass waits on memory for most of them.
+    const int px0 = std::max(t.x0, x0) & ~15, px1 = std::min(t.x1, x1);  // whole cache lines
+    const int last_row = std::min(t.y1, y1);
+    int fetched = -1;  // the block row whose next was asked for
     cover.for_each_block_narrow(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask,
                                                     const Float* b1, const Float* b2) {
+        if (by != fetched) {
+            fetched = by;
+            for (int y = by + 4; y < by + 8 && y <= last_row; ++y)
+                for (int x = px0; x <= px1; x += 16)
+                    __builtin_prefetch(fb.depth() + pixel_index(fb, x, y), 1);
+        }
         float* depth = fb.depth() + pixel_index(fb, bx, by);
         uint32_t pass = 0;
         for (int p = 0; p < kParts; ++p) {
@@ -482,8 +494,21 @@ uint32_t alpha_to_coverage(const Block& b, const float* alpha, int n, uint32_t m
     return kept;
 }
 
+void TileAo::block(const AoFrame& f, const Block& b, float* out) {
+    if (!ready) {
+        const int columns = (x1 - x0 + kWidth) / kWidth * kWidth;  // whole vectors
+        ao_upsample_rows(f, y0, y1 - y0 + 1, x0, columns, visibility, kTileSize);
+        ready = true;
+    }
+    const float* at = visibility + size_t(b.y - y0) * kTileSize + size_t(b.x - x0);
+    for (int r = 0; r < N / 4; ++r) {
+        if (b.y + r <= y1) std::memcpy(out + 4 * r, at + r * kTileSize, 4 * sizeof(float));
+        else std::fill_n(out + 4 * r, 4, 1.0f);  // past the target
+    }
+}
+
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
-                 const Block& b, PackedBatch& packed, FrameStats& stats) {
+                 const Block& b, PackedBatch& packed, TileAo& tile_ao, FrameStats& stats) {
     const int n_samples = dc.target->samples();
     const bool msaa = n_samples > 1;
     Float z[kParts];
@@ -510,15 +535,15 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
     if (dc.sample_textures) sample_textures(dc, varyings, mask, texels);
     alignas(64) float color[4 * N];
-    alignas(64) float ao[N];
-    if (dc.ao) gather_ao(dc, b, ao);
-    else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
-
     alignas(64) float depth[N];
     for (int p = 0; p < kParts; ++p)
         simd::store(depth + p * kWidth, msaa || !simd::part_mask(mask, p)
                                             ? interpolate_depth(t, b, p)
                                             : z[p]);
+    alignas(64) float ao[N];
+    if (dc.ao_grid) tile_ao.block(*dc.ao_grid, b, ao);  // half size: upsampled by tiles
+    else if (dc.ao) gather_ao(dc, b, ao);
+    else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
     if (pack) {
         write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
         packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);

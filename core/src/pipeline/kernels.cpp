@@ -14,7 +14,8 @@ void ao_normal_rows(const AoFrame& f, int first, int count);
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
                        int x_count);  // ao_kernels.cpp
 void ao_blur_rows(const AoFrame& f, int first, int count);
-void ao_upsample_rows(const AoFrame& f, int first, int count);
+void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x_count,
+                      float* out, int out_stride);
 void shadow_distance_rows(const ShadowDistanceRows& rows, int first, int count);  // shadow_kernels.cpp
 void shadow_plane_rows(const ShadowPlaneRows& rows, int first, int count);
 
@@ -26,6 +27,8 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     g.bins.rect(tile, x0, y0, x1, y1);
     const int samples = g.target->samples();
     PackedBatch packed;
+    alignas(64) static thread_local float visibility[kTileSize * kTileSize];  // the tile's AO
+    TileAo ao{x0, y0, x1, y1, false, visibility};
     for (const uint32_t entry : g.bins.entries(tile)) {
         const SetupChunk& chunk = g.chunks[entry >> 16];
         const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
@@ -41,7 +44,7 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
         rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
             if (!prepared) prepare_varyings(dc, t, tv);
             prepared = true;
-            shade_block(dc, t, tv, b, packed, stats);
+            shade_block(dc, t, tv, b, packed, ao, stats);
         });
     }
     packed.flush(stats);

@@ -110,7 +110,6 @@ struct AoFrame {
     int target_stride = 0;
     float background = 0.0f;
     glm::vec4 z_row{0.0f}, w_row{0.0f};
-    float* visibility = nullptr;      // per target pixel (scale 2 only)
 };
 
 // What the shadow pass's kernel reads and writes (frame/shadow.hpp): a
@@ -163,13 +162,18 @@ struct Kernels {
     // visibility (within columns [x_first, x_first + x_count), x_first a
     // multiple of kGroupWidth and first of kGroupRows; each texel's normal
     // worked out as its marches start, from z a row above and below) and
-    // its blur, on the AO grid; the depth-aware upsample, on the target's.
+    // its blur, on the AO grid. At half size, the depth-aware upsample to
+    // target rows [first, first + count), columns [x_first, x_first +
+    // x_count) (multiples of the widest vector), into `out`, rows
+    // `out_stride` floats apart: the fragment stage's, a tile at a time
+    // (fragment.hpp's TileAo; here for tests).
     // ao_normal_rows writes the normals the occlusion works out (for tests).
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
     void (*ao_normal_rows)(const AoFrame& f, int first, int count);
     void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
     void (*ao_blur_rows)(const AoFrame& f, int first, int count);
-    void (*ao_upsample_rows)(const AoFrame& f, int first, int count);
+    void (*ao_upsample_rows)(const AoFrame& f, int first, int count, int x_first, int x_count,
+                             float* out, int out_stride);
     // Shadow map rows [first, first + count): window depth to distance
     // (shadow_kernels.cpp).
     void (*shadow_distance_rows)(const ShadowDistanceRows& rows, int first, int count);

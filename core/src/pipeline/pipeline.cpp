@@ -159,9 +159,10 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
                     call.may_discard, call.state);
     d.dc.target = &target;
     d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
+    d.dc.ao_grid = shader.needs(FACET_NEED_AO) ? call.ao_grid : nullptr;
     // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
     // reads as full visibility: nothing is gathered or packed for it.
-    if (!d.dc.ao && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
+    if (!d.dc.ao && !d.dc.ao_grid && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
     const int image_height = call.image_height > 0 ? call.image_height : target.height();
     if (call.image_height > 0 &&
         (call.first_row < 0 || int64_t(call.first_row) + target.height() > call.image_height))
