@@ -601,23 +601,28 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
             }
         const int x_end = std::min(x_first + x_count, f.target_width);
         for (int x0 = x_first; x0 < x_end; x0 += kWidth) {
-            // The pixel's view z, from its depth (rows are padded: whole loads).
-            const Float d = simd::load<Float>(depth + x0);
-            const Float ndc_x =
-                (simd::to_float(lane + x0) + 0.5f) * (2.0f / float(f.target_width)) - 1.0f;
-            const Int surface = (d != f.background) & (lane + x0 < f.target_width);
             // At half size a vector of pixels spans half as many texels,
             // in order: two loads and a spread of each, where they lie within
             // the row; else gathers.
             const int base = x0 / 2;
             const bool spread = f.scale == 2 && base + kWidth <= f.width;
-            // Open where the texels around are open: the weighted mean of
-            // ones, and the nearest of them, is exactly one.
+            // Open where the texels around (kWidth / 2 + 1 of each row) are
+            // open: the weighted mean of ones, and the nearest of them, is
+            // exactly one. No depth is read for it.
+            constexpr uint32_t kReached = (2u << (kWidth / 2)) - 1u;
             const auto ones = [&](int j) {
                 return simd::load<Float>(f.blurred + j * f.width + base) == 1.0f;
             };
-            const bool open = spread && simd::bits(ones(j0) & ones(j1)) == simd::kPartMask;
-            if (open || !simd::bits(surface)) {
+            if (spread && (simd::bits(ones(j0) & ones(j1)) & kReached) == kReached) {
+                simd::store(row + x0, Float{} + 1.0f);
+                continue;
+            }
+            // The pixel's view z, from its depth (rows are padded: whole loads).
+            const Float d = simd::load<Float>(depth + x0);
+            const Float ndc_x =
+                (simd::to_float(lane + x0) + 0.5f) * (2.0f / float(f.target_width)) - 1.0f;
+            const Int surface = (d != f.background) & (lane + x0 < f.target_width);
+            if (!simd::bits(surface)) {
                 simd::store(row + x0, Float{} + 1.0f);
                 continue;
             }

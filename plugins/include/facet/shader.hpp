@@ -471,8 +471,15 @@ inline float shadow_visibility(const CubeShadow& c, glm::vec3 p, float n_dot_l, 
 namespace detail {
 inline wide::Mask tap_threshold(const wide::Float& q) {
     using namespace wide;
-    const Float c = ceil(clamp(q, 0.0f, 65535.0f));
-    return __builtin_convertvector(select(q == q, c, splat(65535.0f)), Mask);
+    const Float c = clamp(q, 0.0f, 65535.0f);
+#if defined(__AVX__)
+    return __builtin_convertvector(select(q == q, ceil(c), splat(65535.0f)), Mask);
+#else
+    // No rounding instruction before SSE4.1: the ceiling of a float in
+    // 0..65535 is its truncation, plus one where that fell below it.
+    const Mask t = __builtin_convertvector(c, Mask);
+    return select(q == q, t - (__builtin_convertvector(t, Float) < c), Mask{} + 65535);
+#endif
 }
 
 // Four 16-bit values in each 64-bit lane, half a call's lanes at a time:
@@ -631,13 +638,15 @@ inline wide::Float shadow_visibility(const ShadowMap& m, const wide::Vec3& p,
         texel = (sm.texel_size * scale) * w;
         seen = w > 0.0f && q <= 65535.0f;
     }
+    // The texel (cx, cy) is the scalar filter's (floor(tx), floor(ty)): on the
+    // map tx and ty are at least 0, where truncation is the floor.
     const float width = float(sm.width), height = float(sm.height);
-    const Float fx = floor((x * 0.5f + 0.5f) * width), fy = floor((0.5f - y * 0.5f) * height);
-    seen &= fx >= 0.0f && fx < width && fy >= 0.0f && fy < height;  // false for NaN
+    const Float tx = (x * 0.5f + 0.5f) * width, ty = (0.5f - y * 0.5f) * height;
+    seen &= tx >= 0.0f && tx < width && ty >= 0.0f && ty < height;  // false for NaN
     if (!any(seen)) return splat(1.0f);
     // Lanes off the map read around texel (0, 0), inside the border.
-    const Mask cx = __builtin_convertvector(select(seen, fx, splat(0.0f)), Mask);
-    const Mask cy = __builtin_convertvector(select(seen, fy, splat(0.0f)), Mask);
+    const Mask cx = __builtin_convertvector(select(seen, tx, splat(0.0f)), Mask);
+    const Mask cy = __builtin_convertvector(select(seen, ty, splat(0.0f)), Mask);
     const Float cos_t = clamp(n_dot_l, 0.1f, 1.0f);
     const Float tan_t = sqrt(1.0f - cos_t * cos_t) / cos_t;
     const Float receiver = q - texel * (bias + slope_bias * tan_t);
