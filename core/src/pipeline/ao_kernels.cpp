@@ -82,6 +82,17 @@ Float spread_next(const Float& v) {
 #endif
 }
 
+// Lanes 0, 2, 4, ... of a followed by b.
+Float even_lanes(const Float& a, const Float& b) {
+#if FACET_SIMD_WIDTH == 16
+    return __builtin_shufflevector(a, b, 0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+#elif FACET_SIMD_WIDTH == 8
+    return __builtin_shufflevector(a, b, 0, 2, 4, 6, 8, 10, 12, 14);
+#else
+    return __builtin_shufflevector(a, b, 0, 2, 4, 6);
+#endif
+}
+
 // Lanes 0, 1, 2, 3, 0, 1, 2, 3, ...: four floats from p, repeated.
 Float repeat4(const float* p) {
     using Float4 = float __attribute__((vector_size(16)));
@@ -116,7 +127,12 @@ void ao_position_rows(const AoFrame& f, int first, int count) {
         const size_t row = size_t(j) * size_t(f.width);
         for (int i0 = 0; i0 < f.width; i0 += kWidth) {
             const Int px = pixel_column(f, lane + i0);
-            const Float d = simd::gather(depth, px);
+            // At half size, the even pixels of two loads where every one is
+            // within the row (no column clamped); else a gather.
+            const Float d = f.scale == 2 && 2 * (i0 + kWidth) <= f.target_width
+                                ? even_lanes(simd::load<Float>(depth + 2 * i0),
+                                             simd::load<Float>(depth + 2 * i0 + kWidth))
+                                : simd::gather(depth, px);
             const Int surface = d != f.background;
             const Float ndc_x = (simd::to_float(px) + 0.5f) * to_ndc_x - 1.0f;
             const auto dot = [&](const glm::vec4& r) {
