@@ -1400,10 +1400,11 @@ TEST_CASE("the half-size AO upsample weighs the four nearest texels by likeness 
                 std::vector<float> tile(size_t(kTileSize * kTileSize), std::nanf(""));
                 const int rows = std::min(kTileSize, th - ty), columns = std::min(kTileSize, tw - tx);
                 kernels(isa).ao_upsample_rows(f, ty, rows, tx, (columns + 15) / 16 * 16,
-                                              tile.data(), kTileSize);
-                for (int y = 0; y < rows; ++y)
+                                              tile.data(), kTileSize / 4);
+                for (int y = 0; y < rows; ++y)  // 4x4 blocks of 16, in lane order
                     for (int x = 0; x < columns; ++x)
-                        image[size_t((ty + y) * tw + tx + x)] = tile[size_t(y * kTileSize + x)];
+                        image[size_t((ty + y) * tw + tx + x)] =
+                            tile[size_t((y / 4 * (kTileSize / 4) + x / 4) * 16 + y % 4 * 4 + x % 4)];
             }
         int compared = 0, blended = 0, unlike = 0;
         for (int py = 0; py < th; ++py)

@@ -582,15 +582,16 @@ void ao_blur_rows(const AoFrame& f, int first, int count) {
 }
 
 // The visibility of target pixels [x_first, x_first + x_count) of rows
-// [first, first + count) (x_first and x_count multiples of kWidth), into
-// `out` (pixel (x_first, first) first, rows `out_stride` floats apart),
+// [first, first + count) (x_first and x_count multiples of kWidth, first
+// of 4), into `blocks`: 4x4 blocks of 16 floats (row by row), `across`
+// blocks a row, the block of (x_first, first) first,
 // from the blurred AO texels around each pixel: the bilinear weights of the
 // four nearest, each times its depth similarity to the pixel's own view z,
 // so that an edge's near side never takes the far side's occlusion; where
 // no texel is alike, the one nearest in depth. Pixels past the target's
 // edge get 1.
 void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x_count,
-                      float* out, int out_stride) {
+                      float* blocks, int across) {
     const float inv_scale = 1.0f / float(f.scale);
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = i;
@@ -603,7 +604,13 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
         // Texel j stands for target pixel j * scale: rows j0 and j1 straddle y.
         const int j0 = std::min(y / f.scale, f.height - 1), j1 = std::min(j0 + 1, f.height - 1);
         const float fy = float(y - j0 * f.scale) * inv_scale;
-        float* row = out + size_t(y - first) * size_t(out_stride) - x_first;
+        // Where a vector of pixels from x0 goes: 4 floats to each block.
+        float* row = blocks + size_t((y - first) / 4) * size_t(across) * 16 + size_t((y - first) % 4) * 4;
+        const auto store = [&](int x0, const Float& v) {
+            float* at = row + size_t(x0 - x_first) * 4;  // block (x0 - x_first) / 4
+            for (int c = 0; c < kWidth / 4; ++c)
+                std::memcpy(at + 16 * c, reinterpret_cast<const float*>(&v) + 4 * c, 4 * sizeof(float));
+        };
         const float* depth = f.target_depth + size_t(y) * size_t(f.target_stride);
         const float ndc_y = 1.0f - (float(y) + 0.5f) * (2.0f / float(f.target_height));
         if (y + kAhead < first + count)
@@ -630,7 +637,7 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
                 return simd::load<Float>(f.blurred + j * f.width + base) == 1.0f;
             };
             if (spread && (simd::bits(ones(j0) & ones(j1)) & kReached) == kReached) {
-                simd::store(row + x0, Float{} + 1.0f);
+                store(x0, Float{} + 1.0f);
                 continue;
             }
             // The pixel's view z, from its depth (rows are padded: whole loads).
@@ -639,7 +646,7 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
                 (simd::to_float(lane + x0) + 0.5f) * (2.0f / float(f.target_width)) - 1.0f;
             const Int surface = (d != f.background) & (lane + x0 < f.target_width);
             if (!simd::bits(surface)) {
-                simd::store(row + x0, Float{} + 1.0f);
+                store(x0, Float{} + 1.0f);
                 continue;
             }
             const Float zv = (f.z_row.x * ndc_x + (f.z_row.y * ndc_y + f.z_row.w)) + f.z_row.z * d;
@@ -715,7 +722,7 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
                 }
                 v = select(enough, v, nearest);
             }
-            simd::store(row + x0, select(surface, v, Float{} + 1.0f));
+            store(x0, select(surface, v, Float{} + 1.0f));
         }
     }
 }

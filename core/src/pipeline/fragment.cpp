@@ -494,17 +494,15 @@ uint32_t alpha_to_coverage(const Block& b, const float* alpha, int n, uint32_t m
     return kept;
 }
 
-void TileAo::block(const AoFrame& f, const Block& b, float* out) {
-    if (!ready) {
-        const int columns = (x1 - x0 + kWidth) / kWidth * kWidth;  // whole vectors
-        ao_upsample_rows(f, y0, y1 - y0 + 1, x0, columns, visibility, kTileSize);
-        ready = true;
-    }
-    const float* at = visibility + size_t(b.y - y0) * kTileSize + size_t(b.x - x0);
-    for (int r = 0; r < N / 4; ++r) {
-        if (b.y + r <= y1) std::memcpy(out + 4 * r, at + r * kTileSize, 4 * sizeof(float));
-        else std::fill_n(out + 4 * r, 4, 1.0f);  // past the target
-    }
+void TileAo::upsample(const AoFrame& f) {
+    const int columns = (x1 - x0 + kWidth) / kWidth * kWidth;  // whole vectors
+    const int rows = y1 - y0 + 1;
+    ao_upsample_rows(f, y0, rows, x0, columns, visibility, kTileSize / 4);
+    if (rows % 4)  // the last blocks' rows past the target
+        for (int b = 0; b < columns / 4; ++b)
+            std::fill(visibility + size_t((rows / 4 * (kTileSize / 4) + b) * 16 + (rows % 4) * 4),
+                      visibility + size_t((rows / 4 * (kTileSize / 4) + b) * 16 + 16), 1.0f);
+    ready = true;
 }
 
 void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
@@ -540,10 +538,11 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         simd::store(depth + p * kWidth, msaa || !simd::part_mask(mask, p)
                                             ? interpolate_depth(t, b, p)
                                             : z[p]);
-    alignas(64) float ao[N];
-    if (dc.ao_grid) tile_ao.block(*dc.ao_grid, b, ao);  // half size: upsampled by tiles
-    else if (dc.ao) gather_ao(dc, b, ao);
-    else if (dc.needs_ao) std::fill(ao, ao + N, 1.0f);  // AO switched off: full visibility
+    alignas(64) float gathered[N];
+    const float* ao = gathered;
+    if (dc.ao_grid) ao = tile_ao.block(*dc.ao_grid, b);  // half size: upsampled by tiles
+    else if (dc.ao) gather_ao(dc, b, gathered);
+    else if (dc.needs_ao) std::fill(gathered, gathered + N, 1.0f);  // AO switched off: full visibility
     if (pack) {
         write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
         packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);

@@ -38,7 +38,7 @@ struct TriangleVaryings {
 void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out);
 
 void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x_count,
-                      float* out, int out_stride);  // ao_kernels.cpp
+                      float* blocks, int across);  // ao_kernels.cpp
 
 // Half-size AO upsampled over one tile (draw_tile) where a draw needs it:
 // for the whole tile at once, at the first block that does, from the depth
@@ -50,10 +50,18 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
 struct TileAo {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // the tile's pixels, inclusive
     bool ready = false;
-    float* visibility = nullptr;  // kTileSize rows of kTileSize
+    // The tile's 4x4 blocks, 16 floats each in lane order, kTileSize / 4 a
+    // row: a block's visibility is a batch's `ao` as it is.
+    float* visibility = nullptr;
 
-    // The visibility of the 16 pixels of block b.
-    void block(const AoFrame& f, const Block& b, float* out);
+    // The visibility of the 16 pixels of block b (1 past the target).
+    const float* block(const AoFrame& f, const Block& b) {
+        if (!ready) upsample(f);
+        return visibility + size_t((b.y - y0) / 4 * (kTileSize / 4) + (b.x - x0) / 4) * 16;
+    }
+
+private:
+    void upsample(const AoFrame& f);
 };
 
 // Covered fragments of one draw's blocks, of one facing, waiting to be

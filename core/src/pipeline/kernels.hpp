@@ -164,16 +164,16 @@ struct Kernels {
     // worked out as its marches start, from z a row above and below) and
     // its blur, on the AO grid. At half size, the depth-aware upsample to
     // target rows [first, first + count), columns [x_first, x_first +
-    // x_count) (multiples of the widest vector), into `out`, rows
-    // `out_stride` floats apart: the fragment stage's, a tile at a time
-    // (fragment.hpp's TileAo; here for tests).
+    // x_count) (multiples of the widest vector; first of 4), into 4x4
+    // blocks of 16 floats, `across` a row: the fragment stage's, a tile at
+    // a time (fragment.hpp's TileAo; here for tests).
     // ao_normal_rows writes the normals the occlusion works out (for tests).
     void (*ao_position_rows)(const AoFrame& f, int first, int count);
     void (*ao_normal_rows)(const AoFrame& f, int first, int count);
     void (*ao_occlusion_rows)(const AoFrame& f, int first, int count, int x_first, int x_count);
     void (*ao_blur_rows)(const AoFrame& f, int first, int count);
     void (*ao_upsample_rows)(const AoFrame& f, int first, int count, int x_first, int x_count,
-                             float* out, int out_stride);
+                             float* blocks, int across);
     // Shadow map rows [first, first + count): window depth to distance
     // (shadow_kernels.cpp).
     void (*shadow_distance_rows)(const ShadowDistanceRows& rows, int first, int count);
