@@ -1343,7 +1343,9 @@ TEST_CASE("the half-size AO upsample weighs the four nearest texels by likeness 
         if (px == 101) return -2.0;
         return px < 60 ? -3.0 - 0.01 * px : -9.0 + 0.02 * py;
     };
-    const auto window = [&](double z) { return z == 0.0 ? 1.0 : (dproj[2][2] * z + dproj[3][2]) / -z; };
+    const auto window = [&](double z) {
+        return z == 0.0 ? 1.0 : (dproj[2][2] * z + dproj[3][2]) / -z;
+    };
     std::vector<float> depth(size_t(stride) * size_t(th) + 32, 1.0f);
     for (int py = 0; py < th; ++py)
         for (int px = 0; px < tw; ++px)
@@ -1355,7 +1357,8 @@ TEST_CASE("the half-size AO upsample weighs the four nearest texels by likeness 
         for (int i = 0; i < w; ++i) {
             z[size_t(w + 16 + j * w + i)] = float(view_z(2 * i, 2 * j));
             const bool open = i >= 30 && i < 50 && j < 20;
-            blurred[size_t(j * w + i)] = open || next() % 4 == 0 ? 1.0f : float(next() % 1000) / 1000.0f;
+            blurred[size_t(j * w + i)] =
+                open || next() % 4 == 0 ? 1.0f : float(next() % 1000) / 1000.0f;
         }
     AoFrame f;
     f.scale = 2, f.width = w, f.height = h, f.target_width = tw, f.target_height = th;
@@ -1398,13 +1401,14 @@ TEST_CASE("the half-size AO upsample weighs the four nearest texels by likeness 
         for (int ty = 0; ty < th; ty += kTileSize)
             for (int tx = 0; tx < tw; tx += kTileSize) {
                 std::vector<float> tile(size_t(kTileSize * kTileSize), std::nanf(""));
-                const int rows = std::min(kTileSize, th - ty), columns = std::min(kTileSize, tw - tx);
+                const int rows = std::min(kTileSize, th - ty);
+                const int columns = std::min(kTileSize, tw - tx);
                 kernels(isa).ao_upsample_rows(f, ty, rows, tx, (columns + 15) / 16 * 16,
                                               tile.data(), kTileSize / 4);
                 for (int y = 0; y < rows; ++y)  // 4x4 blocks of 16, in lane order
                     for (int x = 0; x < columns; ++x)
-                        image[size_t((ty + y) * tw + tx + x)] =
-                            tile[size_t((y / 4 * (kTileSize / 4) + x / 4) * 16 + y % 4 * 4 + x % 4)];
+                        image[size_t((ty + y) * tw + tx + x)] = tile[size_t(
+                            (y / 4 * (kTileSize / 4) + x / 4) * 16 + y % 4 * 4 + x % 4)];
             }
         int compared = 0, blended = 0, unlike = 0;
         for (int py = 0; py < th; ++py)

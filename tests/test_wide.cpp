@@ -201,11 +201,13 @@ TEST_CASE("wide loads as plain indexing on every path: gather4, gather and gathe
                     quads.data()) == lanes);
         for (int i = 0; i < n; ++i) {
             INFO("lane " << i);
-            for (int k = 0; k < 4; ++k) REQUIRE(records[size_t(k * n + i)] == table[size_t(index[i] + k)]);
+            for (int k = 0; k < 4; ++k)
+                REQUIRE(records[size_t(k * n + i)] == table[size_t(index[i] + k)]);
             REQUIRE(gathered[size_t(i)] == (i % 2 ? -1.0f : table[size_t(index[i])]));
             if (i % 2 == 0) {
                 uint64_t want = 0;
-                for (int k = 0; k < 4; ++k) want |= uint64_t(texels[size_t(index[i] + k)]) << (16 * k);
+                for (int k = 0; k < 4; ++k)
+                    want |= uint64_t(texels[size_t(index[i] + k)]) << (16 * k);
                 REQUIRE(quads[size_t(i / 2)] == want);
             }
         }

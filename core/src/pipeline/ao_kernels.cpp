@@ -605,11 +605,13 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
         const int j0 = std::min(y / f.scale, f.height - 1), j1 = std::min(j0 + 1, f.height - 1);
         const float fy = float(y - j0 * f.scale) * inv_scale;
         // Where a vector of pixels from x0 goes: 4 floats to each block.
-        float* row = blocks + size_t((y - first) / 4) * size_t(across) * 16 + size_t((y - first) % 4) * 4;
+        float* row = blocks + size_t((y - first) / 4) * size_t(across) * 16 +
+                     size_t((y - first) % 4) * 4;
         const auto store = [&](int x0, const Float& v) {
             float* at = row + size_t(x0 - x_first) * 4;  // block (x0 - x_first) / 4
+            const float* from = reinterpret_cast<const float*>(&v);
             for (int c = 0; c < kWidth / 4; ++c)
-                std::memcpy(at + 16 * c, reinterpret_cast<const float*>(&v) + 4 * c, 4 * sizeof(float));
+                std::memcpy(at + 16 * c, from + 4 * c, 4 * sizeof(float));
         };
         const float* depth = f.target_depth + size_t(y) * size_t(f.target_stride);
         const float ndc_y = 1.0f - (float(y) + 0.5f) * (2.0f / float(f.target_height));

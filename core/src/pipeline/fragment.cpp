@@ -542,7 +542,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     const float* ao = gathered;
     if (dc.ao_grid) ao = tile_ao.block(*dc.ao_grid, b);  // half size: upsampled by tiles
     else if (dc.ao) gather_ao(dc, b, gathered);
-    else if (dc.needs_ao) std::fill(gathered, gathered + N, 1.0f);  // AO switched off: full visibility
+    else if (dc.needs_ao) std::fill(gathered, gathered + N, 1.0f);  // AO off: full visibility
     if (pack) {
         write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
         packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);
