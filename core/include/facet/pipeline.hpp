@@ -137,8 +137,8 @@ struct DrawCall {
     const facet_shadow_planes* cube_shadow_planes = nullptr;
     uint32_t cube_shadow_map_count = 0;                  // cubes
     // Ambient visibility, for FACET_NEED_AO: target-sized, or the renderer's
-    // AO pass at half size (its grid, which the fragment stage upsamples
-    // block by block, by each fragment's depth). At most one is set.
+    // AO pass at half size (its grid, which the fragment stage upsamples a
+    // tile at a time, by the depth the AO pass read). At most one is set.
     const float* ao = nullptr;
     const AoFrame* ao_grid = nullptr;
     float time = 0.0f;

@@ -70,7 +70,7 @@ public:
 
     // The last run's ambient visibility, for the main pass (DrawCall::ao,
     // ao_grid): per target pixel, row-major, at full size; at half size
-    // its grid, which the fragment stage upsamples block by block (null
+    // its grid, which the fragment stage upsamples a tile at a time (null
     // otherwise).
     const float* visibility() const { return scale_ == 1 ? blurred_.data() : nullptr; }
     const AoFrame* grid() const { return scale_ == 2 ? &frame_ : nullptr; }

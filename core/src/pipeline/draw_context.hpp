@@ -32,7 +32,7 @@ struct DrawContext {
     bool packable = false;                     // fragments may be packed (fragment.hpp)
     bool may_discard = false;                  // the shader may clear mask bits
     const float* ao = nullptr;                 // target-sized, if the shader needs AO
-    const AoFrame* ao_grid = nullptr;          // or half-size, upsampled per block
+    const AoFrame* ao_grid = nullptr;          // or half-size, upsampled by tiles
     bool needs_ao = false;                     // the shader asks for AO (all ones without a pass)
     PipelineState state;
     Framebuffer* target = nullptr;
