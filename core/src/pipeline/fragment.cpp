@@ -499,9 +499,10 @@ void TileAo::upsample(const AoFrame& f) {
     const int rows = y1 - y0 + 1;
     ao_upsample_rows(f, y0, rows, x0, columns, visibility, kTileSize / 4);
     if (rows % 4)  // the last blocks' rows past the target
-        for (int b = 0; b < columns / 4; ++b)
-            std::fill(visibility + size_t((rows / 4 * (kTileSize / 4) + b) * 16 + (rows % 4) * 4),
-                      visibility + size_t((rows / 4 * (kTileSize / 4) + b) * 16 + 16), 1.0f);
+        for (int b = 0; b < columns / 4; ++b) {
+            float* block = visibility + size_t(rows / 4 * (kTileSize / 4) + b) * 16;
+            std::fill(block + (rows % 4) * 4, block + 16, 1.0f);
+        }
     ready = true;
 }
 
