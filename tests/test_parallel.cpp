@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <new>
 #include <random>
 
@@ -65,6 +66,11 @@ TEST_CASE("a depth pre-pass renders the same image, shading each pixel once", "[
             const FrameStats b = Renderer(2).render(scene, prepassed);
             CHECK(test::same_image(plain, prepassed));
             CHECK(b.depth_prepasses == 1);
+            // The main pass shades the pre-pass's triangles (the opaque
+            // parts' vertex stage, setup and binning run once), unless AO
+            // drew a pre-pass of its own (with MSAA) in between.
+            CHECK((b.draws_redrawn > 0) == (b.prepasses == 0));
+            CHECK(b.draws_redrawn <= b.draws);
             // Without it, a single-sampled frame with AO draws it all the same,
             // for the AO to read (below).
             CHECK(a.depth_prepasses == (a.ao_passes && msaa == 1 ? 1u : 0u));
@@ -186,6 +192,131 @@ TEST_CASE("queued draws render what one draw() at a time renders", "[parallel][q
     CHECK(many_stats.triangles_rasterized == one_stats.triangles_rasterized);
     CHECK(many_stats.fragments_shaded == one_stats.fragments_shaded);
     CHECK(many_stats.fragments_shaded > 10000);
+}
+
+TEST_CASE("a pre-pass's triangles drawn again with the main pass's state give the image "
+          "queueing them again gives, and only calls that make the same triangles take them",
+          "[parallel][queue][depth]") {
+    // Two overlapping meshes of many triangles, some crossing the near plane.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> xy(-2.0f, 2.0f), z(-4.0f, 0.3f), c(0.0f, 1.0f);
+    std::vector<Mesh> meshes;
+    for (int m = 0; m < 2; ++m) {
+        std::vector<glm::vec3> pos;
+        std::vector<glm::vec4> colors;
+        std::vector<uint32_t> idx;
+        for (uint32_t i = 0; i < 600; ++i) {
+            pos.push_back({xy(rng), xy(rng), z(rng)});
+            colors.push_back({c(rng), c(rng), c(rng), 1.0f});
+            idx.push_back(i);
+        }
+        meshes.push_back(test::make_mesh(pos, idx, colors));
+    }
+    auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const auto calls = [&](bool prepass) {
+        std::vector<DrawCall> out;
+        for (const Mesh& mesh : meshes) {
+            DrawCall call = test::clip_space_call(mesh, *shader);
+            call.projection = perspective(glm::radians(60.0f), 157.0f / 93.0f, 0.2f, 50.0f, true);
+            call.state.cull = CullMode::none;
+            if (prepass) call.state.color_write = false;
+            else call.state.depth_compare = DepthCompare::equal, call.state.depth_write = false;
+            out.push_back(call);
+        }
+        return out;
+    };
+    const auto cleared = [](Framebuffer& fb) {
+        fb.resize(157, 93);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+    };
+    // The pre-pass, then the main pass queued anew, or drawn again.
+    Framebuffer queued, redrawn;
+    FrameStats queued_stats, redrawn_stats, ignored;
+    {
+        Pipeline p(2);
+        cleared(queued);
+        for (const DrawCall& call : calls(true)) p.queue(call, queued, ignored);
+        p.flush(ignored, true);
+        for (const DrawCall& call : calls(false)) p.queue(call, queued, queued_stats);
+        p.flush(queued_stats);
+    }
+    {
+        Pipeline p(2);
+        cleared(redrawn);
+        for (const DrawCall& call : calls(true)) p.queue(call, redrawn, ignored);
+        p.flush(ignored, true);
+        REQUIRE(p.redraw(calls(false), redrawn, redrawn_stats));
+    }
+    CHECK(test::same_image(queued, redrawn));
+    CHECK(redrawn_stats.draws_redrawn == 2);
+    CHECK(queued_stats.draws_redrawn == 0);
+    CHECK(redrawn_stats.draws == queued_stats.draws);
+    CHECK(redrawn_stats.vertices_shaded == queued_stats.vertices_shaded);
+    CHECK(redrawn_stats.triangles_clipped == queued_stats.triangles_clipped);
+    CHECK(redrawn_stats.triangles_clipped > 0);
+    CHECK(redrawn_stats.triangles_rasterized == queued_stats.triangles_rasterized);
+    CHECK(redrawn_stats.fragments_shaded == queued_stats.fragments_shaded);
+    CHECK(redrawn_stats.fragments_shaded > 1000);
+
+    // Calls that would make other triangles (moved, culled otherwise, another
+    // mesh, one call fewer), another target, or nothing kept: nothing is
+    // drawn and false returned.
+    Framebuffer other;
+    cleared(other);
+    using Change = std::function<void(std::vector<DrawCall>&)>;
+    const Change changes[] = {
+        [](std::vector<DrawCall>& c) { c[1].model[3][0] += 0.01f; },
+        [](std::vector<DrawCall>& c) { c[0].state.cull = CullMode::back; },
+        [](std::vector<DrawCall>& c) { std::swap(c[0].mesh, c[1].mesh); },
+        [](std::vector<DrawCall>& c) { c.pop_back(); },
+        [](std::vector<DrawCall>& c) { c[0].state.subpixel_bits = 4; },
+        [](std::vector<DrawCall>& c) { c[1].time = 1.0f; },
+    };
+    for (const Change& change : changes) {
+        Pipeline p(2);
+        Framebuffer fb;
+        cleared(fb);
+        for (const DrawCall& call : calls(true)) p.queue(call, fb, ignored);
+        p.flush(ignored, true);
+        const Framebuffer before = fb;
+        std::vector<DrawCall> main = calls(false);
+        change(main);
+        FrameStats stats;
+        CHECK_FALSE(p.redraw(main, fb, stats));
+        CHECK(test::same_image(before, fb));
+        CHECK(stats.draws == 0);
+        CHECK_FALSE(p.redraw(calls(false), fb, stats));  // nothing is kept after that
+    }
+    Pipeline p(2);
+    Framebuffer fb;
+    cleared(fb);
+    for (const DrawCall& call : calls(true)) p.queue(call, fb, ignored);
+    p.flush(ignored, true);
+    CHECK_FALSE(p.redraw(calls(false), other, ignored));
+    for (const DrawCall& call : calls(true)) p.queue(call, fb, ignored);
+    p.flush(ignored);  // not kept
+    CHECK_FALSE(p.redraw(calls(false), fb, ignored));
+    for (const DrawCall& call : calls(true)) p.queue(call, fb, ignored);
+    p.flush(ignored, true);
+    p.queue(calls(true)[0], fb, ignored);  // drops what was kept
+    p.flush(ignored);
+    CHECK_FALSE(p.redraw(calls(false), fb, ignored));
+
+    // A mesh too large to queue at once is rasterized part way as it is
+    // queued: the queue then holds only its last triangles, and keeps nothing.
+    std::vector<glm::vec3> pos;
+    std::vector<uint32_t> idx;
+    for (uint32_t i = 0; i < 3 * 40000; ++i) {
+        pos.push_back({xy(rng), xy(rng), -1.0f - 0.1f * c(rng)});
+        idx.push_back(i);
+    }
+    const Mesh large = test::make_mesh(pos, idx);
+    DrawCall call = test::clip_space_call(large, *shader);
+    call.state.color_write = false;
+    p.queue(call, fb, ignored);
+    p.flush(ignored, true);
+    call.state.color_write = true;
+    CHECK_FALSE(p.redraw({call}, fb, ignored));
 }
 
 #if FACET_COUNT_ALLOCATIONS

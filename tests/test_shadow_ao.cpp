@@ -584,6 +584,15 @@ TEST_CASE("the frame report says which passes ran, which were skipped and why, a
     scene.settings.shadows = false;
     const FrameStats off = renderer.render(scene, fb);
     CHECK(has(work_skipped(off, scene.settings, Counts::full), "shadow maps (off)"));
+    CHECK(off.draws_redrawn == 0);
+
+    // With a depth pre-pass, the main pass shades the pre-pass's triangles.
+    scene.settings.depth_prepass = true;
+    const FrameStats prepassed = renderer.render(scene, fb);
+    CHECK(prepassed.draws_redrawn == 3);  // the ground and two cubes: the far one is out of view
+    CHECK(has(work_skipped(prepassed, scene.settings, Counts::full),
+              "3 draws on the pre-pass's triangles (no vertex stage or setup)"));
+    scene.settings.depth_prepass = false;
 
     // No material asks for shadows: not needed, whatever the settings say.
     scene.settings.shadows = true;

@@ -57,6 +57,8 @@ std::vector<std::string> work_skipped(const FrameStats& s, const RenderSettings&
             "fragments hidden (early depth test)");
     counted(s.fragments_depth_only, "depth-only fragment (no shader)",
             "depth-only fragments (no shader)");
+    counted(s.draws_redrawn, "draw on the pre-pass's triangles (no vertex stage or setup)",
+            "draws on the pre-pass's triangles (no vertex stage or setup)");
     return out;
 }
 

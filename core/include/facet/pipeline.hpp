@@ -73,6 +73,9 @@ struct FrameStats {
     // The frame's depth pre-pass: RenderSettings::depth_prepass, or for AO,
     // which reads it, in a single-sampled frame.
     uint64_t depth_prepasses = 0;
+    // Draws of the main pass on the depth pre-pass's triangles: their
+    // vertex stage, setup and binning ran once for both (Pipeline::redraw).
+    uint64_t draws_redrawn = 0;
     uint64_t ao_passes = 0;                    // SSAO and its blur
     uint64_t post_passes = 0;                  // screen passes of the post chain
     // What the visible materials asked for, whether or not the render
@@ -187,7 +190,22 @@ public:
     // clear() and resolve() of a target with queued draws throw
     // Error(out_of_range), as does Renderer::render().
     void queue(const DrawCall& call, Framebuffer& target, FrameStats& stats);
-    void flush(FrameStats& stats);
+    // Rasterizes what waits. With keep_geometry, what the queued draws' vertex
+    // stage and setup made, binned, is kept for redraw() (only when
+    // every triangle of theirs waited: a queue that filled up and was
+    // rasterized part way keeps nothing), until the next queue() or flush().
+    void flush(FrameStats& stats, bool keep_geometry = false);
+    // Draws `calls` on the triangles flush(stats, true) kept: calls[i] on
+    // those of the i-th draw kept, which it must make alike (the same mesh,
+    // part, shader, parameters, matrices, lights, time, culling, sub-pixel
+    // bits and band: Geometry in draw_queue.hpp), into the same target.
+    // Only its depth test and writes, colour writes, blending and fragment
+    // inputs (textures, shadow maps, AO) may differ: a pre-pass's triangles,
+    // shaded. The image and counts are those of queue() and flush() of the
+    // calls; FrameStats::draws_redrawn counts them. Returns false, drawing
+    // nothing, where nothing was kept or the calls do not match what was:
+    // then queue them.
+    bool redraw(const std::vector<DrawCall>& calls, Framebuffer& target, FrameStats& stats);
     // Throws Error(out_of_range), naming `what`, while draws queued for
     // `target` wait.
     void require_flushed(const Framebuffer& target, const char* what) const;

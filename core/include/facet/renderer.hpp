@@ -96,6 +96,9 @@ private:
     // main pass only.
     void queue_item(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
                     bool prepassed, Framebuffer& target, FrameStats& counts);
+    // The call queue_item() queues, in `call`; false where it queues none.
+    static bool item_call(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
+                          bool prepassed);
     void draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffer& target,
                             FrameStats& stats);
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
@@ -111,6 +114,7 @@ private:
         std::vector<BlendedItem> blended;
         std::vector<DrawItem> casters;       // every drawable part, for shadow maps
         std::vector<DrawItem> opaque;        // visible opaque parts, for the pre-passes
+        std::vector<DrawCall> redrawn;       // the main pass's opaque calls, on the pre-pass's triangles
     };
     struct Passes;  // shadow maps and AO buffers, kept between frames
 

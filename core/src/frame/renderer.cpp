@@ -253,6 +253,11 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
 
 void Renderer::queue_item(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
                           bool prepassed, Framebuffer& target, FrameStats& counts) {
+    if (item_call(scene, call, d, role, prepassed)) pipeline_.queue(call, target, counts);
+}
+
+bool Renderer::item_call(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
+                         bool prepassed) {
     const Material& m = *d.material;
     set_item(call, d);
     call.state = pipeline_state(m, scene.settings);
@@ -266,9 +271,9 @@ void Renderer::queue_item(const Scene& scene, DrawCall& call, const DrawItem& d,
             call.state.depth_write = false;
         }
     } else if (role == Role::prepass) {
-        return;
+        return false;
     }
-    pipeline_.queue(call, target, counts);
+    return true;
 }
 
 void Renderer::draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffer& target,
@@ -277,7 +282,7 @@ void Renderer::draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffe
     FrameStats prepass;  // the main pass's statistics count the main pass only
     for (const DrawItem& d : scratch_.opaque)
         queue_item(scene, call, d, Role::prepass, true, target, prepass);
-    pipeline_.flush(prepass);
+    pipeline_.flush(prepass, true);  // its triangles, for the main pass (draw_main_pass)
     stats.fragments_depth_only += prepass.fragments_depth_only;
     stats.depth_prepasses += 1;
     stats.ms_prepass += elapsed_ms(start);
@@ -291,8 +296,20 @@ void Renderer::draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffe
 void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                               bool prepassed, FrameStats& stats) {
     const auto start = std::chrono::steady_clock::now();
-    for (const DrawItem& d : scratch_.opaque)
-        queue_item(scene, call, d, Role::main, prepassed, target, stats);
+    // After the pre-pass, the opaque parts are its triangles shaded: where
+    // each is drawn in both and the pre-pass kept them (it did not fill the
+    // queue), they are drawn again with the main pass's state, without a
+    // second vertex stage, setup and binning. Otherwise they are queued.
+    bool redrawn = false;
+    if (prepassed) {
+        scratch_.redrawn.clear();
+        for (const DrawItem& d : scratch_.opaque)
+            if (item_call(scene, call, d, Role::main, prepassed)) scratch_.redrawn.push_back(call);
+        redrawn = pipeline_.redraw(scratch_.redrawn, target, stats);
+    }
+    if (!redrawn)
+        for (const DrawItem& d : scratch_.opaque)
+            queue_item(scene, call, d, Role::main, prepassed, target, stats);
     for (BlendedItem& b : scratch_.blended) b.depth = view_depth(b.item, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
               [](const BlendedItem& a, const BlendedItem& b) {

@@ -22,6 +22,33 @@
 
 namespace facet {
 
+// What of a DrawCall its vertex stage, setup and binning depend on (all a
+// vertex shader can read of its facet_draw, and the culling and snapping):
+// two calls alike in these make the same triangles, whatever their depth
+// test, writes, blending or fragment inputs (Pipeline::redraw).
+struct Geometry {
+    const Mesh* mesh = nullptr;
+    uint32_t first_index = 0, index_count = 0, first_vertex = 0, vertex_count = 0;
+    const ShaderPlugin* shader = nullptr;
+    const void* params = nullptr;
+    glm::mat4 model{1.0f}, view{1.0f}, projection{1.0f};
+    glm::vec3 camera_position{0.0f};
+    const facet_light* lights = nullptr;
+    uint32_t light_count = 0;
+    const facet_shadow_map* shadow_maps = nullptr;
+    const facet_shadow_map* cube_shadow_maps = nullptr;
+    uint32_t shadow_map_count = 0, cube_shadow_map_count = 0;
+    float time = 0.0f;
+    int image_height = 0, first_row = 0;
+    CullMode cull = CullMode::back;
+    bool front_ccw = true;
+    int subpixel_bits = 8;
+
+    Geometry() = default;
+    explicit Geometry(const DrawCall& call);
+    bool operator==(const Geometry&) const = default;
+};
+
 // One queued draw: its constant state and its vertices' results, kept until
 // its triangles are rasterized. Not movable: abi.host_data points at dc and
 // dc.abi at abi.
@@ -30,6 +57,7 @@ struct QueuedDraw {
     QueuedDraw(const QueuedDraw&) = delete;
     QueuedDraw& operator=(const QueuedDraw&) = delete;
 
+    Geometry geometry;  // of the call that made it
     DrawContext dc;
     facet_draw abi{};
     std::vector<glm::vec4> clip;       // per vertex
@@ -53,6 +81,11 @@ struct DrawQueue {
     int chunks_used = 0;
     size_t triangles_queued = 0;     // in those chunks, before clipping and culling
     Framebuffer* target = nullptr;   // of the queued draws
+    // Some of the queued draws' triangles were rasterized as they were
+    // queued (the queue was full): the queue holds only the rest of them.
+    bool split = false;
+    // flush(stats, true) drew the queue and kept it, binned, for redraw().
+    bool kept = false;
     Bins bins;
     std::vector<WorkerStats> worker_stats;
 };

@@ -4,7 +4,9 @@
 // queued triangle is binned into tiles (bin.cpp) and the tiles rasterized
 // and shaded in parallel by the pipeline's kernels (kernels.hpp:
 // rasterize.cpp, fragment.cpp). Triangles go through in batches of at most
-// kTriangleBatch, which bounds memory however large the mesh.
+// kTriangleBatch, which bounds memory however large the mesh. A flush may
+// keep what it drew (flush(stats, true)) for redraw(): the same triangles
+// shaded again with other state, as a main pass after a depth pre-pass.
 #include "facet/pipeline.hpp"
 
 #include "pipeline/assembly.hpp"
@@ -40,31 +42,63 @@ constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;
 static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
 static_assert(kMaxChunks < (1 << 16));
 
-// Forgets the queued triangles, drawn or not.
+// Forgets the queued triangles, drawn or not, and any kept.
 void drop_queued(DrawQueue& g) {
+    if (g.kept) g.bins.clear();
+    g.kept = false;
     g.chunks_used = 0;
     g.triangles_queued = 0;
 }
 
-// Bins every queued triangle and rasterizes the tiles in parallel, adding
-// the triangle and fragment counts to `stats`. The queued draws stay (a
-// draw may have more triangles to come). Once `stop` is true, tiles not yet
-// begun are skipped.
-void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
+// A queued draw's state and what its fragments read, from `call` (whose band
+// of rows, if any, lies within its image).
+void set_context(QueuedDraw& d, const DrawCall& call, Framebuffer& target, Isa isa) {
+    const ShaderPlugin& shader = *call.shader;
+    d.dc = {};
+    prepare_context(d.dc, shader, isa, call.params, call.textures, call.texture_count,
+                    call.may_discard, call.state);
+    d.dc.target = &target;
+    d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
+    d.dc.ao_grid = shader.needs(FACET_NEED_AO) ? call.ao_grid : nullptr;
+    // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
+    // reads as full visibility: nothing is gathered or packed for it.
+    if (!d.dc.ao && !d.dc.ao_grid && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
+    d.dc.first_row = call.image_height > 0 ? call.first_row : 0;
+    d.abi = make_abi_draw(call, target.width(),
+                          call.image_height > 0 ? call.image_height : target.height(), d.dc);
+    d.dc.abi = &d.abi;
+}
+
+// Rasterizes the tiles of the binned triangles in parallel, adding the
+// triangle and fragment counts to `stats`. Once `stop` is true, tiles not
+// yet begun are skipped.
+void rasterize_binned(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
                       const Pipeline& stop, FrameStats& stats) {
-    if (g.chunks_used == 0) return;
-    if (stop.stopped()) return drop_queued(g);
-    g.bins.resize(g.target->width(), g.target->height());
     for (DrawQueue::WorkerStats& w : g.worker_stats) w.stats = {};
-    g.bins.bin(g.chunks, g.chunks_used);
     const std::vector<int>& busy = g.bins.busy();
     pool.parallel_for(int(busy.size()), [&](int i, int worker) {
         if (stop.stopped()) return;
         kernels.draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)].stats);
     });
-    g.bins.clear();
     for (int c = 0; c < g.chunks_used; ++c) stats += g.chunks[size_t(c)].stats;
     for (const DrawQueue::WorkerStats& w : g.worker_stats) stats += w.stats;
+}
+
+// Bins every queued triangle and rasterizes them (rasterize_binned). The
+// queued draws stay (a draw may have more triangles to come); with `keep`,
+// the triangles and their bins too, for Pipeline::redraw.
+void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
+                      const Pipeline& stop, FrameStats& stats, bool keep = false) {
+    if (g.chunks_used == 0) return;
+    if (stop.stopped()) return drop_queued(g);
+    g.bins.resize(g.target->width(), g.target->height());
+    g.bins.bin(g.chunks, g.chunks_used);
+    rasterize_binned(g, pool, kernels, stop, stats);
+    if (keep && !stop.stopped()) {
+        g.kept = true;
+        return;
+    }
+    g.bins.clear();
     drop_queued(g);
 }
 
@@ -145,24 +179,19 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
                     "'" + shader.name() + "' is a screen pass: it cannot draw a mesh",
                     shader.origin());
     DrawQueue& g = *queue_;
-    if (g.chunks_used > 0 && (g.target != &target || g.draws_used == kMaxQueuedDraws))
+    if (g.kept) drop_queued(g);
+    if (g.chunks_used > 0 && (g.target != &target || g.draws_used == kMaxQueuedDraws)) {
         rasterize_queued(g, *pool_, *kernels_, *this, stats);
+        g.split = true;
+    }
     if (g.chunks_used == 0) g.draws_used = 0;  // every earlier draw is done
     if (g.draws.size() == size_t(g.draws_used)) g.draws.push_back(std::make_unique<QueuedDraw>());
     int index = g.draws_used++;
     QueuedDraw& d = *g.draws[size_t(index)];
     g.target = &target;
     ++stats.draws;
+    d.geometry = Geometry(call);
 
-    d.dc = {};
-    prepare_context(d.dc, shader, kernels_->isa, call.params, call.textures, call.texture_count,
-                    call.may_discard, call.state);
-    d.dc.target = &target;
-    d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
-    d.dc.ao_grid = shader.needs(FACET_NEED_AO) ? call.ao_grid : nullptr;
-    // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
-    // reads as full visibility: nothing is gathered or packed for it.
-    if (!d.dc.ao && !d.dc.ao_grid && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
     const int image_height = call.image_height > 0 ? call.image_height : target.height();
     if (call.image_height > 0 &&
         (call.first_row < 0 || int64_t(call.first_row) + target.height() > call.image_height))
@@ -171,9 +200,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
                         std::to_string(int64_t(call.first_row) + target.height() - 1) +
                         " lies outside its image of " + std::to_string(call.image_height) +
                         " rows");
-    d.dc.first_row = call.image_height > 0 ? call.first_row : 0;
-    d.abi = make_abi_draw(call, target.width(), image_height, d.dc);
-    d.dc.abi = &d.abi;
+    set_context(d, call, target, kernels_->isa);
     const Viewport viewport{target.width(), image_height,      target.samples(),
                             call.state.subpixel_bits, d.dc.first_row, target.height()};
     const MeshPart part = call.part ? *call.part : mesh.whole_part();
@@ -196,6 +223,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
         const int chunks = int((count + kSetupChunk - 1) / kSetupChunk);
         if (g.triangles_queued + count > kTriangleBatch || g.chunks_used + chunks > kMaxChunks) {
             rasterize_queued(g, *pool_, *kernels_, *this, stats);
+            g.split = true;
             // Only this draw is left: it moves to the first slot, freeing the
             // others (and their vertex storage) for the draws that follow.
             std::swap(g.draws[0], g.draws[size_t(index)]);
@@ -219,14 +247,64 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     }
 }
 
-void Pipeline::flush(FrameStats& stats) {
-    rasterize_queued(*queue_, *pool_, *kernels_, *this, stats);
-    queue_->draws_used = 0;
+void Pipeline::flush(FrameStats& stats, bool keep_geometry) {
+    DrawQueue& g = *queue_;
+    if (g.kept) drop_queued(g);
+    rasterize_queued(g, *pool_, *kernels_, *this, stats, keep_geometry && !g.split);
+    g.split = false;
+    if (!g.kept) g.draws_used = 0;
+}
+
+bool Pipeline::redraw(const std::vector<DrawCall>& calls, Framebuffer& target,
+                      FrameStats& stats) {
+    DrawQueue& g = *queue_;
+    const auto alike = [&] {
+        if (!g.kept || g.target != &target || calls.size() != size_t(g.draws_used)) return false;
+        for (size_t i = 0; i < calls.size(); ++i)
+            if (!calls[i].mesh || !calls[i].shader || !(Geometry(calls[i]) == g.draws[i]->geometry))
+                return false;
+        return true;
+    };
+    if (!alike()) {
+        drop_queued(g);
+        g.draws_used = 0;
+        return false;
+    }
+    // Each draw's own state and fragment inputs, as queue() sets them up, on
+    // the vertices, setups and bins the kept one made.
+    for (size_t i = 0; i < calls.size(); ++i) {
+        QueuedDraw& d = *g.draws[i];
+        set_context(d, calls[i], target, kernels_->isa);
+        ++stats.draws;
+        ++stats.draws_redrawn;
+        stats.vertices_shaded += d.geometry.vertex_count;
+    }
+    if (!stopped()) rasterize_binned(g, *pool_, *kernels_, *this, stats);
+    drop_queued(g);
+    g.draws_used = 0;
+    return true;
+}
+
+Geometry::Geometry(const DrawCall& call)
+    : mesh(call.mesh), shader(call.shader), params(call.params), model(call.model),
+      view(call.view), projection(call.projection), camera_position(call.camera_position),
+      lights(call.lights), light_count(call.light_count), shadow_maps(call.shadow_maps),
+      cube_shadow_maps(call.cube_shadow_maps), shadow_map_count(call.shadow_map_count),
+      cube_shadow_map_count(call.cube_shadow_map_count), time(call.time),
+      image_height(call.image_height),
+      first_row(call.first_row), cull(call.state.cull), front_ccw(call.state.front_ccw),
+      subpixel_bits(call.state.subpixel_bits) {
+    const auto take = [&](const MeshPart& part) {
+        first_index = part.first_index, index_count = part.index_count;
+        first_vertex = part.first_vertex, vertex_count = part.vertex_count;
+    };
+    if (call.part) take(*call.part);
+    else if (call.mesh) take(call.mesh->whole_part());
 }
 
 
 void Pipeline::require_flushed(const Framebuffer& target, const char* what) const {
-    if (queue_->chunks_used > 0 && queue_->target == &target)
+    if (queue_->chunks_used > 0 && !queue_->kept && queue_->target == &target)
         throw Error(ErrorCode::out_of_range,
                     std::string(what) + ": draws queued for the target wait; flush() first");
 }
@@ -279,6 +357,7 @@ FrameStats& FrameStats::operator+=(const FrameStats& o) {
     shadow_casters_culled += o.shadow_casters_culled;
     prepasses += o.prepasses;
     depth_prepasses += o.depth_prepasses;
+    draws_redrawn += o.draws_redrawn;
     ao_passes += o.ao_passes;
     shadows_needed |= o.shadows_needed;
     ao_needed |= o.ao_needed;
