@@ -197,14 +197,16 @@ public:
     void flush(FrameStats& stats, bool keep_geometry = false);
     // Draws `calls` on the triangles flush(stats, true) kept: calls[i] on
     // those of the i-th draw kept, which it must make alike (the same mesh,
-    // part, shader, parameters, matrices, lights, time, culling, sub-pixel
-    // bits and band: Geometry in draw_queue.hpp), into the same target.
-    // Only its depth test and writes, colour writes, blending and fragment
-    // inputs (textures, shadow maps, AO) may differ: a pre-pass's triangles,
-    // shaded. The image and counts are those of queue() and flush() of the
-    // calls; FrameStats::draws_redrawn counts them. Returns false, drawing
-    // nothing, where nothing was kept or the calls do not match what was:
-    // then queue them.
+    // part, shader, parameters, textures, matrices, camera, lights, shadow
+    // maps, time, culling, sub-pixel bits and band, with the data they point
+    // at unchanged: Geometry in draw_queue.hpp), into the same target, of the
+    // same size and samples. Only its depth test and writes, colour writes,
+    // blending and AO may differ: a pre-pass's triangles, shaded. The image
+    // and counts are those of queue() and flush() of the calls (the
+    // vertices, shaded once, counted here); FrameStats::draws_redrawn counts
+    // them. Returns false, drawing nothing, where nothing was kept (draws
+    // queued since still wait) or the calls do not match what was (which is
+    // then dropped): then queue them.
     bool redraw(const std::vector<DrawCall>& calls, Framebuffer& target, FrameStats& stats);
     // Throws Error(out_of_range), naming `what`, while draws queued for
     // `target` wait.

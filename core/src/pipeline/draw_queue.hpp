@@ -23,20 +23,27 @@
 namespace facet {
 
 // What of a DrawCall its vertex stage, setup and binning depend on (all a
-// vertex shader can read of its facet_draw, and the culling and snapping):
-// two calls alike in these make the same triangles, whatever their depth
-// test, writes, blending or fragment inputs (Pipeline::redraw).
+// vertex shader can read of its facet_draw, and the culling and snapping),
+// the data pointed at by address: two calls alike in these, whose data
+// did not change in between, make the same triangles, whatever their depth
+// test, writes, blending or AO (Pipeline::redraw).
 struct Geometry {
     const Mesh* mesh = nullptr;
     uint32_t first_index = 0, index_count = 0, first_vertex = 0, vertex_count = 0;
     const ShaderPlugin* shader = nullptr;
     const void* params = nullptr;
+    const TextureBinding* textures = nullptr;
+    int texture_count = 0;
     glm::mat4 model{1.0f}, view{1.0f}, projection{1.0f};
     glm::vec3 camera_position{0.0f};
     const facet_light* lights = nullptr;
     uint32_t light_count = 0;
     const facet_shadow_map* shadow_maps = nullptr;
     const facet_shadow_map* cube_shadow_maps = nullptr;
+    const facet_shadow_distances* shadow_distances = nullptr;
+    const facet_shadow_distances* cube_shadow_distances = nullptr;
+    const facet_shadow_planes* shadow_planes = nullptr;
+    const facet_shadow_planes* cube_shadow_planes = nullptr;
     uint32_t shadow_map_count = 0, cube_shadow_map_count = 0;
     float time = 0.0f;
     int image_height = 0, first_row = 0;
@@ -84,8 +91,10 @@ struct DrawQueue {
     // Some of the queued draws' triangles were rasterized as they were
     // queued (the queue was full): the queue holds only the rest of them.
     bool split = false;
-    // flush(stats, true) drew the queue and kept it, binned, for redraw().
+    // flush(stats, true) drew the queue and kept it, binned, for redraw(),
+    // into a target of this size and sample count.
     bool kept = false;
+    int kept_width = 0, kept_height = 0, kept_samples = 0;
     Bins bins;
     std::vector<WorkerStats> worker_stats;
 };

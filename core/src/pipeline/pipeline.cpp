@@ -96,6 +96,8 @@ void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
     rasterize_binned(g, pool, kernels, stop, stats);
     if (keep && !stop.stopped()) {
         g.kept = true;
+        g.kept_width = g.target->width(), g.kept_height = g.target->height();
+        g.kept_samples = g.target->samples();
         return;
     }
     g.bins.clear();
@@ -181,8 +183,10 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     DrawQueue& g = *queue_;
     if (g.kept) drop_queued(g);
     if (g.chunks_used > 0 && (g.target != &target || g.draws_used == kMaxQueuedDraws)) {
+        // Full, its draws are rasterized before all of theirs are queued;
+        // for another target, they are all there is of theirs.
+        g.split = g.target == &target;
         rasterize_queued(g, *pool_, *kernels_, *this, stats);
-        g.split = true;
     }
     if (g.chunks_used == 0) g.draws_used = 0;  // every earlier draw is done
     if (g.draws.size() == size_t(g.draws_used)) g.draws.push_back(std::make_unique<QueuedDraw>());
@@ -258,8 +262,12 @@ void Pipeline::flush(FrameStats& stats, bool keep_geometry) {
 bool Pipeline::redraw(const std::vector<DrawCall>& calls, Framebuffer& target,
                       FrameStats& stats) {
     DrawQueue& g = *queue_;
+    if (!g.kept) return false;  // (and what waits, if anything, still waits)
     const auto alike = [&] {
-        if (!g.kept || g.target != &target || calls.size() != size_t(g.draws_used)) return false;
+        if (g.target != &target || target.width() != g.kept_width ||
+            target.height() != g.kept_height || target.samples() != g.kept_samples ||
+            calls.size() != size_t(g.draws_used))
+            return false;
         for (size_t i = 0; i < calls.size(); ++i)
             if (!calls[i].mesh || !calls[i].shader || !(Geometry(calls[i]) == g.draws[i]->geometry))
                 return false;
@@ -270,6 +278,11 @@ bool Pipeline::redraw(const std::vector<DrawCall>& calls, Framebuffer& target,
         g.draws_used = 0;
         return false;
     }
+    if (stopped()) {
+        drop_queued(g);
+        g.draws_used = 0;
+        return true;  // nothing drawn, as queue() and flush() draw nothing once stopped
+    }
     // Each draw's own state and fragment inputs, as queue() sets them up, on
     // the vertices, setups and bins the kept one made.
     for (size_t i = 0; i < calls.size(); ++i) {
@@ -277,19 +290,22 @@ bool Pipeline::redraw(const std::vector<DrawCall>& calls, Framebuffer& target,
         set_context(d, calls[i], target, kernels_->isa);
         ++stats.draws;
         ++stats.draws_redrawn;
-        stats.vertices_shaded += d.geometry.vertex_count;
+        stats.vertices_shaded += d.geometry.vertex_count;  // once, for both passes
     }
-    if (!stopped()) rasterize_binned(g, *pool_, *kernels_, *this, stats);
+    rasterize_binned(g, *pool_, *kernels_, *this, stats);
     drop_queued(g);
     g.draws_used = 0;
     return true;
 }
 
 Geometry::Geometry(const DrawCall& call)
-    : mesh(call.mesh), shader(call.shader), params(call.params), model(call.model),
-      view(call.view), projection(call.projection), camera_position(call.camera_position),
-      lights(call.lights), light_count(call.light_count), shadow_maps(call.shadow_maps),
-      cube_shadow_maps(call.cube_shadow_maps), shadow_map_count(call.shadow_map_count),
+    : mesh(call.mesh), shader(call.shader), params(call.params), textures(call.textures),
+      texture_count(call.texture_count), model(call.model), view(call.view),
+      projection(call.projection), camera_position(call.camera_position), lights(call.lights),
+      light_count(call.light_count), shadow_maps(call.shadow_maps),
+      cube_shadow_maps(call.cube_shadow_maps), shadow_distances(call.shadow_distances),
+      cube_shadow_distances(call.cube_shadow_distances), shadow_planes(call.shadow_planes),
+      cube_shadow_planes(call.cube_shadow_planes), shadow_map_count(call.shadow_map_count),
       cube_shadow_map_count(call.cube_shadow_map_count), time(call.time),
       image_height(call.image_height),
       first_row(call.first_row), cull(call.state.cull), front_ccw(call.state.front_ccw),
