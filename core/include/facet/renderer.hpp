@@ -114,7 +114,7 @@ private:
         std::vector<BlendedItem> blended;
         std::vector<DrawItem> casters;       // every drawable part, for shadow maps
         std::vector<DrawItem> opaque;        // visible opaque parts, for the pre-passes
-        std::vector<DrawCall> redrawn;       // the main pass's opaque calls, on the pre-pass's triangles
+        std::vector<DrawCall> opaque_calls;  // the main pass's, drawn again on the pre-pass's triangles or queued
     };
     struct Passes;  // shadow maps and AO buffers, kept between frames
 

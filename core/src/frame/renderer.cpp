@@ -300,16 +300,11 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
     // each is drawn in both and the pre-pass kept them (it did not fill the
     // queue), they are drawn again with the main pass's state, without a
     // second vertex stage, setup and binning. Otherwise they are queued.
-    bool redrawn = false;
-    if (prepassed) {
-        scratch_.redrawn.clear();
-        for (const DrawItem& d : scratch_.opaque)
-            if (item_call(scene, call, d, Role::main, prepassed)) scratch_.redrawn.push_back(call);
-        redrawn = pipeline_.redraw(scratch_.redrawn, target, stats);
-    }
-    if (!redrawn)
-        for (const DrawItem& d : scratch_.opaque)
-            queue_item(scene, call, d, Role::main, prepassed, target, stats);
+    scratch_.opaque_calls.clear();
+    for (const DrawItem& d : scratch_.opaque)
+        if (item_call(scene, call, d, Role::main, prepassed)) scratch_.opaque_calls.push_back(call);
+    if (!prepassed || !pipeline_.redraw(scratch_.opaque_calls, target, stats))
+        for (const DrawCall& c : scratch_.opaque_calls) pipeline_.queue(c, target, stats);
     for (BlendedItem& b : scratch_.blended) b.depth = view_depth(b.item, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
               [](const BlendedItem& a, const BlendedItem& b) {

@@ -14,8 +14,6 @@ void ao_normal_rows(const AoFrame& f, int first, int count);
 void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
                        int x_count);  // ao_kernels.cpp
 void ao_blur_rows(const AoFrame& f, int first, int count);
-void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x_count,
-                      float* blocks, int across);
 void shadow_distance_rows(const ShadowDistanceRows& rows, int first, int count);  // shadow_kernels.cpp
 void shadow_plane_rows(const ShadowPlaneRows& rows, int first, int count);
 
