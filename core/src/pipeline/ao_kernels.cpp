@@ -205,20 +205,23 @@ void normal_directions(const AoFrame& f, int i0, int j, Float& nx_out, Float& ny
     const Float ex = f.perspective ? -px : Float{}, ey = f.perspective ? -py : Float{};
     const Float ez = f.perspective ? -pz : Float{} + 1.0f;
     const Int away = (cx * ex + cy * ey + cz * ez) < 0.0f;
-    // With a step t on one axis only (or two that cross at nothing):
-    // the eye's direction less its part along t.
-    const Float tx = select(u.found, u.x, v.x), ty = select(u.found, u.y, v.y),
-                tz = select(u.found, u.z, v.z);
-    const Float tt = select(u.found | v.found, tx * tx + ty * ty + tz * tz, Float{});
-    const Float along =
-        (ex * tx + ey * ty + ez * tz) / select(tt > 0.0f, tt, Float{} + 1.0f);
-    const Float a = select(tt > 0.0f, along, Float{});
-    Float nx = select(crossed, select(away, -cx, cx), ex - a * tx);
-    Float ny = select(crossed, select(away, -cy, cy), ey - a * ty);
-    Float nz = select(crossed, select(away, -cz, cz), ez - a * tz);
+    Float nx = select(away, -cx, cx), ny = select(away, -cy, cy), nz = select(away, -cz, cz);
+    const Int surface = in_row & (pz != 0.0f);
+    if (simd::bits(surface & ~crossed)) {  // rarely (at edges): not every texel's steps cross
+        // With a step t on one axis only (or two that cross at nothing):
+        // the eye's direction less its part along t.
+        const Float tx = select(u.found, u.x, v.x), ty = select(u.found, u.y, v.y),
+                    tz = select(u.found, u.z, v.z);
+        const Float tt = select(u.found | v.found, tx * tx + ty * ty + tz * tz, Float{});
+        const Float along =
+            (ex * tx + ey * ty + ez * tz) / select(tt > 0.0f, tt, Float{} + 1.0f);
+        const Float a = select(tt > 0.0f, along, Float{});
+        nx = select(crossed, nx, ex - a * tx);
+        ny = select(crossed, ny, ey - a * ty);
+        nz = select(crossed, nz, ez - a * tz);
+    }
     const Int none = (nx * nx + ny * ny + nz * nz) == 0.0f;  // t along the eye's ray
     nx = select(none, ex, nx), ny = select(none, ey, ny), nz = select(none, ez, nz);
-    const Int surface = in_row & (pz != 0.0f);
     nx_out = select(surface, nx, Float{});
     ny_out = select(surface, ny, Float{});
     nz_out = select(surface, nz, Float{} + 1.0f);
