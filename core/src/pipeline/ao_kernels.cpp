@@ -324,10 +324,19 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         t.px = px, t.py = py, t.pz = pz;
         normal_directions(f, x0, y, t.nx, t.ny, t.nz);  // of unit length in orient()
         // The march starts at the surface point: its clip position (clip
-        // positions are linear along a ray).
-        t.cpx = P[0][0] * px + P[1][0] * py + P[2][0] * pz + P[3][0];
-        t.cpy = P[0][1] * px + P[1][1] * py + P[2][1] * pz + P[3][1];
-        t.cpw = Perspective ? P[0][3] * px + P[1][3] * py + P[2][3] * pz + P[3][3] : pz;
+        // positions are linear along a ray), through the terms of P that
+        // are not 0 (AoFrame::set_pixel_rays: x from x and z, y from y and
+        // z, and in perspective w from z alone; orthographic x and y from
+        // x and y, moved).
+        if constexpr (Perspective) {
+            t.cpx = P[0][0] * px + P[2][0] * pz;
+            t.cpy = P[1][1] * py + P[2][1] * pz;
+            t.cpw = P[2][3] * pz;
+        } else {
+            t.cpx = P[0][0] * px + P[3][0];
+            t.cpy = P[1][1] * py + P[3][1];
+            t.cpw = pz;
+        }
         t.k0 = Perspective ? 1.0f / t.cpw : pz;
         // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
         t.nx0 = Perspective ? t.cpx * t.k0 : t.cpx;
@@ -386,9 +395,15 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         tx *= inv_t, ty *= inv_t, tz *= inv_t;
         const Float bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
         // An orthographic march's key is z, so its third row is the frame's z.
+        // (P's terms that are not 0, as for the start.)
         const auto clip = [&](const Float& vx, const Float& vy, const Float& vz, int c) {
-            if (!Perspective && c == 3) return reach * vz;
-            return reach * (P[0][c] * vx + P[1][c] * vy + P[2][c] * vz);
+            if constexpr (Perspective) {
+                if (c == 0) return reach * (P[0][0] * vx + P[2][0] * vz);
+                if (c == 1) return reach * (P[1][1] * vy + P[2][1] * vz);
+                return reach * (P[2][3] * vz);
+            } else {
+                return c == 0 ? reach * (P[0][0] * vx) : c == 1 ? reach * (P[1][1] * vy) : reach * vz;
+            }
         };
         t.tcx = clip(tx, ty, tz, 0), t.tcy = clip(tx, ty, tz, 1), t.tcw = clip(tx, ty, tz, 3);
         t.bcx = clip(bx, by, bz, 0), t.bcy = clip(bx, by, bz, 1), t.bcw = clip(bx, by, bz, 3);
