@@ -274,6 +274,17 @@ inline Float load_part(const float* p, size_t stride, int part) {
 #endif
 }
 
+// Writes v as part p of a 4x4 block of a row-major float image whose rows
+// are `stride` floats apart (load_part's inverse): whole rows of 4.
+inline void store_part(float* p, size_t stride, int part, const Float& v) {
+    float* first = p + size_t(part * kRowsPerPart) * stride;
+    for (int r = 0; r < kRowsPerPart; ++r) {
+        Row row;
+        std::memcpy(&row, reinterpret_cast<const float*>(&v) + 4 * r, sizeof row);
+        store(first + size_t(r) * stride, row);
+    }
+}
+
 // The row of 4 pixels of 4 bytes at `out`, with the pixels of `row` (4
 // bits) replaced by those of `in`: one store, and no read where all four
 // change.

@@ -426,20 +426,40 @@ bool depth_only(const DrawContext& dc) {
     return !dc.state.color_write && !dc.may_discard && dc.target->samples() == 1;
 }
 
-void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
-                     int x0, int y0, int x1, int y1, FrameStats& stats) {
+namespace {
+
+// Lanes where z passes a depth test known at compile time (depth_passes).
+template <DepthCompare Compare>
+Int passes(const Float& z, const Float& stored) {
+    if constexpr (Compare == DepthCompare::less) return z < stored;
+    else if constexpr (Compare == DepthCompare::less_equal) return z <= stored;
+    else if constexpr (Compare == DepthCompare::greater) return z > stored;
+    else if constexpr (Compare == DepthCompare::greater_equal) return z >= stored;
+    else if constexpr (Compare == DepthCompare::equal) return z == stored;
+    else if constexpr (Compare == DepthCompare::always) return Int{} - 1;
+    else return Int{};  // never
+}
+
+// draw_depth_only for a test known at compile time: each part of a block
+// read, tested and written back whole, its covered lanes that pass taking
+// their new depth (the rest are written as they were: a tile is one
+// thread's, and a target's rows are padded to whole blocks).
+template <DepthCompare Compare>
+void depth_blocks(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
+                  int x0, int y0, int x1, int y1, FrameStats& stats) {
     Framebuffer& fb = *dc.target;
     const size_t stride = size_t(fb.stride());
-    const DepthCompare compare = dc.state.depth_compare;
     const bool write = dc.state.depth_write;
     const float z0 = t.z[0], d1 = t.z[1] - t.z[0], d2 = t.z[2] - t.z[0];
-    uint64_t written = 0, rejected = 0;
+    uint64_t written = 0, covered = 0;
     // Depth rows a block row ahead are asked for as each block row starts:
     // a tile's rows are too short for the hardware's prefetcher, and
     // otherwise a pre-pass waits on memory for most of them.
     const int px0 = std::max(t.x0, x0) & ~15, px1 = std::min(t.x1, x1);  // whole cache lines
     const int last_row = std::min(t.y1, y1);
     int fetched = -1;  // the block row whose next was asked for
+    Int lane_bit;
+    for (int i = 0; i < kWidth; ++i) lane_bit[i] = 1 << i;
     cover.for_each_block_narrow(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask,
                                                     const Float* b1, const Float* b2) {
         if (by != fetched) {
@@ -456,19 +476,37 @@ void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const Tr
             // interpolate_depth's arithmetic, from the same weights.
             Float z = z0 + b1[p] * d1 + b2[p] * d2;
             z = z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
-            const uint32_t passed =
-                compare == DepthCompare::always
-                    ? lanes
-                    : lanes & depth_passes(compare, z, simd::load_part(depth, stride, p));
-            if (passed && write)
-                simd::store_part<4>(reinterpret_cast<uint8_t*>(depth), stride * 4, p, &z, passed);
-            pass |= passed << (p * kWidth);
+            const Float stored = simd::load_part(depth, stride, p);
+            const Int in = ((Int{} + int32_t(lanes)) & lane_bit) != 0;  // the covered lanes
+            const Int passed = in & passes<Compare>(z, stored);
+            if (write) simd::store_part(depth, stride, p, passed ? z : stored);
+            pass |= simd::bits(passed) << (p * kWidth);
         }
         written += uint64_t(simd::popcount(pass));
-        rejected += uint64_t(simd::popcount(mask) - simd::popcount(pass));
+        covered += uint64_t(simd::popcount(mask));
     });
     stats.fragments_depth_only += written;
-    stats.fragments_depth_rejected += rejected;
+    stats.fragments_depth_rejected += covered - written;
+}
+
+}  // namespace
+
+void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
+                     int x0, int y0, int x1, int y1, FrameStats& stats) {
+    // The test chosen once a triangle, not for every part of every block.
+    using C = DepthCompare;
+    const auto run = [&](auto compare) {
+        depth_blocks<decltype(compare)::value>(dc, cover, t, x0, y0, x1, y1, stats);
+    };
+    switch (dc.state.depth_compare) {
+        case C::less: return run(std::integral_constant<C, C::less>{});
+        case C::less_equal: return run(std::integral_constant<C, C::less_equal>{});
+        case C::greater: return run(std::integral_constant<C, C::greater>{});
+        case C::greater_equal: return run(std::integral_constant<C, C::greater_equal>{});
+        case C::equal: return run(std::integral_constant<C, C::equal>{});
+        case C::always: return run(std::integral_constant<C, C::always>{});
+        case C::never: return run(std::integral_constant<C, C::never>{});
+    }
 }
 
 // PipelineState::alpha_to_coverage: the samples each lane's alpha covers,
