@@ -283,8 +283,9 @@ struct MarchStep {
 // work comes in stages: its start (itself three: begin, orient, frame),
 // then each direction's step, then the marches. All but the marches are
 // chains of dependent operations (square roots, divisions); each stage
-// done for every vector of a group (and a batch of directions) before the
-// next, they overlap, and no march waits on them.
+// done for every vector of the groups in hand (one group, or two on
+// AVX-512: kGroups) and a batch of directions before the next, they
+// overlap, and no march waits on them.
 template <bool Perspective>
 void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
     const glm::mat4& P = f.projection;
@@ -387,8 +388,8 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     // the start plus a mix of these, with the direction's weights. The
     // tangent t is perpendicular to n (n x X, or n x Y near X), and b = n x t.
     //
-    // begin(), orient() and frame() run in turn over a group's vectors, each
-    // for all of them before the next: one vector's whole start is a chain
+    // begin(), orient() and frame() run in turn over the groups' vectors,
+    // each for all of them before the next: one vector's whole start is a chain
     // of dependent divisions and square roots too long for the processor to
     // overlap with the next vector's, and a stage at a time it can (the AO
     // pass on one thread, fastest of 40: 10.7-10.8 -> 9.6-10.1 ms, AVX2).
