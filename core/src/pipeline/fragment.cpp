@@ -441,9 +441,10 @@ Int passes(const Float& z, const Float& stored) {
 }
 
 // draw_depth_only for a test known at compile time: each part of a block
-// read, tested and written back whole, its covered lanes that pass taking
-// their new depth (the rest are written as they were: a tile is one
-// thread's, and a target's rows are padded to whole blocks).
+// with a covered lane read and tested in registers and, where the draw
+// writes depth, written back whole, its covered lanes that pass taking
+// their new depth and the rest keeping theirs (a tile is one thread's, and
+// a target's rows are padded to whole blocks).
 template <DepthCompare Compare>
 void depth_blocks(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
                   int x0, int y0, int x1, int y1, FrameStats& stats) {
