@@ -34,6 +34,27 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace facet;
 
+namespace {
+
+// Unindexed triangles of `vertices` random vertices (x and y within
+// -spread .. spread, z within z_min .. z_max), each of a random colour of
+// alpha `alpha`.
+Mesh triangle_soup(std::mt19937& rng, uint32_t vertices, float spread, float z_min, float z_max,
+                   float alpha) {
+    std::uniform_real_distribution<float> xy(-spread, spread), z(z_min, z_max), c(0.0f, 1.0f);
+    std::vector<glm::vec3> pos;
+    std::vector<glm::vec4> colors;
+    std::vector<uint32_t> idx;
+    for (uint32_t i = 0; i < vertices; ++i) {
+        pos.push_back({xy(rng), xy(rng), z(rng)});
+        colors.push_back({c(rng), c(rng), c(rng), alpha});
+        idx.push_back(i);
+    }
+    return test::make_mesh(pos, idx, colors);
+}
+
+}  // namespace
+
 TEST_CASE("every demo scene renders bit for bit the same at any thread count", "[parallel]") {
     PluginRegistry registry;
     for (const char* name : test::kDemoScenes) {
@@ -120,16 +141,7 @@ TEST_CASE("a triangle soup with clipping renders the same at any thread count", 
     // Overlapping triangles of every size, many crossing the near plane and
     // leaving the screen, blended so that draw order matters.
     std::mt19937 rng(7);
-    std::uniform_real_distribution<float> xy(-3.0f, 3.0f), z(-6.0f, 0.5f), c(0.0f, 1.0f);
-    std::vector<glm::vec3> pos;
-    std::vector<glm::vec4> colors;
-    std::vector<uint32_t> idx;
-    for (uint32_t i = 0; i < 3 * 1200; ++i) {
-        pos.push_back({xy(rng), xy(rng), z(rng)});
-        colors.push_back({c(rng), c(rng), c(rng), 0.5f});
-        idx.push_back(i);
-    }
-    const Mesh mesh = test::make_mesh(pos, idx, colors);
+    const Mesh mesh = triangle_soup(rng, 3 * 1200, 3.0f, -6.0f, 0.5f, 0.5f);
     auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
     auto draw = [&](int threads) {
         Framebuffer fb(301, 203);
@@ -151,17 +163,8 @@ TEST_CASE("queued draws render what one draw() at a time renders", "[parallel][q
     // at once), some crossing the near plane, alternating between two
     // targets part of the way through.
     std::mt19937 rng(11);
-    std::uniform_real_distribution<float> xy(-2.0f, 2.0f), z(-4.0f, 0.3f), c(0.0f, 1.0f);
     std::vector<Mesh> meshes;
-    for (int m = 0; m < 400; ++m) {
-        std::vector<glm::vec3> pos;
-        std::vector<glm::vec4> colors;
-        for (int i = 0; i < 9; ++i) {
-            pos.push_back({xy(rng), xy(rng), z(rng)});
-            colors.push_back({c(rng), c(rng), c(rng), 0.5f});
-        }
-        meshes.push_back(test::make_mesh(pos, {0, 1, 2, 3, 4, 5, 6, 7, 8}, colors));
-    }
+    for (int m = 0; m < 400; ++m) meshes.push_back(triangle_soup(rng, 9, 2.0f, -4.0f, 0.3f, 0.5f));
     auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
     auto render = [&](bool queued, Framebuffer (&fb)[2], FrameStats& stats) {
         Pipeline renderer(2);
@@ -198,19 +201,8 @@ TEST_CASE("a pre-pass's triangles drawn again with the main pass's state give th
           "[parallel][queue][depth]") {
     // Two overlapping meshes of many triangles, some crossing the near plane.
     std::mt19937 rng(5);
-    std::uniform_real_distribution<float> xy(-2.0f, 2.0f), z(-4.0f, 0.3f), c(0.0f, 1.0f);
     std::vector<Mesh> meshes;
-    for (int m = 0; m < 2; ++m) {
-        std::vector<glm::vec3> pos;
-        std::vector<glm::vec4> colors;
-        std::vector<uint32_t> idx;
-        for (uint32_t i = 0; i < 600; ++i) {
-            pos.push_back({xy(rng), xy(rng), z(rng)});
-            colors.push_back({c(rng), c(rng), c(rng), 1.0f});
-            idx.push_back(i);
-        }
-        meshes.push_back(test::make_mesh(pos, idx, colors));
-    }
+    for (int m = 0; m < 2; ++m) meshes.push_back(triangle_soup(rng, 600, 2.0f, -4.0f, 0.3f, 1.0f));
     auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
     const auto calls = [&](bool prepass) {
         std::vector<DrawCall> out;
@@ -329,6 +321,7 @@ TEST_CASE("a pre-pass's triangles drawn again with the main pass's state give th
 
     // A mesh too large to queue at once is rasterized part way as it is
     // queued: the queue then holds only its last triangles, and keeps nothing.
+    std::uniform_real_distribution<float> xy(-2.0f, 2.0f), c(0.0f, 1.0f);
     std::vector<glm::vec3> pos;
     std::vector<uint32_t> idx;
     for (uint32_t i = 0; i < 3 * 40000; ++i) {

@@ -273,29 +273,23 @@ bool Pipeline::redraw(const std::vector<DrawCall>& calls, Framebuffer& target,
                 return false;
         return true;
     };
-    if (!alike()) {
-        drop_queued(g);
-        g.draws_used = 0;
-        return false;
+    // Once stopped, nothing is drawn, as queue() and flush() draw nothing.
+    const bool match = alike();
+    if (match && !stopped()) {
+        // Each draw's own state and fragment inputs, as queue() sets them
+        // up, on the vertices, setups and bins the kept one made.
+        for (size_t i = 0; i < calls.size(); ++i) {
+            QueuedDraw& d = *g.draws[i];
+            set_context(d, calls[i], target, kernels_->isa);
+            ++stats.draws;
+            ++stats.draws_redrawn;
+            stats.vertices_shaded += d.geometry.vertex_count;  // once, for both passes
+        }
+        rasterize_binned(g, *pool_, *kernels_, *this, stats);
     }
-    if (stopped()) {
-        drop_queued(g);
-        g.draws_used = 0;
-        return true;  // nothing drawn, as queue() and flush() draw nothing once stopped
-    }
-    // Each draw's own state and fragment inputs, as queue() sets them up, on
-    // the vertices, setups and bins the kept one made.
-    for (size_t i = 0; i < calls.size(); ++i) {
-        QueuedDraw& d = *g.draws[i];
-        set_context(d, calls[i], target, kernels_->isa);
-        ++stats.draws;
-        ++stats.draws_redrawn;
-        stats.vertices_shaded += d.geometry.vertex_count;  // once, for both passes
-    }
-    rasterize_binned(g, *pool_, *kernels_, *this, stats);
     drop_queued(g);
     g.draws_used = 0;
-    return true;
+    return match;
 }
 
 Geometry::Geometry(const DrawCall& call)
