@@ -469,17 +469,39 @@ inline float shadow_visibility(const CubeShadow& c, glm::vec3 p, float n_dot_l, 
 
 #if FACET_SDK_WIDE
 namespace detail {
-inline wide::Mask tap_threshold(const wide::Float& q) {
+// tap_threshold for each lane, as the float of the same whole number (which
+// the planes' bounds are compared with as it is) and as an integer.
+inline wide::Float tap_threshold_float(const wide::Float& q) {
     using namespace wide;
     const Float c = clamp(q, 0.0f, 65535.0f);
 #if defined(__AVX__)
-    return __builtin_convertvector(select(q == q, ceil(c), splat(65535.0f)), Mask);
+    return select(q == q, ceil(c), splat(65535.0f));
 #else
     // No rounding instruction before SSE4.1: the ceiling of a float in
     // 0..65535 is its truncation, plus one where that fell below it.
-    const Mask t = __builtin_convertvector(c, Mask);
-    return select(q == q, t - (__builtin_convertvector(t, Float) < c), Mask{} + 65535);
+    const Float t = __builtin_convertvector(__builtin_convertvector(c, Mask), Float);
+    return select(q == q, select(t < c, t + 1.0f, t), splat(65535.0f));
 #endif
+}
+inline wide::Mask tap_threshold(const wide::Float& q) {
+    return __builtin_convertvector(tap_threshold_float(q), wide::Mask);
+}
+
+// kTaps.at[r][r] of TapDistances, sqrt(2 r^2), for r in 0..7: a constant
+// for each r (the whole table, a local, would be stored on the stack at
+// every call).
+inline float diagonal_tap(int r) {
+    constexpr TapDistances kTaps{};
+    switch (r) {
+        case 0: return kTaps.at[0][0];
+        case 1: return kTaps.at[1][1];
+        case 2: return kTaps.at[2][2];
+        case 3: return kTaps.at[3][3];
+        case 4: return kTaps.at[4][4];
+        case 5: return kTaps.at[5][5];
+        case 6: return kTaps.at[6][6];
+        default: return kTaps.at[7][7];
+    }
 }
 
 // Four 16-bit values in each 64-bit lane, half a call's lanes at a time:
@@ -607,14 +629,36 @@ inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const w
     const Float nearest0 = tile[0], dx = tile[1], dy = tile[2], depth = tile[3];
     const Float nearest = nearest0 + dx * __builtin_convertvector(cx & 7, Float) +
                           dy * __builtin_convertvector(cy & 7, Float);
-    const Float spread = (select(dx < 0.0f, -dx, dx) + select(dy < 0.0f, -dy, dy)) * float(r);
+    const Float spread = (abs(dx) + abs(dy)) * float(r);
     return {nearest - spread - 0.25f, nearest + depth + spread + 0.25f};
+}
+
+// The share of the (2r + 1)^2 taps around each lane's texel (cx, cy) that
+// are lit, for the receivers the planes did not settle: out of line, so that
+// the calls the planes settle need no stack frame for it.
+[[gnu::noinline]] inline wide::Float filter_distances(const facet_shadow_distances& d, int r,
+                                                      wide::Mask cx, wide::Mask cy,
+                                                      wide::Float receiver, wide::Float step) {
+    using namespace wide;
+    Mask lit;
+    switch (r) {  // each kernel's loops unrolled
+        case 0: lit = lit_distances<0>(d, cx, cy, receiver, step); break;
+        case 1: lit = lit_distances<1>(d, cx, cy, receiver, step); break;
+        case 2: lit = lit_distances<2>(d, cx, cy, receiver, step); break;
+        case 3: lit = lit_distances<3>(d, cx, cy, receiver, step); break;
+        case 4: lit = lit_distances<4>(d, cx, cy, receiver, step); break;
+        case 5: lit = lit_distances<5>(d, cx, cy, receiver, step); break;
+        case 6: lit = lit_distances<6>(d, cx, cy, receiver, step); break;
+        default: lit = lit_distances<7>(d, cx, cy, receiver, step); break;
+    }
+    return __builtin_convertvector(lit, Float) / float((2 * r + 1) * (2 * r + 1));
 }
 }  // namespace detail
 
-inline wide::Float shadow_visibility(const ShadowMap& m, const wide::Vec3& p,
-                                     const wide::Float& n_dot_l, int kernel, float bias,
-                                     float slope_bias) {
+[[gnu::always_inline]] inline wide::Float shadow_visibility(const ShadowMap& m,
+                                                            const wide::Vec3& p,
+                                                            const wide::Float& n_dot_l, int kernel,
+                                                            float bias, float slope_bias) {
     using namespace wide;
     if (!m.distances) return shadow_visibility(*m.map, p, n_dot_l, kernel, bias, slope_bias);
     const facet_shadow_map& sm = *m.map;
@@ -653,28 +697,15 @@ inline wide::Float shadow_visibility(const ShadowMap& m, const wide::Vec3& p,
     const Float step = texel * tan_t;
     const int r = std::clamp(kernel, 1, 15) / 2;
     if (m.planes && r <= FACET_SHADOW_REACH) {  // as the scalar filter does, lane by lane
-        constexpr detail::TapDistances kTaps{};
         const detail::WideSlab s = detail::slab(*m.planes, cx, cy, r);
-        const Mask centre = detail::tap_threshold(receiver - step * kTaps.at[0][0]);
-        const Mask corner = detail::tap_threshold(receiver - step * kTaps.at[r][r]);
-        const Mask all_lit = s.low > __builtin_convertvector(centre - 1, Float);
-        const Mask none_lit = s.high < __builtin_convertvector(corner, Float);
+        const Float centre = detail::tap_threshold_float(receiver - step * 0.0f);
+        const Float corner = detail::tap_threshold_float(receiver - step * detail::diagonal_tap(r));
+        const Mask all_lit = s.low > centre - 1.0f;  // whole numbers: as exact as in integers
+        const Mask none_lit = s.high < corner;
         if (!any(seen & !(all_lit | none_lit)))
             return select(seen & none_lit, splat(0.0f), splat(1.0f));
     }
-    const facet_shadow_distances& d = *m.distances;
-    Mask lit;
-    switch (r) {  // each kernel's loops unrolled
-        case 0: lit = detail::lit_distances<0>(d, cx, cy, receiver, step); break;
-        case 1: lit = detail::lit_distances<1>(d, cx, cy, receiver, step); break;
-        case 2: lit = detail::lit_distances<2>(d, cx, cy, receiver, step); break;
-        case 3: lit = detail::lit_distances<3>(d, cx, cy, receiver, step); break;
-        case 4: lit = detail::lit_distances<4>(d, cx, cy, receiver, step); break;
-        case 5: lit = detail::lit_distances<5>(d, cx, cy, receiver, step); break;
-        case 6: lit = detail::lit_distances<6>(d, cx, cy, receiver, step); break;
-        default: lit = detail::lit_distances<7>(d, cx, cy, receiver, step); break;
-    }
-    return select(seen, __builtin_convertvector(lit, Float) / float((2 * r + 1) * (2 * r + 1)),
+    return select(seen, detail::filter_distances(*m.distances, r, cx, cy, receiver, step),
                   splat(1.0f));
 }
 #endif
@@ -688,8 +719,7 @@ inline wide::Float shadow_visibility(const CubeShadow& c, const wide::Vec3& p,
                                      float slope_bias) {
     using namespace wide;
     const Vec3 d = p - Vec3(c.light);
-    const Float ax = select(d.x < 0.0f, -d.x, d.x), ay = select(d.y < 0.0f, -d.y, d.y),
-                az = select(d.z < 0.0f, -d.z, d.z);
+    const Float ax = abs(d.x), ay = abs(d.y), az = abs(d.z);
     const Mask x = ax >= ay && ax >= az, y = !x && ay >= az;
     const Mask face = select(x, select(d.x > 0.0f, Mask{}, Mask{} + 1),
                              select(y, select(d.y > 0.0f, Mask{} + 2, Mask{} + 3),
@@ -925,8 +955,9 @@ inline float ambient_visibility(const Fragment& f, const Receiving& r) {
 }
 
 #if FACET_SDK_WIDE
-inline wide::Float light_visibility(const Draw& d, uint32_t i, const Receiving& r,
-                                    const wide::Vec3& p, const wide::Float& n_dot_l) {
+[[gnu::always_inline]] inline wide::Float light_visibility(const Draw& d, uint32_t i,
+                                                           const Receiving& r, const wide::Vec3& p,
+                                                           const wide::Float& n_dot_l) {
     if (!r.shadows) return wide::splat(1.0f);
     if (const ShadowMap m = d.shadow(i))
         return shadow_visibility(m, p, n_dot_l, r.kernel, r.bias, r.slope_bias);

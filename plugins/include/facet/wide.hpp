@@ -63,13 +63,44 @@ constexpr int kLanes = FACET_WIDE_LANES;
 using Float = float __attribute__((vector_size(4 * kLanes)));
 using Mask = int32_t __attribute__((vector_size(4 * kLanes)));
 
-inline Float splat(float v) { return Float{} + v; }
+// v in every lane, as it is (v - 0 is v, -0 included: one broadcast, where
+// 0 + v would be an addition too, which makes -0 +0).
+inline Float splat(float v) { return v - Float{}; }
 inline Float select(const Mask& m, const Float& a, const Float& b) { return m ? a : b; }
 inline Mask select(const Mask& m, const Mask& a, const Mask& b) { return m ? a : b; }
 // As std::min and std::max: a when the two are unordered (a NaN a stays).
-inline Float min(const Float& a, const Float& b) { return b < a ? b : a; }
-inline Float max(const Float& a, const Float& b) { return a < b ? b : a; }
+// x86's minimum and maximum instructions are exactly these with the operands
+// swapped (their second operand where the comparison fails); GCC does not
+// make them of the comparisons, which take two instructions.
+inline Float min(const Float& a, const Float& b) {
+#if defined(__AVX512F__)
+    const __m512 x = std::bit_cast<__m512>(b), y = std::bit_cast<__m512>(a);
+    return std::bit_cast<Float>(_mm512_mask_min_ps(x, 0xFFFF, x, y));  // GCC 12 warns of the plain form
+#elif defined(__AVX__)
+    return std::bit_cast<Float>(_mm256_min_ps(std::bit_cast<__m256>(b), std::bit_cast<__m256>(a)));
+#elif defined(__SSE2__)
+    return std::bit_cast<Float>(_mm_min_ps(std::bit_cast<__m128>(b), std::bit_cast<__m128>(a)));
+#else
+    return b < a ? b : a;
+#endif
+}
+inline Float max(const Float& a, const Float& b) {
+#if defined(__AVX512F__)
+    const __m512 x = std::bit_cast<__m512>(b), y = std::bit_cast<__m512>(a);
+    return std::bit_cast<Float>(_mm512_mask_max_ps(x, 0xFFFF, x, y));  // GCC 12 warns of the plain form
+#elif defined(__AVX__)
+    return std::bit_cast<Float>(_mm256_max_ps(std::bit_cast<__m256>(b), std::bit_cast<__m256>(a)));
+#elif defined(__SSE2__)
+    return std::bit_cast<Float>(_mm_max_ps(std::bit_cast<__m128>(b), std::bit_cast<__m128>(a)));
+#else
+    return a < b ? b : a;
+#endif
+}
 inline Float clamp(const Float& x, float lo, float hi) { return min(max(x, splat(lo)), splat(hi)); }
+// |x|, as std::abs: the sign bit cleared.
+inline Float abs(const Float& x) {
+    return std::bit_cast<Float>(std::bit_cast<Mask>(x) & 0x7FFFFFFF);
+}
 
 // Correctly rounded, as std::sqrt.
 inline Float sqrt(const Float& x) {
