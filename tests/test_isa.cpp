@@ -178,6 +178,32 @@ TEST_CASE("AO at full and half resolution on images narrower than a register, on
         }
 }
 
+// The AO pass's marches find a key texel's row with a 16-bit multiply on
+// SSE2 (simd::mul_short) where the grid's rows and stride fit in 16 bits;
+// an image 32768 wide or tall at full resolution does not. (With the 16-bit
+// product forced, the wide image's SSE2 AO differs from the other paths'.)
+TEST_CASE("AO on an image too wide or too tall for 16-bit rows, on every path", "[isa][ao]") {
+    PluginRegistry registry;
+    Scene scene = test::small_demo_scene(registry, "scenes/ao.yaml");
+    scene.settings.color_format = ColorFormat::rgba32f;
+    scene.settings.ao_half_resolution = false;
+    constexpr int kMax = Framebuffer::kMaxSize;
+    for (const glm::ivec2 size : {glm::ivec2(kMax, 48), glm::ivec2(2, kMax)}) {
+        INFO(size.x << "x" << size.y);
+        scene.settings.width = size.x;
+        scene.settings.height = size.y;
+        Framebuffer first;
+        const FrameStats stats = Renderer(1, Isa::portable).render(scene, first);
+        REQUIRE(stats.ao_passes == 1);
+        for (Isa isa : supported_isas()) {
+            INFO("path " << isa_name(isa));
+            Framebuffer other;
+            Renderer(2, isa).render(scene, other);
+            CHECK(test::same_image(first, other));
+        }
+    }
+}
+
 TEST_CASE("packed fragment batches draw what block batches draw", "[isa][packing]") {
     // Many small triangles of both facings, overlapping in depth, in three
     // draws: the middle one's shader cannot be packed, so the packed

@@ -150,6 +150,27 @@ inline Float sqrt(const Float& x) {
 #endif
 }
 
+// a > b ? a : b in each lane (b where they are unordered or equal): x86's
+// maximum instruction, which is exactly that; GCC leaves the comparison and
+// the blend as two.
+inline Float max(const Float& a, const Float& b) {
+#if defined(__AVX512F__)
+    const __m512 x = std::bit_cast<__m512>(a), y = std::bit_cast<__m512>(b);
+    return std::bit_cast<Float>(_mm512_mask_max_ps(x, 0xFFFF, x, y));  // GCC 12 warns of the plain form
+#elif defined(__AVX2__)
+    return std::bit_cast<Float>(_mm256_max_ps(std::bit_cast<__m256>(a), std::bit_cast<__m256>(b)));
+#elif defined(__SSE2__)
+    return std::bit_cast<Float>(_mm_max_ps(std::bit_cast<__m128>(a), std::bit_cast<__m128>(b)));
+#else
+    return a > b ? a : b;
+#endif
+}
+
+// |a| in each lane: the sign bit cleared.
+inline Float abs(const Float& a) {
+    return std::bit_cast<Float>(std::bit_cast<Int>(a) & 0x7FFFFFFF);
+}
+
 // table[index[i]] for each lane; every index must lie inside the table.
 inline Float gather(const float* table, const Int& index) {
 #if defined(__AVX512F__)
@@ -162,6 +183,12 @@ inline Float gather(const float* table, const Int& index) {
     __m256i i;
     std::memcpy(&i, &index, sizeof i);
     return std::bit_cast<Float>(_mm256_i32gather_ps(table, i, 4));
+#elif defined(__SSE2__)
+    // No gather: the indices through memory, which costs less than taking
+    // each out of the register.
+    alignas(16) int32_t i[4];
+    store(i, index);
+    return std::bit_cast<Float>(_mm_setr_ps(table[i[0]], table[i[1]], table[i[2]], table[i[3]]));
 #else
     Float out;
     for (int k = 0; k < kWidth; ++k) out[k] = table[index[k]];
@@ -179,10 +206,26 @@ inline Int gather(const int32_t* table, const Int& index) {
     __m256i i;
     std::memcpy(&i, &index, sizeof i);
     return std::bit_cast<Int>(_mm256_i32gather_epi32(table, i, 4));
+#elif defined(__SSE2__)
+    alignas(16) int32_t i[4];  // as gather(const float*, ...)
+    store(i, index);
+    return std::bit_cast<Int>(_mm_setr_epi32(table[i[0]], table[i[1]], table[i[2]], table[i[3]]));
 #else
     Int out;
     for (int k = 0; k < kWidth; ++k) out[k] = table[index[k]];
     return out;
+#endif
+}
+
+// a * b in each lane, for a in -32768..32767 and b in 0..32767. SSE2 has
+// no 32-bit multiply (GCC makes one of two 64-bit ones and shuffles); its
+// multiply-add of 16-bit halves gives a's low half times b's plus a's high
+// half times b's high half, 0: a * b exactly, for such a and b.
+inline Int mul_short(const Int& a, int b) {
+#if FACET_SIMD_WIDTH == 4 && defined(__SSE2__)
+    return std::bit_cast<Int>(_mm_madd_epi16(std::bit_cast<__m128i>(a), _mm_set1_epi32(b)));
+#else
+    return a * b;
 #endif
 }
 

@@ -178,8 +178,7 @@ void normal_directions(const AoFrame& f, int i0, int j, Float& nx_out, Float& ny
                     bx = view_x(f, b_column, bz), by = view_y(f, b_row, bz);
         after &= az != 0.0f;
         before &= bz != 0.0f;
-        const Float da = select(az - pz < 0.0f, pz - az, az - pz);
-        const Float db = select(bz - pz < 0.0f, pz - bz, bz - pz);
+        const Float da = simd::abs(az - pz), db = simd::abs(bz - pz);
         const Int take_before = before & (~after | (db < da));
         return Step{after | before, select(take_before, px - bx, ax - px),
                     select(take_before, py - by, ay - py), select(take_before, pz - bz, az - pz)};
@@ -452,6 +451,12 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                                               (ey < -border) | (ey >= f.height + border)));
     };
 
+    // A march reads rows -kBorder .. height + kBorder - 1 of the key (a
+    // bordered one stays within the border, the others are clamped to
+    // -1 .. height): where those and the stride fit in 16 bits, their
+    // product is simd::mul_short's.
+    const bool short_rows = f.key_stride <= 32767 && f.height + AoFrame::kBorder <= 32767;
+
     // Whether the march is blocked: a step reads a surface nearer than the
     // march by tol .. reach (in view units, compared on keys without a
     // division) and above the tangent plane by tol. For keys 1 / w the two
@@ -470,11 +475,12 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                 ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
                 iy = iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy;
             }
-            const Float there = simd::gather(f.key, iy * f.key_stride + ix);
+            const Int row = short_rows ? simd::mul_short(iy, f.key_stride) : iy * f.key_stride;
+            const Float there = simd::gather(f.key, row + ix);
             const Float here = t.k0 + float(s) * m.dk;  // the march's key
             const Float plane = t.plane_key + t.plane_dx * simd::to_float(ix - t.x) +
                                 t.plane_dy * simd::to_float(iy - y);
-            const Float higher = select(plane > here, plane, here);
+            const Float higher = simd::max(plane, here);
             if constexpr (Perspective) {
                 blocked |= (there - tol * higher * there > higher) &
                            (there * (1.0f - reach * here) < here);
