@@ -166,6 +166,20 @@ inline Float max(const Float& a, const Float& b) {
 #endif
 }
 
+// a < b ? a : b in each lane (b where they are unordered or equal), as max.
+inline Float min(const Float& a, const Float& b) {
+#if defined(__AVX512F__)
+    const __m512 x = std::bit_cast<__m512>(a), y = std::bit_cast<__m512>(b);
+    return std::bit_cast<Float>(_mm512_mask_min_ps(x, 0xFFFF, x, y));  // GCC 12 warns of the plain form
+#elif defined(__AVX2__)
+    return std::bit_cast<Float>(_mm256_min_ps(std::bit_cast<__m256>(a), std::bit_cast<__m256>(b)));
+#elif defined(__SSE2__)
+    return std::bit_cast<Float>(_mm_min_ps(std::bit_cast<__m128>(a), std::bit_cast<__m128>(b)));
+#else
+    return a < b ? a : b;
+#endif
+}
+
 // |a| in each lane: the sign bit cleared.
 inline Float abs(const Float& a) {
     return std::bit_cast<Float>(std::bit_cast<Int>(a) & 0x7FFFFFFF);

@@ -435,8 +435,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         // start on the grid stay in int range (a longer one leaves the grid
         // at its first step either way); none for NaN.
         const auto fixed_step = [&](const Float& v) {
-            const Float c = v < -134217728.0f ? Float{} - 134217728.0f
-                            : v > 134217728.0f ? Float{} + 134217728.0f : v;
+            const Float c = simd::min(simd::max(v, Float{} - 134217728.0f), Float{} + 134217728.0f);
             return to_int(select(m.ahead & (v == v), c, Float{}));
         };
         m.dsx = fixed_step((nx1 - t.nx0) * (sx_scale * kStep * kFixed));
