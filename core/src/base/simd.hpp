@@ -13,9 +13,10 @@
 //
 // The arithmetic is written once with GCC/Clang vector extensions. The few
 // operations they cannot say (a comparison to a bit mask, a table gather,
-// a half-float conversion) use the path's intrinsics where it has them and
-// a plain loop otherwise, so the portable path needs no x86 intrinsics and
-// builds for AArch64.
+// a half-float conversion) or say slowly (min and max, a multiply of 16-bit
+// values on SSE2) use the path's intrinsics where it has them (SSE2 among
+// them) and plain code otherwise, so the portable path builds for AArch64
+// too.
 //
 // Lane i of a block is pixel (x + i % 4, y + i / 4), as in the plugin ABI.
 #pragma once

@@ -262,7 +262,9 @@ namespace {
 // tangent plane as a key over the grid, and its clip-space start and frame,
 // from which each direction's segment is projected.
 struct MarchStart {
-    Int x, sx0, sy0, surface;
+    Int x, surface;
+    int y;
+    Int sx0, sy0;  // 16.16 fixed point from texel (x, y)'s corner
     Float k0;                               // the start's key
     Float plane_key, plane_dx, plane_dy;    // the tangent plane's key at x, per texel
     Float cpx, cpy, cpw, nx0, ny0;          // clip start (cpw: z if orthographic), its ndc
@@ -323,6 +325,7 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     const auto begin = [&](MarchStart& t, int x0, int y) {
         const size_t row = size_t(y) * size_t(f.width);
         t.x = lane + x0;
+        t.y = y;
         const Float pz = select(t.x < x_end, load_row(f.z + row, x0, f.width, 0.0f), Float{});
         t.surface = pz != 0.0f;  // background texels stay visible
         if (!simd::bits(t.surface)) return;
@@ -347,9 +350,16 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         // Where it falls on the grid, as x_ndc = cx * k (k = 1 / w, or 1).
         t.nx0 = Perspective ? t.cpx * t.k0 : t.cpx;
         t.ny0 = Perspective ? t.cpy * t.k0 : t.cpy;
-        // (Lanes with no surface start at texel 0, which every path can read.)
-        t.sx0 = select(t.surface, to_int(((t.nx0 + 1.0f) * sx_scale + offset) * kFixed), Int{});
-        t.sy0 = select(t.surface, to_int(((1.0f - t.ny0) * sy_scale + offset) * kFixed), Int{});
+        // From the texel's own corner (about half a texel from it: the
+        // position less the index is exact there, so the start is the one
+        // counted from the grid's corner, less the index times 2^16, which
+        // on a grid 32768 texels wide would not fit 32 bits). Lanes with no
+        // surface start at their own texel, which every path can read.
+        t.sx0 = select(t.surface,
+                       to_int((((t.nx0 + 1.0f) * sx_scale + offset) - simd::to_float(t.x)) * kFixed),
+                       Int{});
+        t.sy0 = select(t.surface,
+                       to_int((((1.0f - t.ny0) * sy_scale + offset) - float(y)) * kFixed), Int{});
     };
 
     // Start t's unit normal and its tangent plane, as a key over the grid
@@ -432,8 +442,9 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
             nx1 = cex * k1, ny1 = cey * k1;
         }
         // A step in fixed point, within +-2^27 so that kSteps of them from a
-        // start on the grid stay in int range (a longer one leaves the grid
-        // at its first step either way); none for NaN.
+        // start (within a texel of its texel's corner) stay in int range (a
+        // longer one leaves the grid at its first step either way); none for
+        // NaN.
         const auto fixed_step = [&](const Float& v) {
             const Float c = simd::min(simd::max(v, Float{} - 134217728.0f), Float{} + 134217728.0f);
             return to_int(select(m.ahead & (v == v), c, Float{}));
@@ -443,18 +454,16 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         m.dk = (k1 - t.k0) * kStep;
         // A march is straight and starts on the grid: it stays within the
         // border if its end does.
-        const Int ex = (t.sx0 + AoFrame::kSteps * m.dsx) >> 16;
-        const Int ey = (t.sy0 + AoFrame::kSteps * m.dsy) >> 16;
+        const Int ex = t.x + ((t.sx0 + AoFrame::kSteps * m.dsx) >> 16);
+        const Int ey = ((t.sy0 + AoFrame::kSteps * m.dsy) >> 16) + t.y;
         constexpr int border = AoFrame::kBorder;
         m.bordered = !simd::bits(t.surface & ((ex < -border) | (ex >= f.width + border) |
                                               (ey < -border) | (ey >= f.height + border)));
     };
 
-    // A march reads rows -kBorder .. height + kBorder - 1 of the key (a
-    // bordered one stays within the border, the others are clamped to
-    // -1 .. height): where those and the stride fit in 16 bits, their
-    // product is simd::mul_short's.
-    const bool short_rows = f.key_stride <= 32767 && f.height + AoFrame::kBorder <= 32767;
+    // Where the key's stride fits in 16 bits, as a march's rows from its
+    // start do (below), their product is simd::mul_short's.
+    const bool short_rows = f.key_stride <= 32767;
 
     // Whether the march is blocked: a step reads a surface nearer than the
     // march by tol .. reach (in view units, compared on keys without a
@@ -465,20 +474,24 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
     const auto march = [&](const MarchStart& t, const MarchStep& m, int y, auto bordered) {
         Int sx = t.sx0, sy = t.sy0;
         Int blocked = Int{};
+        const Int start = y * f.key_stride + t.x;  // the start texel's key
         for (int s = 1; s <= AoFrame::kSteps; ++s) {
             sx += m.dsx, sy += m.dsy;
+            // Texels from the start: at most kSteps 2^11 (fixed_step), so a
+            // row's offset is simd::mul_short's where the stride fits.
+            Int dx = sx >> 16, dy = sy >> 16;
             // Off the grid, the border (key 0, which blocks nothing): read as
             // it is by a bordered march, else clamped to its first texel.
-            Int ix = sx >> 16, iy = sy >> 16;
             if constexpr (!decltype(bordered)::value) {
-                ix = ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix;
-                iy = iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy;
+                const Int ix = t.x + dx, iy = dy + y;
+                dx = (ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix) - t.x;
+                dy = (iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy) - y;
             }
-            const Int row = short_rows ? simd::mul_short(iy, f.key_stride) : iy * f.key_stride;
-            const Float there = simd::gather(f.key, row + ix);
+            const Int row = short_rows ? simd::mul_short(dy, f.key_stride) : dy * f.key_stride;
+            const Float there = simd::gather(f.key, start + row + dx);
             const Float here = t.k0 + float(s) * m.dk;  // the march's key
-            const Float plane = t.plane_key + t.plane_dx * simd::to_float(ix - t.x) +
-                                t.plane_dy * simd::to_float(iy - y);
+            const Float plane = t.plane_key + t.plane_dx * simd::to_float(dx) +
+                                t.plane_dy * simd::to_float(dy);
             const Float higher = simd::max(plane, here);
             if constexpr (Perspective) {
                 blocked |= (there - tol * higher * there > higher) &
