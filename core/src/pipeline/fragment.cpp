@@ -37,18 +37,40 @@ bool depth_passes(DepthCompare compare, float z, float stored) {
     return false;
 }
 
+// Lanes where z passes a depth test known at compile time.
+template <DepthCompare Compare>
+Int passes(const Float& z, const Float& stored) {
+    if constexpr (Compare == DepthCompare::less) return z < stored;
+    else if constexpr (Compare == DepthCompare::less_equal) return z <= stored;
+    else if constexpr (Compare == DepthCompare::greater) return z > stored;
+    else if constexpr (Compare == DepthCompare::greater_equal) return z >= stored;
+    else if constexpr (Compare == DepthCompare::equal) return z == stored;
+    else if constexpr (Compare == DepthCompare::always) return Int{} - 1;
+    else return Int{};  // never
+}
+
+// f(std::integral_constant<DepthCompare, compare>{}): code that tests
+// depth, specialised for the test once rather than switching on it per use.
+template <class F>
+decltype(auto) with_compare(DepthCompare compare, F&& f) {
+    using C = DepthCompare;
+    switch (compare) {
+        case C::less: return f(std::integral_constant<C, C::less>{});
+        case C::less_equal: return f(std::integral_constant<C, C::less_equal>{});
+        case C::greater: return f(std::integral_constant<C, C::greater>{});
+        case C::greater_equal: return f(std::integral_constant<C, C::greater_equal>{});
+        case C::equal: return f(std::integral_constant<C, C::equal>{});
+        case C::always: return f(std::integral_constant<C, C::always>{});
+        case C::never: break;
+    }
+    return f(std::integral_constant<C, C::never>{});
+}
+
 // Lanes where z passes the depth test against `stored`.
 uint32_t depth_passes(DepthCompare compare, const Float& z, const Float& stored) {
-    switch (compare) {
-        case DepthCompare::never: return 0;
-        case DepthCompare::less: return simd::bits(z < stored);
-        case DepthCompare::less_equal: return simd::bits(z <= stored);
-        case DepthCompare::greater: return simd::bits(z > stored);
-        case DepthCompare::greater_equal: return simd::bits(z >= stored);
-        case DepthCompare::equal: return simd::bits(z == stored);
-        case DepthCompare::always: return simd::kPartMask;
-    }
-    return 0;
+    return with_compare(compare, [&](auto c) {
+        return simd::bits(passes<decltype(c)::value>(z, stored));
+    });
 }
 
 // Window depth of part p, from the exact weights, clamped like std::clamp
@@ -428,18 +450,6 @@ bool depth_only(const DrawContext& dc) {
 
 namespace {
 
-// Lanes where z passes a depth test known at compile time (depth_passes).
-template <DepthCompare Compare>
-Int passes(const Float& z, const Float& stored) {
-    if constexpr (Compare == DepthCompare::less) return z < stored;
-    else if constexpr (Compare == DepthCompare::less_equal) return z <= stored;
-    else if constexpr (Compare == DepthCompare::greater) return z > stored;
-    else if constexpr (Compare == DepthCompare::greater_equal) return z >= stored;
-    else if constexpr (Compare == DepthCompare::equal) return z == stored;
-    else if constexpr (Compare == DepthCompare::always) return Int{} - 1;
-    else return Int{};  // never
-}
-
 // draw_depth_only for a test known at compile time: each part of a block
 // with a covered lane read and tested in registers and, where the draw
 // writes depth, written back whole, its covered lanes that pass taking
@@ -495,19 +505,9 @@ void depth_blocks(const DrawContext& dc, const BlockCoverage& cover, const Trian
 void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
                      int x0, int y0, int x1, int y1, FrameStats& stats) {
     // The test chosen once a triangle, not for every part of every block.
-    using C = DepthCompare;
-    const auto run = [&](auto compare) {
-        depth_blocks<decltype(compare)::value>(dc, cover, t, x0, y0, x1, y1, stats);
-    };
-    switch (dc.state.depth_compare) {
-        case C::less: return run(std::integral_constant<C, C::less>{});
-        case C::less_equal: return run(std::integral_constant<C, C::less_equal>{});
-        case C::greater: return run(std::integral_constant<C, C::greater>{});
-        case C::greater_equal: return run(std::integral_constant<C, C::greater_equal>{});
-        case C::equal: return run(std::integral_constant<C, C::equal>{});
-        case C::always: return run(std::integral_constant<C, C::always>{});
-        case C::never: return run(std::integral_constant<C, C::never>{});
-    }
+    with_compare(dc.state.depth_compare, [&](auto c) {
+        depth_blocks<decltype(c)::value>(dc, cover, t, x0, y0, x1, y1, stats);
+    });
 }
 
 // PipelineState::alpha_to_coverage: the samples each lane's alpha covers,
