@@ -2,6 +2,8 @@
 // count; and no heap allocation in a steady frame.
 #include "support.hpp"
 
+#include "base/thread_pool.hpp"
+
 #include <facet/math.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
@@ -14,6 +16,8 @@
 #include <functional>
 #include <new>
 #include <random>
+#include <thread>
+#include <vector>
 
 // Counts every allocation in this test program, except under
 // AddressSanitizer, which must own operator new itself.
@@ -54,6 +58,34 @@ Mesh triangle_soup(std::mt19937& rng, uint32_t vertices, float spread, float z_m
 }
 
 }  // namespace
+
+TEST_CASE("the thread pool runs every item of every loop once, whether its threads wait "
+          "spinning or asleep between loops",
+          "[parallel]") {
+    for (int threads : {2, 3}) {
+        INFO(threads << " threads");
+        ThreadPool pool(threads);
+        REQUIRE(pool.size() == threads);
+        std::vector<std::atomic<int>> runs(64);
+        std::vector<std::atomic<int>> by_worker(static_cast<size_t>(threads));
+        for (int loop = 0; loop < 600; ++loop) {
+            const int n = 1 + loop % 64;
+            for (std::atomic<int>& r : runs) r.store(0, std::memory_order_relaxed);
+            pool.parallel_for(n, [&](int i, int worker) {
+                runs[size_t(i)].fetch_add(1, std::memory_order_relaxed);
+                by_worker[size_t(worker)].fetch_add(1, std::memory_order_relaxed);
+            });
+            // Everything the loop did is seen once it returns.
+            for (int i = 0; i < 64; ++i) REQUIRE(runs[size_t(i)].load(std::memory_order_relaxed) == (i < n));
+            // Now and then a pause past the spin, so that the workers sleep
+            // and the next loop wakes them.
+            if (loop % 50 == 49) std::this_thread::sleep_for(ThreadPool::kSpin * 5);
+        }
+        long total = 0;
+        for (std::atomic<int>& w : by_worker) total += w.load();
+        CHECK(total == 600 / 64 * (64 * 65 / 2) + (600 % 64) * (600 % 64 + 1) / 2);
+    }
+}
 
 TEST_CASE("every demo scene renders bit for bit the same at any thread count", "[parallel]") {
     PluginRegistry registry;

@@ -6,9 +6,17 @@
 // scratch and statistics. Items are handed out one at a time from an atomic
 // counter, so uneven items balance themselves. It allocates nothing per
 // call. A pool of size 1 runs everything on the caller.
+//
+// A frame is dozens of short loops (clears, vertex batches, setup chunks,
+// tiles, the AO pass's stages) with a little serial work between them. A
+// worker that slept between two of them would have to be woken by the
+// system, which on a virtual machine takes tens of microseconds a loop, so
+// each thread waits spinning for kSpin before it sleeps: a worker for the
+// next loop, the caller for the workers' last items.
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -31,6 +39,9 @@ public:
         run(n, [](void* f, int i, int worker) { (*static_cast<Fn*>(f))(i, worker); }, &fn);
     }
 
+    // How long a thread spins for what it waits for before it sleeps.
+    static constexpr std::chrono::microseconds kSpin{200};
+
 private:
     using Trampoline = void (*)(void*, int, int);
     void run(int n, Trampoline call, void* fn);
@@ -38,12 +49,14 @@ private:
     void drain(int worker);
 
     std::vector<std::thread> workers_;
+    // Sleepers wait on these; wakers change what they wait for under the
+    // mutex, so that no wake-up is lost.
     std::mutex mutex_;
     std::condition_variable wake_, done_;
-    unsigned generation_ = 0;  // bumped per job
-    int busy_ = 0;             // workers still in the current job
-    bool stopping_ = false;
-    // The current job.
+    std::atomic<unsigned> generation_{0};  // bumped per job, once the job is set
+    std::atomic<int> busy_{0};             // workers still in the current job
+    std::atomic<bool> stopping_{false};
+    // The current job: set before generation_ is bumped, read after.
     Trampoline call_ = nullptr;
     void* fn_ = nullptr;
     int count_ = 0;
