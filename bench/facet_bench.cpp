@@ -267,6 +267,7 @@ struct Result {
     double post_ms = 0.0;     // median of the post chain's passes, all together
     std::vector<std::pair<std::string, double>> post_pass_ms;  // each pass's median
     std::optional<Versus> llvmpipe;  // --llvmpipe, for shaders it has, when its worker succeeded
+    std::string render;  // the --render settings it ran under ("" for the scene's own)
 };
 
 // The middle value of a non-empty list (the upper of the two middle ones).
@@ -301,7 +302,7 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
     const double min_ms = *std::min_element(ms.begin(), ms.end());
     Result r{name, note, shader, std::string(isa_name(isa)), scene.settings.width,
              scene.settings.height, renderer.threads(), first.triangles_in, median(ms), min_ms,
-             peak.read(), median(shadow_ms), median(ao_ms), median(post_ms), {}, {}};
+             peak.read(), median(shadow_ms), median(ao_ms), median(post_ms), {}, {}, {}};
     for (size_t k = 0; k < timed; ++k)
         r.post_pass_ms.emplace_back(scene.post[k].name, median(pass_ms[k]));
     return r;
@@ -829,6 +830,7 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
                         r.scene = label;
                     }
                     r.llvmpipe = llvmpipe;
+                    r.render = render;
                     sink.progress.end();
                     sink.progress.clear();
                     print_row(r, size, o.lp.on);
@@ -837,6 +839,50 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
                 }
             }
         }
+    }
+}
+
+// With two or more --render settings, what each costs against the first:
+// for every row of another render, the first's median over its own, taken
+// in each round from the rows measured minutes apart at most, then the
+// median and the range of those over the rounds (the ratio of the rows'
+// medians over rounds can pair a quiet round of one with a busy one of the
+// other). "{} / {shadows: false}" over 1.5 would say shadows cost more than
+// half again the frame.
+void print_render_ratios(const std::vector<std::vector<Result>>& rounds,
+                         const std::vector<std::string>& renders) {
+    if (renders.size() < 2) return;
+    const auto same_row = [](const Result& a, const Result& b) {
+        return a.scene == b.scene && a.width == b.width && a.height == b.height &&
+               a.shader == b.shader && a.threads == b.threads && a.isa == b.isa;
+    };
+    // The rows keep "" for the scene's own settings, which --render "{}" asks for.
+    const std::string base = renders.front() == "{}" ? "" : renders.front();
+    const auto shown = [](const std::string& render) { return render.empty() ? "{}" : render; };
+    std::printf("the first render's median over each other's, per round: median [lowest, highest] "
+                "over %zu round%s\n",
+                rounds.size(), rounds.size() == 1 ? "" : "s");
+    std::printf("%-12s %-10s %-7s %-6s %7s %8s %8s %8s  %s\n", "scene", "size", "shader", "path",
+                "threads", "median", "lowest", "highest", "ratio");
+    for (const Result& row : rounds.front()) {
+        if (row.render == base) continue;
+        std::vector<double> ratios;
+        for (const std::vector<Result>& round : rounds) {
+            const Result* first = nullptr;
+            const Result* other = nullptr;
+            for (const Result& r : round) {
+                if (!same_row(r, row)) continue;
+                if (r.render == base) first = &r;
+                if (r.render == row.render) other = &r;
+            }
+            if (first && other) ratios.push_back(first->median_ms / other->median_ms);
+        }
+        if (ratios.empty()) continue;
+        const auto [low, high] = std::minmax_element(ratios.begin(), ratios.end());
+        std::printf("%-12s %-10s %-7s %-6s %7d %8.2f %8.2f %8.2f  %s / %s\n", row.scene.c_str(),
+                    (std::to_string(row.width) + "x" + std::to_string(row.height)).c_str(),
+                    row.shader.c_str(), row.isa.c_str(), row.threads, median(ratios), *low, *high,
+                    shown(base).c_str(), shown(row.render).c_str());
     }
 }
 
@@ -978,6 +1024,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
             csv.add(r, "median");
         }
     }
+    print_render_ratios(rounds, renders);
     if (o.lp.on) o.lp.print_legend();
     if (o.lp.target != "srgb8")  // what a float target's 8-bit output costs
         for (const std::string& size : o.sizes)

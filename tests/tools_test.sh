@@ -88,4 +88,25 @@ grep -q "stopped after $rows of" bench.out || fail "facet-bench did not say wher
 grep -q "configurations 1 of" bench.err || fail "no progress lines: $(cat bench.err)"
 python3 -c "import json,sys; assert len(json.load(open('rows.json'))) == $rows" ||
   fail "rows.json does not hold the $rows rows"
+# With two --render settings over rounds, facet-bench prints the first's
+# median over the other's, round by round: their median and range are those
+# of the CSV's rows.
+"$bench" --scene "$source_dir/configs/scenes/shadow.yaml" --size 160x90 --threads 1 --isa sse2 \
+         --runs 2 --rounds 3 --render '{}' '{shadows: false}' --csv ratios.csv \
+         --json ratios.json > ratios.out 2> ratios.err || fail "facet-bench --render: $(cat ratios.err)"
+grep -q "the first render's median over each other's, per round" ratios.out ||
+  fail "no ratios: $(cat ratios.out)"
+python3 - ratios.csv ratios.out <<'PY' || fail "the ratios are not the rows': $(cat ratios.out)"
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["round"] != "median"]
+by_round = {}
+for r in rows:
+    by_round.setdefault(r["round"], {})["off" if "shadows: false" in r["note"] else "on"] = float(r["median_ms"])
+ratios = sorted(v["on"] / v["off"] for v in by_round.values())
+assert len(ratios) == 3, ratios
+line = next(l for l in open(sys.argv[2]) if l.startswith("shadow.yaml") and "{} / {shadows: false}" in l)
+median, lowest, highest = (float(x) for x in line.split()[5:8])
+for shown, wanted in ((median, ratios[1]), (lowest, ratios[0]), (highest, ratios[2])):
+    assert abs(shown - wanted) <= 0.006, (line, ratios)
+PY
 echo "tools ok"
