@@ -381,6 +381,12 @@ inline int32_t tap_threshold(float q) {
     return int32_t(std::ceil(std::clamp(q, 0.0f, 65535.0f)));
 }
 
+// The tap's distance q within 0..65535 (65535 for NaN), unrounded: a
+// stored distance (a whole number) at least this is at least the tap's
+// threshold, and one below it below the threshold, so that bounds on the
+// stored distances are compared with it as they are.
+inline float tap_bound(float q) { return q == q ? std::clamp(q, 0.0f, 65535.0f) : 65535.0f; }
+
 // The lowest and the highest distance a kernel of radius r <=
 // FACET_SHADOW_REACH around texel (cx, cy) can read, from the planes of the
 // tile that holds (cx, cy): the planes at (cx, cy), moved apart by the most
@@ -440,11 +446,11 @@ inline float shadow_visibility(const ShadowMap& m, glm::vec3 p, float n_dot_l, i
     const int r = std::clamp(kernel, 1, 15) / 2;
     constexpr detail::TapDistances kTaps{};
     if (m.planes && r <= FACET_SHADOW_REACH) {
-        // Taps are whole units and the centre's threshold the highest: above
-        // it less one, every tap is lit; below the corners', none is.
+        // The centre's threshold is the highest and the corners' the lowest:
+        // at or above the one every tap is lit; below the other, none is.
         const detail::Slab s = detail::slab(*m.planes, int(fx), int(fy), r);
-        if (s.low > float(detail::tap_threshold(receiver - step * kTaps.at[0][0]) - 1)) return 1.0f;
-        if (s.high < float(detail::tap_threshold(receiver - step * kTaps.at[r][r]))) return 0.0f;
+        if (s.low >= detail::tap_bound(receiver - step * kTaps.at[0][0])) return 1.0f;
+        if (s.high < detail::tap_bound(receiver - step * kTaps.at[r][r])) return 0.0f;
     }
     const ptrdiff_t stride = m.distances->stride;
     const uint16_t* centre = m.distances->texels + ptrdiff_t(fy) * stride + ptrdiff_t(fx);
@@ -469,22 +475,25 @@ inline float shadow_visibility(const CubeShadow& c, glm::vec3 p, float n_dot_l, 
 
 #if FACET_SDK_WIDE
 namespace detail {
-// tap_threshold for each lane, as the float of the same whole number (which
-// the planes' bounds are compared with as it is) and as an integer.
-inline wide::Float tap_threshold_float(const wide::Float& q) {
+// tap_threshold for each lane.
+inline wide::Mask tap_threshold(const wide::Float& q) {
     using namespace wide;
     const Float c = clamp(q, 0.0f, 65535.0f);
 #if defined(__AVX__)
-    return select(q == q, ceil(c), splat(65535.0f));
+    const Float up = ceil(c);
 #else
     // No rounding instruction before SSE4.1: the ceiling of a float in
     // 0..65535 is its truncation, plus one where that fell below it.
     const Float t = __builtin_convertvector(__builtin_convertvector(c, Mask), Float);
-    return select(q == q, select(t < c, t + 1.0f, t), splat(65535.0f));
+    const Float up = select(t < c, t + 1.0f, t);
 #endif
+    return __builtin_convertvector(select(q == q, up, splat(65535.0f)), Mask);
 }
-inline wide::Mask tap_threshold(const wide::Float& q) {
-    return __builtin_convertvector(tap_threshold_float(q), wide::Mask);
+
+// tap_bound for each lane.
+inline wide::Float tap_bound(const wide::Float& q) {
+    using namespace wide;
+    return select(q == q, clamp(q, 0.0f, 65535.0f), splat(65535.0f));
 }
 
 // kTaps.at[r][r] of TapDistances, sqrt(2 r^2), for r in 0..7: a constant
@@ -698,9 +707,9 @@ inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const w
     const int r = std::clamp(kernel, 1, 15) / 2;
     if (m.planes && r <= FACET_SHADOW_REACH) {  // as the scalar filter does, lane by lane
         const detail::WideSlab s = detail::slab(*m.planes, cx, cy, r);
-        const Float centre = detail::tap_threshold_float(receiver - step * 0.0f);
-        const Float corner = detail::tap_threshold_float(receiver - step * detail::diagonal_tap(r));
-        const Mask all_lit = s.low > centre - 1.0f;  // whole numbers: as exact as in integers
+        const Float centre = detail::tap_bound(receiver - step * 0.0f);
+        const Float corner = detail::tap_bound(receiver - step * detail::diagonal_tap(r));
+        const Mask all_lit = s.low >= centre;
         const Mask none_lit = s.high < corner;
         if (!any(seen & !(all_lit | none_lit)))
             return select(seen & none_lit, splat(0.0f), splat(1.0f));
