@@ -268,6 +268,7 @@ struct Result {
     std::vector<std::pair<std::string, double>> post_pass_ms;  // each pass's median
     std::optional<Versus> llvmpipe;  // --llvmpipe, for shaders it has, when its worker succeeded
     std::string render;  // the --render settings it ran under ("" for the scene's own)
+    bool shadows_dropped = false;  // drawn without its shadows, as llvmpipe draws it
 };
 
 // The middle value of a non-empty list (the upper of the two middle ones).
@@ -302,7 +303,7 @@ Result measure(Scene& scene, const std::string& name, const std::string& note,
     const double min_ms = *std::min_element(ms.begin(), ms.end());
     Result r{name, note, shader, std::string(isa_name(isa)), scene.settings.width,
              scene.settings.height, renderer.threads(), first.triangles_in, median(ms), min_ms,
-             peak.read(), median(shadow_ms), median(ao_ms), median(post_ms), {}, {}, {}};
+             peak.read(), median(shadow_ms), median(ao_ms), median(post_ms), {}, {}, {}, false};
     for (size_t k = 0; k < timed; ++k)
         r.post_pass_ms.emplace_back(scene.post[k].name, median(pass_ms[k]));
     return r;
@@ -831,6 +832,7 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
                     }
                     r.llvmpipe = llvmpipe;
                     r.render = render;
+                    r.shadows_dropped = compared && shadows;
                     sink.progress.end();
                     sink.progress.clear();
                     print_row(r, size, o.lp.on);
@@ -844,17 +846,19 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
 
 // With two or more --render settings, what each costs against the first:
 // for every row of another render, the first's median over its own, taken
-// in each round from the rows measured minutes apart at most, then the
-// median and the range of those over the rounds (the ratio of the rows'
-// medians over rounds can pair a quiet round of one with a busy one of the
-// other). "{} / {shadows: false}" over 1.5 would say shadows cost more than
-// half again the frame.
+// in each round from the two rows that round measured, then the median
+// (with two rounds, the higher) and the range of those over the rounds
+// (the ratio of the rows' medians over rounds can pair a quiet round of
+// one with a busy one of the other). "{} / {shadows: false}" over 1.5
+// would say shadows cost more than half again the frame. Rows drawn
+// without their shadows for --llvmpipe pair only with rows drawn so.
 void print_render_ratios(const std::vector<std::vector<Result>>& rounds,
                          const std::vector<std::string>& renders) {
     if (renders.size() < 2) return;
     const auto same_row = [](const Result& a, const Result& b) {
         return a.scene == b.scene && a.width == b.width && a.height == b.height &&
-               a.shader == b.shader && a.threads == b.threads && a.isa == b.isa;
+               a.shader == b.shader && a.threads == b.threads && a.isa == b.isa &&
+               a.shadows_dropped == b.shadows_dropped;
     };
     // The rows keep "" for the scene's own settings, which --render "{}" asks for.
     const std::string base = renders.front() == "{}" ? "" : renders.front();

@@ -20,9 +20,11 @@ inline void pause() {
 #endif
 }
 
-// Spins until done() for up to ThreadPool::kSpin; whether it came.
+// Spins until done() for up to ThreadPool::kSpin, if `spin`; whether it
+// came.
 template <class Done>
-bool spin_until(Done&& done) {
+bool spin_until(bool spin, Done&& done) {
+    if (!spin) return done();
     using Clock = std::chrono::steady_clock;
     const Clock::time_point until = Clock::now() + ThreadPool::kSpin;
     while (true) {
@@ -37,7 +39,9 @@ bool spin_until(Done&& done) {
 }  // namespace
 
 ThreadPool::ThreadPool(int threads) {
-    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = cores;
+    spin_ = threads <= cores;
     for (int w = 1; w < threads; ++w) workers_.emplace_back([this, w] { work(w); });
 }
 
@@ -74,7 +78,7 @@ void ThreadPool::run(int n, Trampoline call, void* fn) {
     wake_.notify_all();  // no system call unless a worker sleeps
     drain(0);
     const auto finished = [&] { return busy_.load(std::memory_order_acquire) == 0; };
-    if (spin_until(finished)) return;
+    if (spin_until(spin_, finished)) return;
     std::unique_lock lock(mutex_);
     done_.wait(lock, finished);
 }
@@ -87,7 +91,7 @@ void ThreadPool::work(int worker) {
             return stopping_.load(std::memory_order_relaxed) ||
                    generation_.load(std::memory_order_acquire) != seen;
         };
-        if (!spin_until(woken)) {
+        if (!spin_until(spin_, woken)) {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, woken);
         }

@@ -12,7 +12,9 @@
 // worker that slept between two of them would have to be woken by the
 // system, which on a virtual machine takes tens of microseconds a loop, so
 // each thread waits spinning for kSpin before it sleeps: a worker for the
-// next loop, the caller for the workers' last items.
+// next loop, the caller for the workers' last items. A pool of more threads
+// than the machine has never spins: a spinning thread would hold a core
+// that one with work to do is waiting for.
 #pragma once
 
 #include <atomic>
@@ -41,6 +43,7 @@ public:
 
     // How long a thread spins for what it waits for before it sleeps.
     static constexpr std::chrono::microseconds kSpin{200};
+    bool spins() const { return spin_; }
 
 private:
     using Trampoline = void (*)(void*, int, int);
@@ -49,8 +52,10 @@ private:
     void drain(int worker);
 
     std::vector<std::thread> workers_;
-    // Sleepers wait on these; wakers change what they wait for under the
-    // mutex, so that no wake-up is lost.
+    bool spin_ = false;
+    // Sleepers wait on these; a waker changes what they wait for under the
+    // mutex, or takes the mutex between the change and the notify, so that
+    // no wake-up is lost.
     std::mutex mutex_;
     std::condition_variable wake_, done_;
     std::atomic<unsigned> generation_{0};  // bumped per job, once the job is set
