@@ -853,15 +853,14 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
 // would say shadows cost more than half again the frame. Rows drawn
 // without their shadows for --llvmpipe pair only with rows drawn so.
 void print_render_ratios(const std::vector<std::vector<Result>>& rounds,
-                         const std::vector<std::string>& renders) {
+                         const std::vector<std::string>& renders) {  // as run_table keeps them
     if (renders.size() < 2) return;
     const auto same_row = [](const Result& a, const Result& b) {
         return a.scene == b.scene && a.width == b.width && a.height == b.height &&
                a.shader == b.shader && a.threads == b.threads && a.isa == b.isa &&
                a.shadows_dropped == b.shadows_dropped;
     };
-    // The rows keep "" for the scene's own settings, which --render "{}" asks for.
-    const std::string base = renders.front() == "{}" ? "" : renders.front();
+    const std::string& base = renders.front();  // "" for the scene's own settings
     const auto shown = [](const std::string& render) { return render.empty() ? "{}" : render; };
     std::printf("the first render's median over each other's, per round: median [lowest, highest] "
                 "over %zu round%s\n",
@@ -947,7 +946,10 @@ int run_table(Options& o, const Interrupts& interrupts) {
     if (isas.empty()) isas = supported_isas();
     o.runs = std::max(1, o.runs);
     o.rounds = std::max(1, o.rounds);
-    const std::vector<std::string> renders = o.render.empty() ? std::vector<std::string>{""} : o.render;
+    // --render settings, "" for the scene's own (no --render, or "{}").
+    std::vector<std::string> renders = o.render.empty() ? std::vector<std::string>{""} : o.render;
+    for (std::string& render : renders)
+        if (render == "{}") render.clear();
     // Every name and setting is checked before the CSV (and a previous run's
     // rows in it) is touched.
     PluginRegistry registry;
@@ -978,7 +980,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
             return 2;
         }
     for (const std::string& render : renders) {
-        if (render.empty() || render == "{}") continue;
+        if (render.empty()) continue;
         RenderSettings check;
         try {
             apply_render_settings(check, render, "--render");
@@ -1004,8 +1006,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
             Sink sink{progress, csv, r + 1, &interrupts.stop()};
             for (const std::string& name : o.scenes)
                 for (const std::string& render : renders)
-                    bench_scene(name, render == "{}" ? "" : render, o, isas, registry,
-                                rounds[size_t(r)], sink);
+                    bench_scene(name, render, o, isas, registry, rounds[size_t(r)], sink);
         }
     } catch (const Error& e) {
         if (e.code() != ErrorCode::interrupted && !interrupts.stopped()) throw;
