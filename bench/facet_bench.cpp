@@ -28,16 +28,16 @@
 // --llvmpipe (when built with OSMesa) also draws each configuration through
 // Mesa's llvmpipe with a GLSL version of its shader (phong and unlit only;
 // other shaders' rows get no llvmpipe columns; a scene file when all its
-// materials are opaque, untextured phong or unlit; no row under --render),
+// materials are opaque phong or unlit with no texture but a base texture;
+// no row under --render),
 // in a child process that
 // sets llvmpipe's thread count (llvmpipe/worker.hpp, llvmpipe/llvmpipe.hpp), once per
 // configuration (all paths' rows share it). It adds llvmpipe's median, the
 // ratio llvmpipe ms / facet ms (above 1: facet is faster) and the pixels
 // whose coverage differs (a share in the table; the CSV and JSON also give
 // the count): which pixels any geometry covers, from an unlit white frame on
-// black drawn by each. The GLSL computes the plugins' colours but does a
-// little less work: facet's phong and unlit also interpolate UVs and
-// multiply in their base_texture slot (unbound here, so it reads white).
+// black drawn by each. The GLSL computes the plugins' colours, with their
+// base textures (facet's mip chain, filter and wrap: llvmpipe.hpp).
 // The GLSL receives no shadows, so facet draws the rows that have llvmpipe
 // columns without them (render: shadows: false, said in the row's note).
 // With --target srgb8 both encode each fragment to 8-bit sRGB as they write
@@ -620,8 +620,8 @@ struct LlvmpipeSide {
             "lp threads: LP_NUM_THREADS (0: llvmpipe draws on the calling thread)\n"
             "lp/facet: llvmpipe ms / facet ms (median; above 1, facet is faster)\n"
             "cov diff %%: pixels covered by only one of the two renderers\n"
-            "work: facet's phong and unlit also interpolate UVs and multiply in their\n"
-            "  base_texture slot (unbound here: white); the GLSL versions do neither\n",
+            "work: the GLSL versions compute phong's and unlit's colours, base textures\n"
+            "  included (facet's mip chain, filter and wrap)\n",
             renderer.empty() ? "(no worker reported)" : renderer.c_str(), target.c_str());
         if (target == "srgb8")
             std::printf("srgb8: both renderers encode each fragment to 8-bit sRGB as they write\n"
@@ -751,15 +751,18 @@ int run_pareto(const CLI::App& app, Options& o, const Interrupts& interrupts) {
 // llvmpipe, shadows).
 
 // True when llvmpipe can draw every visible object of a scene file as facet
-// does: GLSL versions of their shaders, no texture, no blending.
+// does: GLSL versions of their shaders, no texture but a base texture, no
+// blending.
 bool llvmpipe_draws_scene(const Scene& scene, const LlvmpipeSide& lp) {
     for (const Object& o : scene.objects) {
         if (!o.visible || !o.mesh) continue;
         for (const Material* m : o.materials()) {
             if (!m->plugin) continue;
             if (!lp.draws(m->plugin->name()) || m->blend != BlendMode::opaque) return false;
-            for (const TextureBinding& t : m->textures)
-                if (t.texture) return false;
+            const facet_param_desc* base = m->plugin->find_param("base_texture");
+            const int base_slot = base ? m->plugin->texture_slot(*base) : -1;
+            for (size_t slot = 0; slot < m->textures.size(); ++slot)
+                if (m->textures[slot].texture && int(slot) != base_slot) return false;
         }
     }
     return true;

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <initializer_list>
 #include <map>
+#include <tuple>
 #include <stdexcept>
 
 namespace facet::bench {
@@ -37,7 +38,8 @@ namespace {
     X(CreateProgram) X(AttachShader) X(BindAttribLocation) X(LinkProgram) X(GetProgramiv)    \
     X(GetProgramInfoLog) X(DeleteProgram) X(UseProgram) X(GetUniformLocation) X(Uniform1i)   \
     X(Uniform1f) X(Uniform3fv) X(Uniform4fv) X(Uniform1iv) X(Uniform1fv)                     \
-    X(UniformMatrix3fv) X(UniformMatrix4fv)
+    X(UniformMatrix3fv) X(UniformMatrix4fv) X(GenTextures) X(BindTexture) X(TexImage2D)       \
+    X(TexParameteri) X(ActiveTexture) X(DeleteTextures)
 
 struct Gl {
 #define FACET_GL_MEMBER(name) decltype(&::gl##name) name = nullptr;
@@ -54,7 +56,7 @@ struct Gl {
 };
 
 // Vertex attribute locations, shared by both programs.
-enum Attribute : GLuint { kPosition = 0, kNormal = 1, kColor = 2 };
+enum Attribute : GLuint { kPosition = 0, kNormal = 1, kColor = 2, kUv = 3 };
 
 constexpr int kMaxLights = 16;  // the light arrays of kPhongFragment
 
@@ -63,15 +65,18 @@ constexpr int kMaxLights = 16;  // the light arrays of kPhongFragment
 constexpr const char* kPhongVertex = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
+layout(location = 3) in vec2 uv;
 uniform mat4 model_view_projection;
 uniform mat4 model;
 uniform mat3 normal_matrix;
 out vec3 world_position;
 out vec3 world_normal;
+out vec2 texture_uv;
 void main() {
     gl_Position = model_view_projection * vec4(position, 1.0);
     world_position = vec3(model * vec4(position, 1.0));
     world_normal = normalize(normal_matrix * normal);
+    texture_uv = uv;
 }
 )";
 
@@ -92,8 +97,12 @@ uniform float light_cos_outer[kMaxLights];
 uniform vec3 ambient, diffuse, specular, emission;
 uniform float shininess;
 uniform bool blinn;
+uniform bool textured;
+uniform sampler2D base_texture;
+uniform float alpha_cutoff;
 in vec3 world_position;
 in vec3 world_normal;
+in vec2 texture_uv;
 out vec4 frag_color;
 
 float spot_cone(int i, float cos_angle) {
@@ -132,7 +141,9 @@ float lobe(vec3 n, vec3 l, vec3 v) {
 void main() {
     vec3 n = normalize(world_normal);
     vec3 to_eye = normalize(camera_position - world_position);
-    vec3 kd = diffuse;  // x base_texture, which is never bound here
+    vec4 base = textured ? texture(base_texture, texture_uv) : vec4(1.0);
+    if (base.a < alpha_cutoff) discard;
+    vec3 kd = diffuse * base.rgb;
     vec3 c = emission + ambient;
     for (int i = 0; i < light_count; ++i) {
         vec3 to_light, radiance;
@@ -141,35 +152,50 @@ void main() {
         if (n_l <= 0.0) continue;
         c += radiance * (kd * n_l + specular * lobe(n, to_light, to_eye));
     }
-    frag_color = vec4(c, 1.0);
+    frag_color = vec4(c, base.a);
 }
 )";
 
-// unlit.cpp: vertex colour x base colour (x a texture, never bound here).
+// unlit.cpp: vertex colour x base colour x base texture.
 constexpr const char* kUnlitVertex = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 2) in vec4 color;
+layout(location = 3) in vec2 uv;
 uniform mat4 model_view_projection;
 out vec4 vertex_color;
+out vec2 texture_uv;
 void main() {
     gl_Position = model_view_projection * vec4(position, 1.0);
     vertex_color = color;
+    texture_uv = uv;
 }
 )";
 
 constexpr const char* kUnlitFragment = R"(#version 450 core
 uniform vec4 base_color;
+uniform bool textured;
+uniform sampler2D base_texture;
+uniform float alpha_cutoff;
 in vec4 vertex_color;
+in vec2 texture_uv;
 out vec4 frag_color;
-void main() { frag_color = vertex_color * base_color; }
+void main() {
+    vec4 c = vertex_color * base_color * (textured ? texture(base_texture, texture_uv) : vec4(1.0));
+    if (c.a < alpha_cutoff) discard;
+    frag_color = c;
+}
 )";
 
 // One object's mesh in GL buffers.
 struct MeshBuffers {
     GLuint vao = 0;
-    GLuint buffers[4] = {};  // positions, normals, colours, indices
+    GLuint buffers[5] = {};  // positions, normals, colours, UVs, indices
     GLsizei index_count = 0;
 };
+
+// A facet texture as GL sees it: its levels, filter and wrap. The same image
+// bound with two filters or wraps is two GL textures.
+using TextureKey = std::tuple<const Texture*, Filter, Wrap>;
 
 struct Program {
     GLuint id = 0;
@@ -212,6 +238,17 @@ int32_t read_int_param(const Material& m, const char* name) {
     int32_t v = 0;
     std::memcpy(&v, m.block->bytes + p.offset, sizeof v);
     return v;
+}
+
+// The binding of m's base_texture, or null when none is bound. Throws for
+// a texture the GLSL does not read (a normal map).
+const TextureBinding* base_texture(const Material& m) {
+    if (m.plugin && m.plugin->find_param("normal_texture") && read_int_param(m, "normal_texture"))
+        throw std::runtime_error("llvmpipe: normal maps are not drawn");
+    if (!read_int_param(m, "base_texture")) return nullptr;
+    const int slot = m.plugin->texture_slot(*m.plugin->find_param("base_texture"));
+    if (size_t(slot) >= m.textures.size() || !m.textures[size_t(slot)].texture) return nullptr;
+    return &m.textures[size_t(slot)];
 }
 
 // facet's projection x view, then clip y negated: the image upside down in
@@ -289,6 +326,7 @@ struct LlvmpipeRenderer::Impl {
     GLuint fbo = 0, color = 0, depth = 0;
     std::map<const Mesh*, MeshBuffers> meshes;
     std::map<std::string, Program> programs;
+    std::map<TextureKey, GLuint> textures;
 
     Impl() = default;
     Impl(const Impl&) = delete;
@@ -302,6 +340,8 @@ struct LlvmpipeRenderer::Impl {
     GLuint compile(GLenum stage, const char* source);
     Program& program(const std::string& shader);
     void upload_mesh(const Mesh& mesh);
+    void upload_texture(const TextureBinding& binding);
+    void bind_texture(const Program& p, const Material& m);
     void set_uniforms(const Program& p, const Scene& scene, const glm::mat4& model, const Material& m,
                       const glm::mat4& view_projection);
     void set_lights(GLuint program, const Scene& scene);
@@ -313,8 +353,9 @@ struct LlvmpipeRenderer::Impl {
 LlvmpipeRenderer::Impl::~Impl() {
     if (!context.handle || !gl_loaded) return;
     if (!OSMesaMakeCurrent(context.handle, window, GL_UNSIGNED_BYTE, 16, 16)) return;
+    for (auto& [key, t] : textures) gl.DeleteTextures(1, &t);
     for (auto& [mesh, b] : meshes) {
-        gl.DeleteBuffers(4, b.buffers);
+        gl.DeleteBuffers(5, b.buffers);
         gl.DeleteVertexArrays(1, &b.vao);
     }
     for (auto& [name, p] : programs) gl.DeleteProgram(p.id);
@@ -429,15 +470,15 @@ Program& LlvmpipeRenderer::Impl::program(const std::string& shader) {
     return programs[shader] = p;
 }
 
-// Positions, normals and colours in separate buffers, plus 32-bit indices.
-// A mesh without normals or colours gets facet's defaults for the missing
-// input (+Z, white) as a constant attribute.
+// Positions, normals, colours and UVs in separate buffers, plus 32-bit
+// indices. A mesh without normals, colours or UVs gets facet's defaults for
+// the missing input (+Z, white, 0) as a constant attribute.
 void LlvmpipeRenderer::Impl::upload_mesh(const Mesh& mesh) {
     if (meshes.count(&mesh)) return;
     MeshBuffers& b = meshes[&mesh];
     gl.GenVertexArrays(1, &b.vao);
     gl.BindVertexArray(b.vao);
-    gl.GenBuffers(4, b.buffers);
+    gl.GenBuffers(5, b.buffers);
     auto attribute = [&](GLuint location, GLuint buffer, const void* data, size_t count,
                          int components) {
         gl.BindBuffer(GL_ARRAY_BUFFER, buffer);
@@ -455,11 +496,74 @@ void LlvmpipeRenderer::Impl::upload_mesh(const Mesh& mesh) {
         attribute(kColor, b.buffers[2], mesh.colors.data(), mesh.colors.size(), 4);
     else
         gl.VertexAttrib4f(kColor, 1.0f, 1.0f, 1.0f, 1.0f);
-    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.buffers[3]);
+    if (!mesh.uvs.empty())
+        attribute(kUv, b.buffers[3], mesh.uvs.data(), mesh.uvs.size(), 2);
+    else
+        gl.VertexAttrib4f(kUv, 0.0f, 0.0f, 0.0f, 1.0f);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.buffers[4]);
     gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)),
                   mesh.indices.data(), GL_STATIC_DRAW);
     b.index_count = GLsizei(mesh.indices.size());
     gl.BindVertexArray(0);
+}
+
+// GL's minification filter, magnification filter and wrap for facet's.
+GLint gl_min_filter(Filter f) {
+    switch (f) {
+    case Filter::nearest: return GL_NEAREST;
+    case Filter::bilinear: return GL_LINEAR;
+    case Filter::trilinear: return GL_LINEAR_MIPMAP_LINEAR;
+    }
+    throw std::logic_error("unknown Filter");
+}
+
+GLint gl_wrap(Wrap w) {
+    switch (w) {
+    case Wrap::repeat: return GL_REPEAT;
+    case Wrap::clamp: return GL_CLAMP_TO_EDGE;
+    case Wrap::mirror: return GL_MIRRORED_REPEAT;
+    }
+    throw std::logic_error("unknown Wrap");
+}
+
+// The texture with facet's own mip chain (the same levels, made the same
+// way), GL_SRGB8_ALPHA8 for colour and GL_RGBA8 for data: llvmpipe decodes
+// sRGB before it filters, as facet does. Its rows go up in the order facet
+// stores them, so that t = 0 is facet's v = 0, the top row's edge.
+void LlvmpipeRenderer::Impl::upload_texture(const TextureBinding& b) {
+    const TextureKey key{b.texture.get(), b.filter, b.wrap};
+    if (textures.count(key)) return;
+    const Texture& t = *b.texture;
+    GLuint& id = textures[key];
+    gl.GenTextures(1, &id);
+    gl.BindTexture(GL_TEXTURE_2D, id);
+    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    const GLint format = t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8;
+    const int levels = b.filter == Filter::trilinear ? t.levels() : 1;
+    for (int i = 0; i < levels; ++i) {
+        const MipLevel* m = i ? &t.mips[size_t(i - 1)] : nullptr;
+        gl.TexImage2D(GL_TEXTURE_2D, i, format, m ? m->width : t.width, m ? m->height : t.height,
+                      0, GL_RGBA, GL_UNSIGNED_BYTE, m ? m->texels.data() : t.texels.data());
+    }
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, gl_min_filter(b.filter));
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
+                     b.filter == Filter::nearest ? GL_NEAREST : GL_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(b.wrap));
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(b.wrap));
+}
+
+// Material m's base texture on unit 0, or none; and its alpha cutoff.
+void LlvmpipeRenderer::Impl::bind_texture(const Program& p, const Material& m) {
+    const TextureBinding* b = base_texture(m);
+    gl.Uniform1i(uniform(p.id, "textured"), b ? 1 : 0);
+    gl.Uniform1i(uniform(p.id, "base_texture"), 0);
+    float cutoff = 0.0f;
+    read_param(m, "alpha_cutoff", &cutoff, 1);
+    gl.Uniform1f(uniform(p.id, "alpha_cutoff"), cutoff);
+    if (!b) return;
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_2D, textures.at({b->texture.get(), b->filter, b->wrap}));
 }
 
 // The lights as facet hands them to a shader (to_abi), one array per field.
@@ -503,6 +607,7 @@ void LlvmpipeRenderer::Impl::set_uniforms(const Program& p, const Scene& scene,
     const glm::mat4 mvp = view_projection * model;
     gl.UniformMatrix4fv(uniform(p.id, "model_view_projection"), 1, GL_FALSE,
                         glm::value_ptr(mvp));
+    bind_texture(p, m);
     if (!p.phong) {
         float base_color[4];
         read_param(m, "base_color", base_color, 4);
@@ -557,8 +662,7 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
             impl_->program(m->shader);
             if (m->blend != BlendMode::opaque)
                 throw std::runtime_error("llvmpipe: only opaque materials are drawn");
-            if (read_int_param(*m, "base_texture"))
-                throw std::runtime_error("llvmpipe: textures are not drawn");
+            if (const TextureBinding* b = base_texture(*m)) impl_->upload_texture(*b);
         }
         impl_->upload_mesh(*o.mesh);
     }

@@ -26,11 +26,13 @@
 //     decoded to linear;
 //   - geometry is uploaded once (VBOs and an IBO per object), as facet's
 //     meshes stay in memory between frames;
-//   - the colour is the plugins' formulas, but not all of their work:
-//     facet's phong and unlit also interpolate the mesh UVs and multiply
-//     in their base_texture slot, which the host fills with white when no
-//     texture is bound; the GLSL has no UVs and no texture.
-// What it does not do: textures, blending, MSAA, subpixel_bits other than
+//   - the colour is the plugins' formulas, base textures included: each
+//     is uploaded with facet's own mip chain, in GL_SRGB8_ALPHA8 for a
+//     colour texture (decoded before filtering, as facet does) or GL_RGBA8,
+//     with the binding's filter (nearest, bilinear from level 0, or
+//     trilinear: GL_LINEAR_MIPMAP_LINEAR) and wrap, and the material's
+//     alpha cutoff discards as facet's does.
+// What it does not do: normal maps, blending, MSAA, subpixel_bits other than
 // 8, wireframe, shadow maps, AO, or any shader other than phong and unlit
 // (supports() says which). upload() and render() throw for those settings
 // rather than draw something else than facet.
@@ -70,7 +72,7 @@ public:
 
     // Uploads every object's mesh once; later frames draw from these
     // buffers. Throws std::runtime_error for what this renderer cannot
-    // draw (an unsupported shader, a texture, blending; settings with
+    // draw (an unsupported shader, a normal map, blending; settings with
     // msaa other than 1, subpixel_bits other than 8, or wireframe) and for
     // a GL error, which it names (GL_OUT_OF_MEMORY, ...).
     void upload(const Scene& scene);

@@ -12,8 +12,15 @@
 
 #include <catch2/catch.hpp>
 
+#include <glm/gtx/component_wise.hpp>
+#include <stb/stb_image_write.h>
+
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <stdexcept>
 
 using namespace facet;
 using facet::bench::LlvmpipeRenderer;
@@ -295,4 +302,86 @@ TEST_CASE("llvmpipe refuses the settings it cannot model", "[llvmpipe]") {
         s.settings.msaa = 2;
         CHECK_THROWS_WITH(lp.render(s), Catch::Contains("msaa 2"));
     }
+}
+
+namespace {
+
+// A 64x64 sRGB image of fine stripes over a colour ramp, written as a PNG
+// (stb_image_write) into a temporary folder; removed with it.
+struct StripedTexture {
+    std::filesystem::path folder =
+        std::filesystem::temp_directory_path() / ("facet_llvmpipe_" + std::to_string(::getpid()));
+    std::filesystem::path file = folder / "stripes.png";
+    StripedTexture() {
+        std::filesystem::create_directories(folder);
+        std::vector<uint8_t> rgba;
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const bool stripe = (x / 2 + y / 4) % 2 == 0;
+                rgba.insert(rgba.end(), {uint8_t(stripe ? 230 : 4 * x), uint8_t(4 * y),
+                                         uint8_t(stripe ? 40 : 200), 255});
+            }
+        if (!stbi_write_png(file.string().c_str(), 64, 64, 4, rgba.data(), 64 * 4))
+            throw std::runtime_error("cannot write " + file.string());
+    }
+    ~StripedTexture() { std::filesystem::remove_all(folder); }
+};
+
+MaterialParam texture_param(const std::filesystem::path& file, Filter filter) {
+    MaterialParam p;
+    p.name = "base_texture";
+    p.kind = MaterialParam::Kind::texture;
+    p.texture_file = file;
+    p.filter = filter;
+    return p;
+}
+
+// A floor of 8 x 8 texture repeats seen at a grazing angle, so that
+// trilinear filtering goes through every level.
+Scene textured_floor(const std::shared_ptr<Material>& m) {
+    Scene s = lit_sphere_scene();
+    auto floor = std::make_shared<Mesh>();
+    floor->positions = {{-4, 0, -8}, {4, 0, -8}, {4, 0, 1}, {-4, 0, 1}};
+    floor->normals.assign(4, {0, 1, 0});
+    floor->uvs = {{0, 0}, {8, 0}, {8, 9}, {0, 9}};
+    floor->indices = {0, 2, 1, 0, 3, 2};
+    floor->bounds = compute_bounds(floor->positions);
+    s.camera.position = {0.0f, 0.6f, 1.2f};
+    s.camera.target = {0.0f, 0.0f, -4.0f};
+    s.objects = {{"floor", floor, {}, m, true}};
+    return s;
+}
+
+}  // namespace
+
+// llvmpipe filters with its own level-of-detail approximation and its own
+// weights' precision, so the two images differ by more than rounding; a
+// texture read upside down, without its sRGB decode or at the wrong level
+// would differ by far more than these bounds (the stripes swing 0.8).
+// Nearest filtering far away aliases: there a UV that differs in its last
+// bits picks another stripe, in about 2% of the pixels.
+TEST_CASE("llvmpipe's textured phong and unlit match facet's", "[llvmpipe]") {
+    const StripedTexture texture;
+    for (const Filter filter : {Filter::nearest, Filter::bilinear, Filter::trilinear})
+        for (const char* shader : {"phong", "unlit"}) {
+            INFO(shader << " with filter " << int(filter));
+            const Scene s = textured_floor(material(shader, {texture_param(texture.file, filter)}));
+            const Framebuffer facet = render_facet(s);
+            const std::vector<glm::vec4> llvmpipe = render_llvmpipe(s);
+            const std::vector<glm::vec4> f = pixels(facet);
+            CHECK(covered(f) > 160 * 90 / 3);
+            CHECK(coverage_differences(facet, llvmpipe) <= 4);
+            double sum = 0.0;
+            int n = 0, far_off = 0;
+            for (size_t i = 0; i < f.size(); ++i) {
+                if (glm::vec3(f[i]) == glm::vec3(0.0f)) continue;
+                const float d = glm::compMax(glm::abs(glm::vec3(f[i]) - glm::vec3(llvmpipe[i])));
+                sum += d;
+                far_off += d > 0.1f;
+                ++n;
+            }
+            const bool aliased = filter == Filter::nearest;
+            CHECK(sum / n < (aliased ? 0.02 : 0.01));
+            CHECK(far_off <= n / (aliased ? 25 : 100));
+        }
 }

@@ -8,15 +8,19 @@
 // always linear. A mipmap chain (2x2 box filter in linear light, each level
 // encoded again as its texture is, down to 1x1) is generated at load for
 // trilinear filtering. A texture costs 4 bytes a texel, and a third more
-// for its mipmaps.
+// for its mipmaps; the sampler's copy of its levels (TexelLevels) 4 bytes
+// more for data and 8 more for colour, and a third more again.
 #pragma once
 
 #include <glm/glm.hpp>
 
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -46,6 +50,53 @@ struct MipLevel {
     std::vector<Texel8> texels;
 };
 
+// A texture's levels as the per-path sampler reads them
+// (core/src/pipeline/sampler.hpp), made once from the 8-bit levels
+// (texel_levels.cpp). A level's rows lie one after another, each followed by
+// one texel more: a copy of its first texel, so that the two texels a
+// bilinear footprint takes from a row, x and x + 1 as repeat wraps them,
+// are always next to each other, and one 8- or 16-byte load a lane brings
+// both (clamp and mirror weight that copy 0). A footprint's two rows are
+// two loads, in one or two cache lines each.
+//   rgba8:  a data texture's texels as stored, one word each (red lowest),
+//           each channel's code c read as c * (1 / 255);
+//   rgba16: a colour texture's texels decoded from sRGB to linear light once,
+//           here, as 14-bit codes in 16 bits (two words each: red and green,
+//           then blue and alpha, the first lowest), read as c * (1 / 16383):
+//           no table or curve per texel as it is sampled, within 1/32766 of
+//           the decoded value. 14 bits, so that the sampler filters them
+//           in 16-bit lanes (sampler.hpp).
+enum class TexelFormat : uint8_t { rgba8, rgba16 };
+
+// One level's numbers, as the sampler reads them (two 16-byte records:
+// one load each per lane whose level differs from its neighbours').
+struct TexelLevel {
+    int32_t width = 0, height = 0;
+    int32_t stride = 0;  // texels from one row to the next: width + 1
+    int32_t offset = 0;  // where texel (0, 0) lies in `words`, in texels
+    float fwidth = 0.0f, fheight = 0.0f, inv_width = 0.0f, inv_height = 0.0f;
+};
+
+struct TexelLevels {
+    static constexpr int kMaxLevels = 32;
+    TexelFormat format = TexelFormat::rgba8;
+    int levels = 0;      // as Texture::levels(); 0 for a texture with no texels
+    bool pow2 = false;   // level 0's width and height (so every level's) are powers of 2
+    std::array<TexelLevel, kMaxLevels> level{};
+    // The texels (texel k at words[k * words_per_texel()]): 64-byte
+    // aligned, inside storage; readable 16 bytes past any texel.
+    const uint32_t* words = nullptr;
+    std::vector<uint32_t> storage;
+
+    int words_per_texel() const { return format == TexelFormat::rgba16 ? 2 : 1; }
+
+    TexelLevels() = default;
+    TexelLevels(TexelLevels&&) = default;  // `words` keeps pointing into the moved storage
+    TexelLevels& operator=(TexelLevels&&) = default;
+    TexelLevels(const TexelLevels&) = delete;
+    TexelLevels& operator=(const TexelLevels&) = delete;
+};
+
 struct Texture {
     std::string source;
     int width = 0;                // level 0
@@ -57,7 +108,29 @@ struct Texture {
     int levels() const { return 1 + int(mips.size()); }
     // Texel i of level 0, decoded to linear RGBA.
     glm::vec4 linear(size_t i) const { return decode_texel(texels[i], srgb); }
+
+    // The levels as the sampler reads them, made from texels and mips at
+    // the first call (load_texture and decode_texture make them at once).
+    // Thread-safe, and one load once made; change neither texels nor mips
+    // after it.
+    const TexelLevels& sampled() const {
+        const TexelLevels* made = sampled_->made.load(std::memory_order_acquire);
+        return made ? *made : make_sampled();
+    }
+
+private:
+    struct Sampled {
+        std::atomic<const TexelLevels*> made{nullptr};
+        std::mutex making;
+        TexelLevels levels;
+    };
+    const TexelLevels& make_sampled() const;
+    std::unique_ptr<Sampled> sampled_ = std::make_unique<Sampled>();
 };
+
+// The sampler's levels of `texture` (texel_levels.cpp); Texture::sampled()
+// makes them once.
+TexelLevels make_texel_levels(const Texture& texture);
 
 // Fills texture.mips from level 0 (each level half the size, rounded down,
 // at least 1; each texel the mean, in linear light, of the 2x2 (or fewer)
@@ -94,9 +167,17 @@ struct TextureBinding {
     Wrap wrap = Wrap::repeat;
 };
 
+// The scalar reference sampler: plain per-lane code over the 8-bit levels,
+// decoding each texel as it reads it. The per-path sampler that draws
+// (core/src/pipeline/sampler.hpp) is held to it by tests.
+//
 // Sample at texture coordinate uv (0,0 = first texel's corner, v down the
 // rows, as OBJ and glTF store it after the loader's flip).
 glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv);
+
+// The same at level of detail `lod` (trilinear; the others read level 0),
+// clamped to the levels there are, NaN read as 0.
+glm::vec4 sample_lod(const TextureBinding& binding, glm::vec2 uv, float lod);
 
 // Sample `count` coordinates at level 0; writes rgba[c * count + i].
 void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,

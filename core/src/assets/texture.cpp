@@ -40,7 +40,7 @@ const DecodeTables& decode_tables() {
         DecodeTables t;
         for (int i = 0; i < 256; ++i) {
             t.srgb[i] = srgb8_to_linear(uint8_t(i));
-            t.linear[i] = float(i) / 255.0f;
+            t.linear[i] = float(i) * (1.0f / 255.0f);  // as the per-path sampler decodes
         }
         return t;
     }();
@@ -63,14 +63,15 @@ int wrap_index(int i, int n, Wrap wrap) {
 }
 
 // A coordinate in texel units split into its integer part and fraction.
-// NaN and huge values are pinned so the integer part never overflows.
+// NaN and huge values are pinned, as the per-path sampler pins them, so the
+// integer part never overflows.
 struct Split {
     int index;
     float fraction;
 };
 
 Split split(float x) {
-    constexpr float kLimit = 16777216.0f;  // 2^24: beyond it floats have no fraction
+    constexpr float kLimit = 8388608.0f;  // 2^23: floats there have no fraction left
     if (!(std::abs(x) < kLimit)) x = std::isnan(x) ? 0.0f : std::copysign(kLimit, x);
     const float whole = std::floor(x);
     return {static_cast<int>(whole), x - whole};
@@ -89,6 +90,9 @@ Level level(const Texture& t, int i) {
     return {m.width, m.height, m.texels.data()};
 }
 
+// a + (b - a) t, as the per-path sampler mixes.
+glm::vec4 lerp(const glm::vec4& a, const glm::vec4& b, float t) { return a + (b - a) * t; }
+
 class Sampler {
 public:
     Sampler(Level level, Wrap wrap, bool srgb, const DecodeTables& tables = decode_tables())
@@ -96,17 +100,17 @@ public:
           alpha_(tables.linear) {}
 
     glm::vec4 nearest(glm::vec2 uv) const {
-        return texel(split(uv.x * t_.width).index, split(uv.y * t_.height).index);
+        return texel(split(uv.x * float(t_.width)).index, split(uv.y * float(t_.height)).index);
     }
 
     glm::vec4 bilinear(glm::vec2 uv) const {
-        const Split x = split(uv.x * t_.width - 0.5f);
-        const Split y = split(uv.y * t_.height - 0.5f);
+        const Split x = split(uv.x * float(t_.width) - 0.5f);
+        const Split y = split(uv.y * float(t_.height) - 0.5f);
         const glm::vec4 top =
-            glm::mix(texel(x.index, y.index), texel(x.index + 1, y.index), x.fraction);
+            lerp(texel(x.index, y.index), texel(x.index + 1, y.index), x.fraction);
         const glm::vec4 bottom =
-            glm::mix(texel(x.index, y.index + 1), texel(x.index + 1, y.index + 1), x.fraction);
-        return glm::mix(top, bottom, y.fraction);
+            lerp(texel(x.index, y.index + 1), texel(x.index + 1, y.index + 1), x.fraction);
+        return lerp(top, bottom, y.fraction);
     }
 
 private:
@@ -127,7 +131,7 @@ glm::vec4 trilinear(const Texture& t, Wrap wrap, glm::vec2 uv, float lod) {
     const int lo = int(l);
     const glm::vec4 a = Sampler(level(t, lo), wrap, t.srgb).bilinear(uv);
     if (lo + 1 >= t.levels() || l == float(lo)) return a;
-    return glm::mix(a, Sampler(level(t, lo + 1), wrap, t.srgb).bilinear(uv), l - float(lo));
+    return lerp(a, Sampler(level(t, lo + 1), wrap, t.srgb).bilinear(uv), l - float(lo));
 }
 
 // The mean, in linear light, of the up-to-2x2 texels of `src` that texel
@@ -157,11 +161,21 @@ glm::vec4 decode_texel(Texel8 t, bool srgb) {
 namespace {
 
 // Its size from the header, against the budget, before decoding: the
-// decoded image, and the texture with its mipmaps (a third more).
-void require_decodable(int width, int height, const std::string& source) {
+// decoded image, the texture with its mipmaps (a third more), and the
+// sampler's copy of them (TexelLevels: 8 bytes a texel for colour, 4 for
+// data, and a column more).
+void require_decodable(int width, int height, bool srgb, const std::string& source) {
     if (width <= 0 || height <= 0) return;
     const uint64_t texels = uint64_t(width) * uint64_t(height);
-    require_within_budget(texels * 4 + texels * sizeof(Texel8) * 4 / 3,
+    const uint64_t sampled = (uint64_t(width) + 1) * uint64_t(height) * 4 / 3;  // texels
+    // The sampler addresses words with 32-bit indices.
+    if (sampled * (srgb ? 2 : 1) > (uint64_t(1) << 31) - 64)
+        throw Error(ErrorCode::texture_load_failed,
+                    "a " + std::to_string(width) + "x" + std::to_string(height) +
+                        " texture: more texels than the sampler addresses (2^30)",
+                    source);
+    require_within_budget(texels * 4 + texels * sizeof(Texel8) * 4 / 3 +
+                              sampled * (srgb ? 8 : 4),
                           "a " + std::to_string(width) + "x" + std::to_string(height) + " texture",
                           source);
 }
@@ -179,6 +193,7 @@ std::shared_ptr<const Texture> adopt_pixels(stbi_uc* pixels, int width, int heig
     std::memcpy(texture->texels.data(), pixels, texture->texels.size() * sizeof(Texel8));
     stbi_image_free(pixels);
     generate_mipmaps(*texture);
+    texture->sampled();  // the sampler's levels now, not in the first frame
     spdlog::debug("texture {}: {}x{}, {} channels{}, {} levels", texture->source, width, height,
                  channels, srgb ? ", sRGB" : "", texture->levels());
     return texture;
@@ -190,7 +205,7 @@ std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, b
     require_regular_file(path);
     int width = 0, height = 0, channels = 0;
     if (stbi_info(path.string().c_str(), &width, &height, &channels))
-        require_decodable(width, height, path.string());
+        require_decodable(width, height, srgb, path.string());
     stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);
     if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), path.string());
     return adopt_pixels(pixels, width, height, channels, srgb, path.string());
@@ -204,7 +219,7 @@ std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
     const int size = int(bytes.size());
     int width = 0, height = 0, channels = 0;
     if (stbi_info_from_memory(data, size, &width, &height, &channels))
-        require_decodable(width, height, source);
+        require_decodable(width, height, srgb, source);
     stbi_uc* pixels = stbi_load_from_memory(data, size, &width, &height, &channels, 4);
     if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), source);
     return adopt_pixels(pixels, width, height, channels, srgb, source);
@@ -250,8 +265,11 @@ void generate_mipmaps(Texture& texture) {
 
 float level_of_detail(const Texture& t, glm::vec2 duv_dx, glm::vec2 duv_dy) {
     const glm::vec2 size(float(t.width), float(t.height));
-    const float rho = std::max(glm::length(duv_dx * size), glm::length(duv_dy * size));
-    return rho > 0.0f ? std::log2(rho) : 0.0f;
+    const glm::vec2 x = duv_dx * size, y = duv_dy * size;
+    // log2 of the longer axis as half that of its square (the per-path
+    // sampler's steps, NaN included: std::max keeps its first argument).
+    const float rho2 = std::max(x.x * x.x + x.y * x.y, y.x * y.x + y.y * y.y);
+    return rho2 > 0.0f ? 0.5f * std::log2(rho2) : 0.0f;
 }
 
 glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv) {
@@ -282,6 +300,11 @@ void sample_block(const TextureBinding& binding, const float* u, const float* v,
             for (int k = 0; k < 4; ++k) rgba[k * N + lane] = c[k];
         }
     }
+}
+
+glm::vec4 sample_lod(const TextureBinding& binding, glm::vec2 uv, float lod) {
+    if (binding.filter != Filter::trilinear || !binding.texture) return sample(binding, uv);
+    return trilinear(*binding.texture, binding.wrap, uv, lod);
 }
 
 void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,

@@ -52,6 +52,7 @@ using Float = float __attribute__((vector_size(4 * kWidth)));
 using Int = int32_t __attribute__((vector_size(4 * kWidth)));
 using Long = int64_t __attribute__((vector_size(4 * kWidth)));  // kWidth / 2 lanes
 using Row = float __attribute__((vector_size(16)));             // 4 floats
+using Short = int16_t __attribute__((vector_size(4 * kWidth)));  // 2 kWidth lanes
 
 template <class V>
 inline V load(const void* p) {
@@ -229,6 +230,107 @@ inline Int gather(const int32_t* table, const Int& index) {
     Int out;
     for (int k = 0; k < kWidth; ++k) out[k] = table[index[k]];
     return out;
+#endif
+}
+
+// table[index[i]] for each lane where `active` is set (all ones), 0 at the
+// others, which read nothing (SSE2 reads table[0] for them, which must
+// exist, and drops it).
+inline Int gather(const int32_t* table, const Int& index, const Int& active) {
+#if defined(__AVX512F__)
+    const __mmask16 k = _mm512_movepi32_mask(std::bit_cast<__m512i>(active));
+    return std::bit_cast<Int>(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), k,
+                                                          std::bit_cast<__m512i>(index), table, 4));
+#elif defined(__AVX2__)
+    return std::bit_cast<Int>(_mm256_mask_i32gather_epi32(
+        _mm256_setzero_si256(), table, std::bit_cast<__m256i>(index),
+        std::bit_cast<__m256i>(active), 4));
+#else
+    return gather(table, index & active) & active;
+#endif
+}
+
+// The four words base[index[i]] .. base[index[i] + 3] of every lane i:
+// out[k][i] = base[index[i] + k] (every index and the three words after it
+// must be inside the array). One 16-byte load a lane and a 4x4 transpose
+// in each 128-bit part, where four gathers would fetch each word alone.
+inline void gather4(const int32_t* base, const Int& index, Int out[4]) {
+#if defined(__AVX512F__)
+    // The indices through memory: a store and scalar loads cost less than
+    // taking each out of the register.
+    alignas(64) int32_t at[16];
+    store(at, index);
+    __asm__("" : "+m"(at));  // else GCC takes them out of the register after all
+    __m512i r[4];  // part j of r[k]: lane 4j + k's words
+    for (int k = 0; k < 4; ++k) {
+        const auto part = [&](int j) {
+            return _mm_loadu_si128(reinterpret_cast<const __m128i*>(base + at[4 * j + k]));
+        };
+        r[k] = _mm512_inserti32x4(_mm512_castsi128_si512(part(0)), part(1), 1);
+        r[k] = _mm512_inserti32x4(r[k], part(2), 2);
+        r[k] = _mm512_inserti32x4(r[k], part(3), 3);
+    }
+    // Masked unpacks: GCC 12 warns that the plain ones' source is undefined.
+    using V = __m512i;
+    const auto lo = [](V a, V b) { return _mm512_mask_unpacklo_epi32(a, 0xFFFF, a, b); };
+    const auto hi = [](V a, V b) { return _mm512_mask_unpackhi_epi32(a, 0xFFFF, a, b); };
+    const auto lo64 = [](V a, V b) { return _mm512_mask_unpacklo_epi64(a, 0xFF, a, b); };
+    const auto hi64 = [](V a, V b) { return _mm512_mask_unpackhi_epi64(a, 0xFF, a, b); };
+    const V t0 = lo(r[0], r[1]), t1 = hi(r[0], r[1]), t2 = lo(r[2], r[3]), t3 = hi(r[2], r[3]);
+    out[0] = std::bit_cast<Int>(lo64(t0, t2));
+    out[1] = std::bit_cast<Int>(hi64(t0, t2));
+    out[2] = std::bit_cast<Int>(lo64(t1, t3));
+    out[3] = std::bit_cast<Int>(hi64(t1, t3));
+#elif defined(__AVX2__)
+    alignas(32) int32_t at[8];  // the indices through memory, as for AVX-512
+    store(at, index);
+    __asm__("" : "+m"(at));
+    __m256i r[4];  // r[k]: lane k's words, then lane k + 4's
+    for (int k = 0; k < 4; ++k)
+        r[k] = _mm256_inserti128_si256(
+            _mm256_castsi128_si256(
+                _mm_loadu_si128(reinterpret_cast<const __m128i*>(base + at[k]))),
+            _mm_loadu_si128(reinterpret_cast<const __m128i*>(base + at[k + 4])), 1);
+    const __m256i t0 = _mm256_unpacklo_epi32(r[0], r[1]), t1 = _mm256_unpackhi_epi32(r[0], r[1]);
+    const __m256i t2 = _mm256_unpacklo_epi32(r[2], r[3]), t3 = _mm256_unpackhi_epi32(r[2], r[3]);
+    out[0] = std::bit_cast<Int>(_mm256_unpacklo_epi64(t0, t2));
+    out[1] = std::bit_cast<Int>(_mm256_unpackhi_epi64(t0, t2));
+    out[2] = std::bit_cast<Int>(_mm256_unpacklo_epi64(t1, t3));
+    out[3] = std::bit_cast<Int>(_mm256_unpackhi_epi64(t1, t3));
+#elif defined(__SSE2__)
+    alignas(16) int32_t at[4];  // the indices through memory, as gather() takes them
+    store(at, index);
+    __m128i r[4];
+    for (int k = 0; k < 4; ++k)
+        r[k] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(base + at[k]));
+    const __m128i t0 = _mm_unpacklo_epi32(r[0], r[1]), t1 = _mm_unpackhi_epi32(r[0], r[1]);
+    const __m128i t2 = _mm_unpacklo_epi32(r[2], r[3]), t3 = _mm_unpackhi_epi32(r[2], r[3]);
+    out[0] = std::bit_cast<Int>(_mm_unpacklo_epi64(t0, t2));
+    out[1] = std::bit_cast<Int>(_mm_unpackhi_epi64(t0, t2));
+    out[2] = std::bit_cast<Int>(_mm_unpacklo_epi64(t1, t3));
+    out[3] = std::bit_cast<Int>(_mm_unpackhi_epi64(t1, t3));
+#else
+    for (int i = 0; i < kWidth; ++i)
+        for (int k = 0; k < 4; ++k) out[k][i] = base[index[i] + k];
+#endif
+}
+
+// The high 16 bits of each lane's 32-bit product a * b: floor(a b / 2^16).
+// One instruction on every x86 path.
+inline Short mulhi(const Short& a, const Short& b) {
+#if defined(__AVX512BW__)
+    using V = __m512i;
+    return std::bit_cast<Short>(_mm512_mulhi_epi16(std::bit_cast<V>(a), std::bit_cast<V>(b)));
+#elif defined(__AVX2__)
+    using V = __m256i;
+    return std::bit_cast<Short>(_mm256_mulhi_epi16(std::bit_cast<V>(a), std::bit_cast<V>(b)));
+#elif defined(__SSE2__)
+    using V = __m128i;
+    return std::bit_cast<Short>(_mm_mulhi_epi16(std::bit_cast<V>(a), std::bit_cast<V>(b)));
+#else
+    Short r;
+    for (int i = 0; i < 2 * kWidth; ++i) r[i] = int16_t((int32_t(a[i]) * int32_t(b[i])) >> 16);
+    return r;
 #endif
 }
 

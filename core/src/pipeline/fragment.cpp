@@ -2,6 +2,7 @@
 
 #include "pipeline/pixels.hpp"
 #include "pipeline/rasterize.hpp"
+#include "pipeline/sampler.hpp"
 #include "base/simd.hpp"
 #include "plugin/plugin_calls.hpp"
 
@@ -153,7 +154,7 @@ void sample_textures(const DrawContext& dc, const float* varyings, uint32_t mask
             continue;
         }
         const float* u = varyings + dc.shader->texture_uv_float(s) * N;
-        sample_block(dc.textures[s], u, u + N, mask, out);
+        FACET_KERNEL_NS::sample_block(dc.textures[s], u, u + N, mask, out);
     }
 }
 

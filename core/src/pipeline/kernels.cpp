@@ -6,6 +6,7 @@
 #include "pipeline/fragment.hpp"
 #include "pipeline/pixels.hpp"
 #include "pipeline/rasterize.hpp"
+#include "pipeline/sampler.hpp"
 
 namespace facet::FACET_KERNEL_NS {
 
@@ -74,4 +75,6 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::ao_upsample_rows,
     &facet::FACET_KERNEL_NS::shadow_distance_rows,
     &facet::FACET_KERNEL_NS::shadow_plane_rows,
+    &facet::FACET_KERNEL_NS::sample_block,
+    &facet::FACET_KERNEL_NS::sample_lod,
 };

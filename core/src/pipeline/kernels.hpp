@@ -20,6 +20,7 @@
 
 #include "facet/framebuffer.hpp"
 #include "facet/isa.hpp"
+#include "facet/texture.hpp"
 
 #include <facet/shader_abi.h>
 
@@ -179,6 +180,13 @@ struct Kernels {
     void (*shadow_distance_rows)(const ShadowDistanceRows& rows, int first, int count);
     // Rows of tiles [first, first + count): each tile's planes.
     void (*shadow_plane_rows)(const ShadowPlaneRows& rows, int first, int count);
+    // The texture sampler (sampler.hpp): 16 lanes of `mask`, with levels of
+    // detail from the 2x2 quads, or given per lane. The fragment stage
+    // calls its own path's directly; here for the host's services and tests.
+    void (*sample_block)(const TextureBinding& binding, const float* u, const float* v,
+                         uint32_t mask, float* rgba);
+    void (*sample_lod)(const TextureBinding& binding, const float* u, const float* v,
+                       const float* lod, uint32_t mask, float* rgba);
 };
 
 // The kernels of a supported path; throws Error(isa_unavailable) otherwise.

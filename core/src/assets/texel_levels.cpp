@@ -1,0 +1,97 @@
+// The sampler's copy of a texture's levels (facet/texture.hpp, TexelLevels):
+// rows with a copy of their first texel after them, and for colour
+// textures decoded from sRGB once. Takes a Texture's 8-bit levels; gives
+// the words the per-path sampler loads.
+#include "facet/texture.hpp"
+
+#include "facet/framebuffer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// Level i's texels, row-major.
+const Texel8* level_texels(const Texture& t, int i) {
+    return i == 0 ? t.texels.data() : t.mips[size_t(i - 1)].texels.data();
+}
+
+// A colour texel's 14-bit linear codes, as two words: red and green, then
+// blue and alpha (linear already).
+void encode_rgba16(Texel8 t, uint32_t* out) {
+    const auto code = [](double linear) { return uint32_t(std::lround(linear * 16383.0)); };
+    const auto colour = [&](uint8_t c) { return code(double(srgb8_to_linear(c))); };
+    out[0] = colour(t.r) | colour(t.g) << 16;
+    out[1] = colour(t.b) | code(t.a / 255.0) << 16;
+}
+
+uint32_t encode_rgba8(Texel8 t) {
+    return uint32_t(t.r) | uint32_t(t.g) << 8 | uint32_t(t.b) << 16 | uint32_t(t.a) << 24;
+}
+
+// Level i of `t` into its rows at `out` (its texel (0, 0)'s words), each
+// row followed by its first texel again.
+void copy_level(const Texture& t, const TexelLevels& l, int i, uint32_t* out) {
+    const Texel8* src = level_texels(t, i);
+    const TexelLevel& level = l.level[size_t(i)];
+    const size_t w = size_t(level.width), stride = size_t(level.stride);
+    const int words = l.words_per_texel();
+    for (size_t y = 0; y < size_t(level.height); ++y)
+        for (size_t x = 0; x <= w; ++x) {
+            const Texel8 c = src[y * w + (x < w ? x : 0)];
+            const size_t texel = y * stride + x;
+            if (words == 2)
+                encode_rgba16(c, out + texel * 2);
+            else
+                out[texel] = encode_rgba8(c);
+        }
+}
+
+}  // namespace
+
+TexelLevels make_texel_levels(const Texture& t) {
+    TexelLevels l;
+    if (t.width <= 0 || t.height <= 0 || t.texels.size() != size_t(t.width) * size_t(t.height))
+        return l;  // levels 0: nothing to sample
+    l.format = t.srgb ? TexelFormat::rgba16 : TexelFormat::rgba8;
+    l.levels = std::min(t.levels(), TexelLevels::kMaxLevels);
+    l.pow2 = power_of_two(t.width) && power_of_two(t.height);
+    size_t texels = 0;
+    for (int i = 0; i < l.levels; ++i) {
+        TexelLevel& level = l.level[size_t(i)];
+        level.width = i == 0 ? t.width : t.mips[size_t(i - 1)].width;
+        level.height = i == 0 ? t.height : t.mips[size_t(i - 1)].height;
+        level.stride = level.width + 1;
+        level.offset = int32_t(texels);
+        level.fwidth = float(level.width);
+        level.fheight = float(level.height);
+        level.inv_width = 1.0f / level.fwidth;
+        level.inv_height = 1.0f / level.fheight;
+        texels += size_t(level.stride) * size_t(level.height);
+    }
+    // 15 words before, so that a 64-byte boundary lies within them, and 4
+    // after, so that a 16-byte load at any texel stays inside.
+    const size_t words = texels * size_t(l.words_per_texel());
+    l.storage.assign(words + 15 + 4, 0u);
+    const uintptr_t at = reinterpret_cast<uintptr_t>(l.storage.data());
+    uint32_t* out = l.storage.data() + ((64 - at % 64) % 64) / sizeof(uint32_t);
+    l.words = out;
+    for (int i = 0; i < l.levels; ++i)
+        copy_level(t, l, i, out + size_t(l.level[size_t(i)].offset) * size_t(l.words_per_texel()));
+    return l;
+}
+
+const TexelLevels& Texture::make_sampled() const {
+    const std::lock_guard<std::mutex> lock(sampled_->making);
+    if (!sampled_->made.load(std::memory_order_relaxed)) {
+        sampled_->levels = make_texel_levels(*this);
+        sampled_->made.store(&sampled_->levels, std::memory_order_release);
+    }
+    return sampled_->levels;
+}
+
+}  // namespace facet
