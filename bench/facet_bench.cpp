@@ -59,6 +59,11 @@
 //   subpixel  a grid of ~1M triangles of about half a pixel each
 //   huge      a sphere of ~5M triangles (memory: a draw holds per-vertex
 //             results and a bounded batch of triangles, never the whole mesh)
+// and three textured scene files, by name:
+//   town      an MTL town of ~107k triangles and 56 textures, trilinear, seen
+//             down a street (written by the build: town/make_town.cpp)
+//   gallery   configs/scenes/gallery.yaml, glTF materials through pbr
+//   spot      bench/scenes/spot_textured.yaml: Spot with its texture, phong
 // Every object gets the shader under test with its default parameters, one
 // shadow-casting directional light and one point light (no shadows in rows
 // against llvmpipe, above). Each configuration
@@ -198,6 +203,15 @@ Scene make_scene(const std::string& name, std::string& note) {
 
 bool is_scene_file(const std::string& name) {
     return name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0;
+}
+
+// The textured scenes by name, as the scene files they are: `town` (the
+// build writes it: town/make_town.cpp), the glTF `gallery`, and `spot`.
+std::string named_scene_file(const std::string& name) {
+    if (name == "town") return FACET_TOWN_SCENE;
+    if (name == "gallery") return FACET_SOURCE_DIR "/configs/scenes/gallery.yaml";
+    if (name == "spot") return FACET_SOURCE_DIR "/bench/scenes/spot_textured.yaml";
+    return name;
 }
 
 void set_shader(Scene& s, PluginRegistry& registry, const std::string& shader) {
@@ -635,7 +649,8 @@ struct LlvmpipeSide {
 
 // Everything on facet-bench's command line.
 struct Options {
-    std::vector<std::string> scenes = {"small", "medium", "large", "fill", "subpixel", "huge"};
+    std::vector<std::string> scenes = {"small", "medium", "large", "fill",
+                                       "subpixel", "huge", "town", "gallery"};
     std::vector<std::string> sizes = {"1280x720", "1920x1080"};
     std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao", "pbr"};
     std::vector<int> threads;  // default: 1 and default_threads()
@@ -661,8 +676,8 @@ void add_options(CLI::App& app, Options& o) {
         ->capture_default_str();
     app.add_option("--plot", o.po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
     app.add_option("--scene", o.scenes,
-                   "small, medium, dragon, large, fill, subpixel, huge, or a scene file "
-                   "(NAME.yaml, drawn with its own materials)");
+                   "small, medium, dragon, large, fill, subpixel, huge, the textured town, "
+                   "gallery and spot, or a scene file (NAME.yaml, drawn with its own materials)");
     app.add_option("--size", o.sizes, "image size WxH");
     app.add_option("--shader", o.shaders, "shader plugin name");
     app.add_option("--threads", o.threads,
@@ -956,6 +971,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
     // Every name and setting is checked before the CSV (and a previous run's
     // rows in it) is touched.
     PluginRegistry registry;
+    for (std::string& name : o.scenes) name = named_scene_file(name);
     for (const std::string& name : o.scenes) {
         if (is_scene_file(name)) {
             if (!std::filesystem::is_regular_file(name)) {
@@ -965,7 +981,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
         } else if (name != "small" && name != "medium" && name != "dragon" && name != "large" &&
                    name != "fill" && name != "subpixel" && name != "huge") {
             spdlog::error("--scene {}: expected small, medium, dragon, large, fill, subpixel, "
-                          "huge or a scene file (.yaml)", name);
+                          "huge, town, gallery, spot or a scene file (.yaml)", name);
             return 2;
         }
     }

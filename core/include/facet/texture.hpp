@@ -52,36 +52,29 @@ struct MipLevel {
 
 // A texture's levels as the per-path sampler reads them
 // (core/src/pipeline/sampler.hpp), made once from the 8-bit levels
-// (texel_levels.cpp). A level's rows lie one after another, each followed by
-// one texel more: a copy of its first texel, so that the two texels a
-// bilinear footprint takes from a row, x and x + 1 as repeat wraps them,
-// are always next to each other, and one 8- or 16-byte load a lane brings
-// both (clamp and mirror weight that copy 0). A footprint's two rows are
-// two loads, in one or two cache lines each.
-//   rgba8:  a data texture's texels as stored, one word each (red lowest),
-//           each channel's code c read as c * (1 / 255);
-//   rgba16: a colour texture's texels decoded from sRGB to linear light once,
-//           here, as 14-bit codes in 16 bits (two words each: red and green,
-//           then blue and alpha, the first lowest), read as c * (1 / 16383):
-//           no table or curve per texel as it is sampled, within 1/32766 of
-//           the decoded value. 14 bits, so that the sampler filters them
-//           in 16-bit lanes (sampler.hpp).
+// (texel_levels.cpp). A level lies in tiles of 4 x 4 texels, a row of tiles
+// after another, so that the blocks of pixels a frame's 4x4 blocks sample
+// mostly lie in one tile. Each of a tile's four rows holds five texels:
+// its own four and the one after them (the next tile's first, or past the
+// level's last texel its row's first, as repeat wraps), so that the two
+// texels a bilinear footprint takes from a row are always next to each
+// other, and one 8- or 16-byte load a lane brings both (clamp and mirror
+// weight the fifth 0 where it is not theirs). Texel (x, y) of a level is
+// texel offset + (y / 4) tile_row + (x / 4) 20 + (y % 4) 5 + x % 4.
 enum class TexelFormat : uint8_t { rgba8, rgba16 };
 
-// One level's numbers, as the sampler reads them (two 16-byte records:
-// one load each per lane whose level differs from its neighbours').
+// One level's numbers, as the sampler reads them: a 16-byte record, one
+// load a lane where lanes read different levels.
 struct TexelLevel {
     int32_t width = 0, height = 0;
-    int32_t stride = 0;  // texels from one row to the next: width + 1
-    int32_t offset = 0;  // where texel (0, 0) lies in `words`, in texels
-    float fwidth = 0.0f, fheight = 0.0f, inv_width = 0.0f, inv_height = 0.0f;
+    int32_t tile_row = 0;  // texels from one row of tiles to the next: 20 a tile
+    int32_t offset = 0;    // where texel (0, 0) lies in `words`, in texels
 };
 
 struct TexelLevels {
     static constexpr int kMaxLevels = 32;
     TexelFormat format = TexelFormat::rgba8;
     int levels = 0;      // as Texture::levels(); 0 for a texture with no texels
-    bool pow2 = false;   // level 0's width and height (so every level's) are powers of 2
     std::array<TexelLevel, kMaxLevels> level{};
     // The texels (texel k at words[k * words_per_texel()]): 64-byte
     // aligned, inside storage; readable 16 bytes past any texel.

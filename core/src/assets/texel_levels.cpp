@@ -1,7 +1,7 @@
 // The sampler's copy of a texture's levels (facet/texture.hpp, TexelLevels):
-// rows with a copy of their first texel after them, and for colour
-// textures decoded from sRGB once. Takes a Texture's 8-bit levels; gives
-// the words the per-path sampler loads.
+// tiles of 4 x 4 texels whose rows hold the texel after them too, and for
+// colour textures decoded from sRGB once. Takes a Texture's 8-bit levels;
+// gives the words the per-path sampler loads.
 #include "facet/texture.hpp"
 
 #include "facet/framebuffer.hpp"
@@ -12,8 +12,6 @@
 namespace facet {
 
 namespace {
-
-bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 // Level i's texels, row-major.
 const Texel8* level_texels(const Texture& t, int i) {
@@ -33,21 +31,30 @@ uint32_t encode_rgba8(Texel8 t) {
     return uint32_t(t.r) | uint32_t(t.g) << 8 | uint32_t(t.b) << 16 | uint32_t(t.a) << 24;
 }
 
-// Level i of `t` into its rows at `out` (its texel (0, 0)'s words), each
-// row followed by its first texel again.
-void copy_level(const Texture& t, const TexelLevels& l, int i, uint32_t* out) {
+// Texels a row of a tile holds (its four and the next), and a tile.
+constexpr int kTileRow = 5, kTileTexels = 4 * kTileRow;
+
+// Level i of `t` into its tiles at `out` (its texel (0, 0)'s words): texel
+// x of a row, for x from 0 to the width (the texel after the last being
+// the row's first), where x's tile holds it, and where x begins a tile,
+// also as the fifth of the tile before.
+void tile_level(const Texture& t, const TexelLevels& l, int i, uint32_t* out) {
     const Texel8* src = level_texels(t, i);
     const TexelLevel& level = l.level[size_t(i)];
-    const size_t w = size_t(level.width), stride = size_t(level.stride);
-    const int words = l.words_per_texel();
-    for (size_t y = 0; y < size_t(level.height); ++y)
-        for (size_t x = 0; x <= w; ++x) {
-            const Texel8 c = src[y * w + (x < w ? x : 0)];
-            const size_t texel = y * stride + x;
-            if (words == 2)
-                encode_rgba16(c, out + texel * 2);
-            else
-                out[texel] = encode_rgba8(c);
+    const int w = level.width, tiles_x = (w + 3) / 4, words = l.words_per_texel();
+    const auto put = [&](Texel8 c, int tile, int y, int column) {
+        const size_t texel = size_t(y / 4) * size_t(level.tile_row) + size_t(tile) * kTileTexels +
+                             size_t(y % 4 * kTileRow + column);
+        if (words == 2)
+            encode_rgba16(c, out + texel * 2);
+        else
+            out[texel] = encode_rgba8(c);
+    };
+    for (int y = 0; y < level.height; ++y)
+        for (int x = 0; x <= w; ++x) {
+            const Texel8 c = src[size_t(y) * size_t(w) + size_t(x < w ? x : 0)];
+            if (x / 4 < tiles_x) put(c, x / 4, y, x % 4);
+            if (x % 4 == 0 && x > 0) put(c, x / 4 - 1, y, 4);
         }
 }
 
@@ -59,19 +66,14 @@ TexelLevels make_texel_levels(const Texture& t) {
         return l;  // levels 0: nothing to sample
     l.format = t.srgb ? TexelFormat::rgba16 : TexelFormat::rgba8;
     l.levels = std::min(t.levels(), TexelLevels::kMaxLevels);
-    l.pow2 = power_of_two(t.width) && power_of_two(t.height);
     size_t texels = 0;
     for (int i = 0; i < l.levels; ++i) {
         TexelLevel& level = l.level[size_t(i)];
         level.width = i == 0 ? t.width : t.mips[size_t(i - 1)].width;
         level.height = i == 0 ? t.height : t.mips[size_t(i - 1)].height;
-        level.stride = level.width + 1;
+        level.tile_row = (level.width + 3) / 4 * kTileTexels;
         level.offset = int32_t(texels);
-        level.fwidth = float(level.width);
-        level.fheight = float(level.height);
-        level.inv_width = 1.0f / level.fwidth;
-        level.inv_height = 1.0f / level.fheight;
-        texels += size_t(level.stride) * size_t(level.height);
+        texels += size_t(level.tile_row) * size_t((level.height + 3) / 4);
     }
     // 15 words before, so that a 64-byte boundary lies within them, and 4
     // after, so that a 16-byte load at any texel stays inside.
@@ -81,7 +83,7 @@ TexelLevels make_texel_levels(const Texture& t) {
     uint32_t* out = l.storage.data() + ((64 - at % 64) % 64) / sizeof(uint32_t);
     l.words = out;
     for (int i = 0; i < l.levels; ++i)
-        copy_level(t, l, i, out + size_t(l.level[size_t(i)].offset) * size_t(l.words_per_texel()));
+        tile_level(t, l, i, out + size_t(l.level[size_t(i)].offset) * size_t(l.words_per_texel()));
     return l;
 }
 

@@ -47,32 +47,40 @@ const DecodeTables& decode_tables() {
     return tables;
 }
 
-int wrap_index(int i, int n, Wrap wrap) {
+// A coordinate folded as its wrap mode repeats it: repeat into [0, 1),
+// mirror into [0, 1] (every other period reflected), clamp within [-1, 2]
+// (past which every texel is an edge texel); NaN and infinities as 0 (clamp:
+// infinities at -1 or 2). Texel indices just past a folded coordinate's
+// edge then wrap (repeat) or clamp (clamp, mirror). Folding first keeps
+// the position exact (u - floor(u) is) however far u lies, where u times
+// the width would round to the whole texels of a large u.
+float fold(float u, Wrap wrap) {
+    constexpr float kWhole = 8388608.0f;  // 2^23: floats of this size have no fraction
     switch (wrap) {
-        case Wrap::clamp: return std::clamp(i, 0, n - 1);
+        case Wrap::clamp: return u == u ? std::clamp(u, -1.0f, 2.0f) : 0.0f;
         case Wrap::mirror: {
-            const int period = 2 * n;
-            int k = i % period;
-            if (k < 0) k += period;
-            return k < n ? k : period - 1 - k;
+            if (!(std::abs(u) < 2.0f * kWhole)) return 0.0f;
+            const float m = u - 2.0f * std::floor(u * 0.5f);  // [0, 2)
+            return m > 1.0f ? 2.0f - m : m;
         }
         case Wrap::repeat: break;
     }
-    const int k = i % n;
-    return k < 0 ? k + n : k;
+    return std::abs(u) < kWhole ? u - std::floor(u) : 0.0f;
+}
+
+// Texel index i of a folded coordinate into 0..n-1: i is -1 to n.
+int wrap_index(int i, int n, Wrap wrap) {
+    if (wrap != Wrap::repeat) return std::clamp(i, 0, n - 1);
+    return i < 0 ? i + n : i >= n ? i - n : i;
 }
 
 // A coordinate in texel units split into its integer part and fraction.
-// NaN and huge values are pinned, as the per-path sampler pins them, so the
-// integer part never overflows.
 struct Split {
     int index;
     float fraction;
 };
 
 Split split(float x) {
-    constexpr float kLimit = 8388608.0f;  // 2^23: floats there have no fraction left
-    if (!(std::abs(x) < kLimit)) x = std::isnan(x) ? 0.0f : std::copysign(kLimit, x);
     const float whole = std::floor(x);
     return {static_cast<int>(whole), x - whole};
 }
@@ -100,12 +108,16 @@ public:
           alpha_(tables.linear) {}
 
     glm::vec4 nearest(glm::vec2 uv) const {
-        return texel(split(uv.x * float(t_.width)).index, split(uv.y * float(t_.height)).index);
+        // A repeated coordinate just below 1 can round to the width: the last texel.
+        const auto index = [&](float u, int n) {
+            return std::min(split(fold(u, wrap_) * float(n)).index, n - 1);
+        };
+        return texel(index(uv.x, t_.width), index(uv.y, t_.height));
     }
 
     glm::vec4 bilinear(glm::vec2 uv) const {
-        const Split x = split(uv.x * float(t_.width) - 0.5f);
-        const Split y = split(uv.y * float(t_.height) - 0.5f);
+        const Split x = split(fold(uv.x, wrap_) * float(t_.width) - 0.5f);
+        const Split y = split(fold(uv.y, wrap_) * float(t_.height) - 0.5f);
         const glm::vec4 top =
             lerp(texel(x.index, y.index), texel(x.index + 1, y.index), x.fraction);
         const glm::vec4 bottom =
@@ -163,11 +175,12 @@ namespace {
 // Its size from the header, against the budget, before decoding: the
 // decoded image, the texture with its mipmaps (a third more), and the
 // sampler's copy of them (TexelLevels: 8 bytes a texel for colour, 4 for
-// data, and a column more).
+// data, in tiles that hold a fifth more).
 void require_decodable(int width, int height, bool srgb, const std::string& source) {
     if (width <= 0 || height <= 0) return;
     const uint64_t texels = uint64_t(width) * uint64_t(height);
-    const uint64_t sampled = (uint64_t(width) + 1) * uint64_t(height) * 4 / 3;  // texels
+    // texels in tiles of 4 x 4 that hold 20 (TexelLevels), with the mipmaps
+    const uint64_t sampled = (uint64_t(width) + 3) / 4 * 20 * ((uint64_t(height) + 3) / 4) * 4 / 3;
     // The sampler addresses words with 32-bit indices.
     if (sampled * (srgb ? 2 : 1) > (uint64_t(1) << 31) - 64)
         throw Error(ErrorCode::texture_load_failed,

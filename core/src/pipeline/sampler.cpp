@@ -23,84 +23,84 @@ using simd::Short;
 // values through memory, their vectors cost more than their work.
 #define FACET_INLINE [[gnu::always_inline]] inline
 
-// Coordinates are pinned within +-2^23 texels, where a float still has
-// whole numbers and a wrap's arithmetic below stays exact.
-constexpr float kLimit = 8388608.0f;
+// Floats of this size or more have no fraction.
+constexpr float kWhole = 8388608.0f;
 
 struct Texels {
     Float r, g, b, a;
 };
 
-// The wrap a binding and a texture's sizes give, resolved once a call.
-enum class WrapKind { repeat_pow2, repeat, mirror_pow2, mirror, clamp };
-
 // A level's numbers, in each lane (levels may differ from lane to lane).
 struct Level {
-    Int width, height, stride, offset;
-    Float fwidth, fheight, inv_width, inv_height;
+    Int width, height, tile_row, offset;
+    Float fwidth, fheight;
 };
 
 FACET_INLINE Float splat(float v) { return Float{} + v; }
 
+FACET_INLINE Level with_sizes(const Int& width, const Int& height, const Int& tile_row,
+                              const Int& offset) {
+    return {width, height, tile_row, offset, simd::to_float(width), simd::to_float(height)};
+}
+
 FACET_INLINE Level level_at(const TexelLevels& t, int i) {
     const TexelLevel& l = t.level[size_t(i)];
-    return {Int{} + l.width, Int{} + l.height, Int{} + l.stride,   Int{} + l.offset,
-            splat(l.fwidth), splat(l.fheight), splat(l.inv_width), splat(l.inv_height)};
+    return with_sizes(Int{} + l.width, Int{} + l.height, Int{} + l.tile_row, Int{} + l.offset);
 }
 
 FACET_INLINE Level level_at(const TexelLevels& t, const Int& i) {
     if (simd::bits(i == i[0]) == simd::kPartMask) return level_at(t, i[0]);  // the usual case
-    static_assert(sizeof(TexelLevel) == 32);
-    const auto* records = reinterpret_cast<const int32_t*>(t.level.data());
-    Int n[4], f[4];
-    simd::gather4(records, i << 3, n);
-    simd::gather4(records + 4, i << 3, f);
-    const auto floats = [](const Int& v) { return std::bit_cast<Float>(v); };
-    return {n[0], n[1], n[2], n[3], floats(f[0]), floats(f[1]), floats(f[2]), floats(f[3])};
+    static_assert(sizeof(TexelLevel) == 16);
+    Int n[4];
+    simd::gather4(reinterpret_cast<const int32_t*>(t.level.data()), i << 2, n);
+    return with_sizes(n[0], n[1], n[2], n[3]);
 }
 
-// NaN as 0, then within +-kLimit.
-FACET_INLINE Float pinned(Float x) {
-    x = x == x ? x : Float{};
-    return simd::min(simd::max(x, splat(-kLimit)), splat(kLimit));
-}
-
-// floor(x) for |x| <= kLimit: the truncation, less one where it rounded up.
+// floor(x) for |x| < 2^31: the truncation, less one where it rounded up.
 FACET_INLINE Int floor_int(const Float& x) {
     const Int t = __builtin_convertvector(x, Int);
     return t + (simd::to_float(t) > x);  // a comparison is -1 where it holds
 }
 
-// Texel index i of a level n texels across, wrapped into 0..n-1.
-template <WrapKind W>
-FACET_INLINE Int wrap(const Int& i, const Int& n, const Float& fn, const Float& inv_n) {
-    if constexpr (W == WrapKind::repeat_pow2) {
-        return i & (n - 1);
-    } else if constexpr (W == WrapKind::mirror_pow2) {
-        const Int k = i & (n + n - 1);
-        return k < n ? k : n + n - 1 - k;
-    } else if constexpr (W == WrapKind::clamp) {
-        const Int c = i < 0 ? Int{} : i;
-        return c < n ? c : n - 1;
+// x - floor(x) where |x| < 2^23, else 0 (NaN and infinities too): exact.
+FACET_INLINE Float fraction(const Float& x) {
+    const Int small = simd::abs(x) < kWhole;
+    return std::bit_cast<Float>(std::bit_cast<Int>(x - simd::to_float(floor_int(x))) & small);
+}
+
+// A coordinate folded as its wrap repeats it, as the reference's fold()
+// (texture.cpp): repeat into [0, 1), mirror into [0, 1], clamp within
+// [-1, 2]; NaN as 0. Once a lane, for every level it reads.
+template <Wrap W>
+FACET_INLINE Float fold(const Float& u) {
+    if constexpr (W == Wrap::repeat) {
+        return fraction(u);
+    } else if constexpr (W == Wrap::mirror) {
+        const Float m = fraction(u * 0.5f) * 2.0f;  // [0, 2): exact
+        return m > 1.0f ? 2.0f - m : m;
     } else {
-        // i modulo the period (n, or 2n mirrored) in floats, exact for
-        // |i| <= 2^23: the quotient may come out one off, which the two
-        // corrections mend.
-        constexpr bool mirror = W == WrapKind::mirror;
-        const Float period = mirror ? fn + fn : fn, inv = mirror ? inv_n * 0.5f : inv_n;
-        const Float fi = simd::to_float(i);
-        Float r = fi - simd::to_float(floor_int(fi * inv)) * period;
-        r = r < 0.0f ? r + period : r;
-        r = r >= period ? r - period : r;
-        const Int k = __builtin_convertvector(r, Int);
-        if constexpr (mirror) return k < n ? k : n + n - 1 - k;
-        return k;
+        return simd::min(simd::max(u == u ? u : Float{}, splat(-1.0f)), splat(2.0f));
     }
 }
 
-// The index of texel (x, y) of level l, in texels.
+// Texel index i, from a folded coordinate (-1 to n), into 0..n-1.
+template <Wrap W>
+FACET_INLINE Int wrap(const Int& i, const Int& n) {
+    if constexpr (W == Wrap::repeat) {
+        const Int k = i < 0 ? i + n : i;
+        return k < n ? k : k - n;
+    } else {
+        const Int c = i < 0 ? Int{} : i;
+        return c < n ? c : n - 1;
+    }
+}
+
+// The index of texel (x, y) of level l, in texels (facet/texture.hpp's
+// tiles: 20 texels a tile, 5 a row of one).
 FACET_INLINE Int texel_index(const Level& l, const Int& x, const Int& y) {
-    return l.offset + y * l.stride + x;
+    const Int tile_column = x >> 2, row = y & 3;
+    return l.offset + (y >> 2) * l.tile_row + (tile_column << 4) + (tile_column << 2) + (row << 2) +
+           row + (x & 3);
 }
 
 // The scale of a format's codes: rgba16 holds 14-bit linear codes, and
@@ -203,48 +203,42 @@ FACET_INLINE Texels unfixed(const Fixed& c) {
                 high_code(q, kScale16)};
 }
 
-template <TexelFormat F, WrapKind W>
+// From folded coordinates; a repeated one just below 1 can round to the
+// width, which reads the last texel.
+template <TexelFormat F, Wrap W>
 FACET_INLINE Texels nearest(const TexelLevels& t, const Level& l, const Float& u, const Float& v,
                             const Int& active) {
-    const Int x = wrap<W>(floor_int(pinned(u * l.fwidth)), l.width, l.fwidth, l.inv_width);
-    const Int y = wrap<W>(floor_int(pinned(v * l.fheight)), l.height, l.fheight, l.inv_height);
-    return fetch<F>(t, texel_index(l, x, y), active);
+    const Int x = wrap<W>(floor_int(u * l.fwidth), l.width),
+              y = wrap<W>(floor_int(v * l.fheight), l.height);
+    return fetch<F>(
+        t, texel_index(l, x < l.width ? x : l.width - 1, y < l.height ? y : l.height - 1), active);
 }
 
 // Where in a row a bilinear footprint's pair of texels begins, and the
-// second's weight: texels x0 and x0 + 1 wrapped, k0 and k1, are either
-// next to each other (k1 = k0 + 1, or, repeating, k0 the last and k1 the
-// first, which the row's extra texel holds), or k1 = k0 - 1 (mirrored:
-// the pair from k1, weighted the other way), or the same texel (clamped,
-// or where mirroring turns: weight 0).
+// second's weight, from x0, the footprint's first column (-1 to n - 1 from
+// a folded coordinate): repeated, x0 wrapped, the pair being that texel
+// and the next (the row's extra texel past the last); clamped (and
+// mirrored, whose folded coordinate clamps), x0 clamped, the second's
+// weight 0 where the two clamp to one texel.
 struct RowPair {
     Int first;
     Float weight;
 };
 
-template <WrapKind W>
+template <Wrap W>
 FACET_INLINE RowPair row_pair(const Level& l, const Int& x0, const Float& fx) {
-    if constexpr (W == WrapKind::repeat_pow2 || W == WrapKind::repeat) {
-        return {wrap<W>(x0, l.width, l.fwidth, l.inv_width), fx};
-    } else if constexpr (W == WrapKind::clamp) {
-        const Int k0 = wrap<W>(x0, l.width, l.fwidth, l.inv_width);
-        return {k0, x0 >= 0 && x0 < l.width - 1 ? fx : Float{}};
-    } else {
-        const Int k0 = wrap<W>(x0, l.width, l.fwidth, l.inv_width);
-        const Int k1 = wrap<W>(x0 + 1, l.width, l.fwidth, l.inv_width);
-        return {k1 < k0 ? k1 : k0, k1 > k0 ? fx : k1 < k0 ? 1.0f - fx : Float{}};
-    }
+    if constexpr (W == Wrap::repeat) return {wrap<W>(x0, l.width), fx};
+    return {wrap<W>(x0, l.width), x0 >= 0 && x0 < l.width - 1 ? fx : Float{}};
 }
 
-template <TexelFormat F, WrapKind W>
+template <TexelFormat F, Wrap W>
 FACET_INLINE Fixed bilinear(const TexelLevels& t, const Level& l, const Float& u, const Float& v,
                             const Int& active) {
-    const Float x = pinned(u * l.fwidth - 0.5f), y = pinned(v * l.fheight - 0.5f);
+    const Float x = u * l.fwidth - 0.5f, y = v * l.fheight - 0.5f;
     const Int x0 = floor_int(x), y0 = floor_int(y);
     const Float fx = x - simd::to_float(x0), fy = y - simd::to_float(y0);
     const RowPair pair = row_pair<W>(l, x0, fx);
-    const Int ya = wrap<W>(y0, l.height, l.fheight, l.inv_height);
-    const Int yb = wrap<W>(y0 + 1, l.height, l.fheight, l.inv_height);
+    const Int ya = wrap<W>(y0, l.height), yb = wrap<W>(y0 + 1, l.height);
     Fixed a, b, c, d;
     fetch_pair<F>(t, texel_index(l, pair.first, ya), active, a, b);
     fetch_pair<F>(t, texel_index(l, pair.first, yb), active, c, d);
@@ -252,67 +246,69 @@ FACET_INLINE Fixed bilinear(const TexelLevels& t, const Level& l, const Float& u
     return lerp(lerp(a, b, wx), lerp(c, d, wx), fixed_weight(fy));
 }
 
+// Four floats and four ints: one a 2x2 quad of a block, for the level of
+// detail, worked out once a block whatever the path's width.
+using Quad = float __attribute__((vector_size(16)));
+using QuadInt = int32_t __attribute__((vector_size(16)));
+
 // log2(x) for finite x >= FLT_MIN: x = m 2^e with m in [sqrt(1/2),
 // sqrt(2)), and log2 m = log2(1 + s) for s = m - 1 from a polynomial of
 // degree 6 fitted by least squares at Chebyshev nodes (error below 2.5e-6).
 // Below FLT_MIN it gives about -127.
-FACET_INLINE Float log2(const Float& x) {
-    const Int bits = std::bit_cast<Int>(x);
-    Float e = simd::to_float(((bits >> 23) & 0xFF) - 127);
-    Float m = std::bit_cast<Float>((bits & 0x7FFFFF) | 0x3F800000);  // [1, 2)
-    const Int high = m > 1.41421356f;
+FACET_INLINE Quad log2(const Quad& x) {
+    const QuadInt bits = std::bit_cast<QuadInt>(x);
+    Quad e = __builtin_convertvector(((bits >> 23) & 0xFF) - 127, Quad);
+    Quad m = std::bit_cast<Quad>((bits & 0x7FFFFF) | 0x3F800000);  // [1, 2)
+    const QuadInt high = m > 1.41421356f;
     m = high ? m * 0.5f : m;
     e = high ? e + 1.0f : e;
-    const Float s = m - 1.0f;
-    const Float p =
+    const Quad s = m - 1.0f;
+    const Quad p =
         1.44271577f +
         s * (-0.721122539f +
              s * (0.479324359f + s * (-0.367703982f + s * (0.322085496f + s * -0.205298295f))));
     return e + s * p;
 }
 
-// Each lane's quad's top-left, top-right and bottom-left values of a, a
-// block's 16 floats, for part p.
-struct QuadCorners {
-    Float tl, tr, bl;
-};
+// The level of detail of each 2x2 quad of a block (quads in the order
+// top left, top right, bottom left, bottom right): log2 of the longer axis
+// of its footprint in level-0 texels, from its top-left, top-right and
+// bottom-left lanes' u and v (all 16 lanes hold coordinates).
+FACET_INLINE Quad block_lods(const TexelLevels& t, const float* u, const float* v) {
+    const auto corners = [](const float* a, Quad& tl, Quad& tr, Quad& bl) {
+        const Quad r0 = simd::load<Quad>(a), r1 = simd::load<Quad>(a + 4);
+        const Quad r2 = simd::load<Quad>(a + 8), r3 = simd::load<Quad>(a + 12);
+        tl = __builtin_shufflevector(r0, r2, 0, 2, 4, 6);
+        tr = __builtin_shufflevector(r0, r2, 1, 3, 5, 7);
+        bl = __builtin_shufflevector(r1, r3, 0, 2, 4, 6);
+    };
+    Quad utl, utr, ubl, vtl, vtr, vbl;
+    corners(u, utl, utr, ubl);
+    corners(v, vtl, vtr, vbl);
+    const float w = float(t.level[0].width), h = float(t.level[0].height);
+    const Quad xu = (utr - utl) * w, xv = (vtr - vtl) * h;
+    const Quad yu = (ubl - utl) * w, yv = (vbl - vtl) * h;
+    // As std::max(x, y) in the reference: x where they are unordered.
+    const Quad x2 = xu * xu + xv * xv, y2 = yu * yu + yv * yv;
+    const Quad rho2 = y2 > x2 ? y2 : x2;
+    return rho2 == rho2 ? log2(rho2) * 0.5f : Quad{};  // NaN: level 0
+}
 
-FACET_INLINE QuadCorners quad_corners(const float* a, int p) {
+// Each lane of part p with its quad's level of detail.
+FACET_INLINE Float lane_lods(const Quad& q, int p) {
 #if FACET_SIMD_WIDTH == 16
     (void)p;
-    const Float x = simd::load<Float>(a);
-    return {__builtin_shufflevector(x, x, 0, 0, 2, 2, 0, 0, 2, 2, 8, 8, 10, 10, 8, 8, 10, 10),
-            __builtin_shufflevector(x, x, 1, 1, 3, 3, 1, 1, 3, 3, 9, 9, 11, 11, 9, 9, 11, 11),
-            __builtin_shufflevector(x, x, 4, 4, 6, 6, 4, 4, 6, 6, 12, 12, 14, 14, 12, 12, 14, 14)};
+    return __builtin_shufflevector(q, q, 0, 0, 1, 1, 0, 0, 1, 1, 2, 2, 3, 3, 2, 2, 3, 3);
 #elif FACET_SIMD_WIDTH == 8
-    const Float x = simd::load<Float>(a + 8 * p);  // rows 2p and 2p + 1: whole quads
-    return {__builtin_shufflevector(x, x, 0, 0, 2, 2, 0, 0, 2, 2),
-            __builtin_shufflevector(x, x, 1, 1, 3, 3, 1, 1, 3, 3),
-            __builtin_shufflevector(x, x, 4, 4, 6, 6, 4, 4, 6, 6)};
+    return p == 0 ? __builtin_shufflevector(q, q, 0, 0, 1, 1, 0, 0, 1, 1)  // rows 0 and 1
+                  : __builtin_shufflevector(q, q, 2, 2, 3, 3, 2, 2, 3, 3);
 #else
-    const int top_row = p & ~1;  // row p's quads begin on the even row
-    const Float top = simd::load<Float>(a + 4 * top_row);
-    const Float bottom = simd::load<Float>(a + 4 * (top_row + 1));
-    return {__builtin_shufflevector(top, top, 0, 0, 2, 2),
-            __builtin_shufflevector(top, top, 1, 1, 3, 3),
-            __builtin_shufflevector(bottom, bottom, 0, 0, 2, 2)};
+    return p < 2 ? __builtin_shufflevector(q, q, 0, 0, 1, 1)  // row p
+                 : __builtin_shufflevector(q, q, 2, 2, 3, 3);
 #endif
 }
 
-// Level of detail of part p's lanes: log2 of the longer axis of their
-// quad's footprint in level-0 texels.
-FACET_INLINE Float quad_lod(const TexelLevels& t, const float* u, const float* v, int p) {
-    const QuadCorners cu = quad_corners(u, p), cv = quad_corners(v, p);
-    const Float w = splat(t.level[0].fwidth), h = splat(t.level[0].fheight);
-    const Float xu = (cu.tr - cu.tl) * w, xv = (cv.tr - cv.tl) * h;
-    const Float yu = (cu.bl - cu.tl) * w, yv = (cv.bl - cv.tl) * h;
-    // As std::max(x, y) in the reference: x where they are unordered.
-    const Float x2 = xu * xu + xv * xv, y2 = yu * yu + yv * yv;
-    const Float rho2 = simd::max(y2, x2);
-    return rho2 == rho2 ? log2(rho2) * 0.5f : Float{};  // NaN: level 0
-}
-
-template <TexelFormat F, WrapKind W>
+template <TexelFormat F, Wrap W>
 FACET_INLINE Texels trilinear(const TexelLevels& t, const Float& lod, const Float& u,
                               const Float& v, const Int& active) {
     const Float l =
@@ -346,9 +342,10 @@ FACET_INLINE void store(float* rgba, int p, const Texels& c, const Int& active) 
 
 // Every part with a lane in `mask`, with its levels of detail from `lod`
 // or, where that is null, from the quads.
-template <TexelFormat F, WrapKind W>
+template <TexelFormat F, Wrap W>
 void sample_parts(const TexelLevels& t, Filter filter, const float* u, const float* v,
                   const float* lod, uint32_t mask, float* rgba) {
+    const Quad lods = filter == Filter::trilinear && !lod ? block_lods(t, u, v) : Quad{};
     for (int p = 0; p < kParts; ++p) {
         const uint32_t lanes = simd::part_mask(mask, p);
         if (!lanes) {
@@ -356,7 +353,8 @@ void sample_parts(const TexelLevels& t, Filter filter, const float* u, const flo
             continue;
         }
         const Int active = active_lanes(lanes);
-        const Float fu = simd::load<Float>(u + p * kWidth), fv = simd::load<Float>(v + p * kWidth);
+        const Float fu = fold<W>(simd::load<Float>(u + p * kWidth));
+        const Float fv = fold<W>(simd::load<Float>(v + p * kWidth));
         switch (filter) {
             case Filter::nearest:
                 store(rgba, p, nearest<F, W>(t, level_at(t, 0), fu, fv, active), active);
@@ -366,7 +364,7 @@ void sample_parts(const TexelLevels& t, Filter filter, const float* u, const flo
                       active);
                 break;
             case Filter::trilinear: {
-                const Float l = lod ? simd::load<Float>(lod + p * kWidth) : quad_lod(t, u, v, p);
+                const Float l = lod ? simd::load<Float>(lod + p * kWidth) : lane_lods(lods, p);
                 store(rgba, p, trilinear<F, W>(t, l, fu, fv, active), active);
                 break;
             }
@@ -374,32 +372,16 @@ void sample_parts(const TexelLevels& t, Filter filter, const float* u, const flo
     }
 }
 
-WrapKind wrap_kind(Wrap wrap, bool pow2) {
-    switch (wrap) {
-        case Wrap::clamp:
-            return WrapKind::clamp;
-        case Wrap::mirror:
-            return pow2 ? WrapKind::mirror_pow2 : WrapKind::mirror;
-        case Wrap::repeat:
-            break;
-    }
-    return pow2 ? WrapKind::repeat_pow2 : WrapKind::repeat;
-}
-
 template <TexelFormat F>
-void sample_format(const TexelLevels& t, const TextureBinding& b, const float* u, const float* v,
-                   const float* lod, uint32_t mask, float* rgba) {
-    switch (wrap_kind(b.wrap, t.pow2)) {
-        case WrapKind::repeat_pow2:
-            return sample_parts<F, WrapKind::repeat_pow2>(t, b.filter, u, v, lod, mask, rgba);
-        case WrapKind::repeat:
-            return sample_parts<F, WrapKind::repeat>(t, b.filter, u, v, lod, mask, rgba);
-        case WrapKind::mirror_pow2:
-            return sample_parts<F, WrapKind::mirror_pow2>(t, b.filter, u, v, lod, mask, rgba);
-        case WrapKind::mirror:
-            return sample_parts<F, WrapKind::mirror>(t, b.filter, u, v, lod, mask, rgba);
-        case WrapKind::clamp:
-            return sample_parts<F, WrapKind::clamp>(t, b.filter, u, v, lod, mask, rgba);
+FACET_INLINE void sample_format(const TexelLevels& t, const TextureBinding& b, const float* u,
+                                const float* v, const float* lod, uint32_t mask, float* rgba) {
+    switch (b.wrap) {
+        case Wrap::repeat:
+            return sample_parts<F, Wrap::repeat>(t, b.filter, u, v, lod, mask, rgba);
+        case Wrap::clamp:
+            return sample_parts<F, Wrap::clamp>(t, b.filter, u, v, lod, mask, rgba);
+        case Wrap::mirror:
+            return sample_parts<F, Wrap::mirror>(t, b.filter, u, v, lod, mask, rgba);
     }
 }
 
