@@ -57,22 +57,19 @@ constexpr int kMaxSide = 72;
 // Clip position = the vertex colour. The UV is one-hot per vertex ((0, 0),
 // (1, 0), (0, 1)), so the varying is the weight of vertices 1 and 2.
 struct ClipShader {
-    struct Params {};
-    struct Varyings {
-        glm::vec2 weights;
-    };
     static constexpr const char* name = "fuzz_clip";
     static constexpr const char* version = "fuzz";
     static constexpr uint32_t needs = FACET_NEED_COLORS | FACET_NEED_UVS;
-    static constexpr facet_varying_desc varyings[] = {sdk::varying("weights", 2)};
+    FACET_VARYINGS((sdk::Vec2, weights))
+    FACET_PARAMS()
     static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw&, const Params&,
-                           glm::vec4& clip) {
+                           sdk::Vec4& clip) {
         clip = in.color;
         return {in.uv};
     }
-    static glm::vec4 fragment(const Varyings& v, sdk::Fragment&, const sdk::Draw&,
+    static sdk::Vec4 fragment(const Varyings& v, sdk::Fragment&, const sdk::Draw&,
                               const Params&) {
-        return {1.0f, v.weights.x, v.weights.y, 1.0f};
+        return {sdk::splat(1.0f), v.weights.x, v.weights.y, sdk::splat(1.0f)};
     }
 };
 

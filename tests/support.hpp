@@ -22,38 +22,40 @@ namespace facet::test {
 // Outputs (1,1,1,1); drawn with additive blending, a pixel's red channel
 // counts how many times it was covered.
 struct CountShader {
-    struct Params {};
-    struct Varyings {};
+    FACET_VARYINGS()
+    FACET_PARAMS()
     static constexpr const char* name = "test_count";
     static constexpr const char* version = "test";
     static constexpr uint32_t needs = 0;
     static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
-                           glm::vec4& clip) {
-        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+                           sdk::Vec4& clip) {
+        clip = d.model_view_projection() * sdk::Vec4(in.position, 1.0f);
         return {};
     }
-    static glm::vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
-        return glm::vec4(1.0f);
+    static sdk::Vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
+        return sdk::Vec4(sdk::splat(1.0f));
     }
 };
 
 // Outputs the vertex colour, interpolated with interpolation mode I.
 template <facet_interpolation I>
 struct ColorShader {
-    struct Params {};
+    FACET_PARAMS()
+    // By hand, for the template's interpolation: the table ends with kNoVarying.
     struct Varyings {
-        glm::vec4 color;
+        sdk::Vec4 color;
     };
+    static constexpr facet_varying_desc varyings[] = {sdk::varying("color", 4, I),
+                                                      sdk::detail::kNoVarying};
     static constexpr const char* name = "test_color";
     static constexpr const char* version = "test";
     static constexpr uint32_t needs = FACET_NEED_COLORS;
-    static constexpr facet_varying_desc varyings[] = {sdk::varying("color", 4, I)};
     static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
-                           glm::vec4& clip) {
-        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+                           sdk::Vec4& clip) {
+        clip = d.model_view_projection() * sdk::Vec4(in.position, 1.0f);
         return {in.color};
     }
-    static glm::vec4 fragment(const Varyings& v, sdk::Fragment&, const sdk::Draw&,
+    static sdk::Vec4 fragment(const Varyings& v, sdk::Fragment&, const sdk::Draw&,
                               const Params&) {
         return v.color;
     }

@@ -26,38 +26,26 @@ using facet::ErrorCode;
 
 namespace {
 
+using namespace facet::sdk;
+
 // A shader compiled into the test, to validate materials against.
 struct TestShader {
-    struct Params {
-        glm::vec4 tint;
-        float gloss;
-        int32_t steps;
-        int32_t mirror;
-        int32_t albedo;
-    };
-    struct Varyings {
-        glm::vec2 uv;
-    };
     static constexpr const char* name = "test";
     static constexpr const char* version = "1";
     static constexpr uint32_t needs = FACET_NEED_UVS | FACET_NEED_TEXTURES;
-    static constexpr facet_varying_desc varyings[] = {facet::sdk::varying("uv", 2)};
-    static constexpr facet_param_desc params[] = {
-        facet::sdk::color4("tint", offsetof(Params, tint), {1, 0.5f, 0.25f, 1}),
-        facet::sdk::float1("gloss", offsetof(Params, gloss), 0.5f, 0.0f, 1.0f),
-        facet::sdk::int1("steps", offsetof(Params, steps), 4, 1, 16),
-        facet::sdk::boolean("mirror", offsetof(Params, mirror), true),
-        facet::sdk::texture("albedo", offsetof(Params, albedo), 0, true),
-    };
+    FACET_VARYINGS((Vec2, uv))
+    FACET_PARAMS((color4, tint, {1, 0.5f, 0.25f, 1}),
+                 (float1, gloss, 0.5f, 0.0f, 1.0f),
+                 (int1, steps, 4, 1, 16),
+                 (boolean, mirror, true),
+                 (texture, albedo, "uv", srgb))
 
-    static Varyings vertex(const facet::sdk::VertexIn& in, const facet::sdk::Draw& d, const Params&,
-                           glm::vec4& clip) {
-        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params&, Vec4& clip) {
+        clip = d.model_view_projection() * Vec4(in.position, 1.0f);
         return {in.uv};
     }
-    static glm::vec4 fragment(const Varyings&, facet::sdk::Fragment& f, const facet::sdk::Draw&,
-                              const Params& p) {
-        return p.tint * f.texture(0);
+    static Vec4 fragment(const Varyings&, Fragment& f, const Draw&, const Params& p) {
+        return p.tint * f.texture(p.albedo);
     }
 };
 
@@ -199,7 +187,7 @@ TEST_CASE("a material binds defaults, values and textures", "[material]") {
     REQUIRE(p.gloss == 0.5f);                              // the schema's default
     REQUIRE(p.steps == 8);
     REQUIRE(p.mirror == 0);
-    REQUIRE(p.albedo == 1);
+    REQUIRE(p.albedo.bound == 1);
     REQUIRE(m->textures.size() == 1);
     REQUIRE(m->textures[0].texture->srgb);  // the schema marks albedo as sRGB
     REQUIRE(m->textures[0].filter == facet::Filter::nearest);
@@ -214,7 +202,7 @@ TEST_CASE("a material without params gets the schema defaults", "[material]") {
     REQUIRE(p.tint == glm::vec4(1, 0.5f, 0.25f, 1));
     REQUIRE(p.steps == 4);
     REQUIRE(p.mirror == 1);
-    REQUIRE(p.albedo == 0);
+    REQUIRE(p.albedo.bound == 0);
     REQUIRE(m->textures.size() == 1);
     REQUIRE_FALSE(m->textures[0].texture);
 }

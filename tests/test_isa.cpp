@@ -120,26 +120,22 @@ namespace {
 // fragment's inputs shows, and a pattern over the screen, so one shaded at
 // another pixel's coordinates does.
 struct Shade {
-    struct Params {};
-    struct Varyings {
-        glm::vec3 normal;
-        glm::vec4 color;
-    };
+    FACET_VARYINGS((sdk::Vec3, normal), (sdk::Vec4, color))
+    FACET_PARAMS()
     static constexpr const char* name = "test_shade";
     static constexpr const char* version = "test";
     static constexpr uint32_t needs = FACET_NEED_COLORS;
-    static constexpr facet_varying_desc varyings[] = {sdk::varying("normal", 3),
-                                                      sdk::varying("color", 4)};
     static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
-                           glm::vec4& clip) {
-        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+                           sdk::Vec4& clip) {
+        clip = d.model_view_projection() * sdk::Vec4(in.position, 1.0f);
         return {in.position * 0.3f, in.color};
     }
-    static glm::vec4 fragment(const Varyings& v, sdk::Fragment& f, const sdk::Draw&,
+    static sdk::Vec4 fragment(const Varyings& v, sdk::Fragment& f, const sdk::Draw&,
                               const Params&) {
         const float facing = f.front_facing ? 1.0f : 0.25f;
-        const float pattern = glm::fract(0.1234f * f.coord.x + 0.0567f * f.coord.y);
-        return {v.color.r * facing, 0.5f + 0.5f * v.normal.y, 0.5f * (f.depth + pattern), 1.0f};
+        const sdk::Float pattern = sdk::fract(0.1234f * f.coord.x + 0.0567f * f.coord.y);
+        return {v.color.x * facing, 0.5f + 0.5f * v.normal.y, 0.5f * (f.depth + pattern),
+                sdk::splat(1.0f)};
     }
 };
 
@@ -303,22 +299,19 @@ namespace {
 
 // The pixel's window coordinates as its colour.
 struct Coordinates {
-    struct Params {};
-    struct Varyings {
-        glm::vec4 color;
-    };
+    FACET_VARYINGS((sdk::Vec4, color))
+    FACET_PARAMS()
     static constexpr const char* name = "test_coordinates";
     static constexpr const char* version = "test";
     static constexpr uint32_t needs = FACET_NEED_COLORS;
-    static constexpr facet_varying_desc varyings[] = {sdk::varying("color", 4)};
     static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw&, const Params&,
-                           glm::vec4& clip) {
-        clip = glm::vec4(in.position, 1.0f);
+                           sdk::Vec4& clip) {
+        clip = sdk::Vec4(in.position, 1.0f);
         return {in.color};
     }
-    static glm::vec4 fragment(const Varyings&, sdk::Fragment& f, const sdk::Draw&,
+    static sdk::Vec4 fragment(const Varyings&, sdk::Fragment& f, const sdk::Draw&,
                               const Params&) {
-        return {f.coord.x, f.coord.y, 0.0f, 1.0f};
+        return {f.coord.x, f.coord.y, sdk::splat(0.0f), sdk::splat(1.0f)};
     }
 };
 

@@ -825,7 +825,7 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit,
         INFO(c.shader << ", textured " << c.textured);
         const auto wide = registry.get(c.shader);
         const auto scalar = ShaderPlugin::load(
-            std::string(FACET_TEST_PLUGIN_DIR) + "/" + c.shader + "_scalar.so", c.shader);
+            std::string(FACET_TEST_PLUGIN_DIR) + "/" + c.shader + "_reference.so", c.shader);
         std::vector<TextureBinding> slots(size_t(std::max(1, c.normal_slot + 1)));
         if (c.textured) slots[0] = texture;
         if (c.normal_slot >= 0) slots[size_t(c.normal_slot)] = normals;
@@ -857,11 +857,11 @@ TEST_CASE("every shipped shader's fragment_wide draws its demo scene as its scal
     for (const char* name : kDemoScenes) {
         Scene scene = small_demo_scene(registry, name);
         scene.settings.color_format = ColorFormat::rgba32f;  // compare before rounding
-        // Each material's plugin, and the same shader built with FACET_SDK_SCALAR.
+        // Each material's plugin, and the same shader built with FACET_SDK_REFERENCE.
         PluginSwap scalar_build(scene, [](const Material& m) {
             const std::string shader = m.plugin->name();
             return ShaderPlugin::load(
-                std::string(FACET_TEST_PLUGIN_DIR) + "/" + shader + "_scalar.so", shader);
+                std::string(FACET_TEST_PLUGIN_DIR) + "/" + shader + "_reference.so", shader);
         });
         REQUIRE_FALSE(scalar_build.empty());
         for (Isa isa : supported_isas()) {

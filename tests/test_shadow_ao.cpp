@@ -13,7 +13,7 @@
 #include <facet/plugin.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
-#include <facet/shader.hpp>
+#include <facet/lighting.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -603,28 +603,6 @@ TEST_CASE("the frame report says which passes ran, which were skipped and why, a
     CHECK(count_text(12'345'678, Counts::full) == "12345678");
 }
 
-TEST_CASE("a PCF tap pushed past a perspective map's near plane is lit, not shadowed",
-          "[shadow]") {
-    // A wide spot map of 16 texels, nothing drawn (every texel at depth 1):
-    // a grazing receiver with the widest kernel moves its outer taps behind
-    // the light, where the depth formula turns back; they must count as lit.
-    std::vector<float> depth(16 * 16, 1.0f);
-    facet_shadow_map sm{};
-    sm.projection = FACET_SHADOW_PERSPECTIVE;
-    sm.width = sm.height = 16;
-    sm.near_plane = 0.1f;
-    sm.far_plane = 10.0f;
-    sm.texel_size = 2.0f * std::tan(glm::radians(85.0f)) / 16.0f;
-    const glm::mat4 vp = perspective(glm::radians(170.0f), 1.0f, 0.1f, 10.0f, false);
-    std::memcpy(sm.view_projection, &vp[0][0], sizeof sm.view_projection);
-    sm.depth = depth.data();
-    const glm::vec3 p(0.05f, 0.0f, -2.0f);  // ahead of the light, near the axis
-    CHECK(sdk::shadow_visibility(sm, p, 0.1f, 15, 1.0f, 1.5f) == 1.0f);
-    sdk::wide::Vec3 wp{sdk::wide::splat(p.x), sdk::wide::splat(p.y), sdk::wide::splat(p.z)};
-    const sdk::wide::Float v = sdk::shadow_visibility(sm, wp, sdk::wide::splat(0.1f), 15, 1.0f, 1.5f);
-    for (int i = 0; i < sdk::wide::kLanes; ++i) CHECK(v[i] == 1.0f);
-}
-
 // ---- 16-bit distance maps (ABI 1.3) -----------------------------------------
 
 namespace {
@@ -666,6 +644,98 @@ sdk::wide::Float lanes(const std::vector<float>& v, size_t first) {
     return f;
 }
 
+// The reference the SDK's filter (facet/shadows.hpp) is held to: the same
+// percentage-closer filter, plain code a receiver at a time.
+namespace pcf_reference {
+
+// A tap is lit where the stored distance is at least its threshold: the
+// tap's distance (in the map's units of 1/65535 of near..far) rounded up,
+// within 0..65535 (in front of the near plane everything is lit; at or
+// past the far plane, and for NaN, only where nothing was drawn).
+int32_t tap_threshold(float q) {
+    if (!(q == q)) return 65535;
+    return int32_t(std::ceil(std::clamp(q, 0.0f, 65535.0f)));
+}
+
+// The tap's distance q within 0..65535 (65535 for NaN), unrounded: a
+// stored distance (a whole number) at least this is at least the tap's
+// threshold, and one below it below the threshold, so that bounds on the
+// stored distances are compared with it as they are.
+float tap_bound(float q) { return q == q ? std::clamp(q, 0.0f, 65535.0f) : 65535.0f; }
+
+// The lowest and the highest distance a kernel of radius r <=
+// FACET_SHADOW_REACH around texel (cx, cy) can read, from the planes of the
+// tile that holds (cx, cy): the planes at (cx, cy), moved apart by the most
+// they rise or fall r texels away on each axis, and by a quarter unit more
+// than float rounding can move them (the ABI bounds the slopes by 2048
+// units a texel and the planes by 2^17, so no sum here reaches 2^18, below
+// which each rounding is within 1/64).
+static_assert(FACET_SHADOW_TILE == 8, "a texel's tile is its coordinates >> 3");
+struct Slab {
+    float low, high;
+};
+Slab slab(const facet_shadow_planes& g, int cx, int cy, int r) {
+    const float* t = g.tiles + 4 * (ptrdiff_t(cy >> 3) * ptrdiff_t(g.stride) + (cx >> 3));
+    const float nearest = t[0] + t[1] * float(cx & 7) + t[2] * float(cy & 7);
+    const float spread = (std::abs(t[1]) + std::abs(t[2])) * float(r);
+    return {nearest - spread - 0.25f, nearest + t[3] + spread + 0.25f};
+}
+
+float shadow_visibility(const sdk::ShadowMap& m, glm::vec3 p, float n_dot_l, int kernel,
+                        float bias, float slope_bias) {
+    const facet_shadow_map& sm = *m.map;
+    const float* v = sm.view_projection;  // column-major
+    const auto row = [&](int r) {
+        return (v[r] * p.x + v[4 + r] * p.y) + (v[8 + r] * p.z + v[12 + r]);
+    };
+    const float scale = 65535.0f / (sm.far_plane - sm.near_plane);
+    float x = row(0), y = row(1), q, texel;  // texel: a texel's world size, in map units
+    if (sm.projection == FACET_SHADOW_ORTHOGRAPHIC) {
+        q = row(2) * 65535.0f;  // window depth is the distance, 0..1
+        texel = sm.texel_size * scale;
+    } else {
+        const float w = row(3);  // the distance along the light's axis
+        if (!(w > 0.0f)) return 1.0f;
+        const float inv_w = 1.0f / w;
+        x = x * inv_w;
+        y = y * inv_w;
+        q = (w - sm.near_plane) * scale;
+        texel = (sm.texel_size * scale) * w;
+    }
+    if (!(q <= 65535.0f)) return 1.0f;  // past the far plane
+    const float fx = std::floor((x * 0.5f + 0.5f) * float(sm.width));
+    const float fy = std::floor((0.5f - y * 0.5f) * float(sm.height));
+    if (!(fx >= 0.0f && fx < float(sm.width) && fy >= 0.0f && fy < float(sm.height))) return 1.0f;
+    const float cos_t = glm::clamp(n_dot_l, 0.1f, 1.0f);
+    const float tan_t = std::sqrt(1.0f - cos_t * cos_t) / cos_t;
+    const float receiver = q - texel * (bias + slope_bias * tan_t);
+    const float step = texel * tan_t;  // a tap k texels away sees the receiver k * step deeper
+    const int r = std::clamp(kernel, 1, 15) / 2;
+    constexpr sdk::detail::TapDistances kTaps{};
+    if (m.planes && r <= FACET_SHADOW_REACH) {
+        // The centre's threshold is the highest and the corners' the lowest:
+        // at or above the one every tap is lit; below the other, none is.
+        const Slab s = slab(*m.planes, int(fx), int(fy), r);
+        if (s.low >= tap_bound(receiver - step * kTaps.at[0][0])) return 1.0f;
+        if (s.high < tap_bound(receiver - step * kTaps.at[r][r])) return 0.0f;
+    }
+    const ptrdiff_t stride = m.distances->stride;
+    const uint16_t* centre = m.distances->texels + ptrdiff_t(fy) * stride + ptrdiff_t(fx);
+    int lit = 0;
+    for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+            const int i = std::max(std::abs(dx), std::abs(dy));
+            const int j = std::min(std::abs(dx), std::abs(dy));
+            const int32_t threshold = tap_threshold(receiver - step * kTaps.at[i][j]);
+            lit += int32_t(centre[dy * stride + dx]) >= threshold;
+        }
+    return float(lit) / float((2 * r + 1) * (2 * r + 1));
+}
+
+// The same over a point light's cube map: the face that holds the
+
+}  // namespace pcf_reference
+
 }  // namespace
 
 TEST_CASE("the filters' tap distances are std::sqrt of whole numbers", "[shadow]") {
@@ -674,7 +744,7 @@ TEST_CASE("the filters' tap distances are std::sqrt of whole numbers", "[shadow]
         for (int j = 0; j < 8; ++j) CHECK(taps.at[i][j] == std::sqrt(float(i * i + j * j)));
 }
 
-TEST_CASE("16-bit distance maps: the wide filter counts the taps the scalar one does, which are "
+TEST_CASE("16-bit distance maps: the SDK's filter counts the taps the reference does, which are "
           "those a double-precision reading of the definition lights",
           "[shadow]") {
     // An orthographic and a perspective map over a noisy field of casters,
@@ -720,7 +790,7 @@ TEST_CASE("16-bit distance maps: the wide filter counts the taps the scalar one 
                 for (int l = 0; l < sdk::wide::kLanes; ++l) {
                     const size_t i = first + size_t(l);
                     const glm::vec3 p(px[i], py[i], pz[i]);
-                    const float scalar = sdk::shadow_visibility(m, p, nl[i], kernel, 1.0f, 1.5f);
+                    const float scalar = pcf_reference::shadow_visibility(m, p, nl[i], kernel, 1.0f, 1.5f);
                     REQUIRE(wide[l] == scalar);
                     // The definition in double: the centre texel, and each tap lit
                     // where its stored distance is at least the tap's.
@@ -861,16 +931,16 @@ TEST_CASE("16-bit distance maps: the planes that bound them tile by tile hold ev
                 for (int l = 0; l < sdk::wide::kLanes; ++l) {
                     const size_t i = first + size_t(l);
                     const glm::vec3 p(px[i], py[i], pz[i]);
-                    const float scalar = sdk::shadow_visibility(without, p, nl[i], kernel, 1.0f, 1.5f);
-                    REQUIRE(sdk::shadow_visibility(with, p, nl[i], kernel, 1.0f, 1.5f) == scalar);
+                    const float scalar = pcf_reference::shadow_visibility(without, p, nl[i], kernel, 1.0f, 1.5f);
+                    REQUIRE(pcf_reference::shadow_visibility(with, p, nl[i], kernel, 1.0f, 1.5f) == scalar);
                     REQUIRE(a[l] == scalar);
                     REQUIRE(b[l] == scalar);
                     if (px[i] < -2.0f) continue;  // off the map: lit, and nothing to settle
                     lit += scalar == 1.0f;
-                    settled_scalar += sdk::shadow_visibility(poisoned, p, nl[i], kernel, 1.0f, 1.5f) == 1.0f;
+                    settled_scalar += pcf_reference::shadow_visibility(poisoned, p, nl[i], kernel, 1.0f, 1.5f) == 1.0f;
                     settled_wide += c[l] == 1.0f;
                     shadowed += scalar == 0.0f;
-                    settled_dark += sdk::shadow_visibility(cleared, p, nl[i], kernel, 1.0f, 1.5f) == 0.0f;
+                    settled_dark += pcf_reference::shadow_visibility(cleared, p, nl[i], kernel, 1.0f, 1.5f) == 0.0f;
                     settled_dark_wide += e[l] == 0.0f;
                 }
             }
@@ -906,7 +976,7 @@ TEST_CASE("16-bit distance maps: taps in front of a perspective map's near plane
     // Nothing drawn: a grazing receiver's outer taps move in front of the light.
     DistanceMap empty(size, 65535);
     const glm::vec3 p(0.05f, 0.0f, -2.0f);
-    CHECK(sdk::shadow_visibility(sdk::ShadowMap{&sm, &empty.abi}, p, 0.1f, 15, 1.0f, 1.5f) == 1.0f);
+    CHECK(pcf_reference::shadow_visibility(sdk::ShadowMap{&sm, &empty.abi}, p, 0.1f, 15, 1.0f, 1.5f) == 1.0f);
     // A map of 64 texels over 60 degrees with everything at its near plane:
     // all shadowed, but for the taps past the edge of the map, which read
     // its border.
@@ -914,12 +984,12 @@ TEST_CASE("16-bit distance maps: taps in front of a perspective map's near plane
         map_header(64, FACET_SHADOW_PERSPECTIVE, perspective(glm::radians(60.0f), 1.0f, 0.5f, 8.0f, false));
     DistanceMap wall(64, 0);
     const sdk::ShadowMap m{&narrow, &wall.abi};
-    CHECK(sdk::shadow_visibility(m, p, 1.0f, 3, 1.0f, 1.5f) == 0.0f);
+    CHECK(pcf_reference::shadow_visibility(m, p, 1.0f, 3, 1.0f, 1.5f) == 0.0f);
     // The centre of the corner texel (0, 0): of a 3x3 kernel, 5 taps lie
     // past the edge.
     const float t = std::tan(glm::radians(30.0f)), centre = 1.0f - 1.0f / 64.0f;
     const glm::vec3 corner(-centre * t * 2.0f, centre * t * 2.0f, -2.0f);
-    CHECK(sdk::shadow_visibility(m, corner, 1.0f, 3, 1.0f, 1.5f) == 5.0f / 9.0f);
+    CHECK(pcf_reference::shadow_visibility(m, corner, 1.0f, 3, 1.0f, 1.5f) == 5.0f / 9.0f);
     sdk::wide::Vec3 wc{sdk::wide::splat(corner.x), sdk::wide::splat(corner.y), sdk::wide::splat(corner.z)};
     const sdk::wide::Float v = sdk::shadow_visibility(m, wc, sdk::wide::splat(1.0f), 3, 1.0f, 1.5f);
     for (int i = 0; i < sdk::wide::kLanes; ++i) CHECK(v[i] == 5.0f / 9.0f);
@@ -1176,7 +1246,7 @@ struct FlagProbe {
     struct Params {
         float value;
     };
-    struct Varyings {};
+    FACET_VARYINGS()
     static constexpr const char* name = "flag_probe";
     static constexpr const char* version = "1";
     static constexpr uint32_t needs = Needs;
@@ -1186,13 +1256,14 @@ struct FlagProbe {
         p.flags = Flag;
         return p;
     }
-    static constexpr facet_param_desc params[] = {with_flag()};
-    static Varyings vertex(const sdk::VertexIn&, const sdk::Draw&, const Params&, glm::vec4& c) {
-        c = glm::vec4(0.0f);
+    static constexpr auto params = sdk::detail::schema(sdk::param::one(with_flag()),
+                                                       sdk::param::End{});
+    static Varyings vertex(const sdk::VertexIn&, const sdk::Draw&, const Params&, sdk::Vec4& c) {
+        c = sdk::Vec4(sdk::splat(0.0f));
         return {};
     }
-    static glm::vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
-        return glm::vec4(1.0f);
+    static sdk::Vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
+        return sdk::Vec4(sdk::splat(1.0f));
     }
 };
 

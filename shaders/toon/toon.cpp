@@ -24,132 +24,69 @@
 // light's band and highlight are times the share of it its shadow map lets
 // through; with ambient_occlusion above 0, ambient is times AO to that power
 // (facet::sdk::Receiving).
-#include <facet/shader.hpp>
+#include <facet/lighting.hpp>
 
 #include <cmath>
-#include <cstddef>
 
 namespace {
 
 using namespace facet::sdk;
 
 struct Toon {
-    struct Params {
-        glm::vec3 base_color;
-        glm::vec3 ambient;
-        int32_t bands;
-        glm::vec3 specular_color;
-        float shininess;
-        float specular_threshold;
-        glm::vec3 rim_color;
-        float rim_threshold;
-        glm::vec3 outline_color;
-        float outline_width;
-        int32_t normal_texture;  // 1 if bound
-        float normal_scale;
-        Receiving receive;
-    };
-    struct Varyings {
-        glm::vec3 position;  // world space
-        glm::vec3 normal;    // world space, unit at the vertices
-        glm::vec2 uv;
-        glm::vec4 tangent;   // world space, w the handedness
-    };
-
     static constexpr const char* name = "toon";
-    static constexpr const char* version = "1.0";
+    static constexpr const char* version = "2.0";
     static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_TANGENTS |
                                       FACET_NEED_TEXTURES | FACET_NEED_LIGHTS |
                                       FACET_NEED_SHADOW_MAP | FACET_NEED_AO;
-    static constexpr facet_varying_desc varyings[] = {varying("position", 3), varying("normal", 3),
-                                                      varying("uv", 2), varying("tangent", 4)};
+
+    FACET_VARYINGS((Vec3, position),  // world space
+                   (Vec3, normal),    // world space, unit at the vertices
+                   (Vec2, uv),
+                   (Vec4, tangent))   // world space, w the handedness
     // The UV and the tangent: read only with a normal map, and interpolated only then.
     static constexpr uint32_t conditional_varyings = 2;
     static constexpr const char* varyings_condition = "normal_texture";
-    static constexpr auto params = with_receiving(std::array{
-        color3("base_color", offsetof(Params, base_color), {0.8f, 0.3f, 0.2f},
-               "linear RGB albedo"),
-        color3("ambient", offsetof(Params, ambient), {0.08f, 0.08f, 0.1f},
-               "light on the unlit side, multiplied by base_color"),
-        int1("bands", offsetof(Params, bands), 3, 1, 16, "lit diffuse levels"),
-        color3("specular_color", offsetof(Params, specular_color), {1.0f, 1.0f, 1.0f},
-               "colour of the hard highlight (times the light's radiance)"),
-        float1("shininess", offsetof(Params, shininess), 48.0f, 1.0f, 10000.0f,
-               "Blinn exponent: higher is a smaller highlight"),
-        float1("specular_threshold", offsetof(Params, specular_threshold), 0.5f, 0.0f, 1.0f,
-               "highlight where max(n.h, 0)^shininess exceeds this"),
-        color3("rim_color", offsetof(Params, rim_color), {0.15f, 0.15f, 0.2f},
-               "linear RGB added near the silhouette"),
-        float1("rim_threshold", offsetof(Params, rim_threshold), 0.6f, 0.0f, 1.0f,
-               "rim where 1 - n.v exceeds this"),
-        color3("outline_color", offsetof(Params, outline_color), {0.0f, 0.0f, 0.0f},
-               "linear RGB of the silhouette outline"),
-        float1("outline_width", offsetof(Params, outline_width), 0.2f, 0.0f, 1.0f,
-               "outline where n.v is below this; 0: no outline"),
-        normal_texture(offsetof(Params, normal_texture), 2),
-        normal_scale(offsetof(Params, normal_scale)),
-    }, offsetof(Params, receive));
 
-    static float band(float n_l, int32_t bands) {
-        return n_l > 0.0f ? std::ceil(n_l * float(bands)) / float(bands) : 0.0f;
-    }
+    FACET_PARAMS(
+        (color3, base_color, {0.8f, 0.3f, 0.2f}, "linear RGB albedo"),
+        (color3, ambient, {0.08f, 0.08f, 0.1f}, "light on the unlit side, multiplied by base_color"),
+        (int1, bands, 3, 1, 16, "lit diffuse levels"),
+        (color3, specular_color, {1.0f, 1.0f, 1.0f},
+         "colour of the hard highlight (times the light's radiance)"),
+        (float1, shininess, 48.0f, 1.0f, 10000.0f, "Blinn exponent: higher is a smaller highlight"),
+        (float1, specular_threshold, 0.5f, 0.0f, 1.0f,
+         "highlight where max(n.h, 0)^shininess exceeds this"),
+        (color3, rim_color, {0.15f, 0.15f, 0.2f}, "linear RGB added near the silhouette"),
+        (float1, rim_threshold, 0.6f, 0.0f, 1.0f, "rim where 1 - n.v exceeds this"),
+        (color3, outline_color, {0.0f, 0.0f, 0.0f}, "linear RGB of the silhouette outline"),
+        (float1, outline_width, 0.2f, 0.0f, 1.0f, "outline where n.v is below this; 0: no outline"),
+        (normal_map, normal_texture, "uv"),
+        (normal_scale, normal_scale),
+        (receiving, receive))
 
     // max(n.h, 0)^shininess > specular_threshold where n.h exceeds this.
     static float highlight_cos(const Params& p) {
         return std::pow(p.specular_threshold, 1.0f / p.shininess);
     }
 
-    static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, glm::vec4& clip) {
-        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
-        const glm::vec3 world = glm::vec3(d.model() * glm::vec4(in.position, 1.0f));
-        return {world, glm::normalize(d.normal_matrix() * in.normal), in.uv,
-                p.normal_texture ? world_tangent(d, in.tangent) : glm::vec4(0.0f)};
+    static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, Vec4& clip) {
+        clip = d.model_view_projection() * Vec4(in.position, 1.0f);
+        const Vec3 world = xyz(d.model() * Vec4(in.position, 1.0f));
+        return {world, normalize(d.normal_matrix() * in.normal), in.uv,
+                p.normal_texture ? world_tangent(d, in.tangent) : Vec4(splat(0.0f))};
     }
-
-    static glm::vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
-        glm::vec3 n = glm::normalize(v.normal);
-        if (p.normal_texture) n = normal_mapped(n, v.tangent, f.texture(0), p.normal_scale);
-        const glm::vec3 to_eye = glm::normalize(d.camera_position() - v.position);
-        const float n_v = glm::dot(n, to_eye);
-        if (p.outline_width > 0.0f && n_v < p.outline_width) return {p.outline_color, 1.0f};
-        const float highlight = highlight_cos(p);
-        glm::vec3 light = p.ambient * ambient_visibility(f, p.receive), shine(0.0f);
-        for (uint32_t i = 0; i < d.light_count(); ++i) {
-            const Incident in = incident_light(d.light(i), v.position);
-            const float n_l = glm::dot(n, in.to_light);
-            if (n_l <= 0.0f) continue;
-            const glm::vec3 radiance =
-                in.radiance * light_visibility(d, i, p.receive, v.position, n_l);
-            light += radiance * band(n_l, p.bands);
-            if (glm::dot(n, glm::normalize(in.to_light + to_eye)) > highlight)
-                shine += radiance * p.specular_color;
-        }
-        const glm::vec3 rim = 1.0f - n_v > p.rim_threshold ? p.rim_color : glm::vec3(0.0f);
-        return {p.base_color * light + shine + rim, 1.0f};
-    }
-
-    // The same for wide::kLanes fragments at once, which facet runs (the
-    // tests hold it to the reference above).
-    struct WideVaryings {
-        wide::Vec3 position;
-        wide::Vec3 normal;
-        wide::Vec2 uv;
-        wide::Vec4 tangent;
-    };
 
     // Two versions: one that receives shadows and AO, and one for draws that
     // receive neither (facet::sdk::receives).
-    static wide::Vec4 fragment_wide(const WideVaryings& v, WideFragment& f, const Draw& d,
-                                    const Params& p) {
+    static Vec4 fragment(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         return receives(d, p.receive) ? shade<true>(v, f, d, p) : shade<false>(v, f, d, p);
     }
 
     template <bool Receives>
-    static wide::Vec4 shade(const WideVaryings& v, WideFragment& f, const Draw& d,
-                            const Params& p) {
-        using namespace wide;
+    static Vec4 shade(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         Vec3 n = normalize(v.normal);
-        if (p.normal_texture) n = normal_mapped(n, v.tangent, f.texture(0), p.normal_scale);
+        if (p.normal_texture)
+            n = normal_mapped(n, v.tangent, f.texture(p.normal_texture), p.normal_scale);
         const Vec3 to_eye = normalize(d.camera_position() - v.position);
         const Float n_v = dot(n, to_eye);
         const Mask outline = p.outline_width > 0.0f ? n_v < p.outline_width : Mask{};
@@ -157,7 +94,7 @@ struct Toon {
         Vec3 light(p.ambient), shine(splat(0.0f));
         if constexpr (Receives) light = light * ambient_visibility(f, p.receive);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
-            const WideIncident in = incident_light(d.light(i), v.position);
+            const Incident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);
             const Mask facing = n_l > 0.0f;
             if (!any(facing)) continue;

@@ -7,6 +7,7 @@
 #include "facet/framebuffer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace facet {
@@ -18,13 +19,30 @@ const Texel8* level_texels(const Texture& t, int i) {
     return i == 0 ? t.texels.data() : t.mips[size_t(i - 1)].texels.data();
 }
 
+// Each 8-bit code's 14-bit linear one: sRGB-decoded for colour, c / 255
+// for alpha.
+struct Codes14 {
+    std::array<uint32_t, 256> colour, alpha;
+};
+
+const Codes14& codes14() {
+    static const Codes14 codes = [] {
+        Codes14 c;
+        for (int i = 0; i < 256; ++i) {
+            c.colour[size_t(i)] = uint32_t(std::lround(double(srgb8_to_linear(uint8_t(i))) * 16383.0));
+            c.alpha[size_t(i)] = uint32_t(std::lround(i / 255.0 * 16383.0));
+        }
+        return c;
+    }();
+    return codes;
+}
+
 // A colour texel's 14-bit linear codes, as two words: red and green, then
 // blue and alpha (linear already).
 void encode_rgba16(Texel8 t, uint32_t* out) {
-    const auto code = [](double linear) { return uint32_t(std::lround(linear * 16383.0)); };
-    const auto colour = [&](uint8_t c) { return code(double(srgb8_to_linear(c))); };
-    out[0] = colour(t.r) | colour(t.g) << 16;
-    out[1] = colour(t.b) | code(t.a / 255.0) << 16;
+    const Codes14& c = codes14();
+    out[0] = c.colour[t.r] | c.colour[t.g] << 16;
+    out[1] = c.colour[t.b] | c.alpha[t.a] << 16;
 }
 
 uint32_t encode_rgba8(Texel8 t) {

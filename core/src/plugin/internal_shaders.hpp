@@ -12,18 +12,18 @@ namespace facet::internal {
 
 // Depth only: shadow maps.
 struct DepthOnly {
-    struct Params {};
-    struct Varyings {};
+    FACET_VARYINGS()
+    FACET_PARAMS()
     static constexpr const char* name = "facet_depth_only";
     static constexpr const char* version = "internal";
     static constexpr uint32_t needs = 0;
     static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
-                           glm::vec4& clip) {
-        clip = d.model_view_projection() * glm::vec4(in.position, 1.0f);
+                           sdk::Vec4& clip) {
+        clip = d.model_view_projection() * sdk::Vec4(in.position, 1.0f);
         return {};
     }
-    static glm::vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
-        return glm::vec4(0.0f);
+    static sdk::Vec4 fragment(const Varyings&, sdk::Fragment&, const sdk::Draw&, const Params&) {
+        return sdk::Vec4(sdk::splat(0.0f));
     }
 };
 

@@ -1,27 +1,24 @@
-// facet shader authoring layer: vector math for fragment shaders (C++20,
+// facet shader authoring layer: the shading language's vector maths (C++20,
 // header-only; GCC or Clang).
 //
-// A fragment shader may give, beside its scalar `fragment`, a
-// `fragment_wide` that shades several lanes of a block at once with the
-// types below. It reads like the scalar one - Vec3 for glm::vec3, select()
-// for a branch - and each value is one vector register, where the scalar
-// loop runs lane after lane. When a shader has both, facet::sdk uses the
-// wide one; define FACET_SDK_SCALAR before including <facet/shader.hpp> to
-// use the scalar one (tests compare them).
+// A shader's vertex and fragment functions are written once, over the
+// types here, and run on kLanes vertices or fragments at a time: each
+// value is one vector register. Float holds kLanes floats, Vec2, Vec3
+// and Vec4 hold as many vectors, a comparison gives a Mask (all ones or
+// zero per lane). It reads like GLSL: dot, normalize, mix, clamp, pow,
+// reflect, select() for a branch that differs between lanes, any() to skip
+// work no lane needs. Uniform values (a material's parameters, a light)
+// are plain floats and glm vectors, and mix freely with the lane types.
 //
-// Float holds kLanes floats, as many as the widest register of the target
-// the code is compiled for: 16 with AVX-512, 8 with AVX2, 4 with SSE2 or
-// NEON. facet_add_shader() compiles a plugin once for each x86-64 path, so
-// the same fragment_wide runs 4, 8 or 16 lanes at a time and never holds
-// more values than the registers can; the batch loop calls it once per
-// kLanes lanes of the 16-fragment batch and skips lanes with no fragment.
-// Write it for any kLanes: a batch may hold pixels of several blocks and
-// triangles (shader.hpp), and WideFragment::coord gives each lane's pixel.
+// facet_add_shader() compiles a shader once for each path, and each build
+// gets its own kLanes: 16 with AVX-512, 8 with AVX2, 4 with SSE2 or NEON.
+// FACET_SDK_REFERENCE builds the reference the tests hold every path to:
+// plain per-lane code with the C library's functions (std::sqrt, std::pow,
+// ...), four lanes at a time, so that a 2x2 quad's derivatives work as on
+// the paths. Write a shader for any kLanes.
 //
-// Arithmetic and comparisons work lane by lane, mixed freely with plain
-// floats; a comparison gives a Mask (all ones or zero per lane). The
-// functions here are as accurate as their scalar counterparts within a few
-// units in the last place, except pow (see there).
+// The functions here are as accurate as their std:: counterparts within a
+// few units in the last place, except pow (see there).
 #pragma once
 
 #include <facet/shader_abi.h>
@@ -29,6 +26,7 @@
 #include <glm/glm.hpp>
 
 #include <bit>
+#include <type_traits>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -39,7 +37,13 @@
 #include <arm_neon.h>
 #endif
 
-#if defined(__AVX512F__)
+// The build's lane count, and which intrinsics it uses: none in the
+// reference build (FACET_WIDE_GENERIC), else the target's.
+#if defined(FACET_SDK_REFERENCE)
+#define FACET_WIDE_LANES 4
+#define FACET_WIDE_NAMESPACE reference
+#define FACET_WIDE_GENERIC 1
+#elif defined(__AVX512F__)
 #define FACET_WIDE_LANES 16
 #define FACET_WIDE_NAMESPACE lanes16
 #elif defined(__AVX__)
@@ -48,6 +52,35 @@
 #else
 #define FACET_WIDE_LANES 4
 #define FACET_WIDE_NAMESPACE lanes4
+#endif
+#ifndef FACET_WIDE_GENERIC
+#define FACET_WIDE_GENERIC 0
+#endif
+// Each 1 where this build takes that target's intrinsics.
+#if !FACET_WIDE_GENERIC && defined(__AVX512F__)
+#define FACET_WIDE_AVX512 1
+#else
+#define FACET_WIDE_AVX512 0
+#endif
+#if !FACET_WIDE_GENERIC && defined(__AVX__)
+#define FACET_WIDE_AVX 1
+#else
+#define FACET_WIDE_AVX 0
+#endif
+#if !FACET_WIDE_GENERIC && defined(__AVX2__)
+#define FACET_WIDE_AVX2 1
+#else
+#define FACET_WIDE_AVX2 0
+#endif
+#if !FACET_WIDE_GENERIC && defined(__SSE2__)
+#define FACET_WIDE_SSE2 1
+#else
+#define FACET_WIDE_SSE2 0
+#endif
+#if !FACET_WIDE_GENERIC && defined(__ARM_NEON) && defined(__aarch64__)
+#define FACET_WIDE_NEON 1
+#else
+#define FACET_WIDE_NEON 0
 #endif
 
 namespace facet::sdk::wide {
@@ -73,24 +106,24 @@ inline Mask select(const Mask& m, const Mask& a, const Mask& b) { return m ? a :
 // swapped (their second operand where the comparison fails); GCC does not
 // make them of the comparisons, which take two instructions.
 inline Float min(const Float& a, const Float& b) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     const __m512 x = std::bit_cast<__m512>(b), y = std::bit_cast<__m512>(a);
     return std::bit_cast<Float>(_mm512_mask_min_ps(x, 0xFFFF, x, y));  // GCC 12 warns of the plain form
-#elif defined(__AVX__)
+#elif FACET_WIDE_AVX
     return std::bit_cast<Float>(_mm256_min_ps(std::bit_cast<__m256>(b), std::bit_cast<__m256>(a)));
-#elif defined(__SSE2__)
+#elif FACET_WIDE_SSE2
     return std::bit_cast<Float>(_mm_min_ps(std::bit_cast<__m128>(b), std::bit_cast<__m128>(a)));
 #else
     return b < a ? b : a;
 #endif
 }
 inline Float max(const Float& a, const Float& b) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     const __m512 x = std::bit_cast<__m512>(b), y = std::bit_cast<__m512>(a);
     return std::bit_cast<Float>(_mm512_mask_max_ps(x, 0xFFFF, x, y));  // GCC 12 warns of the plain form
-#elif defined(__AVX__)
+#elif FACET_WIDE_AVX
     return std::bit_cast<Float>(_mm256_max_ps(std::bit_cast<__m256>(b), std::bit_cast<__m256>(a)));
-#elif defined(__SSE2__)
+#elif FACET_WIDE_SSE2
     return std::bit_cast<Float>(_mm_max_ps(std::bit_cast<__m128>(b), std::bit_cast<__m128>(a)));
 #else
     return a < b ? b : a;
@@ -104,13 +137,13 @@ inline Float abs(const Float& x) {
 
 // Correctly rounded, as std::sqrt.
 inline Float sqrt(const Float& x) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     return std::bit_cast<Float>(_mm512_maskz_sqrt_ps(0xFFFF, std::bit_cast<__m512>(x)));
-#elif defined(__AVX__)
+#elif FACET_WIDE_AVX
     return std::bit_cast<Float>(_mm256_sqrt_ps(std::bit_cast<__m256>(x)));
-#elif defined(__SSE2__)
+#elif FACET_WIDE_SSE2
     return std::bit_cast<Float>(_mm_sqrt_ps(std::bit_cast<__m128>(x)));
-#elif defined(__ARM_NEON) && defined(__aarch64__)
+#elif FACET_WIDE_NEON
     return std::bit_cast<Float>(vsqrtq_f32(std::bit_cast<float32x4_t>(x)));
 #else
     Float r;
@@ -124,11 +157,15 @@ inline Float sqrt(const Float& x) {
 // 2^23 or more are whole already and stay as they are, as do NaN and
 // infinities. One rounding instruction where the path has one.
 inline Float floor(const Float& x) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     const __m512 v = std::bit_cast<__m512>(x);  // masked: GCC 12 warns of the plain form
     return std::bit_cast<Float>(_mm512_mask_roundscale_ps(v, 0xFFFF, v, 0x09)) + 0.0f;
-#elif defined(__AVX__)
+#elif FACET_WIDE_AVX
     return std::bit_cast<Float>(_mm256_round_ps(std::bit_cast<__m256>(x), 0x09)) + 0.0f;
+#elif FACET_WIDE_GENERIC
+    Float r;
+    for (int i = 0; i < kLanes; ++i) r[i] = std::floor(x[i]) + 0.0f;
+    return r;
 #else
     const Mask small = x < 8388608.0f && x > -8388608.0f;  // false for NaN
     const Float t = __builtin_convertvector(
@@ -137,11 +174,15 @@ inline Float floor(const Float& x) {
 #endif
 }
 inline Float ceil(const Float& x) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     const __m512 v = std::bit_cast<__m512>(x);  // masked: GCC 12 warns of the plain form
     return std::bit_cast<Float>(_mm512_mask_roundscale_ps(v, 0xFFFF, v, 0x0A)) + 0.0f;
-#elif defined(__AVX__)
+#elif FACET_WIDE_AVX
     return std::bit_cast<Float>(_mm256_round_ps(std::bit_cast<__m256>(x), 0x0A)) + 0.0f;
+#elif FACET_WIDE_GENERIC
+    Float r;
+    for (int i = 0; i < kLanes; ++i) r[i] = std::ceil(x[i]) + 0.0f;
+    return r;
 #else
     const Mask small = x < 8388608.0f && x > -8388608.0f;
     const Float t = __builtin_convertvector(
@@ -153,12 +194,12 @@ inline Float ceil(const Float& x) {
 // base[index[i]] for each lane of `m`, `otherwise` for the others (whose
 // index is not read).
 inline Float gather(const float* base, const Mask& index, const Mask& m, float otherwise) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     return std::bit_cast<Float>(_mm512_mask_i32gather_ps(
         _mm512_set1_ps(otherwise), _mm512_cmplt_epi32_mask(std::bit_cast<__m512i>(m),
                                                            _mm512_setzero_si512()),
         std::bit_cast<__m512i>(index), base, 4));
-#elif defined(__AVX2__)
+#elif FACET_WIDE_AVX2
     return std::bit_cast<Float>(_mm256_mask_i32gather_ps(
         _mm256_set1_ps(otherwise), base, std::bit_cast<__m256i>(index),
         std::bit_cast<__m256>(m), 4));
@@ -175,7 +216,7 @@ inline Float gather(const float* base, const Mask& index, const Mask& m, float o
 // lane and a 4x4 transpose in each 128-bit part, where four gathers would
 // fetch each float on its own.
 inline void gather4(const float* base, const Mask& index, Float out[4]) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     __m512 r[4];  // part j of r[k]: lane 4j + k's record
     for (int k = 0; k < 4; ++k) {
         const auto part = [&](int j) { return _mm_loadu_ps(base + index[4 * j + k]); };
@@ -191,7 +232,7 @@ inline void gather4(const float* base, const Mask& index, Float out[4]) {
     out[1] = std::bit_cast<Float>(_mm512_shuffle_ps(t0, t2, 0xEE));
     out[2] = std::bit_cast<Float>(_mm512_shuffle_ps(t1, t3, 0x44));
     out[3] = std::bit_cast<Float>(_mm512_shuffle_ps(t1, t3, 0xEE));
-#elif defined(__AVX__)
+#elif FACET_WIDE_AVX
     __m256 r[4];  // r[k]: lane k's record, then lane k + 4's
     for (int k = 0; k < 4; ++k)
         r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(base + index[k])),
@@ -202,7 +243,7 @@ inline void gather4(const float* base, const Mask& index, Float out[4]) {
     out[1] = std::bit_cast<Float>(_mm256_shuffle_ps(t0, t2, 0xEE));
     out[2] = std::bit_cast<Float>(_mm256_shuffle_ps(t1, t3, 0x44));
     out[3] = std::bit_cast<Float>(_mm256_shuffle_ps(t1, t3, 0xEE));
-#elif defined(__SSE2__)
+#elif FACET_WIDE_SSE2
     __m128 r[4];
     for (int k = 0; k < 4; ++k) r[k] = _mm_loadu_ps(base + index[k]);
     const __m128 t0 = _mm_unpacklo_ps(r[0], r[1]), t1 = _mm_unpackhi_ps(r[0], r[1]);
@@ -223,11 +264,11 @@ inline void gather4(const float* base, const Mask& index, Float out[4]) {
 using Quads = uint64_t __attribute__((vector_size(4 * kLanes)));
 using HalfIndex = int32_t __attribute__((vector_size(2 * kLanes)));
 inline Quads gather_quads(const uint16_t* base, const HalfIndex& index) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     // The masked form: GCC 12 warns that the plain one's source is undefined.
     return std::bit_cast<Quads>(_mm512_mask_i32gather_epi64(
         _mm512_setzero_si512(), 0xFF, std::bit_cast<__m256i>(index), base, 2));
-#elif defined(__AVX2__)
+#elif FACET_WIDE_AVX2
     return std::bit_cast<Quads>(_mm256_i32gather_epi64(reinterpret_cast<const long long*>(base),
                                                        std::bit_cast<__m128i>(index), 2));
 #else
@@ -247,6 +288,11 @@ inline Quads gather_quads(const uint16_t* base, const HalfIndex& index) {
 // 2 atanh(t), t = (m - 1) / (m + 1), from its series to t^9 (|t| < 0.172, so
 // the first term left out, t^10 / 11 of the sum, is below 2^-29).
 inline Float log2(const Float& x) {
+#if FACET_WIDE_GENERIC
+    Float generic;
+    for (int i = 0; i < kLanes; ++i) generic[i] = std::log2(x[i]);
+    return generic;
+#endif
     const Mask bits = std::bit_cast<Mask>(x);
     Float e = __builtin_convertvector(((bits >> 23) & 0xFF) - 127, Float);
     Float m = std::bit_cast<Float>((bits & 0x7FFFFF) | 0x3F800000);  // [1, 2)
@@ -264,6 +310,11 @@ inline Float log2(const Float& x) {
 // 2^-126 and overflows to infinity above FLT_MAX as a float would. NaN
 // stays NaN.
 inline Float exp2(const Float& y) {
+#if FACET_WIDE_GENERIC
+    Float generic;
+    for (int i = 0; i < kLanes; ++i) generic[i] = std::exp2(y[i]);
+    return generic;
+#endif
     const Float c = clamp(select(y != y, splat(0.0f), y), -160.0f, 160.0f);  // NaN: any number
     Float n = __builtin_convertvector(__builtin_convertvector(c, Mask), Float);  // truncated
     n = select(n > c, n - 1.0f, n);                                              // floored
@@ -283,14 +334,25 @@ inline Float exp2(const Float& y) {
 // result is above 1e-7, against std::pow (tests/test_wide.cpp). x below
 // FLT_MIN counts as 0: 0^y is 0, and 1 for y = 0. NaN stays NaN.
 inline Float pow(const Float& x, const Float& y) {
+#if FACET_WIDE_GENERIC
+    Float generic;
+    for (int i = 0; i < kLanes; ++i) generic[i] = std::pow(x[i], y[i]);
+    return generic;
+#endif
     const Float r = exp2(y * log2(max(x, splat(1.17549435e-38f))));
     const Float zero = select(y == 0.0f, splat(1.0f), splat(0.0f));
     return select(x != x, x, select(x < 1.17549435e-38f, zero, r));  // NaN stays NaN
 }
 inline Float pow(const Float& x, float y) { return pow(x, splat(y)); }
 
+// ---- vectors -------------------------------------------------------------------
+
 struct Vec2 {
     Float x, y;
+    Vec2() = default;
+    Vec2(const Float& x_, const Float& y_) : x(x_), y(y_) {}
+    explicit Vec2(const glm::vec2& v) : x(splat(v.x)), y(splat(v.y)) {}
+    explicit Vec2(const Float& s) : x(s), y(s) {}
 };
 
 struct Vec3 {
@@ -305,61 +367,184 @@ struct Vec4 {
     Float x, y, z, w;
     Vec4() = default;
     Vec4(const Vec3& v, const Float& w_) : x(v.x), y(v.y), z(v.z), w(w_) {}
+    Vec4(const Vec3& v, float w_) : x(v.x), y(v.y), z(v.z), w(splat(w_)) {}
     Vec4(const Float& x_, const Float& y_, const Float& z_, const Float& w_)
         : x(x_), y(y_), z(z_), w(w_) {}
     explicit Vec4(const glm::vec4& v) : x(splat(v.x)), y(splat(v.y)), z(splat(v.z)), w(splat(v.w)) {}
+    explicit Vec4(const Float& s) : x(s), y(s), z(s), w(s) {}
 };
 
-// Vec3 arithmetic, lane by lane, with Vec3, Float or float operands.
-inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator*(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-inline Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
-inline Vec3 operator*(const Vec3& a, const Float& s) { return {a.x * s, a.y * s, a.z * s}; }
-inline Vec3 operator*(const Float& s, const Vec3& a) { return a * s; }
-// One division, three multiplies (within an ulp or two of three divisions).
-inline Vec3 operator/(const Vec3& a, const Float& s) {
-    const Float r = 1.0f / s;
-    return {a.x * r, a.y * r, a.z * r};
+// The first three components, as GLSL's v.xyz (and a colour's rgb).
+inline Vec3 xyz(const Vec4& v) { return {v.x, v.y, v.z}; }
+inline Vec3 rgb(const Vec4& v) { return {v.x, v.y, v.z}; }
+
+// Lane-by-lane arithmetic of Vec2, Vec3 and Vec4 with each other, with
+// Float and float, and with glm's vectors of the same size (uniforms).
+namespace vec {
+template <class V>
+constexpr int size() {
+    if constexpr (sizeof(V) == 2 * sizeof(Float)) return 2;
+    else if constexpr (sizeof(V) == 3 * sizeof(Float)) return 3;
+    else return 4;
 }
-inline Vec3 operator+(const Vec3& a, const glm::vec3& b) { return a + Vec3(b); }
-inline Vec3 operator+(const glm::vec3& a, const Vec3& b) { return Vec3(a) + b; }
-inline Vec3 operator-(const glm::vec3& a, const Vec3& b) { return Vec3(a) - b; }
-inline Vec3 operator*(const Vec3& a, const glm::vec3& b) { return a * Vec3(b); }
-inline Vec3 operator*(const glm::vec3& a, const Vec3& b) { return Vec3(a) * b; }
+template <class V>
+concept Lanes = std::is_same_v<V, Vec2> || std::is_same_v<V, Vec3> || std::is_same_v<V, Vec4>;
+// f of each component (of a and b). Spelt out rather than a loop over the
+// components through a pointer, which GCC keeps in memory.
+template <Lanes V, class F>
+[[gnu::always_inline]] inline V each(const V& a, const V& b, F f) {
+    if constexpr (size<V>() == 2) return {f(a.x, b.x), f(a.y, b.y)};
+    else if constexpr (size<V>() == 3) return {f(a.x, b.x), f(a.y, b.y), f(a.z, b.z)};
+    else return {f(a.x, b.x), f(a.y, b.y), f(a.z, b.z), f(a.w, b.w)};
+}
+template <Lanes V, class F>
+[[gnu::always_inline]] inline V each(const V& a, F f) {
+    if constexpr (size<V>() == 2) return {f(a.x), f(a.y)};
+    else if constexpr (size<V>() == 3) return {f(a.x), f(a.y), f(a.z)};
+    else return {f(a.x), f(a.y), f(a.z), f(a.w)};
+}
+// glm's vector of V's size, broadcast.
+template <Lanes V>
+using Uniform = glm::vec<size<V>(), float>;
+}  // namespace vec
+
+#define FACET_WIDE_OPERATOR(op)                                                             \
+    template <vec::Lanes V>                                                              \
+    inline V operator op(const V& a, const V& b) {                                          \
+        return vec::each(a, b, [](const Float& x, const Float& y) { return x op y; });  \
+    }                                                                                       \
+    template <vec::Lanes V>                                                              \
+    inline V operator op(const V& a, const Float& s) {                                      \
+        return vec::each(a, [&](const Float& x) { return x op s; });                     \
+    }                                                                                       \
+    template <vec::Lanes V>                                                              \
+    inline V operator op(const Float& s, const V& a) {                                      \
+        return vec::each(a, [&](const Float& x) { return s op x; });                     \
+    }                                                                                       \
+    template <vec::Lanes V>                                                              \
+    inline V operator op(const V& a, float s) { return a op splat(s); }                     \
+    template <vec::Lanes V>                                                              \
+    inline V operator op(float s, const V& a) { return splat(s) op a; }                     \
+    template <vec::Lanes V>                                                              \
+    inline V operator op(const V& a, const vec::Uniform<V>& b) { return a op V(b); }     \
+    template <vec::Lanes V>                                                              \
+    inline V operator op(const vec::Uniform<V>& a, const V& b) { return V(a) op b; }     \
+    template <vec::Lanes V, class T>                                                     \
+    inline V& operator op##=(V& a, const T& b) { return a = a op b; }
+FACET_WIDE_OPERATOR(+)
+FACET_WIDE_OPERATOR(-)
+FACET_WIDE_OPERATOR(*)
+#undef FACET_WIDE_OPERATOR
+
+// A uniform vector times a Float (a colour times a lane's weight).
+inline Vec2 operator*(const glm::vec2& a, const Float& s) { return Vec2(a) * s; }
 inline Vec3 operator*(const glm::vec3& a, const Float& s) { return Vec3(a) * s; }
+inline Vec4 operator*(const glm::vec4& a, const Float& s) { return Vec4(a) * s; }
+inline Vec2 operator*(const Float& s, const glm::vec2& a) { return Vec2(a) * s; }
 inline Vec3 operator*(const Float& s, const glm::vec3& a) { return Vec3(a) * s; }
-inline Vec3& operator+=(Vec3& a, const Vec3& b) { return a = a + b; }
+inline Vec4 operator*(const Float& s, const glm::vec4& a) { return Vec4(a) * s; }
 
-inline Vec4 operator+(const Vec4& a, const Vec4& b) {
-    return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w};
+template <vec::Lanes V>
+inline V operator-(const V& a) {
+    return vec::each(a, [](const Float& x) { return -x; });
 }
-inline Vec4 operator*(const Vec4& a, const Vec4& b) {
-    return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w};
+// Division by a Float: one division, then multiplies (within an ulp or two
+// of dividing each component).
+template <vec::Lanes V>
+inline V operator/(const V& a, const Float& s) {
+    const Float r = 1.0f / s;
+    return a * r;
 }
-inline Vec4 operator*(const Vec4& a, const glm::vec4& b) { return a * Vec4(b); }
+template <vec::Lanes V>
+inline V operator/(const V& a, float s) { return a * (1.0f / s); }
+template <vec::Lanes V>
+inline V operator/(const V& a, const V& b) {
+    return vec::each(a, b, [](const Float& x, const Float& y) { return x / y; });
+}
 
-inline Vec3 select(const Mask& m, const Vec3& a, const Vec3& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+template <vec::Lanes V>
+inline V select(const Mask& m, const V& a, const V& b) {
+    return vec::each(a, b, [&](const Float& x, const Float& y) { return select(m, x, y); });
+}
+template <vec::Lanes V>
+inline V min(const V& a, const V& b) {
+    return vec::each(a, b, [](const Float& x, const Float& y) { return min(x, y); });
+}
+template <vec::Lanes V>
+inline V max(const V& a, const V& b) {
+    return vec::each(a, b, [](const Float& x, const Float& y) { return max(x, y); });
+}
+template <vec::Lanes V>
+inline V clamp(const V& v, float lo, float hi) {
+    return vec::each(v, [&](const Float& x) { return clamp(x, lo, hi); });
+}
+template <vec::Lanes V>
+inline V abs(const V& v) {
+    return vec::each(v, [](const Float& x) { return abs(x); });
 }
 
+// ---- GLSL's functions ------------------------------------------------------------
+
+inline Float min(const Float& a, float b) { return min(a, splat(b)); }
+inline Float max(const Float& a, float b) { return max(a, splat(b)); }
+inline Float clamp(const Float& x, const Float& lo, const Float& hi) { return min(max(x, lo), hi); }
+inline Float fract(const Float& x) { return x - floor(x); }
+// 1 where x >= edge, else 0.
+inline Float step(float edge, const Float& x) { return select(x >= edge, splat(1.0f), splat(0.0f)); }
+// a + (b - a) t, as GLSL's mix.
+inline Float mix(const Float& a, const Float& b, const Float& t) { return a + (b - a) * t; }
+template <vec::Lanes V>
+inline V mix(const V& a, const V& b, const Float& t) { return a + (b - a) * t; }
+template <vec::Lanes V>
+inline V mix(const V& a, const V& b, float t) { return a + (b - a) * t; }
+// 0 below lo, 1 above hi, and 3t^2 - 2t^3 of t = (x - lo) / (hi - lo)
+// between (hi > lo); a step at lo when they are equal.
+inline Float smoothstep(float lo, float hi, const Float& x) {
+    if (!(hi > lo)) return step(lo, x);
+    const Float t = clamp((x - lo) * (1.0f / (hi - lo)), 0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+inline Float dot(const Vec2& a, const Vec2& b) { return a.x * b.x + a.y * b.y; }
 inline Float dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Float length(const Vec3& v) { return sqrt(dot(v, v)); }
+inline Float dot(const Vec4& a, const Vec4& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
+}
+inline Float dot(const Vec3& a, const glm::vec3& b) { return dot(a, Vec3(b)); }
+template <vec::Lanes V>
+inline Float length(const V& v) { return sqrt(dot(v, v)); }
+template <vec::Lanes V>
+inline Float distance(const V& a, const V& b) { return length(a - b); }
 // As glm::normalize: v times 1 / |v|.
-inline Vec3 normalize(const Vec3& v) { return v * (1.0f / sqrt(dot(v, v))); }
+template <vec::Lanes V>
+inline V normalize(const V& v) { return v * (1.0f / sqrt(dot(v, v))); }
 // As glm::reflect: i - 2 dot(n, i) n.
 inline Vec3 reflect(const Vec3& i, const Vec3& n) { return i - n * (2.0f * dot(n, i)); }
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
+// A uniform matrix times lane vectors (glm's column-major layout).
+inline Vec4 operator*(const glm::mat4& m, const Vec4& v) {
+    const auto row = [&](int r) {
+        return (m[0][r] * v.x + m[1][r] * v.y) + (m[2][r] * v.z + m[3][r] * v.w);
+    };
+    return {row(0), row(1), row(2), row(3)};
+}
+inline Vec3 operator*(const glm::mat3& m, const Vec3& v) {
+    const auto row = [&](int r) { return m[0][r] * v.x + m[1][r] * v.y + m[2][r] * v.z; };
+    return {row(0), row(1), row(2)};
+}
+
+// ---- masks ---------------------------------------------------------------------
+
 // The lanes of a call as a bit mask (bit i for lane i), from a Mask.
 inline uint32_t bits(const Mask& m) {
-#if defined(__AVX512F__)
+#if FACET_WIDE_AVX512
     return _mm512_cmplt_epi32_mask(std::bit_cast<__m512i>(m), _mm512_setzero_si512());
-#elif defined(__AVX__)
+#elif FACET_WIDE_AVX
     return uint32_t(_mm256_movemask_ps(std::bit_cast<__m256>(m)));
-#elif defined(__SSE2__)
+#elif FACET_WIDE_SSE2
     return uint32_t(_mm_movemask_ps(std::bit_cast<__m128>(m)));
 #else
     uint32_t r = 0;
@@ -369,8 +554,57 @@ inline uint32_t bits(const Mask& m) {
 }
 
 // Whether any lane of `m` is set: to skip work no lane needs, as a GPU
-// shader branches when a whole warp agrees.
+// shader branches when a whole warp agrees. all(): every lane.
 inline bool any(const Mask& m) { return bits(m) != 0; }
+inline bool all(const Mask& m) { return bits(m) == (1u << kLanes) - 1u; }
+
+// ---- 2x2 quads -------------------------------------------------------------------
+
+// A fragment call's lanes are whole 2x2 quads of pixels (<facet/shader.hpp>
+// arranges it): in each quad of four lanes, the top-left, top-right,
+// bottom-left and bottom-right pixel are lanes q, q + 1, q + kQuadRow,
+// q + kQuadRow + 1. With four lanes, the call is one quad; wider, it is
+// rows of the 4x4 block.
+constexpr int kQuadRow = kLanes == 4 ? 2 : 4;
+
+// Each lane's quad's top-left, top-right and bottom-left values.
+struct QuadCorners {
+    Float tl, tr, bl;
+};
+inline QuadCorners quad_corners(const Float& v) {
+#if FACET_WIDE_LANES == 16
+    return {__builtin_shufflevector(v, v, 0, 0, 2, 2, 0, 0, 2, 2, 8, 8, 10, 10, 8, 8, 10, 10),
+            __builtin_shufflevector(v, v, 1, 1, 3, 3, 1, 1, 3, 3, 9, 9, 11, 11, 9, 9, 11, 11),
+            __builtin_shufflevector(v, v, 4, 4, 6, 6, 4, 4, 6, 6, 12, 12, 14, 14, 12, 12, 14, 14)};
+#elif FACET_WIDE_LANES == 8
+    return {__builtin_shufflevector(v, v, 0, 0, 2, 2, 0, 0, 2, 2),
+            __builtin_shufflevector(v, v, 1, 1, 3, 3, 1, 1, 3, 3),
+            __builtin_shufflevector(v, v, 4, 4, 6, 6, 4, 4, 6, 6)};
+#else
+    return {__builtin_shufflevector(v, v, 0, 0, 0, 0), __builtin_shufflevector(v, v, 1, 1, 1, 1),
+            __builtin_shufflevector(v, v, 2, 2, 2, 2)};
+#endif
+}
+
+// Screen-space derivatives, as GLSL's dFdx and dFdy (coarse: one a quad,
+// from its top row and its left column). Meaningful only in shaders that
+// ask for FACET_NEED_DERIVATIVES, whose fragments are never packed.
+inline Float dFdx(const Float& v) {
+    const QuadCorners c = quad_corners(v);
+    return c.tr - c.tl;
+}
+inline Float dFdy(const Float& v) {
+    const QuadCorners c = quad_corners(v);
+    return c.bl - c.tl;
+}
+template <vec::Lanes V>
+inline V dFdx(const V& v) {
+    return vec::each(v, [](const Float& x) { return dFdx(x); });
+}
+template <vec::Lanes V>
+inline V dFdy(const V& v) {
+    return vec::each(v, [](const Float& x) { return dFdy(x); });
+}
 
 }  // namespace FACET_WIDE_NAMESPACE
 }  // namespace facet::sdk::wide
