@@ -124,9 +124,12 @@ TEST_CASE("the per-path sampler takes a level of detail per lane", "[texture][is
         for (int i = 0; i < N; ++i)
             u[i] = coordinate(random), v[i] = coordinate(random), lod[i] = level(random);
         if (k == 0) lod[3] = std::numeric_limits<float>::quiet_NaN();  // read as level 0
+        float coords[2 * N];
+        std::copy(u, u + N, coords);
+        std::copy(v, v + N, coords + N);
         for (const Isa isa : supported_isas()) {
             float got[4 * N];
-            kernels(isa).sample_lod(b, u, v, lod, 0xFFFFu, got);
+            kernels(isa).sample_lanes(b, coords, lod, N, 0xFFFFu, got);
             for (int i = 0; i < N; ++i) {
                 const glm::vec4 expected = sample_lod(b, {u[i], v[i]}, lod[i]);
                 for (int c = 0; c < 4; ++c)
@@ -146,4 +149,76 @@ TEST_CASE("the per-path sampler reads an unbound texture as white", "[texture][i
         kernels(isa).sample_block(none, u, v, 0x00F0u, got);
         for (int i = 0; i < 4 * N; ++i) CHECK(got[i] == ((0x00F0u >> (i % N) & 1u) ? 1.0f : 0.0f));
     }
+}
+
+namespace {
+
+// A cube of six n x n faces of noise over a distinct colour each.
+std::shared_ptr<Texture> noise_cube(int n, bool srgb, uint32_t seed) {
+    auto t = std::make_shared<Texture>();
+    t->width = t->height = n;
+    t->faces = 6;
+    t->srgb = srgb;
+    std::mt19937 random(seed);
+    for (int f = 0; f < 6; ++f)
+        for (int i = 0; i < n * n; ++i)
+            t->texels.push_back({uint8_t(40 * f + random() % 40), uint8_t(random()),
+                                 uint8_t(255 - 40 * f - random() % 40), uint8_t(random())});
+    generate_mipmaps(*t);
+    return t;
+}
+
+}  // namespace
+
+TEST_CASE("cube maps: each face by the direction's largest component, as GL and Vulkan lay "
+          "them out",
+          "[texture][cube]") {
+    glm::vec2 uv;
+    CHECK(cube_face({2, 0.5f, -1}, uv) == 0);
+    CHECK(uv == glm::vec2((1.0f / 2 + 1) / 2, (-0.5f / 2 + 1) / 2));  // sc = -z, tc = -y
+    CHECK(cube_face({-2, 0, 0}, uv) == 1);
+    CHECK(cube_face({0.5f, 3, 1}, uv) == 2);
+    CHECK(uv == glm::vec2((0.5f / 3 + 1) / 2, (1.0f / 3 + 1) / 2));  // sc = x, tc = z
+    CHECK(cube_face({0, -3, 0}, uv) == 3);
+    CHECK(cube_face({0, 0, 1}, uv) == 4);
+    CHECK(uv == glm::vec2(0.5f, 0.5f));
+    CHECK(cube_face({0, 0, -1}, uv) == 5);
+    CHECK(cube_face({1, 1, 1}, uv) == 0);  // ties: x before y before z
+    CHECK(cube_face({0, 0, 0}, uv) == 1);  // no direction: as ties go, a face's middle
+    CHECK(uv == glm::vec2(0.5f));
+}
+
+TEST_CASE("the per-path sampler reads cube maps as the reference does", "[texture][cube][isa]") {
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f), level(-1.0f, 6.0f);
+    for (const bool srgb : {true, false})
+        for (const Filter filter : {Filter::nearest, Filter::bilinear, Filter::trilinear}) {
+            INFO((srgb ? "sRGB" : "linear") << ", filter " << int(filter));
+            const TextureBinding b{noise_cube(16, srgb, 12), filter, Wrap::repeat};
+            int worst = 0;
+            for (int k = 0; k < 300; ++k) {
+                float coords[3 * N], lod[N];
+                for (int i = 0; i < N; ++i) {
+                    for (int c = 0; c < 3; ++c) coords[c * N + i] = unit(random);
+                    lod[i] = level(random);
+                }
+                if (k == 0) coords[0] = coords[N] = coords[2 * N] = 0.0f;  // no direction
+                const uint32_t count = k % 3 == 0 ? 4 : k % 3 == 1 ? 8 : 16;
+                float packed[3 * N];  // count lanes a component, as the service takes them
+                for (int c = 0; c < 3; ++c)
+                    std::copy(coords + c * N, coords + c * N + count, packed + c * count);
+                for (const Isa isa : supported_isas()) {
+                    float got[4 * N];
+                    kernels(isa).sample_lanes(b, packed, lod, count, 0xFFFFu, got);
+                    for (uint32_t i = 0; i < count; ++i) {
+                        const glm::vec3 d(coords[i], coords[N + i], coords[2 * N + i]);
+                        const glm::vec4 want = sample_cube(b, d, lod[i]);
+                        for (int c = 0; c < 4; ++c)
+                            worst = std::max(worst, std::abs(code(got[c * count + i], srgb && c < 3) -
+                                                             code(want[c], srgb && c < 3)));
+                    }
+                }
+            }
+            CHECK(worst <= 1);
+        }
 }

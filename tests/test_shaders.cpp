@@ -1064,3 +1064,245 @@ TEST_CASE("unlit.so computes vertex colour x base colour x texture", "[shader][u
             }
     }
 }
+
+// ---- the mirror: a cube map sampled where the shader says ----------------------
+
+namespace {
+
+// Six 32x32 faces, each its own colour under stripes 4 texels wide that
+// the mip levels blur away: what a pixel reads shows which face, where on
+// it, and at which level.
+TextureBinding stripe_cube(Filter filter) {
+    auto t = std::make_shared<Texture>();
+    t->width = t->height = 32;
+    t->faces = 6;
+    t->srgb = true;
+    const glm::vec3 colour[6] = {{1, 0.3f, 0.2f}, {0.2f, 1, 0.3f}, {0.3f, 0.2f, 1},
+                                 {1, 1, 0.2f},    {0.2f, 1, 1},    {1, 0.2f, 1}};
+    for (int f = 0; f < 6; ++f)
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                const float stripe = ((x / 4 + y / 4) % 2) ? 1.0f : 0.25f;
+                t->texels.push_back(encode_texel(glm::vec4(colour[f] * stripe, 1.0f), true));
+            }
+    generate_mipmaps(*t);
+    return {t, filter, Wrap::repeat};
+}
+
+// The cube's level l of face f at (u, v), bilinear and clamped, in double.
+dvec4 ref_face_level(const Texture& t, int f, int l, dvec2 uv) {
+    const int n = l == 0 ? t.width : t.mips[size_t(l - 1)].width;
+    const std::vector<Texel8>& texels = l == 0 ? t.texels : t.mips[size_t(l - 1)].texels;
+    const auto at = [&](int x, int y) {
+        x = std::clamp(x, 0, n - 1), y = std::clamp(y, 0, n - 1);
+        return dvec4(decode_texel(texels[size_t(f) * size_t(n * n) + size_t(y * n + x)], true));
+    };
+    const double x = uv.x * n - 0.5, y = uv.y * n - 0.5;
+    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    const double fx = x - x0, fy = y - y0;
+    return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx),
+                    glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
+}
+
+// The cube in direction d at level of detail lod, trilinear, in double;
+// nothing where d's two largest components are within `margin` (the face
+// could go either way: facet's vertices, snapped to 1/256 pixel, move d a
+// little).
+std::optional<dvec4> ref_cube(const Texture& t, dvec3 d, double lod, double margin) {
+    const dvec3 a = glm::abs(d);
+    const double top = std::max({a.x, a.y, a.z});
+    const double second = a.x == top ? std::max(a.y, a.z) : a.y == top ? std::max(a.x, a.z)
+                                                                       : std::max(a.x, a.y);
+    if (top - second < margin) return std::nullopt;
+    int f;
+    double sc, tc;
+    if (a.x == top) f = d.x > 0 ? 0 : 1, sc = d.x > 0 ? -d.z : d.z, tc = -d.y;
+    else if (a.y == top) f = d.y > 0 ? 2 : 3, sc = d.x, tc = d.y > 0 ? d.z : -d.z;
+    else f = d.z > 0 ? 4 : 5, sc = d.z > 0 ? d.x : -d.x, tc = -d.y;
+    const dvec2 uv((sc / top + 1) / 2, (tc / top + 1) / 2);
+    const double l = std::clamp(lod, 0.0, double(t.levels() - 1));
+    const int lo = int(l);
+    const dvec4 a0 = ref_face_level(t, f, lo, uv);
+    if (lo + 1 >= t.levels()) return a0;
+    return glm::mix(a0, ref_face_level(t, f, lo + 1, uv), l - lo);
+}
+
+// Where pixel (x, y)'s ray meets the quad's plane, in the quad's own XY.
+dvec2 quad_point(const Setup& s, int x, int y) {
+    const Ray r = pixel_ray(s, x, y);
+    const glm::dmat4 to_local = glm::inverse(glm::dmat4(s.model));
+    const dvec3 o = dvec3(to_local * dvec4(r.origin, 1.0));
+    const dvec3 d = dvec3(to_local * dvec4(r.direction, 0.0));
+    return dvec2(o) - (o.z / d.z) * dvec2(d);
+}
+
+// The reflected direction at pixel (x, y) as mirror.cpp makes it, from the
+// varyings of hit h's triangle there (beyond the triangle too, as a quad's
+// lanes off it are).
+dvec3 ref_reflection(const Setup& s, const Hit& h, int x, int y) {
+    const dvec2 q = quad_point(s, x, y);
+    Hit at = h;
+    const dvec2 a(s.mesh.positions[h.vertex[0]]), b(s.mesh.positions[h.vertex[1]]),
+        c(s.mesh.positions[h.vertex[2]]);
+    const auto cross = [](dvec2 u, dvec2 v) { return u.x * v.y - u.y * v.x; };
+    const double area = cross(b - a, c - a);
+    at.weight[1] = cross(q - a, c - a) / area;
+    at.weight[2] = cross(b - a, q - a) / area;
+    at.weight[0] = 1.0 - at.weight[1] - at.weight[2];
+    const dvec3 p = interpolate(at, world_positions(s));
+    const dvec3 n = glm::normalize(interpolate(at, world_normals(s)));
+    return glm::reflect(glm::normalize(p - dvec3(s.eye)), n);
+}
+
+}  // namespace
+
+TEST_CASE("mirror.so reflects its cube map at the level of detail its reflection's "
+          "derivatives give, on every path",
+          "[shader][mirror][cube][isa]") {
+    PluginRegistry registry;
+    const auto mirror = registry.get("mirror");
+    // Large, the reflection magnified; small, minified down the mip levels.
+    for (const int width : {160, 40})
+    for (const double blur : {0.0, 1.5})
+        for (const Filter filter : {Filter::trilinear, Filter::bilinear}) {
+            INFO("width " << width << ", blur " << blur << ", filter " << int(filter));
+            Setup s = quad_setup();
+            s.width = width, s.height = width * 7 / 10;
+            const TextureBinding cube = stripe_cube(filter);
+            const Values v = {{"environment", {1.0}}, {"tint", {0.9, 1.0, 0.8}}, {"blur", {blur}}};
+            for (const Isa isa : supported_isas()) {
+                INFO("path " << isa_name(isa));
+                Framebuffer fb(s.width, s.height);
+                fb.clear(glm::vec4(0.0f), 0.0f);
+                DrawCall call;
+                const ParamBlock block = make_block(*mirror, v);
+                call.mesh = &s.mesh, call.shader = mirror.get(), call.params = block.bytes;
+                call.textures = &cube, call.texture_count = 1;
+                call.model = s.model, call.view = s.view, call.projection = s.projection;
+                call.camera_position = s.eye, call.state.cull = CullMode::none;
+                FrameStats stats;
+                Pipeline(1, isa).draw(call, fb, stats);
+                const std::vector<uint8_t> px = fb.resolve_srgb8();
+                if (std::getenv("MIRROR_PNG")) fb.write_png(std::getenv("MIRROR_PNG"));
+                Match m;
+                std::set<int> faces;
+                int minified = 0;
+                for (int y = 0; y < s.height; ++y)
+                    for (int x = 0; x < s.width; ++x) {
+                        const std::optional<Hit> h = hit_quad(s, x, y);
+                        if (!h) continue;
+                        // The quad of pixels this one shades with: its top-left,
+                        // top-right and bottom-left lanes.
+                        const int qx = x & ~1, qy = y & ~1;
+                        const dvec3 r = ref_reflection(s, *h, x, y);
+                        const dvec3 tl = ref_reflection(s, *h, qx, qy);
+                        const dvec3 dx = ref_reflection(s, *h, qx + 1, qy) - tl;
+                        const dvec3 dy = ref_reflection(s, *h, qx, qy + 1) - tl;
+                        const dvec3 a = glm::abs(r);
+                        const double major = std::max({a.x, a.y, a.z}), half = 16.0;
+                        const double lod =
+                            filter == Filter::trilinear
+                                ? 0.5 * std::log2(std::max(glm::dot(dx, dx), glm::dot(dy, dy)) *
+                                                  half * half / (major * major)) +
+                                      blur
+                                : 0.0;
+                        // A hundredth of a pixel's turn of r: far more than the snap moves it.
+                        const double margin = 0.01 * (glm::length(dx) + glm::length(dy)) + 1e-6;
+                        const std::optional<dvec4> c = ref_cube(*cube.texture, r, lod, margin);
+                        if (!c) continue;
+                        minified += lod - blur > 0.5;
+                        faces.insert(a.x == major ? (r.x > 0 ? 0 : 1)
+                                                  : a.y == major ? (r.y > 0 ? 2 : 3)
+                                                                 : (r.z > 0 ? 4 : 5));
+                        const dvec4 want(dvec3(*c) * dvec3(0.9, 1.0, 0.8), 1.0);
+                        compare_pixel(&px[4 * (size_t(y) * size_t(s.width) + size_t(x))], want, x,
+                                      y, m);
+                    }
+                CHECK(faces.size() >= 2);  // the reflection crosses a face's edge
+                if (filter == Filter::trilinear && width == 40) CHECK(minified > m.sampled / 4);
+                require_match(m, width * width / 8);
+            }
+        }
+}
+
+namespace {
+
+// Two in-process shaders over one texture: the host samples `tex` at the UV
+// before the call; the shader samples `img` itself, where it wants, with
+// the level of detail from the UV's screen derivatives.
+struct Presampled {
+    static constexpr const char* name = "test_presampled";
+    static constexpr const char* version = "test";
+    static constexpr uint32_t needs = FACET_NEED_UVS | FACET_NEED_TEXTURES;
+    FACET_VARYINGS((sdk::Vec2, uv))
+    FACET_PARAMS((texture, tex, "uv", sdk::srgb))
+    static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
+                           sdk::Vec4& clip) {
+        clip = d.model_view_projection() * sdk::Vec4(in.position, 1.0f);
+        return {in.uv};
+    }
+    static sdk::Vec4 fragment(const Varyings&, sdk::Fragment& f, const sdk::Draw&,
+                              const Params& p) {
+        return f.texture(p.tex);
+    }
+};
+
+struct SelfSampled {
+    static constexpr const char* name = "test_self_sampled";
+    static constexpr const char* version = "test";
+    static constexpr uint32_t needs = FACET_NEED_UVS | FACET_NEED_TEXTURES | FACET_NEED_DERIVATIVES;
+    FACET_VARYINGS((sdk::Vec2, uv))
+    FACET_PARAMS((image, img, sdk::srgb))
+    static Varyings vertex(const sdk::VertexIn& in, const sdk::Draw& d, const Params&,
+                           sdk::Vec4& clip) {
+        clip = d.model_view_projection() * sdk::Vec4(in.position, 1.0f);
+        return {in.uv};
+    }
+    static sdk::Vec4 fragment(const Varyings& v, sdk::Fragment& f, const sdk::Draw&,
+                              const Params& p) {
+        return f.sample(p.img, v.uv);
+    }
+};
+
+}  // namespace
+
+TEST_CASE("a shader samples a texture where it wants as the host samples it for the shader",
+          "[shader][texture][isa]") {
+    // Stripes 2 texels wide on a 64x64 texture, repeated 4 times over the
+    // quad at a slant: every level of the chain shows.
+    auto t = std::make_shared<Texture>();
+    t->width = t->height = 64;
+    t->srgb = true;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            t->texels.push_back(((x / 2 + y / 4) % 2) ? Texel8{230, 180, 40, 255}
+                                                      : Texel8{20, 60, 200, 255});
+    generate_mipmaps(*t);
+    Setup s = quad_setup();
+    for (glm::vec2& uv : s.mesh.uvs) uv *= 4.0f;
+    const TextureBinding binding{t, Filter::trilinear, Wrap::repeat};
+    const auto presampled = test::plugin<Presampled>(), sampled = test::plugin<SelfSampled>();
+    const ParamBlock a = make_block(*presampled, {{"tex", {1.0}}});
+    const ParamBlock b = make_block(*sampled, {{"img", {1.0}}});
+    for (const Isa isa : supported_isas()) {
+        INFO("path " << isa_name(isa));
+        const auto render = [&](const ShaderPlugin& shader, const ParamBlock& block) {
+            Framebuffer fb(s.width, s.height);
+            fb.clear(glm::vec4(0.0f), 0.0f);
+            DrawCall call;
+            call.mesh = &s.mesh, call.shader = &shader, call.params = block.bytes;
+            call.textures = &binding, call.texture_count = 1;
+            call.model = s.model, call.view = s.view, call.projection = s.projection;
+            call.state.cull = CullMode::none;
+            FrameStats stats;
+            Pipeline(1, isa).draw(call, fb, stats);
+            return fb;
+        };
+        const Framebuffer host = render(*presampled, a), own = render(*sampled, b);
+        CHECK(max_difference(host, own) <= 1);
+        // The stripes show, blurred where the levels of detail rise.
+        std::set<int> codes;
+        for (const uint8_t c : own.resolve_srgb8()) codes.insert(c);
+        CHECK(codes.size() > 60);
+    }
+}

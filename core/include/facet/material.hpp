@@ -9,6 +9,13 @@
 //       base_color: [1, 0.5, 0.2, 1]
 //       base_texture: {file: ../../assets/spot/spot_texture.png, filter: trilinear, wrap: repeat}
 //
+// A cube map parameter (a shader's `cube` kind: mirror's `environment`)
+// takes six square faces of one size, +X, -X, +Y, -Y, +Z, -Z, or one
+// equirectangular image (facet/texture.hpp, load_cube):
+//
+//       environment: {faces: [px.png, nx.png, py.png, ny.png, pz.png, nz.png]}
+//       environment: {file: sky.png, filter: trilinear}
+//
 // The values are kept as written (MaterialParam), so they can be checked
 // again and re-laid-out when the plugin is reloaded. bind() validates them
 // against the plugin's schema and builds the parameter block the shader
@@ -41,6 +48,9 @@ struct MaterialParam {
     bool is_integer = false;      // number written without a fraction
     bool flag = false;            // boolean
     std::filesystem::path texture_file;  // texture, word: resolved against the material's folder
+    // texture: a cube map's six faces (+X, -X, +Y, -Y, +Z, -Z), resolved so
+    // too; empty for one file (a cube map's then equirectangular)
+    std::vector<std::filesystem::path> cube_faces;
     Filter filter = Filter::trilinear;   // texture: nearest | bilinear | trilinear
     Wrap wrap = Wrap::repeat;            // texture
     int line = 0;                 // 1-based position in the file

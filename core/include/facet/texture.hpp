@@ -72,10 +72,11 @@ struct TexelLevel {
 };
 
 struct TexelLevels {
-    static constexpr int kMaxLevels = 32;
     TexelFormat format = TexelFormat::rgba8;
-    int levels = 0;      // as Texture::levels(); 0 for a texture with no texels
-    std::array<TexelLevel, kMaxLevels> level{};
+    int levels = 0;      // a face's, as Texture::levels(); 0 for a texture with no texels
+    int faces = 1;       // 6 for a cube map
+    // Level l of face f is level[f * levels + l].
+    std::vector<TexelLevel> level;
     // The texels (texel k at words[k * words_per_texel()]): 64-byte
     // aligned, inside storage; readable 16 bytes past any texel.
     const uint32_t* words = nullptr;
@@ -92,9 +93,14 @@ struct TexelLevels {
 
 struct Texture {
     std::string source;
-    int width = 0;                // level 0
+    int width = 0;                // level 0 (of each face, for a cube)
     int height = 0;
     bool srgb = false;
+    // 1, or 6 for a cube map: each level then holds its faces one after
+    // another (+X, -X, +Y, -Y, +Z, -Z of the direction, as GL and Vulkan
+    // lay them out: a face's rows go down and its columns right as seen
+    // from inside the cube), each width x height of that level.
+    int faces = 1;
     std::vector<Texel8> texels;   // level 0, row-major, top row first
     std::vector<MipLevel> mips;   // levels 1, 2, ... down to 1x1 (may be empty)
 
@@ -127,8 +133,20 @@ TexelLevels make_texel_levels(const Texture& texture);
 
 // Fills texture.mips from level 0 (each level half the size, rounded down,
 // at least 1; each texel the mean, in linear light, of the 2x2 (or fewer)
-// texels it covers, encoded as the texture is).
+// texels it covers, encoded as the texture is; a cube's faces each on their
+// own).
 void generate_mipmaps(Texture& texture);
+
+// A cube map from six square images of one size, +X, -X, +Y, -Y, +Z, -Z
+// (`faces`), or from one equirectangular image (`faces` holding one file):
+// longitude across it from -180 to 180 degrees, the image's middle column
+// looking along -Z and its left edge along +Z past -X; latitude down it
+// from +Y (the top row) to -Y. An equirectangular image is resampled
+// (bilinearly, in linear light) into faces of half its height. Throws as
+// load_texture does, and Error(texture_load_failed) for faces that are not
+// square or not all one size.
+std::shared_ptr<const Texture> load_cube(const std::vector<std::filesystem::path>& faces,
+                                         bool srgb);
 
 // Throws Error(file_not_found | not_a_file | texture_load_failed), or
 // Error(over_budget) when its header gives a size over the memory budget.
@@ -143,6 +161,9 @@ std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
 class TextureCache {
 public:
     std::shared_ptr<const Texture> get(const std::filesystem::path& path, bool srgb);
+    // The cube map of load_cube, loaded once.
+    std::shared_ptr<const Texture> get_cube(const std::vector<std::filesystem::path>& faces,
+                                            bool srgb);
 
     // Makes `name` (which need not exist on disk) stand for the image file
     // `bytes`: get(name) decodes them. For textures embedded in a mesh
@@ -171,6 +192,14 @@ glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv);
 // The same at level of detail `lod` (trilinear; the others read level 0),
 // clamped to the levels there are, NaN read as 0.
 glm::vec4 sample_lod(const TextureBinding& binding, glm::vec2 uv, float lod);
+
+// A cube map in direction `dir` (facet_textures_service.sample says how),
+// at level of detail `lod` as sample_lod takes it.
+glm::vec4 sample_cube(const TextureBinding& binding, glm::vec3 dir, float lod);
+
+// The face of direction d (+X, -X, +Y, -Y, +Z, -Z: 0 to 5) and where d
+// meets it, (u, v) in 0..1, as the cube sampler reads them.
+int cube_face(glm::vec3 d, glm::vec2& uv);
 
 // Sample `count` coordinates at level 0; writes rgba[c * count + i].
 void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,

@@ -17,9 +17,20 @@ namespace {
 
 // ---- parsing -----------------------------------------------------------------
 
+// {file: ...} or, for a cube map, {faces: [six files]}; filter and wrap.
 void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, MaterialParam& p) {
-    yaml::check_map(ctx, node, "texture", {"file", "filter", "wrap"});
-    p.texture_file = yaml::as<std::string>(ctx, yaml::require(ctx, node, "file"));
+    yaml::check_map(ctx, node, "texture", {"file", "faces", "filter", "wrap"});
+    if (const YAML::Node faces = node["faces"]) {
+        if (node["file"])
+            throw yaml::error(ctx, node, ErrorCode::config_invalid,
+                              "a texture is a file or a cube map's faces, not both");
+        if (!faces.IsSequence() || faces.size() != 6)
+            throw yaml::error(ctx, faces, ErrorCode::wrong_type,
+                              "faces: six files, +X, -X, +Y, -Y, +Z, -Z");
+        for (const YAML::Node& f : faces) p.cube_faces.emplace_back(yaml::as<std::string>(ctx, f));
+    } else {
+        p.texture_file = yaml::as<std::string>(ctx, yaml::require(ctx, node, "file"));
+    }
     if (const YAML::Node filter = node["filter"])
         p.filter = yaml::as_enum<Filter>(ctx, filter,
                                          {{"nearest", Filter::nearest},
@@ -61,6 +72,7 @@ MaterialParam parse_param(const yaml::Context& ctx, const std::string& name,
                           "a texture");
     }
     if (!p.texture_file.empty()) p.texture_file = (folder / p.texture_file).lexically_normal();
+    for (std::filesystem::path& f : p.cube_faces) f = (folder / f).lexically_normal();
     return p;
 }
 
@@ -237,10 +249,21 @@ void write_value(ParamBlock& block, const facet_param_desc& d, const MaterialPar
     }
 }
 
+// A cube map parameter (FACET_PARAM_CUBE) takes six faces or one
+// equirectangular file; any other texture one file.
 TextureBinding load_binding(const std::string& m, const MaterialParam& p,
                             const facet_param_desc& d, TextureCache& cache) {
+    const bool srgb = (d.flags & FACET_PARAM_SRGB) != 0;
+    if (!(d.flags & FACET_PARAM_CUBE) && !p.cube_faces.empty())
+        throw Error(ErrorCode::param_type,
+                    "'" + p.name + "' is a 2D texture: give it a file, not a cube map's faces", m,
+                    p.line, p.column);
     try {
-        return {cache.get(p.texture_file, (d.flags & FACET_PARAM_SRGB) != 0), p.filter, p.wrap};
+        if (d.flags & FACET_PARAM_CUBE)
+            return {cache.get_cube(p.cube_faces.empty() ? std::vector{p.texture_file} : p.cube_faces,
+                                   srgb),
+                    p.filter, p.wrap};
+        return {cache.get(p.texture_file, srgb), p.filter, p.wrap};
     } catch (const Error& e) {
         throw yaml::relocated(e, m, p.line, p.column);
     }

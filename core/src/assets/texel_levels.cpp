@@ -14,9 +14,12 @@ namespace facet {
 
 namespace {
 
-// Level i's texels, row-major.
-const Texel8* level_texels(const Texture& t, int i) {
-    return i == 0 ? t.texels.data() : t.mips[size_t(i - 1)].texels.data();
+// Level i's texels, row-major: face f's.
+const Texel8* level_texels(const Texture& t, int i, int f) {
+    const Texel8* first = i == 0 ? t.texels.data() : t.mips[size_t(i - 1)].texels.data();
+    const int w = i == 0 ? t.width : t.mips[size_t(i - 1)].width;
+    const int h = i == 0 ? t.height : t.mips[size_t(i - 1)].height;
+    return first + size_t(f) * size_t(w) * size_t(h);
 }
 
 // Each 8-bit code's 14-bit linear one: sRGB-decoded for colour, c / 255
@@ -52,13 +55,13 @@ uint32_t encode_rgba8(Texel8 t) {
 // Texels a row of a tile holds (its four and the next), and a tile.
 constexpr int kTileRow = 5, kTileTexels = 4 * kTileRow;
 
-// Level i of `t` into its tiles at `out` (its texel (0, 0)'s words): texel
-// x of a row, for x from 0 to the width (the texel after the last being
-// the row's first), where x's tile holds it, and where x begins a tile,
-// also as the fifth of the tile before.
-void tile_level(const Texture& t, const TexelLevels& l, int i, uint32_t* out) {
-    const Texel8* src = level_texels(t, i);
-    const TexelLevel& level = l.level[size_t(i)];
+// Level i of face f of `t` into its tiles at `out` (its texel (0, 0)'s
+// words): texel x of a row, for x from 0 to the width (the texel after the
+// last being the row's first), where x's tile holds it, and where x begins
+// a tile, also as the fifth of the tile before.
+void tile_level(const Texture& t, const TexelLevels& l, int i, int f, uint32_t* out) {
+    const Texel8* src = level_texels(t, i, f);
+    const TexelLevel& level = l.level[size_t(f * l.levels + i)];
     const int w = level.width, tiles_x = (w + 3) / 4, words = l.words_per_texel();
     const auto put = [&](Texel8 c, int tile, int y, int column) {
         const size_t texel = size_t(y / 4) * size_t(level.tile_row) + size_t(tile) * kTileTexels +
@@ -80,19 +83,23 @@ void tile_level(const Texture& t, const TexelLevels& l, int i, uint32_t* out) {
 
 TexelLevels make_texel_levels(const Texture& t) {
     TexelLevels l;
-    if (t.width <= 0 || t.height <= 0 || t.texels.size() != size_t(t.width) * size_t(t.height))
+    if (t.width <= 0 || t.height <= 0 || (t.faces != 1 && t.faces != 6) ||
+        t.texels.size() != size_t(t.width) * size_t(t.height) * size_t(t.faces))
         return l;  // levels 0: nothing to sample
     l.format = t.srgb ? TexelFormat::rgba16 : TexelFormat::rgba8;
-    l.levels = std::min(t.levels(), TexelLevels::kMaxLevels);
+    l.levels = t.levels();
+    l.faces = t.faces;
+    l.level.resize(size_t(l.faces * l.levels));
     size_t texels = 0;
-    for (int i = 0; i < l.levels; ++i) {
-        TexelLevel& level = l.level[size_t(i)];
-        level.width = i == 0 ? t.width : t.mips[size_t(i - 1)].width;
-        level.height = i == 0 ? t.height : t.mips[size_t(i - 1)].height;
-        level.tile_row = (level.width + 3) / 4 * kTileTexels;
-        level.offset = int32_t(texels);
-        texels += size_t(level.tile_row) * size_t((level.height + 3) / 4);
-    }
+    for (int f = 0; f < l.faces; ++f)
+        for (int i = 0; i < l.levels; ++i) {
+            TexelLevel& level = l.level[size_t(f * l.levels + i)];
+            level.width = i == 0 ? t.width : t.mips[size_t(i - 1)].width;
+            level.height = i == 0 ? t.height : t.mips[size_t(i - 1)].height;
+            level.tile_row = (level.width + 3) / 4 * kTileTexels;
+            level.offset = int32_t(texels);
+            texels += size_t(level.tile_row) * size_t((level.height + 3) / 4);
+        }
     // 15 words before, so that a 64-byte boundary lies within them, and 4
     // after, so that a 16-byte load at any texel stays inside.
     const size_t words = texels * size_t(l.words_per_texel());
@@ -100,8 +107,11 @@ TexelLevels make_texel_levels(const Texture& t) {
     const uintptr_t at = reinterpret_cast<uintptr_t>(l.storage.data());
     uint32_t* out = l.storage.data() + ((64 - at % 64) % 64) / sizeof(uint32_t);
     l.words = out;
-    for (int i = 0; i < l.levels; ++i)
-        tile_level(t, l, i, out + size_t(l.level[size_t(i)].offset) * size_t(l.words_per_texel()));
+    for (int f = 0; f < l.faces; ++f)
+        for (int i = 0; i < l.levels; ++i)
+            tile_level(t, l, i, f,
+                       out + size_t(l.level[size_t(f * l.levels + i)].offset) *
+                                 size_t(l.words_per_texel()));
     return l;
 }
 

@@ -92,10 +92,12 @@ struct Level {
     const Texel8* texels;
 };
 
-Level level(const Texture& t, int i) {
-    if (i == 0) return {t.width, t.height, t.texels.data()};
+// Level i of face f (0 but for a cube).
+Level level(const Texture& t, int i, int f = 0) {
+    if (i == 0)
+        return {t.width, t.height, t.texels.data() + size_t(f) * size_t(t.width) * size_t(t.height)};
     const MipLevel& m = t.mips[size_t(i - 1)];
-    return {m.width, m.height, m.texels.data()};
+    return {m.width, m.height, m.texels.data() + size_t(f) * size_t(m.width) * size_t(m.height)};
 }
 
 // a + (b - a) t, as the per-path sampler mixes.
@@ -138,12 +140,13 @@ private:
     const DecodeTable& alpha_;
 };
 
-glm::vec4 trilinear(const Texture& t, Wrap wrap, glm::vec2 uv, float lod) {
+// Face f's levels filtered at uv, lod.
+glm::vec4 trilinear(const Texture& t, Wrap wrap, glm::vec2 uv, float lod, int f = 0) {
     const float l = std::clamp(std::isnan(lod) ? 0.0f : lod, 0.0f, float(t.levels() - 1));
     const int lo = int(l);
-    const glm::vec4 a = Sampler(level(t, lo), wrap, t.srgb).bilinear(uv);
+    const glm::vec4 a = Sampler(level(t, lo, f), wrap, t.srgb).bilinear(uv);
     if (lo + 1 >= t.levels() || l == float(lo)) return a;
-    return lerp(a, Sampler(level(t, lo + 1), wrap, t.srgb).bilinear(uv), l - float(lo));
+    return lerp(a, Sampler(level(t, lo + 1, f), wrap, t.srgb).bilinear(uv), l - float(lo));
 }
 
 // The mean, in linear light, of the up-to-2x2 texels of `src` that texel
@@ -262,17 +265,21 @@ void TextureCache::add_encoded(const std::filesystem::path& name,
 
 void generate_mipmaps(Texture& texture) {
     texture.mips.clear();
-    for (Level src = level(texture, 0); src.width > 1 || src.height > 1;) {
+    for (int w = texture.width, h = texture.height; w > 1 || h > 1;) {
+        const int below = texture.levels() - 1;
         MipLevel next;
-        next.width = std::max(1, src.width / 2);
-        next.height = std::max(1, src.height / 2);
-        next.texels.resize(size_t(next.width) * next.height);
-        for (int y = 0; y < next.height; ++y)
-            for (int x = 0; x < next.width; ++x)
-                next.texels[size_t(y) * next.width + x] =
-                    encode_texel(box(src, x, y, texture.srgb), texture.srgb);
+        next.width = w = std::max(1, w / 2);
+        next.height = h = std::max(1, h / 2);
+        const size_t face_texels = size_t(w) * size_t(h);
+        next.texels.resize(face_texels * size_t(texture.faces));
+        for (int f = 0; f < texture.faces; ++f) {
+            const Level src = level(texture, below, f);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    next.texels[size_t(f) * face_texels + size_t(y) * size_t(w) + size_t(x)] =
+                        encode_texel(box(src, x, y, texture.srgb), texture.srgb);
+        }
         texture.mips.push_back(std::move(next));
-        src = level(texture, texture.levels() - 1);
     }
 }
 
@@ -318,6 +325,31 @@ void sample_block(const TextureBinding& binding, const float* u, const float* v,
 glm::vec4 sample_lod(const TextureBinding& binding, glm::vec2 uv, float lod) {
     if (binding.filter != Filter::trilinear || !binding.texture) return sample(binding, uv);
     return trilinear(*binding.texture, binding.wrap, uv, lod);
+}
+
+int cube_face(glm::vec3 d, glm::vec2& uv) {
+    const float ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    int face;
+    float sc, tc, ma;
+    if (ax >= ay && ax >= az)
+        face = d.x > 0.0f ? 0 : 1, sc = d.x > 0.0f ? -d.z : d.z, tc = -d.y, ma = ax;
+    else if (ay >= az)
+        face = d.y > 0.0f ? 2 : 3, sc = d.x, tc = d.y > 0.0f ? d.z : -d.z, ma = ay;
+    else
+        face = d.z > 0.0f ? 4 : 5, sc = d.z > 0.0f ? d.x : -d.x, tc = -d.y, ma = az;
+    uv = {(sc / ma + 1.0f) * 0.5f, (tc / ma + 1.0f) * 0.5f};
+    if (!(ma > 0.0f)) uv = glm::vec2(0.5f);  // no direction (0, or NaN): the face's middle
+    return face;
+}
+
+glm::vec4 sample_cube(const TextureBinding& binding, glm::vec3 dir, float lod) {
+    if (!binding.texture || binding.texture->faces != 6) return glm::vec4(1.0f);
+    glm::vec2 uv;
+    const int f = cube_face(dir, uv);
+    const Texture& t = *binding.texture;
+    if (binding.filter == Filter::trilinear) return trilinear(t, Wrap::clamp, uv, lod, f);
+    const Sampler face(level(t, 0, f), Wrap::clamp, t.srgb);
+    return binding.filter == Filter::nearest ? face.nearest(uv) : face.bilinear(uv);
 }
 
 void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,

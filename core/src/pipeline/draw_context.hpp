@@ -15,10 +15,13 @@
 
 namespace facet {
 
+struct Kernels;
+
 struct DrawContext {
     const facet_draw* abi = nullptr;
     const ShaderPlugin* shader = nullptr;
     facet_fragment_fn fragment = nullptr;      // the plugin's loop for the pipeline's path
+    const Kernels* kernels = nullptr;          // the pipeline's path (the textures service)
     const TextureBinding* textures = nullptr;  // by slot; slots past texture_count are unbound
     int texture_count = 0;
     bool sample_textures = false;

@@ -153,7 +153,12 @@ void sample_textures(const DrawContext& dc, const float* varyings, uint32_t mask
             std::fill(out, out + 4 * N, 1.0f);
             continue;
         }
-        const float* u = varyings + dc.shader->texture_uv_float(s) * N;
+        const int uv = dc.shader->texture_uv_float(s);
+        if (uv < 0) {  // one only the shader samples (a cube map, ...): none here
+            std::fill(out, out + 4 * N, 1.0f);
+            continue;
+        }
+        const float* u = varyings + uv * N;
         FACET_KERNEL_NS::sample_block(dc.textures[s], u, u + N, mask, out);
     }
 }

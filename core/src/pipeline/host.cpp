@@ -3,6 +3,8 @@
 // for screen passes, threads and scratch memory).
 #include "pipeline/draw_context.hpp"
 
+#include "pipeline/kernels.hpp"
+
 #include "facet/math.hpp"
 #include "facet/memory.hpp"
 #include "facet/plugin.hpp"
@@ -37,6 +39,47 @@ void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const fl
         return;
     }
     sample_many(dc->textures[slot], u, v, int(count), rgba);
+}
+
+// ---- "facet.textures" (v1.7): the draw's textures where the shader wants them
+
+// The binding at `slot` of the draw, or null where nothing is bound.
+const TextureBinding* bound(const facet_draw* draw, uint32_t slot) {
+    const auto* dc = static_cast<const DrawContext*>(draw->host_data);
+    if (slot >= uint32_t(dc->texture_count) || !dc->textures[slot].texture) return nullptr;
+    return &dc->textures[slot];
+}
+
+void textures_info(const facet_draw* draw, uint32_t slot, facet_texture_info* out) {
+    *out = {};
+    const TextureBinding* b = bound(draw, slot);
+    if (!b) return;
+    const Texture& t = *b->texture;
+    out->kind = t.faces == 6 ? FACET_TEXTURE_CUBE : FACET_TEXTURE_2D;
+    out->width = uint32_t(t.width);
+    out->height = uint32_t(t.height);
+    out->levels = b->filter == Filter::trilinear ? uint32_t(t.levels()) : 1u;
+}
+
+void textures_sample(const facet_draw* draw, uint32_t slot, const float* coords, const float* lod,
+                     uint32_t count, uint32_t mask, float* rgba) {
+    count = std::min(count, uint32_t(FACET_BLOCK_LANES));
+    if (const TextureBinding* b = bound(draw, slot)) {
+        const auto* dc = static_cast<const DrawContext*>(draw->host_data);
+        dc->kernels->sample_lanes(*b, coords, lod, count, mask, rgba);
+        return;
+    }
+    for (uint32_t c = 0; c < 4; ++c)  // unbound: white
+        for (uint32_t i = 0; i < count; ++i) rgba[c * count + i] = mask >> i & 1u ? 1.0f : 0.0f;
+}
+
+const void* host_extension(const char* id, uint32_t version) {
+    static const facet_textures_service textures = {sizeof(facet_textures_service),
+                                                    &textures_info, &textures_sample};
+    if (id && std::strcmp(id, FACET_TEXTURES_EXTENSION) == 0 && version >= 1 &&
+        version <= FACET_TEXTURES_VERSION)
+        return &textures;
+    return nullptr;
 }
 
 // Whether this thread runs a screen pass's task. The services below are
@@ -99,6 +142,7 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa, const
                      const PipelineState& state) {
     dc.shader = &shader;
     dc.fragment = shader.fragment_for(isa);
+    dc.kernels = &kernels(isa);
     dc.vertex_floats = shader.varying_floats();
     dc.varying_floats = shader.read_floats(params);
     dc.interpolation = shader.float_interpolation();
@@ -159,7 +203,7 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
 const facet_host* host_services() {
     static const facet_host host = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host),
                                     &host_log,       &host_sample,    &host_parallel_for,
-                                    &host_scratch};
+                                    &host_scratch,   &host_extension};
     return &host;
 }
 

@@ -76,5 +76,5 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::shadow_distance_rows,
     &facet::FACET_KERNEL_NS::shadow_plane_rows,
     &facet::FACET_KERNEL_NS::sample_block,
-    &facet::FACET_KERNEL_NS::sample_lod,
+    &facet::FACET_KERNEL_NS::sample_lanes,
 };

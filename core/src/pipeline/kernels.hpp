@@ -181,12 +181,13 @@ struct Kernels {
     // Rows of tiles [first, first + count): each tile's planes.
     void (*shadow_plane_rows)(const ShadowPlaneRows& rows, int first, int count);
     // The texture sampler (sampler.hpp): 16 lanes of `mask`, with levels of
-    // detail from the 2x2 quads, or given per lane. The fragment stage
+    // detail from the 2x2 quads; or `count` lanes, 2D or cube, with a level
+    // per lane (the host's textures service). The fragment stage
     // calls its own path's directly; here for the host's services and tests.
     void (*sample_block)(const TextureBinding& binding, const float* u, const float* v,
                          uint32_t mask, float* rgba);
-    void (*sample_lod)(const TextureBinding& binding, const float* u, const float* v,
-                       const float* lod, uint32_t mask, float* rgba);
+    void (*sample_lanes)(const TextureBinding& binding, const float* coords, const float* lod,
+                         uint32_t count, uint32_t mask, float* rgba);
 };
 
 // The kernels of a supported path; throws Error(isa_unavailable) otherwise.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
 
 namespace facet::FACET_KERNEL_NS {
 
@@ -308,18 +309,38 @@ FACET_INLINE Float lane_lods(const Quad& q, int p) {
 #endif
 }
 
+// The levels of each lane's face (`face` times the levels a face has: 0
+// but for a cube) filtered at its level of detail.
 template <TexelFormat F, Wrap W>
 FACET_INLINE Texels trilinear(const TexelLevels& t, const Float& lod, const Float& u,
-                              const Float& v, const Int& active) {
+                              const Float& v, const Int& active, const Int& face = Int{}) {
     const Float l =
         simd::min(simd::max(lod == lod ? lod : Float{}, Float{}), splat(float(t.levels - 1)));
     const Int lo = __builtin_convertvector(l, Int);  // l >= 0: the floor
     const Float frac = l - simd::to_float(lo);
-    const Fixed a = bilinear<F, W>(t, level_at(t, lo), u, v, active);
+    const Fixed a = bilinear<F, W>(t, level_at(t, face + lo), u, v, active);
     const Int second = active & (frac > 0.0f);  // then lo + 1 is a level
     if (!simd::bits(second)) return unfixed<F>(a);
-    const Fixed b = bilinear<F, W>(t, level_at(t, second ? lo + 1 : lo), u, v, second);
+    const Fixed b = bilinear<F, W>(t, level_at(t, face + (second ? lo + 1 : lo)), u, v, second);
     return unfixed<F>(lerp(a, b, fixed_weight(frac)));  // frac 0: a, exactly
+}
+
+// Each lane's cube face (0..5, times `levels`) and where its direction
+// meets it, (u, v): the reference's cube_face() (texture.cpp), step by step.
+FACET_INLINE Int cube_faces(const Float& x, const Float& y, const Float& z, int levels, Float& u,
+                            Float& v) {
+    const Float ax = simd::abs(x), ay = simd::abs(y), az = simd::abs(z);
+    const Int on_x = (ax >= ay) & (ax >= az), on_y = ~on_x & (ay >= az);
+    const Int face = on_x ? (x > 0.0f ? Int{} : Int{} + 1)
+                          : on_y ? (y > 0.0f ? Int{} + 2 : Int{} + 3)
+                                 : (z > 0.0f ? Int{} + 4 : Int{} + 5);
+    const Float sc = on_x ? (x > 0.0f ? -z : z) : on_y ? x : (z > 0.0f ? x : -x);
+    const Float tc = on_x ? -y : on_y ? (y > 0.0f ? z : -z) : -y;
+    const Float ma = on_x ? ax : on_y ? ay : az;
+    const Int none = ~(ma > 0.0f);  // no direction (0, or NaN): the face's middle
+    u = none ? splat(0.5f) : (sc / ma + 1.0f) * 0.5f;
+    v = none ? splat(0.5f) : (tc / ma + 1.0f) * 0.5f;
+    return face * levels;
 }
 
 // Lanes of a bit mask of part p as all ones or zero.
@@ -372,6 +393,30 @@ void sample_parts(const TexelLevels& t, Filter filter, const float* u, const flo
     }
 }
 
+// A cube's lanes: directions x, y, z, levels of detail lod (null: 0).
+template <TexelFormat F>
+void sample_cube_parts(const TexelLevels& t, Filter filter, const float* x, const float* y,
+                       const float* z, const float* lod, uint32_t mask, float* rgba) {
+    for (int p = 0; p < kParts; ++p) {
+        const uint32_t lanes = simd::part_mask(mask, p);
+        if (!lanes) {
+            store(rgba, p, Texels{}, Int{});
+            continue;
+        }
+        const Int active = active_lanes(lanes);
+        const auto at = [&](const float* a) { return simd::load<Float>(a + p * kWidth); };
+        Float u, v;
+        const Int face = cube_faces(at(x), at(y), at(z), t.levels, u, v);
+        constexpr Wrap W = Wrap::clamp;  // each face filtered on its own
+        if (filter == Filter::nearest)
+            store(rgba, p, nearest<F, W>(t, level_at(t, face), u, v, active), active);
+        else if (filter == Filter::bilinear)
+            store(rgba, p, unfixed<F>(bilinear<F, W>(t, level_at(t, face), u, v, active)), active);
+        else
+            store(rgba, p, trilinear<F, W>(t, lod ? at(lod) : Float{}, u, v, active, face), active);
+    }
+}
+
 template <TexelFormat F>
 FACET_INLINE void sample_format(const TexelLevels& t, const TextureBinding& b, const float* u,
                                 const float* v, const float* lod, uint32_t mask, float* rgba) {
@@ -385,18 +430,27 @@ FACET_INLINE void sample_format(const TexelLevels& t, const TextureBinding& b, c
     }
 }
 
-void sample(const TextureBinding& b, const float* u, const float* v, const float* lod,
-            uint32_t mask, float* rgba) {
+// 16 lanes: coordinates c[k * 16 + i] (u, v; a cube's x, y, z), levels of
+// detail `lod` (null: from the quads; a cube's: 0).
+void sample(const TextureBinding& b, const float* c, const float* lod, uint32_t mask,
+            float* rgba) {
     const TexelLevels* t = b.texture ? &b.texture->sampled() : nullptr;
     if (!t || t->levels == 0) {  // nothing bound reads as white
-        for (int c = 0; c < 4; ++c)
-            for (int i = 0; i < N; ++i) rgba[c * N + i] = mask >> i & 1u ? 1.0f : 0.0f;
+        for (int k = 0; k < 4; ++k)
+            for (int i = 0; i < N; ++i) rgba[k * N + i] = mask >> i & 1u ? 1.0f : 0.0f;
         return;
     }
-    if (t->format == TexelFormat::rgba16)
-        sample_format<TexelFormat::rgba16>(*t, b, u, v, lod, mask, rgba);
-    else
-        sample_format<TexelFormat::rgba8>(*t, b, u, v, lod, mask, rgba);
+    const bool wide = t->format == TexelFormat::rgba16;
+    if (t->faces == 6) {
+        if (wide)
+            sample_cube_parts<TexelFormat::rgba16>(*t, b.filter, c, c + N, c + 2 * N, lod, mask, rgba);
+        else
+            sample_cube_parts<TexelFormat::rgba8>(*t, b.filter, c, c + N, c + 2 * N, lod, mask, rgba);
+    } else if (wide) {
+        sample_format<TexelFormat::rgba16>(*t, b, c, c + N, lod, mask, rgba);
+    } else {
+        sample_format<TexelFormat::rgba8>(*t, b, c, c + N, lod, mask, rgba);
+    }
 }
 
 #undef FACET_INLINE
@@ -405,13 +459,22 @@ void sample(const TextureBinding& b, const float* u, const float* v, const float
 
 void sample_block(const TextureBinding& binding, const float* u, const float* v, uint32_t mask,
                   float* rgba) {
-    sample(binding, u, v, nullptr, mask, rgba);
+    float c[2 * N];  // u and v side by side
+    std::memcpy(c, u, sizeof(float) * N);
+    std::memcpy(c + N, v, sizeof(float) * N);
+    sample(binding, c, nullptr, mask, rgba);
 }
 
-void sample_lod(const TextureBinding& binding, const float* u, const float* v, const float* lod,
-                uint32_t mask, float* rgba) {
-    static const float kLevelZero[N] = {};
-    sample(binding, u, v, lod ? lod : kLevelZero, mask, rgba);
+void sample_lanes(const TextureBinding& binding, const float* coords, const float* lod,
+                  uint32_t count, uint32_t mask, float* rgba) {
+    count = std::min(count, uint32_t(N));
+    mask &= (1u << count) - 1u;
+    const int components = binding.texture && binding.texture->faces == 6 ? 3 : 2;
+    float c[3 * N] = {}, l[N] = {}, out[4 * N];
+    for (int k = 0; k < components; ++k) std::memcpy(c + k * N, coords + k * count, sizeof(float) * count);
+    if (lod) std::memcpy(l, lod, sizeof(float) * count);
+    sample(binding, c, l, mask, out);
+    for (int k = 0; k < 4; ++k) std::memcpy(rgba + k * count, out + k * N, sizeof(float) * count);
 }
 
 }  // namespace facet::FACET_KERNEL_NS

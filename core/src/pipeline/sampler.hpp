@@ -18,8 +18,10 @@
 //     quads) as log2 of its longer footprint axis in level-0 texels, or
 //     given per lane (sample_lod); the bilinear samples of levels floor(l)
 //     and floor(l) + 1 mixed by the fraction, l within [0, levels - 1].
-//   - wraps: repeat, clamp to edge, mirrored repeat, with a cheaper one for
-//     power-of-two sizes.
+//   - wraps: repeat, clamp to edge, mirrored repeat, each folding a
+//     coordinate once.
+//   - cube maps: the face of a direction's largest component, filtered as
+//     a 2D texture clamped to its edges (texture.hpp, cube_face).
 #pragma once
 
 #ifndef FACET_KERNEL_NS
@@ -37,9 +39,11 @@ namespace facet::FACET_KERNEL_NS {
 void sample_block(const TextureBinding& binding, const float* u, const float* v, uint32_t mask,
                   float* rgba);
 
-// Level of detail lod[i] given per lane (trilinear; nearest and bilinear
-// read level 0 whatever it says).
-void sample_lod(const TextureBinding& binding, const float* u, const float* v, const float* lod,
-                uint32_t mask, float* rgba);
+// `count` lanes (1 to 16) of `mask`, as facet_textures_service.sample
+// takes them: coords[k * count + i] (u, v; a cube map's direction x, y,
+// z), a level of detail per lane (null: 0; nearest and bilinear read level
+// 0 whatever it says), rgba[c * count + i].
+void sample_lanes(const TextureBinding& binding, const float* coords, const float* lod,
+                  uint32_t count, uint32_t mask, float* rgba);
 
 }  // namespace facet::FACET_KERNEL_NS

@@ -177,10 +177,17 @@ void validate_params(const facet_shader_desc& d, const void* where, const std::s
             refuse(ErrorCode::plugin_invalid, origin, what + ": a screen pass takes no textures");
         if (p.type == FACET_PARAM_TEXTURE) {
             ++textures;
-            if (p.uv_varying < 0 || uint32_t(p.uv_varying) >= d.varying_count ||
-                d.varyings[p.uv_varying].components < 2)
+            // -1: one only the shader samples (ABI 1.7), as a cube map is.
+            const bool unsampled = p.uv_varying == -1 && d.abi_minor >= 7;
+            if (!unsampled && (p.uv_varying < 0 || uint32_t(p.uv_varying) >= d.varying_count ||
+                               d.varyings[p.uv_varying].components < 2))
                 refuse(ErrorCode::plugin_invalid, origin,
                        what + " names no 2-component UV varying");
+            if ((p.flags & FACET_PARAM_CUBE) && !unsampled)
+                refuse(ErrorCode::plugin_invalid, origin,
+                       what + " is a cube map: its UV varying must be -1");
+        } else if (p.flags & FACET_PARAM_CUBE) {
+            refuse(ErrorCode::plugin_invalid, origin, what + " is a cube map but not a texture");
         }
         for (uint32_t j = 0; j < i; ++j)
             if (std::strcmp(d.params[j].name, p.name) == 0)
@@ -277,7 +284,7 @@ void validate_conditional_varyings(const facet_shader_desc& c, const std::string
     const uint32_t first = c.varying_count - c.conditional_varyings;
     for (uint32_t i = 0; i < c.param_count; ++i) {
         const facet_param_desc& p = c.params[i];
-        if (p.type == FACET_PARAM_TEXTURE && uint32_t(p.uv_varying) >= first &&
+        if (p.type == FACET_PARAM_TEXTURE && p.uv_varying >= 0 && uint32_t(p.uv_varying) >= first &&
             i != c.varyings_condition)
             refuse(ErrorCode::plugin_invalid, origin,
                    "texture '" + std::string(p.name) + "' reads its UV from a conditional "
@@ -436,8 +443,10 @@ void ShaderPlugin::adopt(const facet_shader_desc* desc) {
     if (desc_.conditional_varyings == 0) unconditional_floats_ = varying_floats_;
     texture_count_ = 0;
     for (uint32_t i = 0; i < desc_.param_count; ++i)
-        if (desc_.params[i].type == FACET_PARAM_TEXTURE)
-            texture_uv_float_[texture_count_++] = first_float[desc_.params[i].uv_varying];
+        if (desc_.params[i].type == FACET_PARAM_TEXTURE) {
+            const int32_t uv = desc_.params[i].uv_varying;  // -1: only the shader samples it
+            texture_uv_float_[texture_count_++] = uv >= 0 ? first_float[uv] : -1;
+        }
 }
 
 ShaderPlugin::~ShaderPlugin() {

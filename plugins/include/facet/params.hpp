@@ -204,6 +204,20 @@ struct texture {  // ("uv varying", srgb or linear, doc): sampled by the host th
         return one(sdk::texture(n, at, -1, e == Encoding::srgb, doc), nullptr, uv);
     }
 };
+struct image {  // (srgb or linear, doc): a 2D texture the shader samples itself (Fragment::sample)
+    using type = Texture;
+    static constexpr Entries<1> describe(const char* n, size_t at, Encoding e,
+                                         const char* doc = nullptr) {
+        return one(sdk::texture(n, at, -1, e == Encoding::srgb, doc));
+    }
+};
+struct cube {  // (srgb or linear, doc): a cube map, sampled by direction (Fragment::sample_cube)
+    using type = Texture;
+    static constexpr Entries<1> describe(const char* n, size_t at, Encoding e,
+                                         const char* doc = nullptr) {
+        return one(flagged(sdk::texture(n, at, -1, e == Encoding::srgb, doc), FACET_PARAM_CUBE));
+    }
+};
 struct normal_map {  // ("uv varying"): a tangent-space normal map (lighting.hpp)
     using type = Texture;
     static constexpr Entries<1> describe(const char* n, size_t at, const char* uv) {

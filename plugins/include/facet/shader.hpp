@@ -107,6 +107,24 @@ struct Lanes {
 using TextureSlots = std::array<int8_t, FACET_MAX_PARAMS_SIZE / 4>;
 }  // namespace detail
 
+namespace detail {
+// What the calls of one batch share: the host's textures service, looked
+// up at the first sample (ABI 1.7), and whether the batch is a 4x4 block.
+struct Batch {
+    const facet_draw* draw;
+    bool block;
+    bool looked_up = false;
+    const facet_textures_service* textures = nullptr;
+    const facet_textures_service* service() {
+        if (!looked_up && draw->host->abi_minor >= 7 && draw->host->extension)
+            textures = static_cast<const facet_textures_service*>(
+                draw->host->extension(FACET_TEXTURES_EXTENSION, FACET_TEXTURES_VERSION));
+        looked_up = true;
+        return textures;
+    }
+};
+}  // namespace detail
+
 // Built-ins of kLanes fragments.
 struct Fragment {
     Vec2 coord;         // pixel centres, window coordinates
@@ -117,15 +135,48 @@ struct Fragment {
 
     // The texel the host sampled for texture parameter `t` at each lane (at
     // the UV varying the schema names for it); white where the material
-    // binds none.
+    // binds none, and for a texture that names no UV (a cube map).
     Vec4 texture(const Texture& t) const {
-        const size_t word = size_t(reinterpret_cast<const char*>(&t) - params_) / 4;
-        const int slot = word < slots_->size() ? (*slots_)[word] : -1;  // a Params member's
+        const int slot = slot_of(t);
         if (!texels_ || slot < 0) return Vec4(splat(1.0f));
         const float* s = texels_ + slot * 4 * FACET_BLOCK_LANES;
         return {lanes_.load(s), lanes_.load(s + FACET_BLOCK_LANES),
                 lanes_.load(s + 2 * FACET_BLOCK_LANES), lanes_.load(s + 3 * FACET_BLOCK_LANES)};
     }
+
+    // Texture parameter `t` sampled at `uv` in each lane, with its filter
+    // and wrap, at the level of detail uv's screen derivatives give (log2
+    // of the longer axis of a 2x2 quad's footprint, in texels), plus
+    // `bias`: for a shader that asks for FACET_NEED_DERIVATIVES (whose
+    // fragments come in whole quads; packed ones read level 0). White where
+    // nothing is bound.
+    Vec4 sample(const Texture& t, const Vec2& uv, float bias = 0.0f) const {
+        const facet_texture_info i = info(t);
+        const Vec2 dx = dFdx(uv), dy = dFdy(uv);
+        const float w = float(i.width), h = float(i.height);
+        const Float x2 = dx.x * dx.x * (w * w) + dx.y * dx.y * (h * h);
+        const Float y2 = dy.x * dy.x * (w * w) + dy.y * dy.y * (h * h);
+        return sample_lod(t, uv, from_quads(max(x2, y2)) + bias);
+    }
+    // The same at a level of detail of each lane's own (0: level 0).
+    Vec4 sample_lod(const Texture& t, const Vec2& uv, const Float& lod) const {
+        return sampled(t, &uv.x, 2, lod);
+    }
+    // Cube map parameter `t` in direction `dir` (any length), at the level
+    // of detail its screen derivatives give: log2 of the longer of its
+    // quad's steps across the face, |d dir| / (2 max |dir component|), in
+    // texels; plus `bias`.
+    Vec4 sample_cube(const Texture& t, const Vec3& dir, float bias = 0.0f) const {
+        const Vec3 dx = dFdx(dir), dy = dFdy(dir);
+        const Float major = max(max(abs(dir.x), abs(dir.y)), abs(dir.z));
+        const float half = 0.5f * float(info(t).width);
+        const Float step2 = max(dot(dx, dx), dot(dy, dy)) * (half * half) / (major * major);
+        return sample_cube_lod(t, dir, from_quads(step2) + bias);
+    }
+    Vec4 sample_cube_lod(const Texture& t, const Vec3& dir, const Float& lod) const {
+        return sampled(t, &dir.x, 3, lod);
+    }
+
     // Discards the lanes set in `m`.
     void discard(const Mask& m) { discarded |= m; }
 
@@ -134,6 +185,38 @@ struct Fragment {
     const float* texels_ = nullptr;
     const char* params_ = nullptr;
     const detail::TextureSlots* slots_ = nullptr;
+    detail::Batch* batch_ = nullptr;
+
+private:
+    int slot_of(const Texture& t) const {
+        const size_t word = size_t(reinterpret_cast<const char*>(&t) - params_) / 4;
+        return word < slots_->size() ? (*slots_)[word] : -1;  // a Params member's
+    }
+    facet_texture_info info(const Texture& t) const {
+        facet_texture_info i{};
+        const int slot = slot_of(t);
+        if (const facet_textures_service* s = batch_->service(); s && slot >= 0)
+            s->info(batch_->draw, uint32_t(slot), &i);
+        return i;
+    }
+    // 0.5 log2(rho2): the level of a footprint rho2 texels squared; level 0
+    // in a packed batch, whose lanes are no quads, and for 0 or NaN.
+    Float from_quads(const Float& rho2) const {
+        if (!batch_->block) return splat(0.0f);
+        return select(rho2 > 0.0f, 0.5f * log2(max(rho2, splat(1e-30f))), splat(0.0f));
+    }
+    Vec4 sampled(const Texture& t, const Float* coords, int n, const Float& lod) const {
+        const facet_textures_service* s = batch_->service();
+        const int slot = slot_of(t);
+        if (!s || slot < 0) return Vec4(splat(1.0f));
+        float c[3 * kLanes], l[kLanes], rgba[4 * kLanes];
+        for (int k = 0; k < n; ++k) std::memcpy(c + k * kLanes, &coords[k], sizeof(Float));
+        std::memcpy(l, &lod, sizeof l);
+        s->sample(batch_->draw, uint32_t(slot), c, l, kLanes, (1u << kLanes) - 1u, rgba);
+        Vec4 r;
+        std::memcpy(&r, rgba, sizeof r);
+        return r;
+    }
 };
 
 // Discards the lanes whose alpha is below `cutoff` (a cutout; see the
@@ -348,8 +431,8 @@ void vertex_batch(const facet_draw* draw, const facet_vertex_batch* b) {
 // (column[i], row[i]) of its 4x4 block (when b is a block).
 template <class S>
 [[gnu::always_inline]] inline void fragment_lanes(const Draw& d, const typename S::Params& params,
-                                                  facet_fragment_batch* b, Lanes lanes,
-                                                  uint32_t read, const float* column,
+                                                  facet_fragment_batch* b, Batch& batch,
+                                                  Lanes lanes, uint32_t read, const float* column,
                                                   const float* row) {
     constexpr int N = FACET_BLOCK_LANES;
     static constexpr TextureSlots kSlots = texture_slots<S>();
@@ -372,6 +455,7 @@ template <class S>
     f.texels_ = b->texels;
     f.params_ = reinterpret_cast<const char*>(&params);
     f.slots_ = &kSlots;
+    f.batch_ = &batch;
     const Vec4 c = S::fragment(v, f, d, params);
     for (int k = 0; k < 4; ++k) lanes.store(b->color + k * N, (&c.x)[k]);
     b->mask &= ~(bits(f.discarded) << lanes.first);
@@ -413,8 +497,9 @@ void fragment_quads(const Draw& d, const typename S::Params& params, facet_fragm
     if (b->texels) reorder(b->texels, texels, 4 * textures);
     q.varyings = varyings, q.depth = depth, q.ao = b->ao ? ao : nullptr;
     q.texels = b->texels ? texels : nullptr, q.color = color;
+    Batch batch{d.raw, true};
     for (int first = 0; first < N; first += kLanes)
-        fragment_lanes<S>(d, params, &q, {first}, read, kPixels.column, kPixels.row);
+        fragment_lanes<S>(d, params, &q, batch, {first}, read, kPixels.column, kPixels.row);
     b->mask = 0;
     for (int i = 0; i < N; ++i) {
         b->mask |= (q.mask >> i & 1u) << kQuadOrder[i];
@@ -432,8 +517,9 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
     if constexpr (kLanes == 4 && (S::needs & FACET_NEED_DERIVATIVES) != 0)
         if (block) return fragment_quads<S>(d, params, b, read, texture_count<S>());
     static constexpr BlockPixels kPixels(false);
+    Batch batch{draw, block};
     for (int first = 0; first < FACET_BLOCK_LANES; first += kLanes)
-        fragment_lanes<S>(d, params, b, {first}, read, kPixels.column, kPixels.row);
+        fragment_lanes<S>(d, params, b, batch, {first}, read, kPixels.column, kPixels.row);
 }
 
 // The loop a per-path build (FACET_SDK_ISA_*) gives.

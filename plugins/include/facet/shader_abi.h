@@ -59,7 +59,7 @@ extern "C" {
 #endif
 
 #define FACET_ABI_MAJOR 1
-#define FACET_ABI_MINOR 6
+#define FACET_ABI_MINOR 7
 
 /* The one symbol a plugin exports. */
 #define FACET_SHADER_ENTRY_SYMBOL "facet_shader_entry"
@@ -168,11 +168,17 @@ enum facet_param_flag {
     FACET_PARAM_USES_AO = 1u << 2,      /* FLOAT or BOOL: 0, and the material  */
                                         /*   needs no AO                      */
     /* v1.4 */
-    FACET_PARAM_USES_DISCARD = 1u << 3  /* FLOAT or BOOL: 0, and the material  */
+    FACET_PARAM_USES_DISCARD = 1u << 3, /* FLOAT or BOOL: 0, and the material  */
                                         /*   never discards (an alpha cutoff  */
                                         /*   of 0): the host may pack its     */
                                         /*   fragments and draw its depth     */
                                         /*   with no shader call              */
+    /* v1.7 */
+    FACET_PARAM_CUBE = 1u << 4          /* TEXTURE: a cube map (six faces, or  */
+                                        /*   an equirectangular image), which */
+                                        /*   the shader samples by direction  */
+                                        /*   (facet_textures_service); its    */
+                                        /*   uv_varying is -1                 */
 };
 
 typedef struct facet_param_desc {
@@ -185,7 +191,9 @@ typedef struct facet_param_desc {
     uint32_t flags;           /* enum facet_param_flag                          */
     int32_t uv_varying;       /* TEXTURE: index of the varying whose first two  */
                               /*   components are its UV; the host samples the  */
-                              /*   texture per block before calling fragment    */
+                              /*   texture per block before calling fragment.   */
+                              /*   v1.7: -1, none: only the shader samples it   */
+                              /*   (facet_textures_service)                     */
     const char* doc;          /* one line for error messages and tools; may be NULL */
 } facet_param_desc;
 
@@ -316,7 +324,52 @@ typedef struct facet_host {
      * the image as it is), and when called from a task rather than the
      * post function. */
     void* (*scratch)(const facet_post_frame* frame, uint32_t slot, size_t bytes);
+    /* v1.7: an optional service, by its id and the version the plugin was
+     * built against: a record that starts with its struct_size, or NULL
+     * when the host has no such service in that version. The pointer stays
+     * valid while the plugin is loaded. New services come this way, not as
+     * new fields here. */
+    const void* (*extension)(const char* id, uint32_t version);
 } facet_host;
+
+/* ------------------------------------------------------------------------ */
+/* Services found through facet_host.extension (v1.7). */
+
+/* "facet.textures", version 1: a draw's texture parameters sampled where
+ * the shader wants them, with their filter and wrap, on the draw's
+ * instruction-set path. */
+#define FACET_TEXTURES_EXTENSION "facet.textures"
+#define FACET_TEXTURES_VERSION 1u
+
+enum facet_texture_kind {
+    FACET_TEXTURE_NONE = 0, /* nothing bound: samples read white               */
+    FACET_TEXTURE_2D = 1,
+    FACET_TEXTURE_CUBE = 2  /* six square faces, +X, -X, +Y, -Y, +Z, -Z        */
+};
+
+typedef struct facet_texture_info {
+    uint32_t kind;          /* enum facet_texture_kind                          */
+    uint32_t width, height; /* level 0 (a cube: each face)                      */
+    uint32_t levels;        /* mip levels, 1 when the filter reads level 0 only */
+} facet_texture_info;
+
+typedef struct facet_textures_service {
+    uint32_t struct_size;
+    /* What is bound to texture parameter `slot` (the k-th TEXTURE parameter
+     * of the schema) in this draw. */
+    void (*info)(const facet_draw* draw, uint32_t slot, facet_texture_info* out);
+    /* Samples it at `count` lanes (1 to 16) of `mask` (bit i: lane i):
+     * coords[k * count + i] is coordinate k of lane i (a 2D texture: u and
+     * v, 0..1 across it, v down its rows; a cube: a direction x, y, z, not
+     * necessarily unit), lod[i] its level of detail (0: level 0; clamped to
+     * the levels there are; ignored by nearest and bilinear bindings, which
+     * read level 0; NULL: 0). Writes rgba[c * count + i], linear RGBA, 0
+     * outside the mask. A cube's direction picks the face of its largest
+     * component (x before y before z where they are equal), whose texels are
+     * then filtered as a 2D texture clamped to its edges. Thread-safe. */
+    void (*sample)(const facet_draw* draw, uint32_t slot, const float* coords,
+                   const float* lod, uint32_t count, uint32_t mask, float* rgba);
+} facet_textures_service;
 
 /* ------------------------------------------------------------------------ */
 /* Per-draw state: one object drawn with one material. Read-only. */

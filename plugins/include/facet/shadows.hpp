@@ -255,7 +255,7 @@ struct WideSlab {
 inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const wide::Mask& cy,
                      int r) {
     using namespace wide;
-    Float tile[4];
+    Float tile[4] = {};
     gather4(g.tiles, 4 * ((cy >> 3) * int(g.stride) + (cx >> 3)), tile);
     const Float nearest0 = tile[0], dx = tile[1], dy = tile[2], depth = tile[3];
     const Float nearest = nearest0 + dx * __builtin_convertvector(cx & 7, Float) +

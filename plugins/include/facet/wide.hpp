@@ -146,7 +146,7 @@ inline Float sqrt(const Float& x) {
 #elif FACET_WIDE_NEON
     return std::bit_cast<Float>(vsqrtq_f32(std::bit_cast<float32x4_t>(x)));
 #else
-    Float r;
+    Float r{};
     for (int i = 0; i < kLanes; ++i) r[i] = std::sqrt(x[i]);
     return r;
 #endif
@@ -163,7 +163,7 @@ inline Float floor(const Float& x) {
 #elif FACET_WIDE_AVX
     return std::bit_cast<Float>(_mm256_round_ps(std::bit_cast<__m256>(x), 0x09)) + 0.0f;
 #elif FACET_WIDE_GENERIC
-    Float r;
+    Float r{};
     for (int i = 0; i < kLanes; ++i) r[i] = std::floor(x[i]) + 0.0f;
     return r;
 #else
@@ -180,7 +180,7 @@ inline Float ceil(const Float& x) {
 #elif FACET_WIDE_AVX
     return std::bit_cast<Float>(_mm256_round_ps(std::bit_cast<__m256>(x), 0x0A)) + 0.0f;
 #elif FACET_WIDE_GENERIC
-    Float r;
+    Float r{};
     for (int i = 0; i < kLanes; ++i) r[i] = std::ceil(x[i]) + 0.0f;
     return r;
 #else
@@ -204,7 +204,7 @@ inline Float gather(const float* base, const Mask& index, const Mask& m, float o
         _mm256_set1_ps(otherwise), base, std::bit_cast<__m256i>(index),
         std::bit_cast<__m256>(m), 4));
 #else
-    Float r;
+    Float r{};
     for (int i = 0; i < kLanes; ++i) r[i] = m[i] ? base[index[i]] : otherwise;
     return r;
 #endif
@@ -289,7 +289,7 @@ inline Quads gather_quads(const uint16_t* base, const HalfIndex& index) {
 // the first term left out, t^10 / 11 of the sum, is below 2^-29).
 inline Float log2(const Float& x) {
 #if FACET_WIDE_GENERIC
-    Float generic;
+    Float generic{};
     for (int i = 0; i < kLanes; ++i) generic[i] = std::log2(x[i]);
     return generic;
 #endif
@@ -311,7 +311,7 @@ inline Float log2(const Float& x) {
 // stays NaN.
 inline Float exp2(const Float& y) {
 #if FACET_WIDE_GENERIC
-    Float generic;
+    Float generic{};
     for (int i = 0; i < kLanes; ++i) generic[i] = std::exp2(y[i]);
     return generic;
 #endif
@@ -335,7 +335,7 @@ inline Float exp2(const Float& y) {
 // FLT_MIN counts as 0: 0^y is 0, and 1 for y = 0. NaN stays NaN.
 inline Float pow(const Float& x, const Float& y) {
 #if FACET_WIDE_GENERIC
-    Float generic;
+    Float generic{};
     for (int i = 0; i < kLanes; ++i) generic[i] = std::pow(x[i], y[i]);
     return generic;
 #endif
