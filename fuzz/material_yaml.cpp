@@ -75,7 +75,7 @@ void check_bound(const Material& m) {
     for (const MaterialParam& p : m.params)
         check(m.plugin->find_param(p.name) != nullptr,
               "parameter '" + p.name + "' is not in the shader's schema but was accepted");
-    const facet_shader_desc& desc = m.plugin->desc();
+    const facet_schema& desc = m.plugin->schema();
     for (uint32_t i = 0; i < desc.param_count; ++i) {
         const facet_param_desc& d = desc.params[i];
         const MaterialParam* p = given(m, d.name);

@@ -148,7 +148,7 @@ ParamBlock param_block(const ShaderPlugin& plugin,
             std::memcpy(block.bytes + d.offset, &i, sizeof i);
         }
     };
-    const facet_shader_desc& desc = plugin.desc();
+    const facet_schema& desc = plugin.schema();
     for (uint32_t i = 0; i < desc.param_count; ++i) {
         const facet_param_desc& d = desc.params[i];
         const float zero[4] = {};

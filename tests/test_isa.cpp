@@ -16,6 +16,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <deque>
 
 #include <cmath>
 #include <cstdlib>
@@ -231,8 +232,8 @@ TEST_CASE("packed fragment batches draw what block batches draw", "[isa][packing
         meshes.push_back(test::make_mesh(pos, idx, colors));
     }
     const auto packable = test::plugin<Shade>(), blocks = test::plugin<ShadeBlocks>();
-    REQUIRE(packable->desc().flags & FACET_SHADER_PACKABLE);
-    REQUIRE_FALSE(blocks->desc().flags & FACET_SHADER_PACKABLE);
+    REQUIRE(packable->shader_desc().flags & FACET_SHADER_PACKABLE);
+    REQUIRE_FALSE(blocks->shader_desc().flags & FACET_SHADER_PACKABLE);
     auto draw = [&](Isa isa, ColorFormat format, bool pack, FrameStats& stats) {
         Framebuffer fb(203, 117, format);
         fb.clear(glm::vec4(0.1f, 0.2f, 0.3f, 1.0f), 0.0f);
@@ -336,7 +337,7 @@ TEST_CASE("packed fragments are shaded at their own pixel centres", "[isa][packi
     }
     const Mesh mesh = test::make_mesh(pos, idx);
     const auto shader = test::plugin<Coordinates>();
-    REQUIRE(shader->desc().flags & FACET_SHADER_PACKABLE);
+    REQUIRE(shader->shader_desc().flags & FACET_SHADER_PACKABLE);
     for (Isa isa : supported_isas()) {
         INFO("path " << isa_name(isa));
         Framebuffer fb(203, 117, ColorFormat::rgba32f);
@@ -364,28 +365,37 @@ TEST_CASE("packed fragments are shaded at their own pixel centres", "[isa][packi
 
 TEST_CASE("shipped wide shaders draw the same packed as a block at a time, on every path",
           "[isa][packing]") {
-    // Each plugin's own per-path fragment_wide (fragment_avx2, _avx512),
+    // Each plugin's own per-path fragment entries,
     // called with packed batches and, through a copy of its descriptor
     // that does not allow packing, with blocks.
     PluginRegistry registry;
     for (const char* name : test::kDemoScenes) {
         Scene scene = test::small_demo_scene(registry, name);
         scene.settings.msaa = 1;  // fragments are packed only at one sample a pixel
-        std::vector<facet_shader_desc> copies;
-        copies.reserve(scene.materials().size());  // never moved: plugins point into it
+        struct Copy {
+            facet_plugin_desc plugin;
+            facet_shader_desc shader;
+        };
+        std::deque<Copy> copies;  // never moved: plugins point into it
         test::PluginSwap blocks(scene, [&](const Material& m) -> std::shared_ptr<ShaderPlugin> {
-            const facet_shader_desc& desc = m.plugin->desc();
-            if (!(desc.flags & FACET_SHADER_PACKABLE)) return nullptr;
+            const facet_shader_desc& shader = m.plugin->shader_desc();
+            if (!(shader.flags & FACET_SHADER_PACKABLE)) return nullptr;
             // A plugin built with facet_add_shader has the fragment function
             // of every wide path this build of facet runs (a sanitizer
             // build: the CPU's best only).
+            const auto has = [&](uint32_t isa) {
+                for (uint32_t i = 0; i < shader.fragment_count; ++i)
+                    if (shader.fragments[i].isa == isa) return true;
+                return false;
+            };
             for (Isa isa : supported_isas()) {
-                if (isa == Isa::avx2) REQUIRE(desc.fragment_avx2);
-                if (isa == Isa::avx512) REQUIRE(desc.fragment_avx512);
+                if (isa == Isa::avx2) REQUIRE(has(FACET_ISA_X86_64_V3));
+                if (isa == Isa::avx512) REQUIRE(has(FACET_ISA_X86_64_V4));
             }
-            copies.push_back(desc);
-            copies.back().flags &= ~uint32_t(FACET_SHADER_PACKABLE);
-            return ShaderPlugin::from_descriptor(&copies.back(), "test");
+            Copy& c = copies.emplace_back(Copy{m.plugin->desc(), shader});
+            c.shader.flags &= ~uint32_t(FACET_SHADER_PACKABLE);
+            c.plugin.shader = &c.shader;
+            return ShaderPlugin::from_descriptor(&c.plugin, "test");
         });
         REQUIRE_FALSE(blocks.empty());
         for (Isa isa : supported_isas()) {

@@ -524,10 +524,11 @@ void probe_fragment(const facet_draw*, facet_fragment_batch* b) {
 
 TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
     const facet_varying_desc uv = {"uv", 2, FACET_INTERP_PERSPECTIVE};
-    facet_shader_desc desc = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_shader_desc),
-                              "probe", "test", 0, 0, nullptr, 0, nullptr, 0,
-                              probe_vertex, probe_fragment, nullptr, nullptr, 0,
-                              FACET_KIND_SHADER, nullptr, nullptr, 0, 0};
+    const facet_fragment_entry fragment = {FACET_ISA_BASELINE, probe_fragment};
+    facet_shader_desc shader = {sizeof(facet_shader_desc), 0, 0, 0, nullptr, 0, 0,
+                                probe_vertex, 1, &fragment};
+    const facet_plugin_desc desc = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_plugin_desc),
+                                    "probe", "test", {}, &shader, nullptr};
     Mesh mesh = make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {0, 1, 0.5f}}, {0, 1, 2},
                           std::vector<glm::vec4>(3, glm::vec4(1.0f)));
     mesh.normals.assign(3, {0, 0, 1});
@@ -550,9 +551,9 @@ TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
     CHECK(none.varying_floats == 0);
     CHECK(none.lights == 0);
 
-    desc.needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS;
-    desc.varying_count = 1;
-    desc.varyings = &uv;
+    shader.needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_LIGHTS;
+    shader.varying_count = 1;
+    shader.varyings = &uv;
     Seen some = run();
     CHECK((some.normal && some.uv && !some.color));
     CHECK(some.varying_floats == 2);

@@ -1,5 +1,6 @@
 // Plugin loading and the ABI: real .so files, good and deliberately bad, and
 // where plugins are searched for.
+#include "abi_layout.h"
 #include "support.hpp"
 
 #include <facet/error.hpp>
@@ -18,15 +19,7 @@
 using namespace facet;
 namespace fs = std::filesystem;
 
-extern "C" {
-size_t facet_c_sizeof_shader_desc(void);
-size_t facet_c_sizeof_fragment_batch(void);
-size_t facet_c_sizeof_draw(void);
-size_t facet_c_sizeof_param_desc(void);
-size_t facet_c_sizeof_light(void);
-size_t facet_c_desc_v1_0_size(void);
-size_t facet_c_offsets(size_t* out);
-}
+extern "C" size_t facet_c_layout(size_t* out);  // abi_c_check.c
 
 namespace {
 
@@ -46,32 +39,15 @@ ErrorCode load_error(const fs::path& path, std::string* message = nullptr) {
 }  // namespace
 
 TEST_CASE("the ABI header compiles as C with the same layout", "[abi]") {
-    CHECK(facet_c_sizeof_shader_desc() == sizeof(facet_shader_desc));
-    CHECK(facet_c_sizeof_fragment_batch() == sizeof(facet_fragment_batch));
-    CHECK(facet_c_sizeof_draw() == sizeof(facet_draw));
-    CHECK(facet_c_sizeof_param_desc() == sizeof(facet_param_desc));
-    CHECK(facet_c_sizeof_light() == sizeof(facet_light));
-    // v1.2 appended the per-path fragment functions and the flags to the
-    // v1.0 descriptor.
-    CHECK(facet_c_desc_v1_0_size() < sizeof(facet_shader_desc));
-    const size_t cpp[] = {
-        offsetof(facet_shader_desc, struct_size), offsetof(facet_shader_desc, name),
-        offsetof(facet_shader_desc, needs),       offsetof(facet_shader_desc, varyings),
-        offsetof(facet_shader_desc, params),      offsetof(facet_shader_desc, params_size),
-        offsetof(facet_shader_desc, vertex),      offsetof(facet_shader_desc, fragment),
-        offsetof(facet_shader_desc, fragment_avx2), offsetof(facet_shader_desc, fragment_avx512),
-        offsetof(facet_shader_desc, flags),       offsetof(facet_fragment_batch, coord),
-        offsetof(facet_draw, params),             offsetof(facet_draw, model_view_projection),
-        offsetof(facet_draw, lights),             offsetof(facet_draw, time),
-        offsetof(facet_vertex_batch, clip_position), offsetof(facet_vertex_batch, varying_floats),
-        offsetof(facet_fragment_batch, mask),     offsetof(facet_fragment_batch, texels),
-        offsetof(facet_fragment_batch, color),    offsetof(facet_param_desc, uv_varying),
-        offsetof(facet_light, spot_cos_outer),    offsetof(facet_host, sample),
-        sizeof(facet_host),                       sizeof(facet_vertex_batch),
-        sizeof(facet_varying_desc)};
-    size_t c[64];
-    REQUIRE(facet_c_offsets(c) == std::size(cpp));
-    for (size_t i = 0; i < std::size(cpp); ++i) CHECK(c[i] == cpp[i]);
+#define FACET_ABI_PUT(value) value,
+    const size_t cpp[] = {FACET_ABI_LAYOUT(FACET_ABI_PUT)};
+#undef FACET_ABI_PUT
+    size_t c[128];
+    REQUIRE(facet_c_layout(c) == std::size(cpp));
+    for (size_t i = 0; i < std::size(cpp); ++i) {
+        INFO("entry " << i << " of FACET_ABI_LAYOUT");
+        CHECK(c[i] == cpp[i]);
+    }
 }
 
 TEST_CASE("a plugin written in C loads and draws", "[abi][plugin]") {
@@ -87,15 +63,26 @@ TEST_CASE("a plugin written in C loads and draws", "[abi][plugin]") {
 
 TEST_CASE("plugins with a mismatched ABI are refused, saying why", "[abi][plugin]") {
     std::string why;
-    CHECK(load_error(kTestPlugins / "wrong_major.so", &why) == ErrorCode::plugin_abi_mismatch);
     const std::string minor = std::to_string(FACET_ABI_MINOR);
-    CHECK_THAT(why, Catch::Contains("built for ABI 2." + minor) &&
-                        Catch::Contains("this host speaks ABI 1." + minor) &&
+    CHECK(load_error(kTestPlugins / "wrong_major.so", &why) == ErrorCode::plugin_abi_mismatch);
+    CHECK_THAT(why, Catch::Contains("built for ABI 3." + minor) &&
+                        Catch::Contains("this host speaks ABI 2." + minor) &&
                         Catch::Contains("wrong_major.so"));
+    // An ABI 1 plugin: its ABI named, and what to do.
+    CHECK(load_error(kTestPlugins / "abi1_plugin.so", &why) == ErrorCode::plugin_abi_mismatch);
+    CHECK_THAT(why, Catch::Contains("built for ABI 1.6") &&
+                        Catch::Contains("this host speaks ABI 2." + minor) &&
+                        Catch::Contains("rebuild the plugin against this facet SDK"));
     CHECK(load_error(kTestPlugins / "short_desc.so", &why) == ErrorCode::plugin_struct_size);
-    CHECK_THAT(why, Catch::Contains("16 bytes"));
+    CHECK_THAT(why, Catch::Contains("the descriptor is 16 bytes"));
+    CHECK(load_error(kTestPlugins / "short_shader.so", &why) == ErrorCode::plugin_struct_size);
+    CHECK_THAT(why, Catch::Contains("the shader record is 8 bytes"));
+    CHECK(load_error(kTestPlugins / "no_baseline.so", &why) == ErrorCode::plugin_invalid);
+    CHECK_THAT(why, Catch::Contains("no fragment entry for FACET_ISA_BASELINE"));
+    CHECK(load_error(kTestPlugins / "both_kinds.so", &why) == ErrorCode::plugin_invalid);
+    CHECK_THAT(why, Catch::Contains("both a shader and a screen pass"));
     CHECK(load_error(kTestPlugins / "no_entry.so", &why) == ErrorCode::plugin_no_entry);
-    CHECK_THAT(why, Catch::Contains("facet_shader_entry"));
+    CHECK_THAT(why, Catch::Contains("facet_plugin_entry"));
     CHECK(load_error(kTestPlugins / "missing_symbol.so", &why) == ErrorCode::plugin_load_failed);
     CHECK_THAT(why, Catch::Contains("facet_test_symbol_nobody_defines"));
 }
@@ -113,36 +100,81 @@ TEST_CASE("files that are not plugins are refused", "[plugin]") {
     CHECK(load_error(dir / "absent.so") == ErrorCode::file_not_found);
 }
 
-TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
-    facet_shader_desc d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
-    facet_varying_desc bad_varying = {"v", 5, FACET_INTERP_PERSPECTIVE};
-    d.varyings = &bad_varying;
-    auto code = [&] {
+namespace {
+
+// A descriptor to change field by field: copies of its records, linked.
+struct DescCopy {
+    facet_plugin_desc plugin;
+    facet_shader_desc shader;
+    explicit DescCopy(const facet_plugin_desc* d) : plugin(*d), shader(*d->shader) {
+        plugin.shader = &shader;
+    }
+    DescCopy(const DescCopy& o) : DescCopy(&o.plugin) {}
+    DescCopy& operator=(const DescCopy& o) {
+        plugin = o.plugin, shader = o.shader;
+        plugin.shader = &shader;
+        return *this;
+    }
+    // The plugin's error, or "accepted".
+    std::string why() const {
         try {
-            ShaderPlugin::from_descriptor(&d, "test");
+            ShaderPlugin::from_descriptor(&plugin, "test");
         } catch (const Error& e) {
-            return e.code();
+            CHECK(e.code() == ErrorCode::plugin_invalid);
+            return e.what();
         }
-        return ErrorCode::config_invalid;
-    };
-    CHECK(code() == ErrorCode::plugin_invalid);
-    d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
-    d.fragment = nullptr;
-    CHECK(code() == ErrorCode::plugin_invalid);
+        return "accepted";
+    }
+};
+
+const facet_plugin_desc* color_shader() {
+    return sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+}
+
+}  // namespace
+
+TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
+    const DescCopy real(color_shader());
+    DescCopy d = real;
+    CHECK(d.why() == "accepted");
+    facet_varying_desc bad_varying = {"v", 5, FACET_INTERP_PERSPECTIVE};
+    d.shader.varyings = &bad_varying;
+    CHECK_THAT(d.why(), Catch::Contains("varying 0 has 5 components"));
+    d = real;
+    d.shader.vertex = nullptr;
+    CHECK_THAT(d.why(), Catch::Contains("no vertex function"));
+    // The fragment entries: one at least, each with its function, each
+    // instruction set once, the baseline among them; a later one's unknown
+    // instruction set is let be.
+    d = real;
+    facet_fragment_entry entries[3] = {{FACET_ISA_BASELINE, real.shader.fragments[0].fragment},
+                                       {FACET_ISA_X86_64_V3, nullptr},
+                                       {FACET_ISA_BASELINE, real.shader.fragments[0].fragment}};
+    d.shader.fragments = entries;
+    d.shader.fragment_count = 0;
+    CHECK_THAT(d.why(), Catch::Contains("the shader has 0 fragment entries"));
+    d.shader.fragment_count = 2;
+    CHECK_THAT(d.why(), Catch::Contains("fragment entry 1 has no function"));
+    entries[1] = {FACET_ISA_BASELINE, real.shader.fragments[0].fragment};
+    CHECK_THAT(d.why(), Catch::Contains("two fragment entries for instruction set 0"));
+    entries[1].isa = 77;
+    CHECK(d.why() == "accepted");
     // Needs this host cannot serve (yet) are refused, not silently unmet.
     for (uint32_t need : {1u << 11, 1u << 30}) {
-        d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
-        d.needs |= need;
-        CHECK(code() == ErrorCode::plugin_invalid);
+        d = real;
+        d.shader.needs |= need;
+        CHECK_THAT(d.why(), Catch::Contains("needs inputs this host cannot provide"));
     }
+    // Neither a shader nor a pass.
+    d = real;
+    d.plugin.shader = nullptr;
+    CHECK_THAT(d.why(), Catch::Contains("neither a shader nor a screen pass"));
     // A parameter whose offset wraps around the block is refused.
     facet_param_desc wrap = sdk::float1("x", 0, 0.0f);
     wrap.offset = 0xFFFFFFFCu;
-    d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
-    d.param_count = 1;
-    d.params = &wrap;
-    d.params_size = 16;
-    CHECK(code() == ErrorCode::plugin_invalid);
+    d = real;
+    d.plugin.schema = {1, 16, &wrap, nullptr};
+    CHECK_THAT(d.why(), Catch::Contains("lies outside the parameter block"));
 }
 
 TEST_CASE("conditional varyings: read only under their parameter, and checked at load",
@@ -150,9 +182,10 @@ TEST_CASE("conditional varyings: read only under their parameter, and checked at
     PluginRegistry registry;
     const std::shared_ptr<ShaderPlugin> phong = registry.get("phong");
     // phong's tangent (4 floats, its last varying) serves only its normal map.
-    const facet_shader_desc& real = phong->desc();
-    REQUIRE(real.conditional_varyings == 1);
-    REQUIRE(std::string(real.params[real.varyings_condition].name) == "normal_texture");
+    const facet_shader_desc& shader = phong->shader_desc();
+    const facet_schema& schema = phong->schema();
+    REQUIRE(shader.conditional_varyings == 1);
+    REQUIRE(std::string(schema.params[shader.varyings_condition].name) == "normal_texture");
     ParamBlock block;
     const facet_param_desc& condition = *phong->find_param("normal_texture");
     CHECK(phong->read_floats(block.bytes) == phong->varying_floats() - 4);
@@ -160,48 +193,30 @@ TEST_CASE("conditional varyings: read only under their parameter, and checked at
     std::memcpy(block.bytes + condition.offset, &bound, sizeof bound);
     CHECK(phong->read_floats(block.bytes) == phong->varying_floats());
 
-    facet_shader_desc d = real;
-    auto why = [&]() -> std::string {
-        try {
-            ShaderPlugin::from_descriptor(&d, "test");
-        } catch (const Error& e) {
-            CHECK(e.code() == ErrorCode::plugin_invalid);
-            return e.what();
-        }
-        return "accepted";
-    };
-    CHECK(why() == "accepted");
-    d.conditional_varyings = d.varying_count + 1;
-    CHECK_THAT(why(), Catch::Contains("conditional varyings of"));
+    const DescCopy real(&phong->desc());
+    DescCopy d = real;
+    CHECK(d.why() == "accepted");
+    d.shader.conditional_varyings = d.shader.varying_count + 1;
+    CHECK_THAT(d.why(), Catch::Contains("conditional varyings of"));
     d = real;
-    d.varyings_condition = uint32_t(phong->find_param("diffuse") - d.params);
-    CHECK_THAT(why(), Catch::Contains("not a texture or bool parameter"));
+    d.shader.varyings_condition = uint32_t(phong->find_param("diffuse") - schema.params);
+    CHECK_THAT(d.why(), Catch::Contains("not a texture or bool parameter"));
     d = real;
-    d.varyings_condition = d.param_count;
-    CHECK_THAT(why(), Catch::Contains("not a texture or bool parameter"));
+    d.shader.varyings_condition = schema.param_count;
+    CHECK_THAT(d.why(), Catch::Contains("not a texture or bool parameter"));
     // With the UV conditional too, base_texture would be sampled at zeros.
     d = real;
-    d.conditional_varyings = 2;
-    CHECK_THAT(why(), Catch::Contains("texture 'base_texture' reads its UV from a conditional"));
+    d.shader.conditional_varyings = 2;
+    CHECK_THAT(d.why(), Catch::Contains("texture 'base_texture' reads its UV from a conditional"));
 }
 
 TEST_CASE("a parameter schema that overlaps, has bad ranges or runs past its table is refused",
           "[plugin]") {
-    facet_shader_desc d = *sdk::describe<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    DescCopy d(color_shader());
     facet_param_desc params[2] = {sdk::float1("a", 0, 0.5f, 0.0f, 1.0f),
                                   sdk::float1("b", 4, 0.5f, 0.0f, 1.0f)};
-    d.param_count = 2;
-    d.params = params;
-    d.params_size = 16;
-    auto why = [&]() -> std::string {
-        try {
-            ShaderPlugin::from_descriptor(&d, "test");
-        } catch (const Error& e) {
-            CHECK(e.code() == ErrorCode::plugin_invalid);
-            return e.what();
-        }
-        return "accepted";
-    };
+    d.plugin.schema = {2, 16, params, nullptr};
+    const auto why = [&] { return d.why(); };
     CHECK(why() == "accepted");
     params[1].type = FACET_PARAM_VEC2;
     params[1].offset = 0;  // on top of "a"

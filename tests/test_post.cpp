@@ -461,7 +461,7 @@ TEST_CASE("post chain errors name the file and line", "[post][config]") {
 TEST_CASE("a screen pass's descriptor is checked like a shader's", "[post][plugin]") {
     static const facet_param_desc choice =
         sdk::choice("operator", 0, 0, "which one");
-    const auto refusal = [](const facet_shader_desc& d) {
+    const auto refusal = [](const facet_plugin_desc& d) {
         try {
             ShaderPlugin::from_descriptor(&d, "test");
         } catch (const Error& e) {
@@ -469,56 +469,45 @@ TEST_CASE("a screen pass's descriptor is checked like a shader's", "[post][plugi
         }
         return std::string("accepted");
     };
-    const auto post = [](const facet_post_frame*) {};
-    facet_shader_desc d{};
+    facet_pass_desc pass = {sizeof(facet_pass_desc), [](const facet_pass_frame*) {}};
+    facet_plugin_desc d{};
     d.abi_major = FACET_ABI_MAJOR;
     d.abi_minor = FACET_ABI_MINOR;
     d.struct_size = sizeof d;
     d.name = "probe";
-    d.kind = FACET_KIND_POST;
-    d.post = post;
+    d.pass = &pass;
     CHECK(refusal(d) == "accepted");
+    CHECK(ShaderPlugin::from_descriptor(&d, "test")->is_post());
     using Catch::Matchers::Contains;
-    facet_shader_desc with_vertex = d;
-    with_vertex.vertex = [](const facet_draw*, const facet_vertex_batch*) {};
-    CHECK_THAT(refusal(with_vertex), Contains("no vertex or fragment"));
-    facet_shader_desc no_post = d;
-    no_post.post = nullptr;
-    CHECK_THAT(refusal(no_post), Contains("without its post function"));
-    facet_shader_desc odd_kind = d;
-    odd_kind.kind = 7;
-    CHECK_THAT(refusal(odd_kind), Contains("unknown plugin kind 7"));
+    facet_pass_desc no_run = {sizeof(facet_pass_desc), nullptr};
+    facet_plugin_desc without = d;
+    without.pass = &no_run;
+    CHECK_THAT(refusal(without), Contains("the screen pass has no function"));
+    facet_pass_desc short_pass = {4, pass.run};
+    facet_plugin_desc small = d;
+    small.pass = &short_pass;
+    CHECK_THAT(refusal(small), Contains("the screen pass record is 4 bytes"));
     // A choice needs its names, none empty or twice, and a default among them.
-    facet_shader_desc chooses = d;
-    chooses.param_count = 1;
-    chooses.params = &choice;
-    chooses.params_size = 4;
-    CHECK_THAT(refusal(chooses), Contains("gives it no names"));
+    facet_plugin_desc chooses = d;
+    chooses.schema = {1, 4, &choice, nullptr};
+    CHECK_THAT(refusal(chooses), Contains("give it no names"));
     for (const char* names : {"a||b", "a|b|a"}) {
         const char* table[] = {names};
-        chooses.param_choices = table;
+        chooses.schema.choices = table;
         CHECK_THAT(refusal(chooses), Contains("operator"));
     }
     const char* good[] = {"a|b"};
-    chooses.param_choices = good;
+    chooses.schema.choices = good;
     CHECK(refusal(chooses) == "accepted");
     facet_param_desc far = choice;
     far.default_value[0] = 2;
-    chooses.params = &far;
+    chooses.schema.params = &far;
     CHECK_THAT(refusal(chooses), Contains("not the index of one of 'a|b'"));
-    // A shader of ABI 1.3: its struct_size covers the padding after `flags`
-    // where 1.4 put `kind`, and whatever that holds, it is a shader.
-    facet_shader_desc old{};
-    old.abi_major = FACET_ABI_MAJOR;
-    old.abi_minor = 3;
-    old.struct_size = uint32_t(offsetof(facet_shader_desc, kind) + sizeof(uint32_t));
-    old.name = "old";
-    old.vertex = [](const facet_draw*, const facet_vertex_batch*) {};
-    old.fragment = [](const facet_draw*, facet_fragment_batch*) {};
-    old.kind = 0x5A5A5A5A;  // stale padding
-    old.post = post;        // past its struct_size: never read
-    CHECK(refusal(old) == "accepted");
-    CHECK_FALSE(ShaderPlugin::from_descriptor(&old, "test")->is_post());
+    // A texture parameter is a shader's only.
+    facet_param_desc texture = sdk::texture("image", 0, -1, false);
+    facet_plugin_desc textured = d;
+    textured.schema = {1, 4, &texture, nullptr};
+    CHECK_THAT(refusal(textured), Contains("a screen pass takes no textures"));
 }
 
 TEST_CASE("a screen pass written in C is hot-reloaded; a crashing version is refused",

@@ -140,7 +140,7 @@ TEST_CASE("a crash in plugin code names the plugin and the function", "[reliabil
         int signal;
     };
     for (const Case& c : {Case{"-DFAULT_AT_LOAD", "crashed while loading (its static constructors)", SIGSEGV},
-                          Case{"-DFAULT_IN_ENTRY", "crashed in its entry point (facet_shader_entry)", SIGSEGV},
+                          Case{"-DFAULT_IN_ENTRY", "crashed in its entry point (facet_plugin_entry)", SIGSEGV},
                           Case{"-DFAULT_IN_VERTEX", "crashed in its vertex function", SIGSEGV},
                           Case{"-DFAULT_IN_FRAGMENT", "crashed in its fragment function", SIGSEGV},
                           Case{"-DABORT_IN_FRAGMENT", "crashed in its fragment function", SIGABRT}}) {

@@ -69,7 +69,7 @@ ParamBlock make_block(const ShaderPlugin& shader, const Values& values) {
         INFO("parameter " << name);
         REQUIRE(shader.find_param(name));
     }
-    const facet_shader_desc& d = shader.desc();
+    const facet_schema& d = shader.schema();
     REQUIRE(values.size() == d.param_count);
     for (uint32_t i = 0; i < d.param_count; ++i)
         write_param(block, d.params[i], values.at(d.params[i].name));

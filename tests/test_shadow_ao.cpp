@@ -523,7 +523,8 @@ TEST_CASE("a directional or spot map that takes over a cube face's slot reads as
         render_shadow_maps(scene, casters, pipeline, maps, stats);
     };
     draw(point);
-    REQUIRE(maps.cube_abi.size() == 6);
+    REQUIRE(maps.faces.size() == 6);
+    REQUIRE(maps.by_light[0].map_count == 6);
     const auto [face_far, face_all] = border(65535);
     REQUIRE(face_all > 0);
     REQUIRE(face_far < face_all / 2);  // the face drew the box into its margin
@@ -534,8 +535,9 @@ TEST_CASE("a directional or spot map that takes over a cube face's slot reads as
             REQUIRE(border(65535).first < face_all / 2);
             continue;
         }
-        REQUIRE(maps.abi.size() == 1);
-        REQUIRE(maps.abi[0].width == 64);
+        REQUIRE(maps.faces.size() == 1);
+        REQUIRE(maps.by_light[0].maps == &maps.faces[0]);
+        REQUIRE(maps.faces[0].width == 64);
         const auto [far, all] = border(65535);
         CHECK(far == all);
     }
@@ -603,25 +605,33 @@ TEST_CASE("the frame report says which passes ran, which were skipped and why, a
     CHECK(count_text(12'345'678, Counts::full) == "12345678");
 }
 
-// ---- 16-bit distance maps (ABI 1.3) -----------------------------------------
+// ---- 16-bit distance maps ---------------------------------------------------
 
 namespace {
 
-// A square map of `size` texels as facet_shadow_distances, with its border,
+// A square map of `size` texels of 16-bit distances, with its border,
 // every texel `fill` (the border 65535).
 struct DistanceMap {
     int size;
     std::vector<uint16_t> texels;
-    facet_shadow_distances abi{};
+    const uint16_t* first = nullptr;  // texel (0, 0)
+    uint32_t stride = 0;
     DistanceMap(int size_, uint16_t fill) : size(size_) {
-        const int stride = size + 2 * FACET_SHADOW_BORDER;
+        stride = uint32_t(size + 2 * FACET_SHADOW_BORDER);
         texels.assign(size_t(stride) * size_t(stride), uint16_t(65535));
-        abi = {texels.data() + FACET_SHADOW_BORDER * (stride + 1), uint32_t(stride), 0};
+        first = texels.data() + FACET_SHADOW_BORDER * (stride + 1);
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x) at(x, y) = fill;
     }
     uint16_t& at(int x, int y) {
-        return texels[size_t(y + FACET_SHADOW_BORDER) * abi.stride + size_t(x + FACET_SHADOW_BORDER)];
+        return texels[size_t(y + FACET_SHADOW_BORDER) * stride + size_t(x + FACET_SHADOW_BORDER)];
+    }
+    // Map `sm` holding these texels, and the planes `tiles` if given.
+    facet_shadow_map over(facet_shadow_map sm, const float* tiles = nullptr,
+                          uint32_t tile_stride = 0) const {
+        sm.texels = first, sm.stride = stride;
+        sm.tiles = tiles, sm.tile_stride = tile_stride;
+        return sm;
     }
 };
 
@@ -674,8 +684,8 @@ static_assert(FACET_SHADOW_TILE == 8, "a texel's tile is its coordinates >> 3");
 struct Slab {
     float low, high;
 };
-Slab slab(const facet_shadow_planes& g, int cx, int cy, int r) {
-    const float* t = g.tiles + 4 * (ptrdiff_t(cy >> 3) * ptrdiff_t(g.stride) + (cx >> 3));
+Slab slab(const facet_shadow_map& g, int cx, int cy, int r) {
+    const float* t = g.tiles + 4 * (ptrdiff_t(cy >> 3) * ptrdiff_t(g.tile_stride) + (cx >> 3));
     const float nearest = t[0] + t[1] * float(cx & 7) + t[2] * float(cy & 7);
     const float spread = (std::abs(t[1]) + std::abs(t[2])) * float(r);
     return {nearest - spread - 0.25f, nearest + t[3] + spread + 0.25f};
@@ -712,15 +722,15 @@ float shadow_visibility(const sdk::ShadowMap& m, glm::vec3 p, float n_dot_l, int
     const float step = texel * tan_t;  // a tap k texels away sees the receiver k * step deeper
     const int r = std::clamp(kernel, 1, 15) / 2;
     constexpr sdk::detail::TapDistances kTaps{};
-    if (m.planes && r <= FACET_SHADOW_REACH) {
+    if (sm.tiles && r <= FACET_SHADOW_REACH) {
         // The centre's threshold is the highest and the corners' the lowest:
         // at or above the one every tap is lit; below the other, none is.
-        const Slab s = slab(*m.planes, int(fx), int(fy), r);
+        const Slab s = slab(sm, int(fx), int(fy), r);
         if (s.low >= tap_bound(receiver - step * kTaps.at[0][0])) return 1.0f;
         if (s.high < tap_bound(receiver - step * kTaps.at[r][r])) return 0.0f;
     }
-    const ptrdiff_t stride = m.distances->stride;
-    const uint16_t* centre = m.distances->texels + ptrdiff_t(fy) * stride + ptrdiff_t(fx);
+    const ptrdiff_t stride = sm.stride;
+    const uint16_t* centre = sm.texels + ptrdiff_t(fy) * stride + ptrdiff_t(fx);
     int lit = 0;
     for (int dy = -r; dy <= r; ++dy)
         for (int dx = -r; dx <= r; ++dx) {
@@ -763,7 +773,8 @@ TEST_CASE("16-bit distance maps: the SDK's filter counts the taps the reference 
         const auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x) dm.at(x, y) = uint16_t(20000 + next() % 4000);
-        const sdk::ShadowMap m{&sm, &dm.abi};
+        const facet_shadow_map map = dm.over(sm);
+        const sdk::ShadowMap m{&map};
         const float scale = 65535.0f / (sm.far_plane - sm.near_plane);
         // Receivers: points along the light's axis at distances around the
         // casters', spread over the map and a little past its edges.
@@ -885,8 +896,8 @@ TEST_CASE("16-bit distance maps: the planes that bound them tile by tile hold ev
         INFO("path " << isa_name(isa));
         std::vector<float> tiles(4 * kTiles * kTiles, std::nanf(""));
         ShadowPlaneRows rows;
-        rows.distances = dm.abi.texels;
-        rows.stride = int(dm.abi.stride);
+        rows.distances = dm.first;
+        rows.stride = int(dm.stride);
         rows.width = size;
         rows.tiles = tiles.data();
         kernels(isa).shadow_plane_rows(rows, 0, kTiles);
@@ -898,7 +909,7 @@ TEST_CASE("16-bit distance maps: the planes that bound them tile by tile hold ev
                 const int x0 = tx * FACET_SHADOW_TILE, y0 = ty * FACET_SHADOW_TILE;
                 for (int y = y0 - FACET_SHADOW_REACH; y < y0 + FACET_SHADOW_TILE + FACET_SHADOW_REACH; ++y)
                     for (int x = x0 - FACET_SHADOW_REACH; x < x0 + FACET_SHADOW_TILE + FACET_SHADOW_REACH; ++x) {
-                        const double d = dm.texels[size_t(y + FACET_SHADOW_BORDER) * dm.abi.stride +
+                        const double d = dm.texels[size_t(y + FACET_SHADOW_BORDER) * dm.stride +
                                                    size_t(x + FACET_SHADOW_BORDER)];
                         const double nearest = double(t[0]) + double(t[1]) * (x - x0) + double(t[2]) * (y - y0);
                         REQUIRE(d >= nearest);
@@ -911,13 +922,15 @@ TEST_CASE("16-bit distance maps: the planes that bound them tile by tile hold ev
                 REQUIRE(double(t[0]) + double(t[3]) <= 131072.0);
             }
         CHECK(tiles[4 * 6 + 1] == 0.0f);  // the silhouette's slope, past 2048, taken as 0
-        const facet_shadow_planes planes{tiles.data(), uint32_t(kTiles), 0};
-        const sdk::ShadowMap with{&sm, &dm.abi, &planes}, without{&sm, &dm.abi, nullptr};
+        const facet_shadow_map planed = dm.over(sm, tiles.data(), kTiles), bare = dm.over(sm);
+        const sdk::ShadowMap with{&planed}, without{&bare};
         // The same planes over taps that all read 0: a lit receiver comes
         // out lit only where the planes settled it; over taps that all
         // read "nothing drawn", a shadowed one comes out shadowed only so.
         DistanceMap dark(size, 0), clear(size, 65535);
-        const sdk::ShadowMap poisoned{&sm, &dark.abi, &planes}, cleared{&sm, &clear.abi, &planes};
+        const facet_shadow_map dark_map = dark.over(sm, tiles.data(), kTiles),
+                               clear_map = clear.over(sm, tiles.data(), kTiles);
+        const sdk::ShadowMap poisoned{&dark_map}, cleared{&clear_map};
         for (int kernel = 1; kernel <= 15; kernel += 2) {
             INFO("kernel " << kernel);
             int lit = 0, settled_scalar = 0, settled_wide = 0;
@@ -976,14 +989,16 @@ TEST_CASE("16-bit distance maps: taps in front of a perspective map's near plane
     // Nothing drawn: a grazing receiver's outer taps move in front of the light.
     DistanceMap empty(size, 65535);
     const glm::vec3 p(0.05f, 0.0f, -2.0f);
-    CHECK(pcf_reference::shadow_visibility(sdk::ShadowMap{&sm, &empty.abi}, p, 0.1f, 15, 1.0f, 1.5f) == 1.0f);
+    const facet_shadow_map empty_map = empty.over(sm);
+    CHECK(pcf_reference::shadow_visibility(sdk::ShadowMap{&empty_map}, p, 0.1f, 15, 1.0f, 1.5f) == 1.0f);
     // A map of 64 texels over 60 degrees with everything at its near plane:
     // all shadowed, but for the taps past the edge of the map, which read
     // its border.
     const facet_shadow_map narrow =
         map_header(64, FACET_SHADOW_PERSPECTIVE, perspective(glm::radians(60.0f), 1.0f, 0.5f, 8.0f, false));
     DistanceMap wall(64, 0);
-    const sdk::ShadowMap m{&narrow, &wall.abi};
+    const facet_shadow_map wall_map = wall.over(narrow);
+    const sdk::ShadowMap m{&wall_map};
     CHECK(pcf_reference::shadow_visibility(m, p, 1.0f, 3, 1.0f, 1.5f) == 0.0f);
     // The centre of the corner texel (0, 0): of a 3x3 kernel, 5 taps lie
     // past the edge.

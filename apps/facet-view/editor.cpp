@@ -493,7 +493,7 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
         ImGui::TextWrapped("Shown only: name a material for these parts in the scene "
                            "(materials:) to edit it.");
     const ScopedDisabled disabled(!editable);
-    const facet_shader_desc& desc = m.plugin->desc();
+    const facet_schema& desc = m.plugin->schema();
     const ScopedId scope("material");
     for (uint32_t k = 0; k < desc.param_count; ++k) {
         const facet_param_desc& d = desc.params[k];
@@ -565,8 +565,8 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
             }
             case FACET_PARAM_CHOICE: {
                 const std::vector<std::string> names =
-                    m.plugin->desc().param_choices && m.plugin->desc().param_choices[k]
-                        ? choice_names(m.plugin->desc().param_choices[k])
+                    m.plugin->schema().choices && m.plugin->schema().choices[k]
+                        ? choice_names(m.plugin->schema().choices[k])
                         : std::vector<std::string>{};
                 const MaterialParam* w = written(m, name);
                 std::string current = w ? w->word : "";

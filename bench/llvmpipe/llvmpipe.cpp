@@ -212,7 +212,7 @@ const facet_param_desc& checked_param(const Material& m, const char* name,
         throw std::runtime_error("llvmpipe: " + m.shader + "'s parameter " + name +
                                  " has type " + std::to_string(p->type) +
                                  ", not the one its GLSL version reads");
-    const size_t block = std::min<size_t>(m.plugin->desc().params_size, FACET_MAX_PARAMS_SIZE);
+    const size_t block = std::min<size_t>(m.plugin->schema().params_size, FACET_MAX_PARAMS_SIZE);
     if (size_t(p->offset) + bytes > block)
         throw std::runtime_error("llvmpipe: " + m.shader + "'s parameter " + name +
                                  " lies outside its parameter block");

@@ -20,20 +20,11 @@ namespace {
 using facet::post::Image;
 
 struct Bloom {
-    struct Params {
-        float threshold;
-        float intensity;
-        int32_t levels;
-    };
     static constexpr const char* name = "bloom";
     static constexpr const char* version = "1.0";
-    static constexpr facet_param_desc params[] = {
-        facet::sdk::float1("threshold", offsetof(Params, threshold), 1.0f, 0.0f,
-                           facet::sdk::detail::kInf, "luminance above which light blooms"),
-        facet::sdk::float1("intensity", offsetof(Params, intensity), 0.05f, 0.0f,
-                           facet::sdk::detail::kInf, "how much of the bloom is added"),
-        facet::sdk::int1("levels", offsetof(Params, levels), 5, 1, 8,
-                         "pyramid levels: each doubles the reach")};
+    FACET_PARAMS((float1, threshold, 1.0f, 0.0f, facet::sdk::infinity, "luminance above which light blooms"),
+                 (float1, intensity, 0.05f, 0.0f, facet::sdk::infinity, "how much of the bloom is added"),
+                 (int1, levels, 5, 1, 8, "pyramid levels: each doubles the reach"))
     static constexpr float kSigma = 1.5f;
 
     static void run(const facet::sdk::PostFrame& f, const Params& p) {

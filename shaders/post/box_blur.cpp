@@ -6,13 +6,9 @@
 namespace {
 
 struct BoxBlur {
-    struct Params {
-        int32_t radius;
-    };
     static constexpr const char* name = "box_blur";
     static constexpr const char* version = "1.0";
-    static constexpr facet_param_desc params[] = {facet::sdk::int1(
-        "radius", offsetof(Params, radius), 2, 1, 256, "pixels each side of the centre")};
+    FACET_PARAMS((int1, radius, 2, 1, 256, "pixels each side of the centre"))
 
     static void run(const facet::sdk::PostFrame& f, const Params& p) {
         const facet::post::Image image = facet::post::frame_image(f);

@@ -31,23 +31,14 @@ namespace {
 using facet::post::Image;
 
 struct Fxaa {
-    struct Params {
-        float edge_threshold;
-        float edge_threshold_min;
-        float subpixel;
-        int32_t search_steps;
-    };
     static constexpr const char* name = "fxaa";
     static constexpr const char* version = "1.0";
-    static constexpr facet_param_desc params[] = {
-        facet::sdk::float1("edge_threshold", offsetof(Params, edge_threshold), 0.125f, 0.0f, 1.0f,
-                           "least luma contrast, relative to the brightest, that is an edge"),
-        facet::sdk::float1("edge_threshold_min", offsetof(Params, edge_threshold_min), 0.0312f,
-                           0.0f, 1.0f, "least luma contrast that is an edge (dark areas)"),
-        facet::sdk::float1("subpixel", offsetof(Params, subpixel), 0.75f, 0.0f, 1.0f,
-                           "how much single-pixel detail is smoothed"),
-        facet::sdk::int1("search_steps", offsetof(Params, search_steps), 12, 1, 64,
-                         "pixels searched each way for an edge's ends")};
+    FACET_PARAMS((float1, edge_threshold, 0.125f, 0.0f, 1.0f,
+                  "least luma contrast, relative to the brightest, that is an edge"),
+                 (float1, edge_threshold_min, 0.0312f, 0.0f, 1.0f,
+                  "least luma contrast that is an edge (dark areas)"),
+                 (float1, subpixel, 0.75f, 0.0f, 1.0f, "how much single-pixel detail is smoothed"),
+                 (int1, search_steps, 12, 1, 64, "pixels searched each way for an edge's ends"))
 
     static void run(const facet::sdk::PostFrame& f, const Params& p) {
         const Image image = facet::post::frame_image(f);

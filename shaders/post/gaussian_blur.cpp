@@ -6,13 +6,9 @@
 namespace {
 
 struct GaussianBlur {
-    struct Params {
-        float sigma;
-    };
     static constexpr const char* name = "gaussian_blur";
     static constexpr const char* version = "1.0";
-    static constexpr facet_param_desc params[] = {facet::sdk::float1(
-        "sigma", offsetof(Params, sigma), 2.0f, 0.1f, 64.0f, "standard deviation, pixels")};
+    FACET_PARAMS((float1, sigma, 2.0f, 0.1f, 64.0f, "standard deviation, pixels"))
 
     static void run(const facet::sdk::PostFrame& f, const Params& p) {
         const facet::post::Image image = facet::post::frame_image(f);

@@ -4,7 +4,9 @@
 //             x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to 0..1
 //   reinhard  x / (1 + x)
 //   clamp     min(x, 1)
-// (negative values and NaN give 0, +Inf gives 1). Alpha is kept.
+// (negative values and NaN give 0, +Inf gives 1). Alpha is kept. Its
+// schema is a table rather than FACET_PARAMS: the curve's YAML name,
+// "operator", as tone-mapping operators are called, is a C++ keyword.
 #include <facet/post.hpp>
 
 #include <algorithm>

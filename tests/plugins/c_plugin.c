@@ -2,8 +2,11 @@
  * (see tests/CMakeLists.txt, and the hot-reload tests, which compile it
  * while they run) to test that the host refuses each one:
  *   WRONG_MAJOR     built for another ABI major version
- *   SHORT_DESC      descriptor smaller than ABI 1.0's
- *   NO_ENTRY        exports no facet_shader_entry
+ *   SHORT_DESC      descriptor smaller than ABI 2.0's
+ *   SHORT_SHADER    shader record smaller than ABI 2.0's
+ *   NO_BASELINE     fragment entries with none for FACET_ISA_BASELINE
+ *   BOTH_KINDS      a shader and a screen pass at once
+ *   NO_ENTRY        exports no facet_plugin_entry
  *   MISSING_SYMBOL  depends on a symbol nothing defines
  * With none of them it is a valid plugin that fills with (FILL_RED, 0.5,
  * 0.25, 1). WITH_GAIN adds a float parameter "gain" that scales red;
@@ -106,7 +109,35 @@ static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
 #define PLUGIN_NAME "c_plugin"
 #endif
 
-static const facet_shader_desc desc = {
+/* Blocks only: no FACET_SHADER_PACKABLE, one fragment function. */
+static const facet_fragment_entry fragments[] = {
+#ifdef NO_BASELINE
+    {FACET_ISA_X86_64_V3, fragment}
+#else
+    {FACET_ISA_BASELINE, fragment}
+#endif
+};
+
+static const facet_shader_desc shader = {
+#ifdef SHORT_SHADER
+    8,
+#else
+    sizeof(facet_shader_desc),
+#endif
+    0, 0,    /* needs, flags */
+    0, NULL, /* varyings */
+    0, 0,    /* no conditional varyings */
+    vertex, 1, fragments};
+
+#ifdef BOTH_KINDS
+static void run(const facet_pass_frame* frame) { (void)frame; }
+static const facet_pass_desc pass = {sizeof(facet_pass_desc), run};
+#define PASS &pass
+#else
+#define PASS NULL
+#endif
+
+static const facet_plugin_desc desc = {
 #ifdef WRONG_MAJOR
     FACET_ABI_MAJOR + 1,
 #else
@@ -116,17 +147,16 @@ static const facet_shader_desc desc = {
 #ifdef SHORT_DESC
     16,
 #else
-    sizeof(facet_shader_desc),
+    sizeof(facet_plugin_desc),
 #endif
-    PLUGIN_NAME, "1.0", 0, 0, NULL, PARAM_COUNT, PARAMS, PARAMS_SIZE, vertex, fragment,
-    NULL, NULL, 0, /* v1.2: no per-path loops; blocks only (not FACET_SHADER_PACKABLE) */
-    FACET_KIND_SHADER, NULL, NULL, /* v1.4: a shader; no choices */
-    0, 0};                         /* v1.5: no conditional varyings */
+    PLUGIN_NAME, "1.0",
+    {PARAM_COUNT, PARAMS_SIZE, PARAMS, NULL},
+    &shader, PASS};
 
 #ifdef NO_ENTRY
-FACET_EXPORT const facet_shader_desc* some_other_symbol(void) { return &desc; }
+FACET_EXPORT const facet_plugin_desc* some_other_symbol(void) { return &desc; }
 #else
-FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) {
+FACET_EXPORT const facet_plugin_desc* facet_plugin_entry(void) {
 #ifdef FAULT_IN_ENTRY
     fault();
 #endif

@@ -1,4 +1,4 @@
-/* A screen pass in plain C (ABI 1.4), for the tests: RGB times
+/* A screen pass in plain C, for the tests: RGB times
  * SCALE * gain, row by row on the host's threads, through a scratch copy
  * of the image. Built while the tests run (tests/support.cpp,
  * compile_post_plugin), with -DSCALE=... for a new version, and with
@@ -23,14 +23,14 @@ static const facet_param_desc params[] = {
      "multiplies RGB"}};
 
 typedef struct {
-    const facet_post_frame* frame;
+    const facet_pass_frame* frame;
     float* copy;
     float k;
 } Job;
 
 static void scale_row(void* context, uint32_t y, uint32_t worker) {
     const Job* job = (const Job*)context;
-    const facet_post_frame* f = job->frame;
+    const facet_pass_frame* f = job->frame;
     float* row = f->color + (size_t)y * f->stride * 4;
     float* copy = job->copy + (size_t)y * f->width * 4;
     uint32_t x;
@@ -46,19 +46,23 @@ static void scale_row(void* context, uint32_t y, uint32_t worker) {
     }
 }
 
-static void post(const facet_post_frame* f) {
+static void post(const facet_pass_frame* f) {
     const Params* p = (const Params*)f->params;
+    const facet_pass_service* service =
+        (const facet_pass_service*)f->host->extension(FACET_PASS_EXTENSION, FACET_PASS_VERSION);
     Job job;
+    if (!service) return;
     job.frame = f;
     job.k = SCALE * p->gain;
-    job.copy = (float*)f->host->scratch(f, 0, sizeof(float) * 4 * f->width * f->height);
+    job.copy = (float*)service->scratch(f, 0, sizeof(float) * 4 * f->width * f->height);
     if (!job.copy) return;
-    f->host->parallel_for(f, f->height, scale_row, &job);
+    service->parallel_for(f, f->height, scale_row, &job);
 }
 
-static const facet_shader_desc desc = {
-    FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_shader_desc), PLUGIN_NAME, "1.0",
-    0, 0, NULL, 1, params, sizeof(Params), NULL, NULL, NULL, NULL, 0,
-    FACET_KIND_POST, post, NULL};
+static const facet_pass_desc pass = {sizeof(facet_pass_desc), post};
 
-FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) { return &desc; }
+static const facet_plugin_desc desc = {
+    FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_plugin_desc), PLUGIN_NAME, "1.0",
+    {1, sizeof(Params), params, NULL}, NULL, &pass};
+
+FACET_EXPORT const facet_plugin_desc* facet_plugin_entry(void) { return &desc; }

@@ -44,27 +44,56 @@ struct Prepared {
 };
 
 // The oracle's own side of the plugin ABI (it uses no private part of the
-// core): a plugin's log messages go to stderr, and its dependent texture
-// reads sample the object's textures at level 0, bilinearly, as every
-// other read of the reference does (unbound slots read white).
+// core): a plugin's log messages go to stderr, and the textures it samples
+// itself ("facet.textures") are read by the scalar reference sampler
+// (facet/texture.hpp) at the level each lane asks for; unbound slots read
+// white.
 void oracle_log(int, const char* shader, const char* message) {
     std::fprintf(stderr, "[%s] %s\n", shader ? shader : "?", message ? message : "");
 }
 
-void oracle_sample(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
-                   uint32_t count, float* rgba) {
+const TextureBinding* oracle_bound(const facet_draw* draw, uint32_t slot) {
     const auto& textures = *static_cast<const std::vector<TextureBinding>*>(draw->host_data);
-    if (slot >= textures.size() || !textures[slot].texture) {
-        std::fill(rgba, rgba + 4 * count, 1.0f);
-        return;
-    }
-    sample_many(textures[slot], u, v, int(count), rgba);
+    return slot < textures.size() && textures[slot].texture ? &textures[slot] : nullptr;
 }
 
-// (No parallel_for or scratch: those serve screen passes, which the oracle
-// does not run.)
-const facet_host kOracleHost = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host), &oracle_log,
-                                &oracle_sample, nullptr, nullptr};
+void oracle_info(const facet_draw* draw, uint32_t slot, facet_texture_info* out) {
+    *out = {};
+    if (const TextureBinding* b = oracle_bound(draw, slot)) {
+        out->kind = b->texture->faces == 6 ? FACET_TEXTURE_CUBE : FACET_TEXTURE_2D;
+        out->width = uint32_t(b->texture->width), out->height = uint32_t(b->texture->height);
+        out->levels = b->filter == Filter::trilinear ? uint32_t(b->texture->levels()) : 1u;
+    }
+}
+
+void oracle_sample(const facet_draw* draw, uint32_t slot, const float* coords, const float* lod,
+                   uint32_t count, uint32_t mask, float* rgba) {
+    const TextureBinding* b = oracle_bound(draw, slot);
+    for (uint32_t i = 0; i < count; ++i) {
+        glm::vec4 c(0.0f);
+        if (mask >> i & 1u) {
+            const float l = lod ? lod[i] : 0.0f;
+            const glm::vec3 at(coords[i], coords[count + i],
+                               b && b->texture->faces == 6 ? coords[2 * count + i] : 0.0f);
+            c = !b                          ? glm::vec4(1.0f)
+                : b->texture->faces == 6    ? sample_cube(*b, at, l)
+                                            : sample_lod(*b, glm::vec2(at), l);
+        }
+        for (int k = 0; k < 4; ++k) rgba[uint32_t(k) * count + i] = c[k];
+    }
+}
+
+const void* oracle_extension(const char* id, uint32_t version) {
+    static const facet_textures_service textures = {sizeof(facet_textures_service),
+                                                    &oracle_info, &oracle_sample};
+    if (id && std::strcmp(id, FACET_TEXTURES_EXTENSION) == 0 && version >= 1 &&
+        version <= FACET_TEXTURES_VERSION)
+        return &textures;
+    return nullptr;  // no "facet.pass": the oracle runs no screen passes
+}
+
+const facet_host kOracleHost = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host),
+                                &oracle_log, &oracle_extension};
 
 void copy_matrix(float* out, const glm::mat4& m) { std::memcpy(out, glm::value_ptr(m), 64); }
 
@@ -152,7 +181,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o, const Mat
                                    glm::value_ptr(clip[0]),
                                    p->varyings.data(),
                                    floats};
-    if (count) p->shader->desc().vertex(&p->all, &batch);
+    if (count) p->shader->shader_desc().vertex(&p->all, &batch);
 
     for (uint32_t k = 0; k < floats; ++k)
         p->has_linear |= p->shader->float_interpolation()[k] == FACET_INTERP_LINEAR;
@@ -296,7 +325,7 @@ private:
                     uint32_t mask, float* color) {
         b.mask = mask;
         b.color = color;
-        p.shader->desc().fragment(&draw, &b);
+        p.shader->fragment_for(Isa::portable)(&draw, &b);
     }
 
     const Scene& scene_;

@@ -131,14 +131,8 @@ struct DrawCall {
     glm::vec3 camera_position{0.0f};
     const facet_light* lights = nullptr;
     uint32_t light_count = 0;
-    const facet_shadow_map* shadow_maps = nullptr;  // for FACET_NEED_SHADOW_MAP
-    uint32_t shadow_map_count = 0;
-    const facet_shadow_distances* shadow_distances = nullptr;  // the same maps, or null
-    const facet_shadow_map* cube_shadow_maps = nullptr;  // point lights: 6 faces a cube
-    const facet_shadow_distances* cube_shadow_distances = nullptr;
-    const facet_shadow_planes* shadow_planes = nullptr;       // the distances' bounds, or null
-    const facet_shadow_planes* cube_shadow_planes = nullptr;
-    uint32_t cube_shadow_map_count = 0;                  // cubes
+    // For FACET_NEED_SHADOW_MAP: each light's shadow, [light_count], or null.
+    const facet_shadow* shadows = nullptr;
     // Ambient visibility, for FACET_NEED_AO: target-sized, or the renderer's
     // AO pass at half size (its grid, which the fragment stage upsamples a
     // tile at a time, by the depth the AO pass read). At most one is set.

@@ -1,11 +1,12 @@
 // Shader plugins: loading, ABI checks, and finding them by name.
 //
 // A ShaderPlugin is one loaded plugin library (or, for tests and embedders,
-// a descriptor compiled into the host): a material shader, or a screen pass
-// (kind() FACET_KIND_POST, ABI 1.4), which the scene's post chain runs. load() refuses a library whose ABI
-// major version or descriptor size does not fit this host, or whose
-// descriptor is inconsistent, with an Error that says why. The library stays
-// loaded while any shared_ptr to its ShaderPlugin lives.
+// a descriptor compiled into the host): a material shader, or a screen pass,
+// which the scene's post chain runs. load() refuses a library built for
+// another ABI major version (naming it: an ABI 1 plugin is told to be
+// rebuilt), or whose descriptor is too small or inconsistent, with an Error
+// that says why. The library stays loaded while any shared_ptr to its
+// ShaderPlugin lives.
 //
 // A PluginRegistry finds a plugin by name as "<name>.so" on its search path:
 // the build's plugin folder first, then the folders a scene names, then
@@ -38,32 +39,32 @@ public:
                                               std::string_view expected_name = {},
                                               const std::filesystem::path& private_copy = {});
     // Wraps a descriptor that lives in this process. Validated as load() does.
-    static std::shared_ptr<ShaderPlugin> from_descriptor(const facet_shader_desc* desc,
+    static std::shared_ptr<ShaderPlugin> from_descriptor(const facet_plugin_desc* desc,
                                                          std::string origin);
 
     ~ShaderPlugin();
     ShaderPlugin(const ShaderPlugin&) = delete;
     ShaderPlugin& operator=(const ShaderPlugin&) = delete;
 
-    // The host's own copy of the plugin's descriptor: fields the plugin's
-    // ABI version does not have read as zero.
-    const facet_shader_desc& desc() const { return desc_; }
+    // The host's own copies of the plugin's descriptors: fields past a
+    // record's struct_size read as zero, as does the shader record of a
+    // screen pass and the pass record of a shader.
+    const facet_plugin_desc& desc() const { return desc_; }
+    const facet_schema& schema() const { return desc_.schema; }
+    const facet_shader_desc& shader_desc() const { return shader_; }
     const std::string& name() const { return name_; }
     const std::string& origin() const { return origin_; }  // file it came from
     // The fragment function to call on instruction-set path `isa`: the
-    // widest one the plugin has that the path allows (shader_abi.h, v1.2).
-    facet_fragment_fn fragment_for(Isa isa) const {
-        if (isa == Isa::avx512 && desc_.fragment_avx512) return desc_.fragment_avx512;
-        if (isa != Isa::portable && desc_.fragment_avx2) return desc_.fragment_avx2;
-        return desc_.fragment;
-    }
-    bool is_post() const { return desc_.kind == FACET_KIND_POST; }
-    uint32_t needs() const { return desc_.needs; }
-    bool needs(facet_need need) const { return (desc_.needs & need) != 0; }
+    // entry of the widest instruction set the plugin has that the path allows.
+    facet_fragment_fn fragment_for(Isa isa) const { return fragment_[int(isa)]; }
+    bool is_post() const { return pass_ != nullptr; }
+    facet_pass_fn pass() const { return pass_; }  // a screen pass's function
+    uint32_t needs() const { return shader_.needs; }
+    bool needs(facet_need need) const { return (shader_.needs & need) != 0; }
     uint32_t varying_floats() const { return varying_floats_; }
     // The varying floats a draw with parameter block `params` reads, a
     // prefix of them: all but the conditional varyings when their condition
-    // is 0 (facet_shader_desc.conditional_varyings, ABI 1.5).
+    // is 0 (facet_shader_desc.conditional_varyings).
     uint32_t read_floats(const void* params) const;
     // facet_interpolation of each varying float.
     const uint8_t* float_interpolation() const { return float_interpolation_; }
@@ -80,11 +81,15 @@ public:
 
 private:
     ShaderPlugin() = default;
-    void adopt(const facet_shader_desc* desc);
+    void adopt(const facet_plugin_desc* desc);
+    void adopt_fragments();
 
     void* handle_ = nullptr;
     std::filesystem::path private_copy_;
-    facet_shader_desc desc_{};
+    facet_plugin_desc desc_{};
+    facet_shader_desc shader_{};
+    facet_pass_fn pass_ = nullptr;
+    facet_fragment_fn fragment_[3] = {};  // by Isa
     std::string name_;
     std::string origin_;
     uint32_t varying_floats_ = 0;
@@ -96,7 +101,7 @@ private:
 
 // Checks a descriptor against this host's ABI and limits.
 // Throws Error(plugin_abi_mismatch | plugin_struct_size | plugin_invalid).
-void validate_descriptor(const facet_shader_desc* desc, const std::string& origin);
+void validate_descriptor(const facet_plugin_desc* desc, const std::string& origin);
 
 // Whether a plugin file is whole: an ELF-64 file whose headers and loaded
 // segments fit in it. A linker still writing it may leave it otherwise for

@@ -119,7 +119,7 @@ struct RenderSettings {
     bool post = true;
 };
 
-// One screen pass of a scene's post chain: a plugin of kind FACET_KIND_POST
+// One screen pass of a scene's post chain: a plugin with a facet_pass_desc
 // and the values of its parameters, checked against its schema.
 struct PostPass {
     std::string name;                   // the plugin

@@ -273,7 +273,7 @@ TextureBinding load_binding(const std::string& m, const MaterialParam& p,
 
 BoundParams bind_params(const std::vector<MaterialParam>& params, const ShaderPlugin& plugin,
                         const std::string& file, TextureCache& cache) {
-    const facet_shader_desc& desc = plugin.desc();
+    const facet_schema& desc = plugin.schema();
     BoundParams out;
     out.block = std::make_shared<ParamBlock>();
     ParamBlock& block = *out.block;
@@ -289,7 +289,7 @@ BoundParams bind_params(const std::vector<MaterialParam>& params, const ShaderPl
         check_range(file, p, *d);
         const int32_t choice =
             d->type == FACET_PARAM_CHOICE
-                ? choice_index(file, p, desc.param_choices[d - desc.params])
+                ? choice_index(file, p, desc.choices[d - desc.params])
                 : 0;
         write_value(block, *d, p, choice);
         if (d->type == FACET_PARAM_TEXTURE)
@@ -299,7 +299,7 @@ BoundParams bind_params(const std::vector<MaterialParam>& params, const ShaderPl
 }
 
 void bind(Material& material, std::shared_ptr<ShaderPlugin> plugin, TextureCache& cache) {
-    const facet_shader_desc& desc = plugin->desc();
+    const facet_schema& desc = plugin->schema();
     if (plugin->is_post())
         throw Error(ErrorCode::wrong_type,
                     "'" + plugin->name() + "' is a screen pass, not a shader: name it in the "
@@ -310,7 +310,7 @@ void bind(Material& material, std::shared_ptr<ShaderPlugin> plugin, TextureCache
     std::vector<TextureBinding> textures = std::move(bound.textures);
     // Whether it uses the passes its shader can read.
     const auto uses = [&](uint32_t need, uint32_t flag) {
-        if (!(desc.needs & need)) return false;
+        if (!plugin->needs(facet_need(need))) return false;
         for (uint32_t i = 0; i < desc.param_count; ++i) {
             const facet_param_desc& d = desc.params[i];
             if (!(d.flags & flag)) continue;

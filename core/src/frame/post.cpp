@@ -20,7 +20,7 @@ void PostChain::run(const std::vector<PostPass>& passes, Framebuffer& frame, Fra
         const PostPass& pass = passes[i];
         const auto start = std::chrono::steady_clock::now();
         PostContext context{pass.plugin.get(), &pipeline.pool(), scratch_[i].data()};
-        facet_post_frame f{};
+        facet_pass_frame f{};
         f.host = host_services();
         f.params = pass.block->bytes;
         f.host_data = &context;
@@ -34,7 +34,7 @@ void PostChain::run(const std::vector<PostPass>& passes, Framebuffer& frame, Fra
         f.time = time;
         {
             const InPlugin in_post(pass.plugin.get(), PluginEntry::post);
-            pass.plugin->desc().post(&f);
+            pass.plugin->pass()(&f);
         }
         if (i < size_t(FrameStats::kPostTimings)) stats.ms_post_pass[i] = elapsed_ms(start);
         ++stats.post_passes;

@@ -10,7 +10,7 @@
 // A pass is called once, on the rendering thread; it shares its work out
 // to the pipeline's threads through the host's parallel_for
 // (pipeline/host.cpp), and keeps its intermediate images in scratch memory
-// this chain owns: FACET_POST_SCRATCH_SLOTS buffers per position in the
+// this chain owns: FACET_PASS_SCRATCH_SLOTS buffers per position in the
 // chain, kept between frames, so that a steady frame allocates nothing.
 #pragma once
 
@@ -30,12 +30,12 @@ public:
     // Runs `passes` over `frame` (rgba32f, one sample) and writes the result
     // into `target` (the frame's size, one sample, any colour format).
     // Stops between passes when the pipeline is stopped. `time` is the
-    // scene's (facet_post_frame.time).
+    // scene's (facet_pass_frame.time).
     void run(const std::vector<PostPass>& passes, Framebuffer& frame, Framebuffer& target,
              const RenderSettings& settings, float time, Pipeline& pipeline, FrameStats& stats);
 
 private:
-    std::vector<std::array<PostScratch, FACET_POST_SCRATCH_SLOTS>> scratch_;  // per position
+    std::vector<std::array<PostScratch, FACET_PASS_SCRATCH_SLOTS>> scratch_;  // per position
 };
 
 }  // namespace facet

@@ -203,14 +203,7 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
     if (needs_shadow) {
         const auto t = std::chrono::steady_clock::now();
         render_shadow_maps(scene, scratch_.casters, pipeline_, passes_->shadow, stats);
-        call.shadow_maps = passes_->shadow.abi.data();
-        call.shadow_map_count = uint32_t(passes_->shadow.abi.size());
-        call.shadow_distances = passes_->shadow.distances.data();
-        call.cube_shadow_maps = passes_->shadow.cube_abi.data();
-        call.cube_shadow_distances = passes_->shadow.cube_distances.data();
-        call.shadow_planes = passes_->shadow.planes.data();
-        call.cube_shadow_planes = passes_->shadow.cube_planes.data();
-        call.cube_shadow_map_count = uint32_t(passes_->shadow.cube_abi.size() / 6);
+        call.shadows = passes_->shadow.by_light.data();
         stats.ms_shadow += elapsed_ms(t);
     }
     if (needs_ao && band)

@@ -256,7 +256,6 @@ void cube_face(const Light& light, const std::vector<glm::vec3>& casters, int fa
     const float half = 0.5f * float(size);
     const float wider = 2.0f * std::atan((half + float(FACET_SHADOW_BORDER)) / half);
     drawn = perspective(wider, 1.0f, sm.near_plane, sm.far_plane, false);
-    sm.depth = nullptr;  // a face's texels are its distances only
 }
 
 }  // namespace
@@ -265,19 +264,15 @@ void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters
                         Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats) {
     caster_corners(casters, maps.corners);
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
-    maps.abi.clear();
-    maps.distances.clear();
-    maps.planes.clear();
-    maps.cube_abi.clear();
-    maps.cube_distances.clear();
-    maps.cube_planes.clear();
+    maps.faces.clear();
+    maps.first_face.assign(scene.lights.size(), 0);
+    maps.by_light.assign(scene.lights.size(), facet_shadow{});
     size_t slot = 0;  // the maps drawn, in the order of the lights
     // Draws slot k, `drawn_size` texels a side through drawn_proj * view,
-    // unless what it holds is already that; then points `out` at its
-    // distances and `planes` at their planes.
+    // unless what it holds is already that; then points sm at its
+    // distances and their planes.
     const auto draw_slot = [&](facet_shadow_map& sm, const glm::mat4& view,
-                               const glm::mat4& drawn_proj, int drawn_size, bool with_border,
-                               facet_shadow_distances& out, facet_shadow_planes& planes) {
+                               const glm::mat4& drawn_proj, int drawn_size, bool with_border) {
         const size_t k = slot++;
         if (maps.depth.size() <= k) maps.depth.resize(k + 1);
         if (maps.distance_texels.size() <= k) maps.distance_texels.resize(k + 1);
@@ -301,46 +296,47 @@ void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters
             ++stats.shadow_passes;
             stats.shadow_casters_culled += culled;
         }
-        if (!with_border) sm.depth = depth.depth();
         const int stride = distance_stride(int(sm.width));
-        out = {maps.distance_texels[k].data() + size_t(FACET_SHADOW_BORDER) * size_t(stride + 1),
-               uint32_t(stride), 0};
+        sm.stride = uint32_t(stride);
+        sm.texels =
+            maps.distance_texels[k].data() + size_t(FACET_SHADOW_BORDER) * size_t(stride + 1);
         const std::vector<float>& tiles = maps.plane_tiles[k];
-        planes = {tiles.empty() ? nullptr : tiles.data(), sm.width / FACET_SHADOW_TILE, 0};
+        sm.tiles = tiles.empty() ? nullptr : tiles.data();
+        sm.tile_stride = sm.width / FACET_SHADOW_TILE;
     };
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Light& light = scene.lights[i];
         if (!light.casts_shadow) continue;
-        // A multiple of 16, so that a map's rows are exactly `size` floats
-        // apart, as facet_shadow_map.depth promises (Framebuffer::stride()).
+        // A multiple of 16: whole tiles of planes (FACET_SHADOW_TILE), and
+        // depth rows of whole vectors (Framebuffer::stride()).
         const int size =
             ((light.shadow_map_size ? light.shadow_map_size : scene.settings.shadow_map_size) +
              15) & ~15;
         glm::mat4 view, proj;
+        maps.first_face[i] = maps.faces.size();
         if (light.type == LightType::point) {
             for (int face = 0; face < 6; ++face) {
-                facet_shadow_map& sm = maps.cube_abi.emplace_back();
-                facet_shadow_distances& out = maps.cube_distances.emplace_back();
-                facet_shadow_planes& planes = maps.cube_planes.emplace_back();
+                facet_shadow_map& sm = maps.faces.emplace_back();
                 cube_face(light, maps.corners, face, size, sm, view, proj);
-                sm.light = uint32_t(i);
                 sm.width = sm.height = uint32_t(size);
-                draw_slot(sm, view, proj, size + 2 * FACET_SHADOW_BORDER, true, out, planes);
+                draw_slot(sm, view, proj, size + 2 * FACET_SHADOW_BORDER, true);
             }
+            maps.by_light[i].map_count = 6;
             continue;
         }
-        facet_shadow_map& sm = maps.abi.emplace_back();
-        facet_shadow_distances& out = maps.distances.emplace_back();
-        facet_shadow_planes& planes = maps.planes.emplace_back();
+        facet_shadow_map& sm = maps.faces.emplace_back();
         if (light.type == LightType::directional)
             directional(scene, light, maps.corners, aspect, size, sm, view, proj);
         else
             spot(light, maps.corners, size, sm, view, proj);
-        sm.light = uint32_t(i);
         sm.width = sm.height = uint32_t(size);
         std::memcpy(sm.view_projection, glm::value_ptr(proj * view), sizeof sm.view_projection);
-        draw_slot(sm, view, proj, size, false, out, planes);
+        draw_slot(sm, view, proj, size, false);
+        maps.by_light[i].map_count = 1;
     }
+    // The faces are all made: point each light's record at its own.
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+        if (maps.by_light[i].map_count) maps.by_light[i].maps = maps.faces.data() + maps.first_face[i];
 }
 
 }  // namespace facet

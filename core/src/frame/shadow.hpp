@@ -51,21 +51,17 @@ struct ShadowMapKey {
     bool operator==(const ShadowMapKey& o) const = default;
 };
 
-// The maps of one frame: `abi` is the contiguous array of directional and
-// spot maps shaders receive, `distances` the same maps as 16-bit distances
-// from the light (ABI 1.3) and `planes` the planes that bound those tile by
-// tile (ABI 1.6); `cube_abi`, `cube_distances` and `cube_planes` the faces
-// of the point lights' cube maps, six a light. What each map (or face) was
-// drawn from is by slot, in the order of the lights: its depth buffer, its
-// distances with their border, their planes, and the key that describes
-// them. Storage is reused from frame to frame.
+// The maps of one frame, as shaders receive them: `by_light` holds each
+// light's shadow (facet_shadow), pointing into `faces`, where each map is
+// described with its 16-bit distances from the light and the planes that
+// bound them tile by tile. What each map (or cube face) was drawn from is
+// by slot, in the order of the lights: its depth buffer, its distances with
+// their border, their planes, and the key that describes them. Storage is
+// reused from frame to frame.
 struct ShadowMaps {
-    std::vector<facet_shadow_map> abi;
-    std::vector<facet_shadow_distances> distances;
-    std::vector<facet_shadow_planes> planes;
-    std::vector<facet_shadow_map> cube_abi;
-    std::vector<facet_shadow_distances> cube_distances;
-    std::vector<facet_shadow_planes> cube_planes;
+    std::vector<facet_shadow_map> faces;  // the maps, a cube's six together
+    std::vector<facet_shadow> by_light;   // [lights]: each light's maps in `faces`
+    std::vector<size_t> first_face;       // [lights]: where they start there
     std::vector<Framebuffer> depth;
     std::vector<std::vector<uint16_t>> distance_texels;
     std::vector<std::vector<float>> plane_tiles;
@@ -75,8 +71,8 @@ struct ShadowMaps {
 };
 
 // Makes one map per light with casts_shadow that is directional or spot,
-// and a cube per point light with casts_shadow; afterwards maps.abi and
-// maps.cube_abi hold exactly those. Each map draws the casters its
+// and a cube per point light with casts_shadow; afterwards maps.by_light
+// has a record for each of the scene's lights. Each map draws the casters its
 // projection can see, and is drawn again only when its key changed:
 // stats.shadow_passes counts the maps drawn, shadow_maps_reused those kept
 // from an earlier frame, and shadow_casters_culled the casters a drawn map

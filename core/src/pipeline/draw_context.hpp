@@ -42,17 +42,17 @@ struct DrawContext {
     int first_row = 0;  // the target's first row in the image (DrawCall::first_row)
 };
 
-// A screen pass's scratch buffer (facet_host.scratch), kept between frames.
+// A screen pass's scratch buffer (facet_pass_service.scratch), kept between frames.
 using PostScratch = std::vector<uint8_t, CacheLineAllocator<uint8_t>>;
 
 // What the host's services for a screen pass see through
-// facet_post_frame.host_data: the threads its tasks run on, and its scratch
+// facet_pass_frame.host_data: the threads its tasks run on, and its scratch
 // buffers. A task runs inside InPlugin (plugin_calls.hpp), so that a crash
 // in it names the pass.
 struct PostContext {
     const ShaderPlugin* plugin = nullptr;
     ThreadPool* pool = nullptr;
-    PostScratch* scratch = nullptr;  // [FACET_POST_SCRATCH_SLOTS]
+    PostScratch* scratch = nullptr;  // [FACET_PASS_SCRATCH_SLOTS]
 };
 
 // Fills the shader's part of `dc`, with its fragment loop for `isa`, for
@@ -68,7 +68,7 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa, const
 facet_draw make_abi_draw(const DrawCall& call, int width, int height, const DrawContext& dc);
 
 // The service table passed to plugins in facet_draw.host and
-// facet_post_frame.host.
+// facet_pass_frame.host.
 const facet_host* host_services();
 
 }  // namespace facet

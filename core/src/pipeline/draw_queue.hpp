@@ -38,13 +38,7 @@ struct Geometry {
     glm::vec3 camera_position{0.0f};
     const facet_light* lights = nullptr;
     uint32_t light_count = 0;
-    const facet_shadow_map* shadow_maps = nullptr;
-    const facet_shadow_map* cube_shadow_maps = nullptr;
-    const facet_shadow_distances* shadow_distances = nullptr;
-    const facet_shadow_distances* cube_shadow_distances = nullptr;
-    const facet_shadow_planes* shadow_planes = nullptr;
-    const facet_shadow_planes* cube_shadow_planes = nullptr;
-    uint32_t shadow_map_count = 0, cube_shadow_map_count = 0;
+    const facet_shadow* shadows = nullptr;
     float time = 0.0f;
     int image_height = 0, first_row = 0;
     CullMode cull = CullMode::back;

@@ -405,9 +405,14 @@ void PackedBatch::flush(FrameStats& stats) {
         simd::store(pixel + p * kWidth, y * stride + x);
     }
     const uint32_t mask = count_ == N ? 0xFFFFu : (1u << count_) - 1u;
-    facet_fragment_batch batch{0, 0, mask, front_facing_ ? 1u : 0u, varyings, depth,
-                               dc.sample_textures ? texels : nullptr, nullptr,
-                               dc.needs_ao ? ao : nullptr, color, coord};
+    facet_fragment_batch batch{};
+    batch.coord = coord;
+    batch.mask = mask;
+    batch.front_facing = front_facing_ ? 1u : 0u;
+    batch.varyings = varyings, batch.depth = depth;
+    batch.texels = dc.sample_textures ? texels : nullptr;
+    batch.ao = dc.needs_ao ? ao : nullptr;
+    batch.color = color;
     {
         const InPlugin in_fragment(dc.shader, PluginEntry::fragment);
         dc.fragment(dc.abi, &batch);
@@ -594,9 +599,14 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);
         return;
     }
-    facet_fragment_batch batch{b.x,      b.y + dc.first_row, mask, t.front_facing ? 1u : 0u, varyings, depth,
-                               dc.sample_textures ? texels : nullptr,
-                               nullptr,  dc.needs_ao ? ao : nullptr, color, nullptr};
+    facet_fragment_batch batch{};
+    batch.x = b.x, batch.y = b.y + dc.first_row;
+    batch.mask = mask;
+    batch.front_facing = t.front_facing ? 1u : 0u;
+    batch.varyings = varyings, batch.depth = depth;
+    batch.texels = dc.sample_textures ? texels : nullptr;
+    batch.ao = dc.needs_ao ? ao : nullptr;
+    batch.color = color;
     {
         const InPlugin in_fragment(dc.shader, PluginEntry::fragment);
         dc.fragment(dc.abi, &batch);

@@ -1,6 +1,7 @@
 // The host's side of the plugin ABI: the facet_draw a plugin sees of a draw
-// call, and the services it may call back (log, dependent texture reads;
-// for screen passes, threads and scratch memory).
+// call, and the services it may call back: log, and by extension
+// "facet.textures" (sampling anywhere) and, for screen passes, "facet.pass"
+// (threads and scratch memory).
 #include "pipeline/draw_context.hpp"
 
 #include "pipeline/kernels.hpp"
@@ -31,17 +32,7 @@ void host_log(int level, const char* shader, const char* message) {
                 message ? message : "");
 }
 
-void host_sample(const facet_draw* draw, uint32_t slot, const float* u, const float* v,
-                 uint32_t count, float* rgba) {
-    const auto* dc = static_cast<const DrawContext*>(draw->host_data);
-    if (slot >= uint32_t(dc->texture_count) || !dc->textures[slot].texture) {  // unbound: white
-        std::fill(rgba, rgba + 4 * count, 1.0f);
-        return;
-    }
-    sample_many(dc->textures[slot], u, v, int(count), rgba);
-}
-
-// ---- "facet.textures" (v1.7): the draw's textures where the shader wants them
+// ---- "facet.textures": the draw's textures where the shader wants them
 
 // The binding at `slot` of the draw, or null where nothing is bound.
 const TextureBinding* bound(const facet_draw* draw, uint32_t slot) {
@@ -73,21 +64,14 @@ void textures_sample(const facet_draw* draw, uint32_t slot, const float* coords,
         for (uint32_t i = 0; i < count; ++i) rgba[c * count + i] = mask >> i & 1u ? 1.0f : 0.0f;
 }
 
-const void* host_extension(const char* id, uint32_t version) {
-    static const facet_textures_service textures = {sizeof(facet_textures_service),
-                                                    &textures_info, &textures_sample};
-    if (id && std::strcmp(id, FACET_TEXTURES_EXTENSION) == 0 && version >= 1 &&
-        version <= FACET_TEXTURES_VERSION)
-        return &textures;
-    return nullptr;
-}
+// ---- "facet.pass": threads and scratch memory for a screen pass
 
 // Whether this thread runs a screen pass's task. The services below are
 // for the pass's post function only (shader_abi.h): the pool runs one job
 // at a time, and the scratch buffers are not locked.
 thread_local bool t_in_post_task = false;
 
-void host_parallel_for(const facet_post_frame* frame, uint32_t count,
+void host_parallel_for(const facet_pass_frame* frame, uint32_t count,
                        void (*task)(void* context, uint32_t index, uint32_t worker),
                        void* context) {
     const auto* pc = static_cast<const PostContext*>(frame->host_data);
@@ -105,7 +89,7 @@ void host_parallel_for(const facet_post_frame* frame, uint32_t count,
     });
 }
 
-void* host_scratch(const facet_post_frame* frame, uint32_t slot, size_t bytes) {
+void* host_scratch(const facet_pass_frame* frame, uint32_t slot, size_t bytes) {
     const auto* pc = static_cast<const PostContext*>(frame->host_data);
     const char* name = pc->plugin->name().c_str();
     if (t_in_post_task) {
@@ -113,15 +97,15 @@ void* host_scratch(const facet_post_frame* frame, uint32_t slot, size_t bytes) {
                       "function may)", name);
         return nullptr;
     }
-    if (slot >= FACET_POST_SCRATCH_SLOTS) {
+    if (slot >= FACET_PASS_SCRATCH_SLOTS) {
         spdlog::error("[{}] asked for scratch slot {} (there are {})", name, slot,
-                      FACET_POST_SCRATCH_SLOTS);
+                      FACET_PASS_SCRATCH_SLOTS);
         return nullptr;
     }
     PostScratch& buffer = pc->scratch[slot];
     if (buffer.size() != bytes) {
         uint64_t total = bytes;
-        for (uint32_t s = 0; s < FACET_POST_SCRATCH_SLOTS; ++s)
+        for (uint32_t s = 0; s < FACET_PASS_SCRATCH_SLOTS; ++s)
             if (s != slot) total += pc->scratch[s].size();
         if (total > memory_budget()) {
             spdlog::error("[{}] asked for {} of scratch memory, over the memory budget of {}",
@@ -133,6 +117,20 @@ void* host_scratch(const facet_post_frame* frame, uint32_t slot, size_t bytes) {
         buffer.resize(bytes);
     }
     return buffer.data();
+}
+
+// The services a plugin finds by id and version (facet_host.extension).
+const void* host_extension(const char* id, uint32_t version) {
+    static const facet_textures_service textures = {sizeof(facet_textures_service),
+                                                    &textures_info, &textures_sample};
+    static const facet_pass_service pass = {sizeof(facet_pass_service), &host_parallel_for,
+                                            &host_scratch};
+    if (!id || version == 0) return nullptr;
+    if (std::strcmp(id, FACET_TEXTURES_EXTENSION) == 0 && version <= FACET_TEXTURES_VERSION)
+        return &textures;
+    if (std::strcmp(id, FACET_PASS_EXTENSION) == 0 && version <= FACET_PASS_VERSION)
+        return &pass;
+    return nullptr;
 }
 
 }  // namespace
@@ -159,7 +157,7 @@ void prepare_context(DrawContext& dc, const ShaderPlugin& shader, Isa isa, const
     dc.state = state;
     dc.may_discard = may_discard && shader.needs(FACET_NEED_DISCARD);
     // Packed fragments have their depth written before they are shaded.
-    dc.packable = (shader.desc().flags & FACET_SHADER_PACKABLE) &&
+    dc.packable = (shader.shader_desc().flags & FACET_SHADER_PACKABLE) &&
                   !shader.needs(FACET_NEED_DERIVATIVES) && !dc.may_discard &&
                   !state.alpha_to_coverage;
 }
@@ -184,16 +182,7 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
         d.light_count = call.light_count;
         d.lights = call.lights;
     }
-    if (call.shader->needs(FACET_NEED_SHADOW_MAP)) {
-        d.shadow_map_count = call.shadow_map_count;
-        d.shadow_maps = call.shadow_maps;
-        d.shadow_distances = call.shadow_distances;
-        d.cube_shadow_map_count = call.cube_shadow_map_count;
-        d.cube_shadow_maps = call.cube_shadow_maps;
-        d.cube_shadow_distances = call.cube_shadow_distances;
-        d.shadow_planes = call.shadow_planes;
-        d.cube_shadow_planes = call.cube_shadow_planes;
-    }
+    if (call.shader->needs(FACET_NEED_SHADOW_MAP) && d.lights) d.shadows = call.shadows;
     d.viewport_width = uint32_t(width);
     d.viewport_height = uint32_t(height);
     d.time = call.time;
@@ -202,8 +191,7 @@ facet_draw make_abi_draw(const DrawCall& call, int width, int height, const Draw
 
 const facet_host* host_services() {
     static const facet_host host = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_host),
-                                    &host_log,       &host_sample,    &host_parallel_for,
-                                    &host_scratch,   &host_extension};
+                                    &host_log, &host_extension};
     return &host;
 }
 

@@ -296,11 +296,7 @@ Geometry::Geometry(const DrawCall& call)
     : mesh(call.mesh), shader(call.shader), params(call.params), textures(call.textures),
       texture_count(call.texture_count), model(call.model), view(call.view),
       projection(call.projection), camera_position(call.camera_position), lights(call.lights),
-      light_count(call.light_count), shadow_maps(call.shadow_maps),
-      cube_shadow_maps(call.cube_shadow_maps), shadow_distances(call.shadow_distances),
-      cube_shadow_distances(call.cube_shadow_distances), shadow_planes(call.shadow_planes),
-      cube_shadow_planes(call.cube_shadow_planes), shadow_map_count(call.shadow_map_count),
-      cube_shadow_map_count(call.cube_shadow_map_count), time(call.time),
+      light_count(call.light_count), shadows(call.shadows), time(call.time),
       image_height(call.image_height),
       first_row(call.first_row), cull(call.state.cull), front_ccw(call.state.front_ccw),
       subpixel_bits(call.state.subpixel_bits) {

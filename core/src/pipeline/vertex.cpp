@@ -72,7 +72,7 @@ void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_cou
             floats};
         {
             const InPlugin in_vertex(&shader, PluginEntry::vertex);
-            shader.desc().vertex(&d.abi, &batch);
+            shader.shader_desc().vertex(&d.abi, &batch);
         }
         project_vertices(d, first, batch.count, viewport);
     });

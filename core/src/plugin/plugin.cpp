@@ -4,6 +4,7 @@
 #include "facet/paths.hpp"
 #include "base/files.hpp"
 #include "base/signal_stack.hpp"
+#include "plugin/descriptor.hpp"
 #include "plugin/plugin_calls.hpp"
 
 #include <spdlog/spdlog.h>
@@ -30,190 +31,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string to_hex(uint32_t v) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%x", v);
-    return buf;
-}
-
 [[noreturn]] void refuse(ErrorCode code, const std::string& origin, const std::string& why) {
     throw Error(code, why, origin);
-}
-
-bool valid_param_type(uint32_t type) { return type <= FACET_PARAM_CHOICE; }
-
-uint32_t param_bytes(uint32_t type) { return 4u * uint32_t(std::max(1, param_float_count(type))); }
-
-void validate_varyings(const facet_shader_desc& d, const std::string& origin) {
-    if (d.varying_count > FACET_MAX_VARYINGS)
-        refuse(ErrorCode::plugin_invalid, origin,
-               std::to_string(d.varying_count) + " varyings (at most " +
-                   std::to_string(FACET_MAX_VARYINGS) + ")");
-    if (d.varying_count > 0 && !d.varyings)
-        refuse(ErrorCode::plugin_invalid, origin, "varying_count > 0 but no varyings table");
-    uint32_t floats = 0;
-    for (uint32_t i = 0; i < d.varying_count; ++i) {
-        const facet_varying_desc& v = d.varyings[i];
-        if (v.components < 1 || v.components > 4 || v.interpolation > FACET_INTERP_FLAT)
-            refuse(ErrorCode::plugin_invalid, origin,
-                   "varying " + std::to_string(i) + " has " + std::to_string(v.components) +
-                       " components and interpolation " + std::to_string(v.interpolation));
-        floats += v.components;
-    }
-    if (floats > FACET_MAX_VARYING_FLOATS)
-        refuse(ErrorCode::plugin_invalid, origin,
-               std::to_string(floats) + " varying floats (at most " +
-                   std::to_string(FACET_MAX_VARYING_FLOATS) + ")");
-}
-
-// The shared object `address` lies in, or null (the heap, the stack).
-const void* object_of(const void* address) {
-    Dl_info info{};
-    return address && dladdr(address, &info) ? info.dli_fbase : nullptr;
-}
-
-// A table that lives in the plugin's shared object (or the program) keeps
-// its entries and their names there too: an entry or a name elsewhere means
-// a count that runs past the table, found before a name is read.
-void check_in_object(const facet_shader_desc& d, const void* where, const std::string& origin) {
-    const void* home = object_of(where);
-    // A descriptor or a table built at run time (tests, embedders, generated
-    // schemas): nothing to compare with.
-    if (!home || d.param_count == 0 || object_of(d.params) != home) return;
-    for (uint32_t i = 0; i < d.param_count; ++i) {
-        const facet_param_desc* p = d.params + i;
-        if (object_of(p) != home || object_of(reinterpret_cast<const char*>(p + 1) - 1) != home ||
-            (p->name && object_of(p->name) != home))
-            refuse(ErrorCode::plugin_invalid, origin,
-                   "parameter " + std::to_string(i) + " lies outside the plugin: param_count (" +
-                       std::to_string(d.param_count) + ") runs past the end of its table");
-    }
-    if (!d.param_choices || object_of(d.param_choices) != home) return;
-    for (uint32_t i = 0; i < d.param_count; ++i) {
-        const char* const* entry = d.param_choices + i;
-        if (object_of(entry) != home ||
-            object_of(reinterpret_cast<const char*>(entry + 1) - 1) != home ||
-            (*entry && object_of(*entry) != home))
-            refuse(ErrorCode::plugin_invalid, origin,
-                   "the choices of parameter " + std::to_string(i) +
-                       " lie outside the plugin: param_choices is shorter than params");
-    }
-}
-
-// The range and defaults of a number parameter: min <= max, neither NaN,
-// and defaults within them.
-void check_param_range(const facet_param_desc& p, const std::string& what,
-                       const std::string& origin) {
-    const int components = p.type == FACET_PARAM_INT ? 1 : param_float_count(p.type);
-    if (components == 0) return;  // BOOL, TEXTURE: no range
-    if (!(p.min_value <= p.max_value))
-        refuse(ErrorCode::plugin_invalid, origin,
-               what + " has the range " + std::to_string(p.min_value) + " .. " +
-                   std::to_string(p.max_value) + " (min above max, or NaN)");
-    for (int c = 0; c < components; ++c)
-        if (!(p.default_value[c] >= p.min_value && p.default_value[c] <= p.max_value))
-            refuse(ErrorCode::plugin_invalid, origin,
-                   what + " has the default " + std::to_string(p.default_value[c]) +
-                       " outside its range " + std::to_string(p.min_value) + " .. " +
-                       std::to_string(p.max_value));
-}
-
-// The names of CHOICE parameter `p` in `choices` ("a|b|c"): at least one,
-// none empty or given twice, and the default one of them.
-void check_choices(const facet_param_desc& p, const char* choices, const std::string& what,
-                   const std::string& origin) {
-    if (!choices)
-        refuse(ErrorCode::plugin_invalid, origin,
-               what + " is a choice but param_choices gives it no names");
-    const std::vector<std::string> names = choice_names(choices);
-    for (size_t i = 0; i < names.size(); ++i) {
-        if (names[i].empty())
-            refuse(ErrorCode::plugin_invalid, origin,
-                   what + " has an empty name among its choices '" + choices + "'");
-        if (std::find(names.begin(), names.begin() + long(i), names[i]) != names.begin() + long(i))
-            refuse(ErrorCode::plugin_invalid, origin,
-                   what + " names the choice '" + names[i] + "' twice");
-    }
-    const float d = p.default_value[0];
-    if (!(d >= 0.0f && d < float(names.size()) && d == std::floor(d)))
-        refuse(ErrorCode::plugin_invalid, origin,
-               what + " has the default " + std::to_string(d) + ", not the index of one of '" +
-                   choices + "'");
-}
-
-// `d` is the host's copy of the descriptor at `where`.
-void validate_params(const facet_shader_desc& d, const void* where, const std::string& origin) {
-    if (d.param_count > FACET_MAX_PARAMS || d.params_size > FACET_MAX_PARAMS_SIZE)
-        refuse(ErrorCode::plugin_invalid, origin,
-               "parameter schema too large (" + std::to_string(d.param_count) + " parameters, " +
-                   std::to_string(d.params_size) + " bytes)");
-    if (d.param_count > 0 && !d.params)
-        refuse(ErrorCode::plugin_invalid, origin, "param_count > 0 but no params table");
-    check_in_object(d, where, origin);
-    int textures = 0;
-    for (uint32_t i = 0; i < d.param_count; ++i) {
-        const facet_param_desc& p = d.params[i];
-        const std::string what = "parameter " + std::to_string(i) + " ('" +
-                                 (p.name ? p.name : "(null)") + "')";
-        if (!p.name || !*p.name || !valid_param_type(p.type))
-            refuse(ErrorCode::plugin_invalid, origin, what + " has no name or an unknown type");
-        if (p.offset % 4 != 0 || p.offset > d.params_size ||
-            param_bytes(p.type) > d.params_size - p.offset)
-            refuse(ErrorCode::plugin_invalid, origin, what + " lies outside the parameter block");
-        for (uint32_t j = 0; j < i; ++j) {
-            const facet_param_desc& q = d.params[j];
-            if (p.offset < q.offset + param_bytes(q.type) && q.offset < p.offset + param_bytes(p.type))
-                refuse(ErrorCode::plugin_invalid, origin,
-                       what + " overlaps parameter " + std::to_string(j) + " ('" + q.name +
-                           "') in the parameter block");
-        }
-        if (p.type == FACET_PARAM_CHOICE)
-            check_choices(p, d.param_choices ? d.param_choices[i] : nullptr, what, origin);
-        else if (d.param_choices && d.param_choices[i])
-            refuse(ErrorCode::plugin_invalid, origin, what + " has choices but is not a choice");
-        else
-            check_param_range(p, what, origin);
-        if (p.type == FACET_PARAM_TEXTURE && d.kind == FACET_KIND_POST)
-            refuse(ErrorCode::plugin_invalid, origin, what + ": a screen pass takes no textures");
-        if (p.type == FACET_PARAM_TEXTURE) {
-            ++textures;
-            // -1: one only the shader samples (ABI 1.7), as a cube map is.
-            const bool unsampled = p.uv_varying == -1 && d.abi_minor >= 7;
-            if (!unsampled && (p.uv_varying < 0 || uint32_t(p.uv_varying) >= d.varying_count ||
-                               d.varyings[p.uv_varying].components < 2))
-                refuse(ErrorCode::plugin_invalid, origin,
-                       what + " names no 2-component UV varying");
-            if ((p.flags & FACET_PARAM_CUBE) && !unsampled)
-                refuse(ErrorCode::plugin_invalid, origin,
-                       what + " is a cube map: its UV varying must be -1");
-        } else if (p.flags & FACET_PARAM_CUBE) {
-            refuse(ErrorCode::plugin_invalid, origin, what + " is a cube map but not a texture");
-        }
-        for (uint32_t j = 0; j < i; ++j)
-            if (std::strcmp(d.params[j].name, p.name) == 0)
-                refuse(ErrorCode::plugin_invalid, origin, what + " is declared twice");
-        // A parameter that says whether a material uses a pass must be one
-        // the host can read that way, and say it for a pass the shader needs.
-        if ((p.flags & FACET_PARAM_USES_SHADOWS) &&
-            (p.type != FACET_PARAM_BOOL || !(d.needs & FACET_NEED_SHADOW_MAP)))
-            refuse(ErrorCode::plugin_invalid, origin,
-                   what + " says whether shadows are used, but it is not a bool or the shader "
-                          "does not need FACET_NEED_SHADOW_MAP");
-        if ((p.flags & FACET_PARAM_USES_AO) &&
-            ((p.type != FACET_PARAM_BOOL && p.type != FACET_PARAM_FLOAT) ||
-             !(d.needs & FACET_NEED_AO)))
-            refuse(ErrorCode::plugin_invalid, origin,
-                   what + " says whether AO is used, but it is not a bool or a float or the "
-                          "shader does not need FACET_NEED_AO");
-        if ((p.flags & FACET_PARAM_USES_DISCARD) &&
-            ((p.type != FACET_PARAM_BOOL && p.type != FACET_PARAM_FLOAT) ||
-             !(d.needs & FACET_NEED_DISCARD)))
-            refuse(ErrorCode::plugin_invalid, origin,
-                   what + " says whether the material discards, but it is not a bool or a "
-                          "float or the shader does not need FACET_NEED_DISCARD");
-    }
-    if (textures > FACET_MAX_TEXTURES)
-        refuse(ErrorCode::plugin_invalid, origin, "too many texture parameters");
 }
 
 // Why `path` is not a whole ELF-64 file, or nothing if it is.
@@ -248,127 +67,33 @@ void check_elf_complete(const fs::path& path, const std::string& origin) {
         refuse(ErrorCode::plugin_load_failed, origin, *why);
 }
 
-// The host's copy of descriptor `d`: the fields its ABI version has, the
-// others zero. (A 1.2 or 1.3 descriptor's struct_size covers 4 bytes of
-// padding after `flags`, where 1.4 put `kind`: what they hold is not read.)
-facet_shader_desc host_copy(const facet_shader_desc* d) {
-    facet_shader_desc c{};
-    std::memcpy(&c, d, std::min<size_t>(d->struct_size, sizeof c));
-    if (d->abi_minor < 4) {
-        c.kind = FACET_KIND_SHADER;
-        c.post = nullptr;
-        c.param_choices = nullptr;
-    }
-    if (d->abi_minor < 5) c.conditional_varyings = c.varyings_condition = 0;
-    return c;
-}
-
-}  // namespace
-
-namespace {
-
-// v1.5: the conditional varyings are some of the last ones, their condition
-// a TEXTURE or BOOL parameter, and a texture read at one of them is the
-// condition itself (else it would be sampled at zeros).
-void validate_conditional_varyings(const facet_shader_desc& c, const std::string& origin) {
-    if (c.conditional_varyings == 0) return;
-    if (c.conditional_varyings > c.varying_count)
-        refuse(ErrorCode::plugin_invalid, origin,
-               std::to_string(c.conditional_varyings) + " conditional varyings of " +
-                   std::to_string(c.varying_count));
-    if (c.varyings_condition >= c.param_count ||
-        (c.params[c.varyings_condition].type != FACET_PARAM_TEXTURE &&
-         c.params[c.varyings_condition].type != FACET_PARAM_BOOL))
-        refuse(ErrorCode::plugin_invalid, origin,
-               "the conditional varyings' condition is not a texture or bool parameter");
-    const uint32_t first = c.varying_count - c.conditional_varyings;
-    for (uint32_t i = 0; i < c.param_count; ++i) {
-        const facet_param_desc& p = c.params[i];
-        if (p.type == FACET_PARAM_TEXTURE && p.uv_varying >= 0 && uint32_t(p.uv_varying) >= first &&
-            i != c.varyings_condition)
-            refuse(ErrorCode::plugin_invalid, origin,
-                   "texture '" + std::string(p.name) + "' reads its UV from a conditional "
-                   "varying, and is not their condition");
-    }
-}
-
-}  // namespace
-
-void validate_descriptor(const facet_shader_desc* d, const std::string& origin) {
-    if (!d) refuse(ErrorCode::plugin_invalid, origin, "the entry point returned no descriptor");
-    if (d->abi_major != FACET_ABI_MAJOR)
+// A library with no facet_plugin_entry: an ABI 1 plugin (which exported
+// facet_shader_entry, its descriptor starting with the ABI it was built
+// for), or no plugin at all.
+[[noreturn]] void refuse_without_entry(const ShaderPlugin& plugin, void* handle,
+                                       const std::string& origin) {
+    using Abi1Entry = const uint16_t* (*)(void);  // abi_major, abi_minor first
+    if (auto old = reinterpret_cast<Abi1Entry>(dlsym(handle, FACET_ABI1_ENTRY_SYMBOL))) {
+        const uint16_t* version = nullptr;
+        {
+            const InPlugin in_entry(&plugin, PluginEntry::entry_point);
+            version = old();
+        }
+        const std::string abi = version ? std::to_string(version[0]) + "." +
+                                              std::to_string(version[1])
+                                        : std::string("1");
         refuse(ErrorCode::plugin_abi_mismatch, origin,
-               "built for ABI " + std::to_string(d->abi_major) + "." +
-                   std::to_string(d->abi_minor) + ", this host speaks ABI " +
-                   std::to_string(FACET_ABI_MAJOR) + "." + std::to_string(FACET_ABI_MINOR) +
-                   "; rebuild the plugin against this facet SDK");
-    if (d->struct_size < FACET_SHADER_DESC_V1_0_SIZE)
-        refuse(ErrorCode::plugin_struct_size, origin,
-               "descriptor is " + std::to_string(d->struct_size) + " bytes, ABI " +
-                   std::to_string(FACET_ABI_MAJOR) + ".0 needs at least " +
-                   std::to_string(FACET_SHADER_DESC_V1_0_SIZE));
-    if (d->abi_minor <= FACET_ABI_MINOR && d->struct_size > sizeof(facet_shader_desc))
-        refuse(ErrorCode::plugin_struct_size, origin,
-               "descriptor is " + std::to_string(d->struct_size) + " bytes, but ABI " +
-                   std::to_string(d->abi_major) + "." + std::to_string(d->abi_minor) +
-                   " defines " + std::to_string(sizeof(facet_shader_desc)));
-    const facet_shader_desc c = host_copy(d);
-    if (!c.name || !*c.name)
-        refuse(ErrorCode::plugin_invalid, origin, "the descriptor has no name");
-    if (c.kind == FACET_KIND_SHADER) {
-        if (!c.vertex || !c.fragment)
-            refuse(ErrorCode::plugin_invalid, origin, "missing vertex or fragment function");
-        if (c.post)
-            refuse(ErrorCode::plugin_invalid, origin, "a shader with a post function");
-    } else if (c.kind == FACET_KIND_POST) {
-        if (!c.post)
-            refuse(ErrorCode::plugin_invalid, origin, "a screen pass without its post function");
-        if (c.vertex || c.fragment || c.fragment_avx2 || c.fragment_avx512 || c.varying_count ||
-            c.needs || c.flags)
-            refuse(ErrorCode::plugin_invalid, origin,
-                   "a screen pass has no vertex or fragment functions, varyings, needs or flags");
-    } else {
-        refuse(ErrorCode::plugin_invalid, origin,
-               "unknown plugin kind " + std::to_string(c.kind) + " (this host knows 0, a shader, "
-               "and 1, a screen pass)");
+               "built for ABI " + abi + " (it exports '" FACET_ABI1_ENTRY_SYMBOL
+               "'); this host speaks ABI " + std::to_string(FACET_ABI_MAJOR) + "." +
+                   std::to_string(FACET_ABI_MINOR) +
+                   ": rebuild the plugin against this facet SDK (facet_add_shader() in CMake)");
     }
-    if (c.needs & ~kSupportedNeeds)
-        refuse(ErrorCode::plugin_invalid, origin,
-               "needs inputs this host cannot provide (needs bits 0x" +
-                   to_hex(c.needs & ~kSupportedNeeds) + ")");
-    validate_varyings(c, origin);
-    validate_params(c, d, origin);
-    validate_conditional_varyings(c, origin);
+    refuse(ErrorCode::plugin_no_entry, origin,
+           "no exported symbol '" FACET_PLUGIN_ENTRY_SYMBOL "' (use FACET_SHADER(...) or "
+           "FACET_POST(...))");
 }
 
-std::vector<std::string> choice_names(std::string_view choices) {
-    std::vector<std::string> names;
-    for (size_t start = 0;;) {
-        const size_t bar = choices.find('|', start);
-        names.emplace_back(choices.substr(start, bar - start));
-        if (bar == std::string_view::npos) return names;
-        start = bar + 1;
-    }
-}
-
-int param_float_count(uint32_t type) {
-    switch (type) {
-        case FACET_PARAM_FLOAT: return 1;
-        case FACET_PARAM_VEC2: return 2;
-        case FACET_PARAM_VEC3:
-        case FACET_PARAM_COLOR3: return 3;
-        case FACET_PARAM_VEC4:
-        case FACET_PARAM_COLOR4: return 4;
-        default: return 0;
-    }
-}
-
-std::string_view param_type_name(uint32_t type) {
-    static constexpr std::string_view names[] = {"float",  "int",    "bool",    "vec2",
-                                                 "vec3",   "vec4",   "color3",  "color4",
-                                                 "texture", "choice"};
-    return valid_param_type(type) ? names[type] : "unknown";
-}
+}  // namespace
 
 // ---- ShaderPlugin ------------------------------------------------------------
 
@@ -396,11 +121,9 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
     if (!plugin->handle_) refuse(ErrorCode::plugin_load_failed, origin, dlerror());
     void* handle = plugin->handle_;
     auto entry =
-        reinterpret_cast<facet_shader_entry_fn>(dlsym(handle, FACET_SHADER_ENTRY_SYMBOL));
-    if (!entry)
-        refuse(ErrorCode::plugin_no_entry, origin,
-               "no exported symbol '" FACET_SHADER_ENTRY_SYMBOL "' (use FACET_SHADER(...))");
-    const facet_shader_desc* desc = nullptr;
+        reinterpret_cast<facet_plugin_entry_fn>(dlsym(handle, FACET_PLUGIN_ENTRY_SYMBOL));
+    if (!entry) refuse_without_entry(*plugin, handle, origin);
+    const facet_plugin_desc* desc = nullptr;
     {
         const InPlugin in_entry(plugin.get(), PluginEntry::entry_point);
         desc = entry();
@@ -408,7 +131,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
     validate_descriptor(desc, origin);
     if (!expected_name.empty() && expected_name != desc->name)
         refuse(ErrorCode::plugin_invalid, origin,
-               "file is named '" + std::string(expected_name) + "' but the shader calls itself '" +
+               "file is named '" + std::string(expected_name) + "' but the plugin calls itself '" +
                    desc->name + "'");
     plugin->adopt(desc);
     spdlog::debug("loaded {} '{}' {} from {}", plugin->is_post() ? "screen pass" : "shader",
@@ -417,7 +140,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
     return plugin;
 }
 
-std::shared_ptr<ShaderPlugin> ShaderPlugin::from_descriptor(const facet_shader_desc* desc,
+std::shared_ptr<ShaderPlugin> ShaderPlugin::from_descriptor(const facet_plugin_desc* desc,
                                                             std::string origin) {
     validate_descriptor(desc, origin);
     std::shared_ptr<ShaderPlugin> plugin(new ShaderPlugin);
@@ -426,27 +149,46 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::from_descriptor(const facet_shader_d
     return plugin;
 }
 
-// Keeps a host-owned copy of the descriptor (zero past the plugin's
-// struct_size) and the per-float tables every draw uses.
-void ShaderPlugin::adopt(const facet_shader_desc* desc) {
-    desc_ = host_copy(desc);
+// Keeps host-owned copies of the descriptor's records (zero past each
+// one's struct_size), the fragment function each path calls, and the
+// per-float tables every draw uses.
+void ShaderPlugin::adopt(const facet_plugin_desc* desc) {
+    const DescriptorCopy c = copy_descriptor(*desc);
+    desc_ = c.plugin;
+    shader_ = c.shader;
+    pass_ = c.pass.run;
     name_ = desc_.name;
+    adopt_fragments();
     int first_float[FACET_MAX_VARYINGS] = {};
     varying_floats_ = 0;
-    for (uint32_t v = 0; v < desc_.varying_count; ++v) {
+    for (uint32_t v = 0; v < shader_.varying_count; ++v) {
         first_float[v] = int(varying_floats_);
-        if (v == desc_.varying_count - desc_.conditional_varyings)
+        if (v == shader_.varying_count - shader_.conditional_varyings)
             unconditional_floats_ = varying_floats_;
-        for (uint32_t c = 0; c < desc_.varyings[v].components; ++c)
-            float_interpolation_[varying_floats_++] = uint8_t(desc_.varyings[v].interpolation);
+        for (uint32_t k = 0; k < shader_.varyings[v].components; ++k)
+            float_interpolation_[varying_floats_++] = uint8_t(shader_.varyings[v].interpolation);
     }
-    if (desc_.conditional_varyings == 0) unconditional_floats_ = varying_floats_;
+    if (shader_.conditional_varyings == 0) unconditional_floats_ = varying_floats_;
     texture_count_ = 0;
-    for (uint32_t i = 0; i < desc_.param_count; ++i)
-        if (desc_.params[i].type == FACET_PARAM_TEXTURE) {
-            const int32_t uv = desc_.params[i].uv_varying;  // -1: only the shader samples it
+    for (uint32_t i = 0; i < schema().param_count; ++i)
+        if (schema().params[i].type == FACET_PARAM_TEXTURE) {
+            const int32_t uv = schema().params[i].uv_varying;  // -1: only the shader samples it
             texture_uv_float_[texture_count_++] = uv >= 0 ? first_float[uv] : -1;
         }
+}
+
+// Each path's fragment function: the entry of the widest instruction set
+// the path allows (validate_descriptor made sure of the baseline's).
+void ShaderPlugin::adopt_fragments() {
+    facet_fragment_fn by_isa[FACET_ISA_X86_64_V4 + 1] = {};
+    for (uint32_t i = 0; i < shader_.fragment_count; ++i)
+        if (shader_.fragments[i].isa <= FACET_ISA_X86_64_V4)
+            by_isa[shader_.fragments[i].isa] = shader_.fragments[i].fragment;
+    fragment_[int(Isa::portable)] = by_isa[FACET_ISA_BASELINE];
+    fragment_[int(Isa::avx2)] = by_isa[FACET_ISA_X86_64_V3] ? by_isa[FACET_ISA_X86_64_V3]
+                                                            : fragment_[int(Isa::portable)];
+    fragment_[int(Isa::avx512)] = by_isa[FACET_ISA_X86_64_V4] ? by_isa[FACET_ISA_X86_64_V4]
+                                                              : fragment_[int(Isa::avx2)];
 }
 
 ShaderPlugin::~ShaderPlugin() {
@@ -459,37 +201,38 @@ ShaderPlugin::~ShaderPlugin() {
 }
 
 uint32_t ShaderPlugin::read_floats(const void* params) const {
-    if (desc_.conditional_varyings == 0 || !params) return varying_floats_;
+    if (shader_.conditional_varyings == 0 || !params) return varying_floats_;
     int32_t condition;  // TEXTURE and BOOL are both an int32
     std::memcpy(&condition,
-                static_cast<const unsigned char*>(params) + desc_.params[desc_.varyings_condition].offset,
+                static_cast<const unsigned char*>(params) +
+                    schema().params[shader_.varyings_condition].offset,
                 sizeof condition);
     return condition ? varying_floats_ : unconditional_floats_;
 }
 
 const facet_param_desc* ShaderPlugin::find_param(std::string_view name) const {
-    for (uint32_t i = 0; i < desc_.param_count; ++i)
-        if (name == desc_.params[i].name) return &desc_.params[i];
+    for (uint32_t i = 0; i < schema().param_count; ++i)
+        if (name == schema().params[i].name) return &schema().params[i];
     return nullptr;
 }
 
 int ShaderPlugin::texture_slot(const facet_param_desc& param) const {
     int slot = 0;
-    for (uint32_t i = 0; i < desc_.param_count; ++i) {
-        if (&desc_.params[i] == &param) return param.type == FACET_PARAM_TEXTURE ? slot : -1;
-        slot += desc_.params[i].type == FACET_PARAM_TEXTURE;
+    for (uint32_t i = 0; i < schema().param_count; ++i) {
+        if (&schema().params[i] == &param) return param.type == FACET_PARAM_TEXTURE ? slot : -1;
+        slot += schema().params[i].type == FACET_PARAM_TEXTURE;
     }
     return -1;
 }
 
 std::string ShaderPlugin::describe_params() const {
-    if (desc_.param_count == 0) return "(no parameters)";
+    if (schema().param_count == 0) return "(no parameters)";
     std::string out;
-    for (uint32_t i = 0; i < desc_.param_count; ++i) {
+    for (uint32_t i = 0; i < schema().param_count; ++i) {
         if (i) out += ", ";
-        out += desc_.params[i].name;
+        out += schema().params[i].name;
         out += " (";
-        out += param_type_name(desc_.params[i].type);
+        out += param_type_name(schema().params[i].type);
         out += ")";
     }
     return out;
@@ -667,7 +410,7 @@ struct sigaction g_before[NSIG];
 const char* entry_text(PluginEntry e) {
     switch (e) {
         case PluginEntry::load: return "while loading (its static constructors)";
-        case PluginEntry::entry_point: return "in its entry point (" FACET_SHADER_ENTRY_SYMBOL ")";
+        case PluginEntry::entry_point: return "in its entry point (" FACET_PLUGIN_ENTRY_SYMBOL ")";
         case PluginEntry::vertex: return "in its vertex function";
         case PluginEntry::fragment: return "in its fragment function";
         case PluginEntry::post: return "in its post function";

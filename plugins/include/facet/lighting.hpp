@@ -79,7 +79,10 @@ inline Mask lit_by(const Incident& in, const Float& n_dot_l) {
 // Whether light visibility can be other than 1 in this draw: the material
 // receives shadows and some light has a map.
 inline bool receives_shadows(const Draw& d, const Receiving& r) {
-    return r.shadows && (d.raw->shadow_map_count > 0 || d.raw->cube_shadow_map_count > 0);
+    if (!r.shadows) return false;
+    for (uint32_t i = 0; i < d.light_count(); ++i)
+        if (has_shadow(d, i)) return true;
+    return false;
 }
 
 // Whether a draw's lighting can be darkened at all, by a shadow map or by

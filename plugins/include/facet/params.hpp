@@ -23,8 +23,11 @@ constexpr facet_varying_desc varying(const char* name, uint32_t components,
     return {name, components, static_cast<uint32_t>(interp)};
 }
 
+// An unbounded end of a parameter's range.
+inline constexpr float infinity = std::numeric_limits<float>::infinity();
+
 namespace detail {
-constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kInf = infinity;
 
 constexpr facet_param_desc param(const char* name, facet_param_type type, size_t offset,
                                  float d0, float d1, float d2, float d3, float lo, float hi,
@@ -73,7 +76,7 @@ constexpr facet_param_desc texture(const char* name, size_t offset, int uv_varyi
     return p;
 }
 
-// One of several names (ABI 1.4): the parameter holds the index of the
+// One of several names: the parameter holds the index of the
 // name the YAML gives, among those the plugin's `param_choices` entry for
 // it lists ("reinhard|aces"); `def` is the index of the default.
 constexpr facet_param_desc choice(const char* name, size_t offset, int def,

@@ -1,18 +1,16 @@
 // facet screen-pass authoring layer (C++20, header-only).
 //
-// A screen pass (ABI 1.4, shader_abi.h "POST-PROCESSING") works on the
+// A screen pass (shader_abi.h, "Screen passes") works on the
 // finished image of a frame: linear RGBA floats, unbounded (HDR), which it
 // changes in place. The scene chains passes (`post: [...]`); each runs after
-// the one before, on the host's threads. Write a pass as a struct with a
-// Params block, its schema, and run(); FACET_POST(YourPass) makes the
-// plugin's descriptor:
+// the one before, on the host's threads. Write a pass as a struct with its
+// parameters (FACET_PARAMS, <facet/declare.hpp>) and run();
+// FACET_POST(YourPass) makes the plugin's descriptor:
 //
 //     struct Exposure {
-//         struct Params { float stops; };
 //         static constexpr const char* name = "exposure";
 //         static constexpr const char* version = "1.0";
-//         static constexpr facet_param_desc params[] = {
-//             facet::sdk::float1("stops", offsetof(Params, stops), 0.0f, -20.0f, 20.0f)};
+//         FACET_PARAMS((float1, stops, 0.0f, -20.0f, 20.0f, "the image times 2^stops"))
 //
 //         static void run(const facet::sdk::PostFrame& f, const Params& p) {
 //             const float scale = std::exp2(p.stops);
@@ -26,16 +24,15 @@
 //
 // A pass that needs the image as it was while it writes (a blur) keeps
 // copies in scratch(): memory the host keeps for the pass between frames.
-// A CHOICE parameter (facet::sdk::choice) takes its names from the struct's
-// `param_choices` table, parallel to `params`, nullptr for the others:
-//
-//     static constexpr const char* param_choices[] = {nullptr, "reinhard|aces"};
+// A parameter whose YAML name is no C++ identifier goes in a `params` table
+// of facet_param_desc beside `struct Params` instead (see tonemap.cpp).
 //
 // Rules: run() is called on one thread; the functions given to
 // parallel_for() and for_rows() run on several at once, and must only
 // write what their index owns. Passes keep no state between frames.
 #pragma once
 
+#include <facet/declare.hpp>
 #include <facet/params.hpp>
 #include <facet/shader_abi.h>
 
@@ -52,7 +49,10 @@ namespace facet::sdk {
 // The frame a screen pass works on, and the host's services for it.
 class PostFrame {
 public:
-    explicit PostFrame(const facet_post_frame* frame) : f_(frame) {}
+    explicit PostFrame(const facet_pass_frame* frame)
+        : f_(frame),
+          service_(static_cast<const facet_pass_service*>(
+              frame->host->extension(FACET_PASS_EXTENSION, FACET_PASS_VERSION))) {}
 
     int width() const { return int(f_->width); }
     int height() const { return int(f_->height); }
@@ -66,15 +66,20 @@ public:
     // Row y of the scene's window depth; 1 - depth if reversed_z().
     const float* depth_row(int y) const { return f_->depth + size_t(y) * f_->stride; }
     bool reversed_z() const { return f_->reversed_z != 0; }
-    const facet_post_frame& abi() const { return *f_; }
+    const facet_pass_frame& abi() const { return *f_; }
 
     // fn(i, worker) for i in 0..count-1, on the host's threads; returns when
-    // all are done. worker < threads() names the calling thread.
+    // all are done. worker < threads() names the calling thread. (On a host
+    // without the "facet.pass" service, one after the other, as worker 0.)
     template <class Fn>
     void parallel_for(int count, Fn&& fn) const {
         if (count <= 0) return;
+        if (!service_) {
+            for (int i = 0; i < count; ++i) fn(i, 0);
+            return;
+        }
         using F = std::remove_reference_t<Fn>;
-        f_->host->parallel_for(
+        service_->parallel_for(
             f_, uint32_t(count),
             [](void* context, uint32_t i, uint32_t worker) {
                 (*static_cast<F*>(context))(int(i), int(worker));
@@ -97,44 +102,52 @@ public:
         });
     }
 
-    // Room for `count` values of T under `slot` (0..FACET_POST_SCRATCH_SLOTS-1),
+    // Room for `count` values of T under `slot` (0..FACET_PASS_SCRATCH_SLOTS-1),
     // kept for this pass between frames, its contents undefined at each
     // frame's start; nullptr when the host's memory budget refuses it.
     template <class T>
     T* scratch(int slot, size_t count) const {
         static_assert(std::is_trivially_copyable_v<T> && alignof(T) <= 64);
-        return static_cast<T*>(f_->host->scratch(f_, uint32_t(slot), count * sizeof(T)));
+        if (!service_) return nullptr;
+        return static_cast<T*>(service_->scratch(f_, uint32_t(slot), count * sizeof(T)));
     }
 
 private:
-    const facet_post_frame* f_;
+    const facet_pass_frame* f_;
+    const facet_pass_service* service_;
 };
 
 namespace detail {
 
 template <class P>
-void post_entry(const facet_post_frame* frame) {
+void post_entry(const facet_pass_frame* frame) {
     P::run(PostFrame(frame), *static_cast<const typename P::Params*>(frame->params));
+}
+
+// P's schema: from FACET_PARAMS, or from a `params` table of
+// facet_param_desc (and `param_choices`), for a parameter whose name is no
+// C++ identifier (tonemap's "operator").
+template <class P>
+facet_schema pass_schema() {
+    const uint32_t size = std::is_empty_v<typename P::Params> ? 0u : uint32_t(sizeof(typename P::Params));
+    if constexpr (requires { P::params.count; })
+        return {P::params.count, size, P::params.count ? P::params.at.data() : nullptr,
+                P::params.has_choices ? P::params.choices.data() : nullptr};
+    else
+        return {uint32_t(std::size(P::params)), size, std::data(P::params), choice_table<P>()};
 }
 
 }  // namespace detail
 
 template <class P>
-const facet_shader_desc* describe_post() {
+const facet_plugin_desc* describe_post() {
     static_assert(std::is_standard_layout_v<typename P::Params> &&
                   sizeof(typename P::Params) <= FACET_MAX_PARAMS_SIZE);
-    static const facet_shader_desc desc = {
-        FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_shader_desc)),
-        P::name, P::version,
-        0u,                      // needs
-        0u, nullptr,             // varyings
-        uint32_t(std::size(P::params)), std::data(P::params),
-        static_cast<uint32_t>(sizeof(typename P::Params)),
-        nullptr, nullptr,        // vertex, fragment
-        nullptr, nullptr,        // fragment_avx2, fragment_avx512
-        0u,                      // flags
-        FACET_KIND_POST, &detail::post_entry<P>, detail::choice_table<P>(),
-        0, 0,  // no varyings, so none conditional
+    static const facet_pass_desc pass = {static_cast<uint32_t>(sizeof(facet_pass_desc)),
+                                         &detail::post_entry<P>};
+    static const facet_plugin_desc desc = {
+        FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_plugin_desc)),
+        P::name, P::version, detail::pass_schema<P>(), nullptr, &pass,
     };
     return &desc;
 }
@@ -143,6 +156,6 @@ const facet_shader_desc* describe_post() {
 
 // Export screen pass P as this plugin's entry point. One per plugin.
 #define FACET_POST(P)                                                          \
-    extern "C" FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) { \
+    extern "C" FACET_EXPORT const facet_plugin_desc* facet_plugin_entry(void) { \
         return ::facet::sdk::describe_post<P>();                               \
     }

@@ -44,6 +44,7 @@
 //     static constexpr const char* varyings_condition = "normal_texture";
 #pragma once
 
+#include <facet/declare.hpp>
 #include <facet/params.hpp>
 #include <facet/shader_abi.h>
 #include <facet/wide.hpp>
@@ -52,11 +53,13 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
+#include <utility>
 
 namespace facet::sdk {
 
@@ -109,14 +112,14 @@ using TextureSlots = std::array<int8_t, FACET_MAX_PARAMS_SIZE / 4>;
 
 namespace detail {
 // What the calls of one batch share: the host's textures service, looked
-// up at the first sample (ABI 1.7), and whether the batch is a 4x4 block.
+// up at the first sample, and whether the batch is a 4x4 block.
 struct Batch {
     const facet_draw* draw;
     bool block;
     bool looked_up = false;
     const facet_textures_service* textures = nullptr;
     const facet_textures_service* service() {
-        if (!looked_up && draw->host->abi_minor >= 7 && draw->host->extension)
+        if (!looked_up)
             textures = static_cast<const facet_textures_service*>(
                 draw->host->extension(FACET_TEXTURES_EXTENSION, FACET_TEXTURES_VERSION));
         looked_up = true;
@@ -224,67 +227,6 @@ private:
 inline void cut_out(Fragment& f, const Float& alpha, float cutoff) {
     if (cutoff > 0.0f) f.discard(alpha < cutoff);
 }
-
-// ---- declaring varyings and parameters once ------------------------------------
-
-namespace detail {
-// The floats of a varying's type.
-template <class T>
-constexpr uint32_t components() {
-    return uint32_t(sizeof(T) / sizeof(Float));
-}
-// The end of a varyings table.
-inline constexpr facet_varying_desc kNoVarying{nullptr, 0, 0};
-}  // namespace detail
-
-// FACET_SDK_FOR_EACH(m, a, b, ...) is m(a) m(b) ...: a macro's rescans,
-// 256 of them, each taking the next argument (C++20's __VA_OPT__ stops it).
-#define FACET_SDK_PARENS ()
-#define FACET_SDK_EXPAND(...) FACET_SDK_EXPAND4(FACET_SDK_EXPAND4(FACET_SDK_EXPAND4(__VA_ARGS__)))
-#define FACET_SDK_EXPAND4(...) FACET_SDK_EXPAND3(FACET_SDK_EXPAND3(FACET_SDK_EXPAND3(__VA_ARGS__)))
-#define FACET_SDK_EXPAND3(...) FACET_SDK_EXPAND2(FACET_SDK_EXPAND2(FACET_SDK_EXPAND2(__VA_ARGS__)))
-#define FACET_SDK_EXPAND2(...) FACET_SDK_EXPAND1(FACET_SDK_EXPAND1(FACET_SDK_EXPAND1(__VA_ARGS__)))
-#define FACET_SDK_EXPAND1(...) __VA_ARGS__
-#define FACET_SDK_FOR_EACH(m, ...) \
-    __VA_OPT__(FACET_SDK_EXPAND(FACET_SDK_FOR_EACH_NEXT(m, __VA_ARGS__)))
-#define FACET_SDK_FOR_EACH_NEXT(m, a, ...) \
-    m(a) __VA_OPT__(FACET_SDK_FOR_EACH_AGAIN FACET_SDK_PARENS(m, __VA_ARGS__))
-#define FACET_SDK_FOR_EACH_AGAIN() FACET_SDK_FOR_EACH_NEXT
-
-// (type, name[, interpolation]) as a member, and as a table entry.
-#define FACET_SDK_VARYING_FIELD(v) FACET_SDK_VARYING_FIELD_ v
-#define FACET_SDK_VARYING_FIELD_(type, name, ...) type name;
-#define FACET_SDK_VARYING_DESC(v) FACET_SDK_VARYING_DESC_ v
-#define FACET_SDK_VARYING_DESC_(type, name, ...)                    \
-    ::facet::sdk::varying(#name, ::facet::sdk::detail::components<type>(), \
-                          FACET_SDK_INTERP(__VA_ARGS__ __VA_OPT__(, ) perspective)),
-#define FACET_SDK_INTERP(first, ...) FACET_SDK_INTERP_##first
-#define FACET_SDK_INTERP_perspective FACET_INTERP_PERSPECTIVE
-#define FACET_SDK_INTERP_linear FACET_INTERP_LINEAR
-#define FACET_SDK_INTERP_flat FACET_INTERP_FLAT
-
-// struct Varyings and the `varyings` table, from (type, name[, how]) entries.
-#define FACET_VARYINGS(...)                                                          \
-    struct Varyings {                                                                \
-        FACET_SDK_FOR_EACH(FACET_SDK_VARYING_FIELD, __VA_ARGS__)                     \
-    };                                                                               \
-    static constexpr facet_varying_desc varyings[] = {                               \
-        FACET_SDK_FOR_EACH(FACET_SDK_VARYING_DESC, __VA_ARGS__)::facet::sdk::detail::kNoVarying};
-
-// (kind, name, arguments...) as a member, and as schema entries (params.hpp).
-#define FACET_SDK_PARAM_FIELD(p) FACET_SDK_PARAM_FIELD_ p
-#define FACET_SDK_PARAM_FIELD_(kind, name, ...) ::facet::sdk::param::kind::type name;
-#define FACET_SDK_PARAM_DESC(p) FACET_SDK_PARAM_DESC_ p
-#define FACET_SDK_PARAM_DESC_(kind, name, ...) \
-    ::facet::sdk::param::kind::describe(#name, offsetof(Params, name) __VA_OPT__(, ) __VA_ARGS__),
-
-// struct Params and the `params` schema, from (kind, name, ...) entries.
-#define FACET_PARAMS(...)                                                         \
-    struct Params {                                                               \
-        FACET_SDK_FOR_EACH(FACET_SDK_PARAM_FIELD, __VA_ARGS__)                    \
-    };                                                                            \
-    static constexpr auto params = ::facet::sdk::detail::schema(                  \
-        FACET_SDK_FOR_EACH(FACET_SDK_PARAM_DESC, __VA_ARGS__)::facet::sdk::param::End{});
 
 // ---- the glue FACET_SHADER makes ---------------------------------------------------
 
@@ -443,9 +385,8 @@ template <class S>
     typename S::Varyings v;  // the floats the draw does not read stay unset
     for (uint32_t k = 0; k < read; ++k) floats_of(v)[k] = lanes.load(b->varyings + k * N);
     Fragment f;
-    const float* coord = d.raw->host->abi_minor >= 2 ? b->coord : nullptr;  // packed (ABI 1.2)
-    if (coord)
-        f.coord = {lanes.load(coord), lanes.load(coord + N)};
+    if (b->coord)  // a packed batch
+        f.coord = {lanes.load(b->coord), lanes.load(b->coord + N)};
     else
         f.coord = {lanes.load(column) + (float(b->x) + 0.5f), lanes.load(row) + (float(b->y) + 0.5f)};
     f.depth = lanes.load(b->depth);
@@ -513,7 +454,7 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
     const uint32_t read = read_floats<S>(params);
-    const bool block = !(draw->host->abi_minor >= 2 && b->coord);
+    const bool block = !b->coord;
     if constexpr (kLanes == 4 && (S::needs & FACET_NEED_DERIVATIVES) != 0)
         if (block) return fragment_quads<S>(d, params, b, read, texture_count<S>());
     static constexpr BlockPixels kPixels(false);
@@ -555,8 +496,28 @@ __attribute__((weak, visibility("hidden"))) extern const facet_fragment_fn facet
 
 namespace facet::sdk {
 
+namespace detail {
+// The fragment entries: this build's, and the per-path builds' that the
+// plugin was linked with.
 template <class S>
-const facet_shader_desc* describe() {
+const std::pair<std::array<facet_fragment_entry, 3>, uint32_t>& fragment_entries() {
+    static const auto entries = [] {
+        std::pair<std::array<facet_fragment_entry, 3>, uint32_t> e{};
+        e.first[e.second++] = {FACET_ISA_BASELINE, &fragment_batch<S>};
+#if !defined(FACET_SDK_ISA_avx2) && !defined(FACET_SDK_ISA_avx512)
+        if (&facet_sdk_fragment_avx2 && facet_sdk_fragment_avx2)
+            e.first[e.second++] = {FACET_ISA_X86_64_V3, facet_sdk_fragment_avx2};
+        if (&facet_sdk_fragment_avx512 && facet_sdk_fragment_avx512)
+            e.first[e.second++] = {FACET_ISA_X86_64_V4, facet_sdk_fragment_avx512};
+#endif
+        return e;
+    }();
+    return entries;
+}
+}  // namespace detail
+
+template <class S>
+const facet_plugin_desc* describe() {
     using V = typename S::Varyings;
     using P = typename S::Params;
     static_assert(sizeof(V) == detail::varying_floats<S>() * sizeof(Float) ||
@@ -567,23 +528,20 @@ const facet_shader_desc* describe() {
     static_assert(std::is_standard_layout_v<P> && std::is_trivially_copyable_v<P>);
     constexpr uint32_t condition = detail::varyings_condition<S>();  // at compile time
     static constexpr auto kParams = detail::resolved_params<S>();
-    static const facet_shader_desc desc = {
-        FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_shader_desc)),
-        S::name, S::version,
-        S::needs,
+    static const facet_shader_desc shader = {
+        static_cast<uint32_t>(sizeof(facet_shader_desc)), S::needs, detail::flags<S>(),
         detail::varying_count<S>(), detail::varying_count<S>() ? S::varyings : nullptr,
-        kParams.count, kParams.count ? kParams.at.data() : nullptr,
-        std::is_empty_v<P> ? 0u : static_cast<uint32_t>(sizeof(P)),
-        &detail::vertex_batch<S>, &detail::fragment_batch<S>,
-#if defined(FACET_SDK_ISA_avx2) || defined(FACET_SDK_ISA_avx512)
-        nullptr, nullptr,
-#else
-        &facet_sdk_fragment_avx2 ? facet_sdk_fragment_avx2 : nullptr,
-        &facet_sdk_fragment_avx512 ? facet_sdk_fragment_avx512 : nullptr,
-#endif
-        detail::flags<S>(),
-        FACET_KIND_SHADER, nullptr, kParams.has_choices ? kParams.choices.data() : nullptr,
         detail::conditional_varyings<S>(), condition,
+        &detail::vertex_batch<S>,
+        detail::fragment_entries<S>().second, detail::fragment_entries<S>().first.data(),
+    };
+    static const facet_plugin_desc desc = {
+        FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_plugin_desc)),
+        S::name, S::version,
+        {kParams.count, std::is_empty_v<P> ? 0u : static_cast<uint32_t>(sizeof(P)),
+         kParams.count ? kParams.at.data() : nullptr,
+         kParams.has_choices ? kParams.choices.data() : nullptr},
+        &shader, nullptr,
     };
     return &desc;
 }
@@ -604,7 +562,7 @@ const facet_shader_desc* describe() {
         ::facet::sdk::detail::path_loop<S>();
 #else
 #define FACET_SHADER(S)                                                        \
-    extern "C" FACET_EXPORT const facet_shader_desc* facet_shader_entry(void) { \
+    extern "C" FACET_EXPORT const facet_plugin_desc* facet_plugin_entry(void) { \
         return ::facet::sdk::describe<S>();                                    \
     }
 #endif

@@ -1,12 +1,12 @@
 // facet shadow filtering for shaders (C++20, header-only): percentage-closer
 // filtering of the host's shadow maps, for kLanes points at once. Included
 // by <facet/lighting.hpp>; light_visibility() there is what a lit shader
-// calls. A host of ABI 1.6 gives each shadow-casting light a map (a cube of
-// six for a point light) as 16-bit distances from the light, and planes
-// that bound them tile by tile, from which the filter settles most
-// receivers without reading a texel (facet_shadow_distances,
-// facet_shadow_planes in <facet/shader_abi.h>). The filter gathers four
-// texels of a row at a time; its lane-order tricks follow x86's.
+// calls. The host gives each shadow-casting light a map (a cube of six for
+// a point light) as 16-bit distances from the light, with planes that
+// bound them tile by tile, from which the filter settles most receivers
+// without reading a texel (facet_shadow_map in <facet/shader_abi.h>). The
+// filter gathers four texels of a row at a time; its lane-order tricks
+// follow x86's.
 #pragma once
 
 #include <facet/shader.hpp>
@@ -19,55 +19,43 @@ namespace facet::sdk {
 
 // ---- a light's maps, as the host gives them ------------------------------------
 
-// A light's shadow map (shadow_of): the map, its distances and its planes
-// (null where the host has not made them yet: the filter then reads the taps).
+// A light's shadow map (shadow_of), or one that reads false.
 struct ShadowMap {
     const facet_shadow_map* map = nullptr;
-    const facet_shadow_distances* distances = nullptr;  // null: filter `map`
-    const facet_shadow_planes* planes = nullptr;        // null: read the taps
     explicit operator bool() const { return map != nullptr; }
 };
 
-// A point light's cube map (Draw::cube_shadow, ABI 1.3): six faces of 90
-// degrees, +X, -X, +Y, -Y, +Z, -Z of the direction from the light, each
-// with its distances.
+// A point light's cube map (cube_shadow_of): six faces of 90 degrees, +X,
+// -X, +Y, -Y, +Z, -Z of the direction from the light.
 struct CubeShadow {
     const facet_shadow_map* faces = nullptr;
-    const facet_shadow_distances* distances = nullptr;
     glm::vec3 light{0.0f};  // the light's position
-    const facet_shadow_planes* planes = nullptr;  // six, or null
     explicit operator bool() const { return faces != nullptr; }
-    ShadowMap face(int f) const {
-        return {faces + f, distances + f, planes && planes[f].tiles ? planes + f : nullptr};
-    }
+    ShadowMap face(int f) const { return {faces + f}; }
 };
 
-// The face of a cube map that holds direction d: its largest component's
+// Light i's shadow as the draw has it: NULL, or its record.
+inline const facet_shadow* shadow_record(const Draw& d, uint32_t i) {
+    return d.raw->shadows && i < d.raw->light_count ? &d.raw->shadows[i] : nullptr;
+}
 
 // Light i's shadow map, or one that reads false if it casts none.
 inline ShadowMap shadow_of(const Draw& d, uint32_t i) {
-    const facet_draw& r = *d.raw;
-    for (uint32_t k = 0; k < r.shadow_map_count; ++k)
-        if (r.shadow_maps[k].light == i && r.shadow_distances)
-            return {&r.shadow_maps[k], &r.shadow_distances[k],
-                    r.shadow_planes && r.shadow_planes[k].tiles ? &r.shadow_planes[k] : nullptr};
-    return {};
+    const facet_shadow* s = shadow_record(d, i);
+    return s && s->map_count == 1 ? ShadowMap{s->maps} : ShadowMap{};
 }
 
 // Point light i's cube map, or one that reads false if it casts none.
 inline CubeShadow cube_shadow_of(const Draw& d, uint32_t i) {
-    const facet_draw& r = *d.raw;
-    for (uint32_t k = 0; k < r.cube_shadow_map_count; ++k)
-        if (r.cube_shadow_maps[6 * k].light == i && r.cube_shadow_distances)
-            return {r.cube_shadow_maps + 6 * k, r.cube_shadow_distances + 6 * k,
-                    glm::make_vec3(r.lights[i].position),
-                    r.cube_shadow_planes ? r.cube_shadow_planes + 6 * k : nullptr};
-    return {};
+    const facet_shadow* s = shadow_record(d, i);
+    if (!s || s->map_count != 6) return {};
+    return {s->maps, glm::make_vec3(d.raw->lights[i].position)};
 }
 
 // Whether light i has a map or a cube this draw can filter.
 inline bool has_shadow(const Draw& d, uint32_t i) {
-    return bool(shadow_of(d, i)) || bool(cube_shadow_of(d, i));
+    const facet_shadow* s = shadow_record(d, i);
+    return s && s->map_count > 0;
 }
 
 // ---- the filter ------------------------------------------------------------------
@@ -188,7 +176,7 @@ inline wide::Mask join_halves(const wide::Quads& a, const wide::Quads& b) {
 // taps and one comparison of 16-bit quarters tests them; the texels past
 // the kernel get threshold 0, always lit, and are taken off at the end.
 template <int R>
-inline wide::Mask lit_distances(const facet_shadow_distances& d, const wide::Mask& cx,
+inline wide::Mask lit_distances(const facet_shadow_map& d, const wide::Mask& cx,
                                 const wide::Mask& cy, const wide::Float& receiver,
                                 const wide::Float& step) {
     using namespace wide;
@@ -252,11 +240,11 @@ static_assert(FACET_SHADOW_TILE == 8, "a texel's tile is its coordinates >> 3");
 struct WideSlab {
     wide::Float low, high;
 };
-inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const wide::Mask& cy,
+inline WideSlab slab(const facet_shadow_map& g, const wide::Mask& cx, const wide::Mask& cy,
                      int r) {
     using namespace wide;
     Float tile[4] = {};
-    gather4(g.tiles, 4 * ((cy >> 3) * int(g.stride) + (cx >> 3)), tile);
+    gather4(g.tiles, 4 * ((cy >> 3) * int(g.tile_stride) + (cx >> 3)), tile);
     const Float nearest0 = tile[0], dx = tile[1], dy = tile[2], depth = tile[3];
     const Float nearest = nearest0 + dx * __builtin_convertvector(cx & 7, Float) +
                           dy * __builtin_convertvector(cy & 7, Float);
@@ -267,7 +255,7 @@ inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const w
 // The share of the (2r + 1)^2 taps around each lane's texel (cx, cy) that
 // are lit, for the receivers the planes did not settle: out of line, so that
 // the calls the planes settle need no stack frame for it.
-[[gnu::noinline]] inline wide::Float filter_distances(const facet_shadow_distances& d, int r,
+[[gnu::noinline]] inline wide::Float filter_distances(const facet_shadow_map& d, int r,
                                                       wide::Mask cx, wide::Mask cy,
                                                       wide::Float receiver, wide::Float step) {
     using namespace wide;
@@ -340,8 +328,8 @@ inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const w
     const Float receiver = q - texel * (bias + slope_bias * tan_t);
     const Float step = texel * tan_t;
     const int r = std::clamp(kernel, 1, 15) / 2;
-    if (m.planes && r <= FACET_SHADOW_REACH) {  // lane by lane
-        const detail::WideSlab s = detail::slab(*m.planes, cx, cy, r);
+    if (sm.tiles && r <= FACET_SHADOW_REACH) {  // lane by lane
+        const detail::WideSlab s = detail::slab(sm, cx, cy, r);
         const Float centre = detail::tap_bound(receiver - step * 0.0f);
         const Float corner = detail::tap_bound(receiver - step * detail::diagonal_tap(r));
         const Mask all_lit = s.low >= centre;
@@ -349,13 +337,10 @@ inline WideSlab slab(const facet_shadow_planes& g, const wide::Mask& cx, const w
         if (!any(seen & !(all_lit | none_lit)))
             return select(seen & none_lit, splat(0.0f), splat(1.0f));
     }
-    return select(seen, detail::filter_distances(*m.distances, r, cx, cy, receiver, step),
+    return select(seen, detail::filter_distances(sm, r, cx, cy, receiver, step),
                   splat(1.0f));
 }
 
-// The same over a point light's cube map, each lane from the face that holds
-// the direction from the light to its point: every face some lane needs is
-// filtered, for those lanes.
 // The same over a point light's cube map, each lane from the face that holds
 // the direction from the light to its point: every face some lane needs is
 // filtered, for those lanes.

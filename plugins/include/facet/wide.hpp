@@ -253,8 +253,11 @@ inline void gather4(const float* base, const Mask& index, Float out[4]) {
     out[2] = std::bit_cast<Float>(_mm_movelh_ps(t1, t3));
     out[3] = std::bit_cast<Float>(_mm_movehl_ps(t3, t1));
 #else
-    for (int i = 0; i < kLanes; ++i)
-        for (int k = 0; k < 4; ++k) out[k][i] = base[index[i] + k];
+    for (int k = 0; k < 4; ++k) {
+        Float v{};
+        for (int i = 0; i < kLanes; ++i) v[i] = base[index[i] + k];
+        out[k] = v;
+    }
 #endif
 }
 
