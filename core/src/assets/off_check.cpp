@@ -41,7 +41,7 @@ bool is_off_keyword(const std::string& word) {
     return w.size() >= 3 && w.size() <= 12 && w.compare(w.size() - 3, 3, "off") == 0;
 }
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& why) {
+[[noreturn]] void off_fail(const std::filesystem::path& path, const std::string& why) {
     throw Error(ErrorCode::mesh_load_failed, "OFF header: " + why, path.string());
 }
 
@@ -63,7 +63,7 @@ void check_off(const std::filesystem::path& path) {
         // "nOFF" (lower-case n; NOFF is normals) puts a dimension first.
         const bool dimension = word.find("nOFF") != std::string::npos;
         word = next_word(in, read, kHeader);
-        if (lower(word) == "binary") fail(path, "binary OFF is not supported");
+        if (lower(word) == "binary") off_fail(path, "binary OFF is not supported");
         if (dimension) word = next_word(in, read, kHeader);
     } else if (lower(path.extension().string()) != ".off") {
         return;  // not OFF after all: assimp decides
@@ -75,7 +75,7 @@ void check_off(const std::filesystem::path& path) {
         char* end = nullptr;
         counts[i] = std::strtoull(word.c_str(), &end, 10);
         if (word.empty() || *end != '\0' || word[0] == '-' || counts[i] > 0xFFFFFFFFull)
-            fail(path, "expected a vertex and a face count, got '" + word + "'");
+            off_fail(path, "expected a vertex and a face count, got '" + word + "'");
     }
     // The fewest bytes a vertex ("0 0 0" and a separator) and a face ("1 0"
     // and a separator) take in the text.
@@ -83,7 +83,7 @@ void check_off(const std::filesystem::path& path) {
     const unsigned long long size = std::filesystem::file_size(path, ec);
     const unsigned long long needed = counts[0] * 6 + counts[1] * 4;
     if (ec || needed > size)
-        fail(path, "it declares " + std::to_string(counts[0]) + " vertices and " +
+        off_fail(path, "it declares " + std::to_string(counts[0]) + " vertices and " +
                        std::to_string(counts[1]) + " faces, more than its " +
                        std::to_string(size) + " bytes can hold");
 }

@@ -37,7 +37,7 @@ struct Header {
     std::vector<Element> elements;
 };
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& why, int line = 0) {
+[[noreturn]] void ply_fail(const std::filesystem::path& path, const std::string& why, int line = 0) {
     throw Error(ErrorCode::mesh_load_failed, "malformed PLY: " + why, path.string(), line);
 }
 
@@ -61,13 +61,13 @@ Property parse_property(std::istringstream& in, const std::filesystem::path& pat
         p.count_size = type_size(count_type);
         p.size = type_size(item_type);
         if (!p.count_size || count_type == "float" || count_type == "double" || !p.size)
-            fail(path, "bad list property types '" + count_type + " " + item_type + "'", line);
+            ply_fail(path, "bad list property types '" + count_type + " " + item_type + "'", line);
     } else {
         in >> name;
         p.size = type_size(type);
-        if (!p.size) fail(path, "unknown property type '" + type + "'", line);
+        if (!p.size) ply_fail(path, "unknown property type '" + type + "'", line);
     }
-    if (name.empty()) fail(path, "property without a name", line);
+    if (name.empty()) ply_fail(path, "property without a name", line);
     p.indices = p.count_size && (name == "vertex_indices" || name == "vertex_index");
     return p;
 }
@@ -84,22 +84,22 @@ void parse_header_line(const std::string& text, Header& h, const std::filesystem
         if (f == "ascii") h.format = Format::ascii;
         else if (f == "binary_little_endian") h.format = Format::binary_le;
         else if (f == "binary_big_endian") h.format = Format::binary_be;
-        else fail(path, "unknown format '" + f + "'", line);
+        else ply_fail(path, "unknown format '" + f + "'", line);
     } else if (word == "element") {
         Element e;
         std::string count;
         in >> e.name >> count;
         if (count.empty() || count.find_first_not_of("0123456789") != std::string::npos ||
             count.size() > 10 || std::stoull(count) > kMaxCount)
-            fail(path, "element '" + e.name + "' has no valid count ('" + count + "')", line);
+            ply_fail(path, "element '" + e.name + "' has no valid count ('" + count + "')", line);
         e.count = std::stoull(count);
         e.line = line;
         h.elements.push_back(e);
     } else if (word == "property") {
-        if (h.elements.empty()) fail(path, "property before any element", line);
+        if (h.elements.empty()) ply_fail(path, "property before any element", line);
         h.elements.back().properties.push_back(parse_property(in, path, line));
     } else {
-        fail(path, "unexpected header line '" + text + "'", line);
+        ply_fail(path, "unexpected header line '" + text + "'", line);
     }
 }
 
@@ -107,22 +107,22 @@ Header parse_header(std::istream& in, const std::filesystem::path& path) {
     Header h;
     std::string text;
     std::getline(in, text);
-    if (text != "ply" && text != "ply\r") fail(path, "missing 'ply' magic", 1);
+    if (text != "ply" && text != "ply\r") ply_fail(path, "missing 'ply' magic", 1);
     for (int line = 2; line <= kMaxHeaderLines; ++line) {
-        if (!std::getline(in, text)) fail(path, "header has no end_header", line);
+        if (!std::getline(in, text)) ply_fail(path, "header has no end_header", line);
         if (!text.empty() && text.back() == '\r') text.pop_back();
         if (text == "end_header") {
             // Entries without properties take no bytes, so the file's size
             // does not bound their count, and assimp 5.2 steps through each.
             for (const Element& e : h.elements)
                 if (e.properties.empty() && e.count > 0)
-                    fail(path, "element '" + e.name + "' has " + std::to_string(e.count) +
+                    ply_fail(path, "element '" + e.name + "' has " + std::to_string(e.count) +
                                    " entries but no properties", e.line);
             return h;
         }
         parse_header_line(text, h, path, line);
     }
-    fail(path, "header longer than " + std::to_string(kMaxHeaderLines) + " lines");
+    ply_fail(path, "header longer than " + std::to_string(kMaxHeaderLines) + " lines");
 }
 
 // A face of fewer than three vertices is no polygon (points and lines are
@@ -133,7 +133,7 @@ void check_list(uint64_t count, const Element& e, const Property& p, uint64_t i,
     const std::string what = !p.indices ? " entries in a list"
                              : count == 1 ? " vertex index; a face needs at least 3"
                                           : " vertex indices; a face needs at least 3";
-    fail(path, "face " + std::to_string(i) + " has " + std::to_string(count) + what);
+    ply_fail(path, "face " + std::to_string(i) + " has " + std::to_string(count) + what);
 }
 
 uint64_t read_count(std::istream& in, uint64_t pos, int size, bool big_endian) {
@@ -163,7 +163,7 @@ void walk_binary(std::istream& in, const Header& h, const std::filesystem::path&
                 }
                 pos += bytes;
                 if (pos > size)
-                    fail(path, "file ends inside element '" + e.name + "' " +
+                    ply_fail(path, "file ends inside element '" + e.name + "' " +
                                    std::to_string(i) + " of " + std::to_string(e.count));
             }
 }
@@ -178,13 +178,13 @@ void walk_ascii(std::istream& in, const Header& h, const std::filesystem::path& 
                     if (!(in >> token) || token.empty() || token.size() > 10 ||
                         token.find_first_not_of("0123456789") != std::string::npos ||
                         std::stoull(token) > kMaxCount)
-                        fail(path, "bad list count in element '" + e.name + "' " + std::to_string(i));
+                        ply_fail(path, "bad list count in element '" + e.name + "' " + std::to_string(i));
                     tokens = std::stoull(token);
                     check_list(tokens, e, p, i, path);
                 }
                 for (uint64_t t = 0; t < tokens; ++t)
                     if (!(in >> token))
-                        fail(path, "file ends inside element '" + e.name + "' " +
+                        ply_fail(path, "file ends inside element '" + e.name + "' " +
                                        std::to_string(i) + " of " + std::to_string(e.count));
             }
 }

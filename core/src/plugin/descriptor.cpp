@@ -18,7 +18,7 @@ namespace facet {
 
 namespace {
 
-[[noreturn]] void refuse(ErrorCode code, const std::string& origin, const std::string& why) {
+[[noreturn]] void reject(ErrorCode code, const std::string& origin, const std::string& why) {
     throw Error(code, why, origin);
 }
 
@@ -46,22 +46,22 @@ struct Parts {
 void validate_varyings(const Parts& d) {
     const facet_shader_desc& s = d.shader;
     if (s.varying_count > FACET_MAX_VARYINGS)
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                std::to_string(s.varying_count) + " varyings (at most " +
                    std::to_string(FACET_MAX_VARYINGS) + ")");
     if (s.varying_count > 0 && !s.varyings)
-        refuse(ErrorCode::plugin_invalid, d.origin, "varying_count > 0 but no varyings table");
+        reject(ErrorCode::plugin_invalid, d.origin, "varying_count > 0 but no varyings table");
     uint32_t floats = 0;
     for (uint32_t i = 0; i < s.varying_count; ++i) {
         const facet_varying_desc& v = s.varyings[i];
         if (v.components < 1 || v.components > 4 || v.interpolation > FACET_INTERP_FLAT)
-            refuse(ErrorCode::plugin_invalid, d.origin,
+            reject(ErrorCode::plugin_invalid, d.origin,
                    "varying " + std::to_string(i) + " has " + std::to_string(v.components) +
                        " components and interpolation " + std::to_string(v.interpolation));
         floats += v.components;
     }
     if (floats > FACET_MAX_VARYING_FLOATS)
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                std::to_string(floats) + " varying floats (at most " +
                    std::to_string(FACET_MAX_VARYING_FLOATS) + ")");
 }
@@ -90,7 +90,7 @@ void check_in_object(const Parts& d) {
     for (uint32_t i = 0; i < s.param_count; ++i) {
         const facet_param_desc* p = s.params + i;
         if (!within(home, p, sizeof *p) || (p->name && object_of(p->name) != home))
-            refuse(ErrorCode::plugin_invalid, d.origin,
+            reject(ErrorCode::plugin_invalid, d.origin,
                    "parameter " + std::to_string(i) + " lies outside the plugin: param_count (" +
                        std::to_string(s.param_count) + ") runs past the end of its table");
     }
@@ -98,7 +98,7 @@ void check_in_object(const Parts& d) {
     for (uint32_t i = 0; i < s.param_count; ++i) {
         const char* const* entry = s.choices + i;
         if (!within(home, entry, sizeof *entry) || (*entry && object_of(*entry) != home))
-            refuse(ErrorCode::plugin_invalid, d.origin,
+            reject(ErrorCode::plugin_invalid, d.origin,
                    "the choices of parameter " + std::to_string(i) +
                        " lie outside the plugin: the choices table is shorter than params");
     }
@@ -111,12 +111,12 @@ void check_param_range(const facet_param_desc& p, const std::string& what,
     const int components = p.type == FACET_PARAM_INT ? 1 : param_float_count(p.type);
     if (components == 0) return;  // BOOL, TEXTURE: no range
     if (!(p.min_value <= p.max_value))
-        refuse(ErrorCode::plugin_invalid, origin,
+        reject(ErrorCode::plugin_invalid, origin,
                what + " has the range " + std::to_string(p.min_value) + " .. " +
                    std::to_string(p.max_value) + " (min above max, or NaN)");
     for (int c = 0; c < components; ++c)
         if (!(p.default_value[c] >= p.min_value && p.default_value[c] <= p.max_value))
-            refuse(ErrorCode::plugin_invalid, origin,
+            reject(ErrorCode::plugin_invalid, origin,
                    what + " has the default " + std::to_string(p.default_value[c]) +
                        " outside its range " + std::to_string(p.min_value) + " .. " +
                        std::to_string(p.max_value));
@@ -127,20 +127,20 @@ void check_param_range(const facet_param_desc& p, const std::string& what,
 void check_choices(const facet_param_desc& p, const char* choices, const std::string& what,
                    const std::string& origin) {
     if (!choices)
-        refuse(ErrorCode::plugin_invalid, origin,
+        reject(ErrorCode::plugin_invalid, origin,
                what + " is a choice but the schema's choices give it no names");
     const std::vector<std::string> names = choice_names(choices);
     for (size_t i = 0; i < names.size(); ++i) {
         if (names[i].empty())
-            refuse(ErrorCode::plugin_invalid, origin,
+            reject(ErrorCode::plugin_invalid, origin,
                    what + " has an empty name among its choices '" + choices + "'");
         if (std::find(names.begin(), names.begin() + long(i), names[i]) != names.begin() + long(i))
-            refuse(ErrorCode::plugin_invalid, origin,
+            reject(ErrorCode::plugin_invalid, origin,
                    what + " names the choice '" + names[i] + "' twice");
     }
     const float d = p.default_value[0];
     if (!(d >= 0.0f && d < float(names.size()) && d == std::floor(d)))
-        refuse(ErrorCode::plugin_invalid, origin,
+        reject(ErrorCode::plugin_invalid, origin,
                what + " has the default " + std::to_string(d) + ", not the index of one of '" +
                    choices + "'");
 }
@@ -148,13 +148,13 @@ void check_choices(const facet_param_desc& p, const char* choices, const std::st
 // A texture parameter: a shader's, with a 2-component UV varying or -1,
 // and -1 for a cube map.
 void check_texture(const Parts& d, const facet_param_desc& p, const std::string& what) {
-    if (d.pass) refuse(ErrorCode::plugin_invalid, d.origin, what + ": a screen pass takes no textures");
+    if (d.pass) reject(ErrorCode::plugin_invalid, d.origin, what + ": a screen pass takes no textures");
     const bool unsampled = p.uv_varying == -1;  // only the shader samples it
     if (!unsampled && (p.uv_varying < 0 || uint32_t(p.uv_varying) >= d.shader.varying_count ||
                        d.shader.varyings[p.uv_varying].components < 2))
-        refuse(ErrorCode::plugin_invalid, d.origin, what + " names no 2-component UV varying");
+        reject(ErrorCode::plugin_invalid, d.origin, what + " names no 2-component UV varying");
     if ((p.flags & FACET_PARAM_CUBE) && !unsampled)
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                what + " is a cube map: its UV varying must be -1");
 }
 
@@ -165,15 +165,15 @@ void check_uses_flags(const Parts& d, const facet_param_desc& p, const std::stri
     const bool flag_type = p.type == FACET_PARAM_BOOL || p.type == FACET_PARAM_FLOAT;
     if ((p.flags & FACET_PARAM_USES_SHADOWS) &&
         (p.type != FACET_PARAM_BOOL || !(needs & FACET_NEED_SHADOW_MAP)))
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                what + " says whether shadows are used, but it is not a bool or the shader "
                       "does not need FACET_NEED_SHADOW_MAP");
     if ((p.flags & FACET_PARAM_USES_AO) && (!flag_type || !(needs & FACET_NEED_AO)))
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                what + " says whether AO is used, but it is not a bool or a float or the "
                       "shader does not need FACET_NEED_AO");
     if ((p.flags & FACET_PARAM_USES_DISCARD) && (!flag_type || !(needs & FACET_NEED_DISCARD)))
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                what + " says whether the material discards, but it is not a bool or a "
                       "float or the shader does not need FACET_NEED_DISCARD");
 }
@@ -186,40 +186,40 @@ void check_param(const Parts& d, uint32_t i) {
     const std::string what =
         "parameter " + std::to_string(i) + " ('" + (p.name ? p.name : "(null)") + "')";
     if (!p.name || !*p.name || !valid_param_type(p.type))
-        refuse(ErrorCode::plugin_invalid, d.origin, what + " has no name or an unknown type");
+        reject(ErrorCode::plugin_invalid, d.origin, what + " has no name or an unknown type");
     if (p.offset % 4 != 0 || p.offset > s.params_size ||
         param_bytes(p.type) > s.params_size - p.offset)
-        refuse(ErrorCode::plugin_invalid, d.origin, what + " lies outside the parameter block");
+        reject(ErrorCode::plugin_invalid, d.origin, what + " lies outside the parameter block");
     for (uint32_t j = 0; j < i; ++j) {
         const facet_param_desc& q = s.params[j];
         if (p.offset < q.offset + param_bytes(q.type) && q.offset < p.offset + param_bytes(p.type))
-            refuse(ErrorCode::plugin_invalid, d.origin,
+            reject(ErrorCode::plugin_invalid, d.origin,
                    what + " overlaps parameter " + std::to_string(j) + " ('" + q.name +
                        "') in the parameter block");
         if (std::strcmp(q.name, p.name) == 0)
-            refuse(ErrorCode::plugin_invalid, d.origin, what + " is declared twice");
+            reject(ErrorCode::plugin_invalid, d.origin, what + " is declared twice");
     }
     if (p.type == FACET_PARAM_CHOICE)
         check_choices(p, s.choices ? s.choices[i] : nullptr, what, d.origin);
     else if (s.choices && s.choices[i])
-        refuse(ErrorCode::plugin_invalid, d.origin, what + " has choices but is not a choice");
+        reject(ErrorCode::plugin_invalid, d.origin, what + " has choices but is not a choice");
     else
         check_param_range(p, what, d.origin);
     if (p.type == FACET_PARAM_TEXTURE)
         check_texture(d, p, what);
     else if (p.flags & FACET_PARAM_CUBE)
-        refuse(ErrorCode::plugin_invalid, d.origin, what + " is a cube map but not a texture");
+        reject(ErrorCode::plugin_invalid, d.origin, what + " is a cube map but not a texture");
     check_uses_flags(d, p, what);
 }
 
 void validate_params(const Parts& d) {
     const facet_schema& s = d.schema();
     if (s.param_count > FACET_MAX_PARAMS || s.params_size > FACET_MAX_PARAMS_SIZE)
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                "parameter schema too large (" + std::to_string(s.param_count) + " parameters, " +
                    std::to_string(s.params_size) + " bytes)");
     if (s.param_count > 0 && !s.params)
-        refuse(ErrorCode::plugin_invalid, d.origin, "param_count > 0 but no params table");
+        reject(ErrorCode::plugin_invalid, d.origin, "param_count > 0 but no params table");
     check_in_object(d);
     int textures = 0;
     for (uint32_t i = 0; i < s.param_count; ++i) {
@@ -227,7 +227,7 @@ void validate_params(const Parts& d) {
         textures += s.params[i].type == FACET_PARAM_TEXTURE;
     }
     if (textures > FACET_MAX_TEXTURES)
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                std::to_string(textures) + " texture parameters (at most " +
                    std::to_string(FACET_MAX_TEXTURES) + ")");
 }
@@ -240,20 +240,20 @@ void validate_conditional_varyings(const Parts& d) {
     const facet_schema& s = d.schema();
     if (c.conditional_varyings == 0) return;
     if (c.conditional_varyings > c.varying_count)
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                std::to_string(c.conditional_varyings) + " conditional varyings of " +
                    std::to_string(c.varying_count));
     if (c.varyings_condition >= s.param_count ||
         (s.params[c.varyings_condition].type != FACET_PARAM_TEXTURE &&
          s.params[c.varyings_condition].type != FACET_PARAM_BOOL))
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                "the conditional varyings' condition is not a texture or bool parameter");
     const uint32_t first = c.varying_count - c.conditional_varyings;
     for (uint32_t i = 0; i < s.param_count; ++i) {
         const facet_param_desc& p = s.params[i];
         if (p.type == FACET_PARAM_TEXTURE && p.uv_varying >= 0 && uint32_t(p.uv_varying) >= first &&
             i != c.varyings_condition)
-            refuse(ErrorCode::plugin_invalid, d.origin,
+            reject(ErrorCode::plugin_invalid, d.origin,
                    "texture '" + std::string(p.name) + "' reads its UV from a conditional "
                    "varying, and is not their condition");
     }
@@ -265,7 +265,7 @@ void validate_conditional_varyings(const Parts& d) {
 void validate_fragments(const Parts& d) {
     const facet_shader_desc& s = d.shader;
     if (s.fragment_count == 0 || !s.fragments || s.fragment_count > 64)
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                "the shader has " + std::to_string(s.fragment_count) +
                    " fragment entries; it needs one for each instruction set it was built "
                    "for, FACET_ISA_BASELINE among them");
@@ -273,16 +273,16 @@ void validate_fragments(const Parts& d) {
     for (uint32_t i = 0; i < s.fragment_count; ++i) {
         const facet_fragment_entry& e = s.fragments[i];
         if (!e.fragment)
-            refuse(ErrorCode::plugin_invalid, d.origin,
+            reject(ErrorCode::plugin_invalid, d.origin,
                    "fragment entry " + std::to_string(i) + " has no function");
         if (e.isa > FACET_ISA_X86_64_V4) continue;
         if (seen[e.isa])
-            refuse(ErrorCode::plugin_invalid, d.origin,
+            reject(ErrorCode::plugin_invalid, d.origin,
                    "two fragment entries for instruction set " + std::to_string(e.isa));
         seen[e.isa] = true;
     }
     if (!seen[FACET_ISA_BASELINE])
-        refuse(ErrorCode::plugin_invalid, d.origin,
+        reject(ErrorCode::plugin_invalid, d.origin,
                "no fragment entry for FACET_ISA_BASELINE, which every host can call");
 }
 
@@ -291,11 +291,11 @@ void validate_fragments(const Parts& d) {
 void check_record_size(uint32_t size, size_t least, size_t ours, const facet_plugin_desc& d,
                        const char* what, const std::string& origin) {
     if (size < least)
-        refuse(ErrorCode::plugin_struct_size, origin,
+        reject(ErrorCode::plugin_struct_size, origin,
                std::string(what) + " is " + std::to_string(size) + " bytes, ABI " +
                    std::to_string(FACET_ABI_MAJOR) + ".0 needs at least " + std::to_string(least));
     if (size > ours && d.abi_minor <= FACET_ABI_MINOR)
-        refuse(ErrorCode::plugin_struct_size, origin,
+        reject(ErrorCode::plugin_struct_size, origin,
                std::string(what) + " is " + std::to_string(size) + " bytes, but ABI " +
                    std::to_string(FACET_ABI_MAJOR) + "." + std::to_string(d.abi_minor) +
                    " defines " + std::to_string(ours));
@@ -303,9 +303,9 @@ void check_record_size(uint32_t size, size_t least, size_t ours, const facet_plu
 
 // The descriptor's first record: its ABI, its size, its name, and what it is.
 void validate_header(const facet_plugin_desc* d, const std::string& origin) {
-    if (!d) refuse(ErrorCode::plugin_invalid, origin, "the entry point returned no descriptor");
+    if (!d) reject(ErrorCode::plugin_invalid, origin, "the entry point returned no descriptor");
     if (d->abi_major != FACET_ABI_MAJOR)
-        refuse(ErrorCode::plugin_abi_mismatch, origin,
+        reject(ErrorCode::plugin_abi_mismatch, origin,
                "built for ABI " + std::to_string(d->abi_major) + "." +
                    std::to_string(d->abi_minor) + ", this host speaks ABI " +
                    std::to_string(FACET_ABI_MAJOR) + "." + std::to_string(FACET_ABI_MINOR) +
@@ -313,9 +313,9 @@ void validate_header(const facet_plugin_desc* d, const std::string& origin) {
     check_record_size(d->struct_size, kPluginDesc20Size, sizeof(facet_plugin_desc), *d,
                       "the descriptor", origin);
     if (!d->name || !*d->name)
-        refuse(ErrorCode::plugin_invalid, origin, "the descriptor has no name");
+        reject(ErrorCode::plugin_invalid, origin, "the descriptor has no name");
     if (!d->shader == !d->pass)
-        refuse(ErrorCode::plugin_invalid, origin,
+        reject(ErrorCode::plugin_invalid, origin,
                d->shader ? "the descriptor is both a shader and a screen pass"
                          : "the descriptor is neither a shader nor a screen pass");
 }
@@ -332,13 +332,13 @@ void validate_descriptor(const facet_plugin_desc* d, const std::string& origin) 
                           "the screen pass record", origin);
     const DescriptorCopy c = copy_descriptor(*d);
     if (d->shader && !c.shader.vertex)
-        refuse(ErrorCode::plugin_invalid, origin, "the shader has no vertex function");
+        reject(ErrorCode::plugin_invalid, origin, "the shader has no vertex function");
     if (d->pass && !c.pass.run)
-        refuse(ErrorCode::plugin_invalid, origin, "the screen pass has no function");
+        reject(ErrorCode::plugin_invalid, origin, "the screen pass has no function");
     const Parts parts{c.plugin, c.shader, d->pass != nullptr, origin, d};
     if (d->shader) validate_fragments(parts);
     if (c.shader.needs & ~kSupportedNeeds)
-        refuse(ErrorCode::plugin_invalid, origin,
+        reject(ErrorCode::plugin_invalid, origin,
                "needs inputs this host cannot provide (needs bits 0x" +
                    to_hex(c.shader.needs & ~kSupportedNeeds) + ")");
     validate_varyings(parts);
