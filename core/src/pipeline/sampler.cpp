@@ -232,19 +232,48 @@ FACET_INLINE RowPair row_pair(const Level& l, const Int& x0, const Float& fx) {
     return {wrap<W>(x0, l.width), x0 >= 0 && x0 < l.width - 1 ? fx : Float{}};
 }
 
-template <TexelFormat F, Wrap W>
-FACET_INLINE Fixed bilinear(const TexelLevels& t, const Level& l, const Float& u, const Float& v,
-                            const Int& active) {
+// A bilinear footprint of each lane: where its two rows' pairs of texels
+// begin, and the weights of the second texel of a pair and of the second
+// row.
+struct Footprint {
+    Int row_a, row_b;
+    Short wx, wy;
+};
+
+template <Wrap W>
+FACET_INLINE Footprint footprint(const Level& l, const Float& u, const Float& v) {
     const Float x = u * l.fwidth - 0.5f, y = v * l.fheight - 0.5f;
     const Int x0 = floor_int(x), y0 = floor_int(y);
     const Float fx = x - simd::to_float(x0), fy = y - simd::to_float(y0);
     const RowPair pair = row_pair<W>(l, x0, fx);
     const Int ya = wrap<W>(y0, l.height), yb = wrap<W>(y0 + 1, l.height);
+    return {texel_index(l, pair.first, ya), texel_index(l, pair.first, yb),
+            fixed_weight(pair.weight), fixed_weight(fy)};
+}
+
+// A footprint's four texels, as fetch_pair() loads them.
+struct Quartet {
     Fixed a, b, c, d;
-    fetch_pair<F>(t, texel_index(l, pair.first, ya), active, a, b);
-    fetch_pair<F>(t, texel_index(l, pair.first, yb), active, c, d);
-    const Short wx = fixed_weight(pair.weight);
-    return lerp(lerp(a, b, wx), lerp(c, d, wx), fixed_weight(fy));
+};
+
+template <TexelFormat F>
+FACET_INLINE Quartet fetch_footprint(const TexelLevels& t, const Footprint& f,
+                                     const Int& active) {
+    Quartet q;
+    fetch_pair<F>(t, f.row_a, active, q.a, q.b);
+    fetch_pair<F>(t, f.row_b, active, q.c, q.d);
+    return q;
+}
+
+FACET_INLINE Fixed filter(const Quartet& q, const Footprint& f) {
+    return lerp(lerp(q.a, q.b, f.wx), lerp(q.c, q.d, f.wx), f.wy);
+}
+
+template <TexelFormat F, Wrap W>
+FACET_INLINE Fixed bilinear(const TexelLevels& t, const Level& l, const Float& u, const Float& v,
+                            const Int& active) {
+    const Footprint f = footprint<W>(l, u, v);
+    return filter(fetch_footprint<F>(t, f, active), f);
 }
 
 // Four floats and four ints: one a 2x2 quad of a block, for the level of
@@ -318,10 +347,14 @@ FACET_INLINE Texels trilinear(const TexelLevels& t, const Float& lod, const Floa
         simd::min(simd::max(lod == lod ? lod : Float{}, Float{}), splat(float(t.levels - 1)));
     const Int lo = __builtin_convertvector(l, Int);  // l >= 0: the floor
     const Float frac = l - simd::to_float(lo);
-    const Fixed a = bilinear<F, W>(t, level_at(t, face + lo), u, v, active);
     const Int second = active & (frac > 0.0f);  // then lo + 1 is a level
-    if (!simd::bits(second)) return unfixed<F>(a);
-    const Fixed b = bilinear<F, W>(t, level_at(t, face + (second ? lo + 1 : lo)), u, v, second);
+    const Footprint fa = footprint<W>(level_at(t, face + lo), u, v);
+    if (!simd::bits(second)) return unfixed<F>(filter(fetch_footprint<F>(t, fa, active), fa));
+    // Both levels' addresses first, then their loads together, then the
+    // arithmetic: the loads of the second level wait on no filtering.
+    const Footprint fb = footprint<W>(level_at(t, face + (second ? lo + 1 : lo)), u, v);
+    const Quartet qa = fetch_footprint<F>(t, fa, active), qb = fetch_footprint<F>(t, fb, second);
+    const Fixed a = filter(qa, fa), b = filter(qb, fb);
     return unfixed<F>(lerp(a, b, fixed_weight(frac)));  // frac 0: a, exactly
 }
 
@@ -430,10 +463,10 @@ FACET_INLINE void sample_format(const TexelLevels& t, const TextureBinding& b, c
     }
 }
 
-// 16 lanes: coordinates c[k * 16 + i] (u, v; a cube's x, y, z), levels of
-// detail `lod` (null: from the quads; a cube's: 0).
-void sample(const TextureBinding& b, const float* c, const float* lod, uint32_t mask,
-            float* rgba) {
+// 16 lanes: coordinates x, y (u, v; a cube's x, y, z), levels of detail
+// `lod` (null: from the quads; a cube's: 0).
+void sample(const TextureBinding& b, const float* x, const float* y, const float* z,
+            const float* lod, uint32_t mask, float* rgba) {
     const TexelLevels* t = b.texture ? &b.texture->sampled() : nullptr;
     if (!t || t->levels == 0) {  // nothing bound reads as white
         for (int k = 0; k < 4; ++k)
@@ -443,13 +476,13 @@ void sample(const TextureBinding& b, const float* c, const float* lod, uint32_t 
     const bool wide = t->format == TexelFormat::rgba16;
     if (t->faces == 6) {
         if (wide)
-            sample_cube_parts<TexelFormat::rgba16>(*t, b.filter, c, c + N, c + 2 * N, lod, mask, rgba);
+            sample_cube_parts<TexelFormat::rgba16>(*t, b.filter, x, y, z, lod, mask, rgba);
         else
-            sample_cube_parts<TexelFormat::rgba8>(*t, b.filter, c, c + N, c + 2 * N, lod, mask, rgba);
+            sample_cube_parts<TexelFormat::rgba8>(*t, b.filter, x, y, z, lod, mask, rgba);
     } else if (wide) {
-        sample_format<TexelFormat::rgba16>(*t, b, c, c + N, lod, mask, rgba);
+        sample_format<TexelFormat::rgba16>(*t, b, x, y, lod, mask, rgba);
     } else {
-        sample_format<TexelFormat::rgba8>(*t, b, c, c + N, lod, mask, rgba);
+        sample_format<TexelFormat::rgba8>(*t, b, x, y, lod, mask, rgba);
     }
 }
 
@@ -459,10 +492,7 @@ void sample(const TextureBinding& b, const float* c, const float* lod, uint32_t 
 
 void sample_block(const TextureBinding& binding, const float* u, const float* v, uint32_t mask,
                   float* rgba) {
-    float c[2 * N];  // u and v side by side
-    std::memcpy(c, u, sizeof(float) * N);
-    std::memcpy(c + N, v, sizeof(float) * N);
-    sample(binding, c, nullptr, mask, rgba);
+    sample(binding, u, v, nullptr, nullptr, mask, rgba);
 }
 
 void sample_lanes(const TextureBinding& binding, const float* coords, const float* lod,
@@ -473,7 +503,7 @@ void sample_lanes(const TextureBinding& binding, const float* coords, const floa
     float c[3 * N] = {}, l[N] = {}, out[4 * N];
     for (int k = 0; k < components; ++k) std::memcpy(c + k * N, coords + k * count, sizeof(float) * count);
     if (lod) std::memcpy(l, lod, sizeof(float) * count);
-    sample(binding, c, l, mask, out);
+    sample(binding, c, c + N, c + 2 * N, l, mask, out);
     for (int k = 0; k < 4; ++k) std::memcpy(rgba + k * count, out + k * N, sizeof(float) * count);
 }
 
