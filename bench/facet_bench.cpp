@@ -1,7 +1,7 @@
 // facet-bench: frame times of facet's pipeline over scenes, sizes, shaders
 // and thread counts.
 //
-//     facet-bench [--scene NAME]... [--size WxH]... [--shader NAME]...
+//     facet-bench [--scene NAME]... [--mesh FILE]... [--size WxH]... [--shader NAME]...
 //                 [--threads N]... [--isa PATH]... [--target srgb8|rgba32f] [--runs N]
 //                 [--rounds N] [--render YAML]... [--redraw-shadows] [--depth-prepass]
 //                 [--csv FILE] [--json FILE]
@@ -66,7 +66,13 @@
 //   spot      bench/scenes/spot_textured.yaml: Spot with its texture, phong
 // Every object gets the shader under test with its default parameters, one
 // shadow-casting directional light and one point light (no shadows in rows
-// against llvmpipe, above). Each configuration
+// against llvmpipe, above).
+//
+// --mesh FILE (any mesh load_mesh reads: OBJ, PLY, glTF, GLB, OFF, STL, ...)
+// is a scene of its own, the user's setting: the mesh framed in view by its
+// bounds, back faces culled, and one directional light that casts no
+// shadow; each --shader draws it. With --mesh and no --scene, only the
+// meshes are measured. Each configuration
 // renders one warm-up frame, then --runs frames; the median is reported, with
 // the thread count and the peak resident memory while rendering that scene
 // (Linux: VmHWM, reset when the scene starts; it includes the scene itself,
@@ -104,6 +110,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -167,7 +174,29 @@ std::vector<Object> shared_model(const std::string& file, const std::string& wha
     return {{"sphere", sphere(triangles), {}, nullptr, true}};
 }
 
+// --mesh FILE's scene, by name: "mesh:" and the file's absolute path (the
+// --llvmpipe worker makes the scene again from its name).
+constexpr std::string_view kMeshPrefix = "mesh:";
+
+bool is_mesh_scene(const std::string& name) { return name.starts_with(kMeshPrefix); }
+
+std::string mesh_scene(const std::string& file) {
+    return std::string(kMeshPrefix) + std::filesystem::absolute(file).lexically_normal().string();
+}
+
+std::filesystem::path mesh_file(const std::string& name) {
+    return name.substr(kMeshPrefix.size());
+}
+
+// The user's mesh, fitted to the unit sphere (so the camera frames it).
+std::vector<Object> mesh_objects(const std::string& name, std::string& note) {
+    auto mesh = load_mesh(mesh_file(name));
+    note = "framed by its bounds; one light";
+    return {{mesh_file(name).filename().string(), mesh, fit(*mesh), nullptr, true}};
+}
+
 std::vector<Object> scene_objects(const std::string& name, std::string& note) {
+    if (is_mesh_scene(name)) return mesh_objects(name, note);
     if (name == "small") return {{"sphere", sphere(1000), {}, nullptr, true}};
     if (name == "large") return {{"sphere", sphere(1000000), {}, nullptr, true}};
     if (name == "huge") return {{"sphere", sphere(5000000), {}, nullptr, true}};
@@ -198,6 +227,10 @@ Scene make_scene(const std::string& name, std::string& note) {
     point.position = {1.5f, 1.5f, 2.0f};
     point.attenuation = {1.0f, 0.0f, 0.2f};
     s.lights = {sun, point};
+    if (is_mesh_scene(name)) {  // the user's setting: one light, no shadow
+        sun.casts_shadow = false;
+        s.lights = {sun};
+    }
     return s;
 }
 
@@ -651,6 +684,7 @@ struct LlvmpipeSide {
 struct Options {
     std::vector<std::string> scenes = {"small", "medium", "large", "fill",
                                        "subpixel", "huge", "town", "gallery"};
+    std::vector<std::string> meshes;  // --mesh: files, each a scene (mesh_scene)
     std::vector<std::string> sizes = {"1280x720", "1920x1080"};
     std::vector<std::string> shaders = {"unlit", "lit", "phong", "toon", "shadow", "ao", "pbr"};
     std::vector<int> threads;  // default: 1 and default_threads()
@@ -678,6 +712,10 @@ void add_options(CLI::App& app, Options& o) {
     app.add_option("--scene", o.scenes,
                    "small, medium, dragon, large, fill, subpixel, huge, the textured town, "
                    "gallery and spot, or a scene file (NAME.yaml, drawn with its own materials)");
+    app.add_option("--mesh", o.meshes,
+                   "a mesh file of your own (OBJ, PLY, glTF, ...), framed in view by its bounds "
+                   "and lit by one directional light, as a scene of its own (alone unless "
+                   "--scene is given too)");
     app.add_option("--size", o.sizes, "image size WxH");
     app.add_option("--shader", o.shaders, "shader plugin name");
     app.add_option("--threads", o.threads,
@@ -812,7 +850,9 @@ void bench_scene(const std::string& name, const std::string& render, Options& o,
     }
     scene.settings.color_format = *parse_color_format(o.lp.target);
     const std::vector<std::string> shaders = file ? std::vector<std::string>{"(scene)"} : o.shaders;
-    const std::string label = file ? std::filesystem::path(name).filename().string() : name;
+    const std::string label = file                ? std::filesystem::path(name).filename().string()
+                              : is_mesh_scene(name) ? mesh_file(name).filename().string()
+                                                    : name;
     // llvmpipe draws a scene as it is written (a scene file with its own
     // materials), never under --render settings, which its worker lacks.
     const bool versus = o.lp.on && render.empty() && (!file || llvmpipe_draws_scene(scene, o.lp));
@@ -941,6 +981,30 @@ std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rou
     return out;
 }
 
+// Turns --scene's names into what bench_scene() takes and adds --mesh's
+// files; false, having said why, when one is not a scene.
+bool check_scenes(Options& o) {
+    for (std::string& name : o.scenes) name = named_scene_file(name);
+    for (const std::string& file : o.meshes) o.scenes.push_back(mesh_scene(file));
+    for (const std::string& name : o.scenes) {
+        if (is_scene_file(name) || is_mesh_scene(name)) {
+            const std::filesystem::path path =
+                is_mesh_scene(name) ? mesh_file(name) : std::filesystem::path(name);
+            if (!std::filesystem::is_regular_file(path)) {
+                spdlog::error("--{} {}: file not found", is_mesh_scene(name) ? "mesh" : "scene",
+                              path.string());
+                return false;
+            }
+        } else if (name != "small" && name != "medium" && name != "dragon" && name != "large" &&
+                   name != "fill" && name != "subpixel" && name != "huge") {
+            spdlog::error("--scene {}: expected small, medium, dragon, large, fill, subpixel, "
+                          "huge, town, gallery, spot or a scene file (.yaml)", name);
+            return false;
+        }
+    }
+    return true;
+}
+
 // The table, CSV and JSON; non-zero when a size is malformed or an llvmpipe
 // measurement failed (the rest still runs and is written); 130 or 143 when
 // stopped by SIGINT or SIGTERM, after writing what was finished.
@@ -971,20 +1035,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
     // Every name and setting is checked before the CSV (and a previous run's
     // rows in it) is touched.
     PluginRegistry registry;
-    for (std::string& name : o.scenes) name = named_scene_file(name);
-    for (const std::string& name : o.scenes) {
-        if (is_scene_file(name)) {
-            if (!std::filesystem::is_regular_file(name)) {
-                spdlog::error("--scene {}: file not found", name);
-                return 2;
-            }
-        } else if (name != "small" && name != "medium" && name != "dragon" && name != "large" &&
-                   name != "fill" && name != "subpixel" && name != "huge") {
-            spdlog::error("--scene {}: expected small, medium, dragon, large, fill, subpixel, "
-                          "huge, town, gallery, spot or a scene file (.yaml)", name);
-            return 2;
-        }
-    }
+    if (!check_scenes(o)) return 2;
     const bool any_built_in = std::any_of(o.scenes.begin(), o.scenes.end(),
                                           [](const std::string& n) { return !is_scene_file(n); });
     for (const std::string& shader : any_built_in ? o.shaders : std::vector<std::string>{})
@@ -1078,6 +1129,7 @@ int main(int argc, char** argv) {
         if (const std::optional<int> status = run_llvmpipe_worker(o)) return *status;
         // 1 and the default count (FACET_NUM_THREADS, else every hardware thread).
         if (!app.count("--threads")) o.threads = {1, default_threads()};
+        if (!o.meshes.empty() && !app.count("--scene")) o.scenes.clear();  // the meshes alone
         std::vector<int> once;  // each count once, in the order given
         for (int t : o.threads)
             if (std::find(once.begin(), once.end(), t) == once.end()) once.push_back(t);

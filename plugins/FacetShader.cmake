@@ -83,10 +83,11 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
     endif()
     message(STATUS "facet: sanitizer build of the paths this CPU runs: portable ${FACET_WIDE_ISAS}")
   endif()
-  # The fuzz targets test loading and the core's kernels: a fuzzing build's
-  # shaders run their portable fragment functions only.
+  # The fuzz targets test loading and the core's kernels, and ThreadSanitizer
+  # the threads that share a frame, whatever the path each runs: those
+  # builds' shaders run their portable fragment functions only.
   set(FACET_SHADER_ISAS ${FACET_WIDE_ISAS})
-  if(FACET_FUZZ)
+  if(FACET_FUZZ OR FACET_SANITIZE STREQUAL "thread")
     set(FACET_SHADER_ISAS "")
   endif()
 else()

@@ -5,7 +5,8 @@
 # --version answers and exits 0, a usage error exits 2, -q and -v and
 # FACET_LOG_LEVEL set the log level, FACET_NUM_THREADS and --threads set
 # the thread count; facet-view without a display says so and exits; a
-# facet-bench stopped by SIGINT keeps the CSV rows it finished (exit 130).
+# facet-bench stopped by SIGINT keeps the CSV rows it finished (exit 130);
+# facet-bench --mesh measures a user's mesh.
 set -uo pipefail
 source_dir=$1
 build=$2
@@ -109,4 +110,24 @@ median, lowest, highest = (float(x) for x in line.split()[5:8])
 for shown, wanted in ((median, ratios[1]), (lowest, ratios[0]), (highest, ratios[2])):
     assert abs(shown - wanted) <= 0.006, (line, ratios)
 PY
+# --mesh: a user's mesh as a scene of its own (alone, without --scene),
+# framed and lit by one light: a row a shader, named by the file, with its
+# triangles; llvmpipe's worker makes the same scene again from the row, so
+# the two cover the same pixels. A missing file is a usage error naming it.
+"$bench" --mesh "$source_dir/assets/spot/spot.obj" --shader phong --size 160x90 --threads 1 \
+         --isa sse2 --runs 1 --llvmpipe --csv mesh.csv --json mesh.json > mesh.out 2> mesh.err ||
+  fail "facet-bench --mesh: $(cat mesh.err)"
+python3 - mesh.csv <<'PY' || fail "facet-bench --mesh rows: $(cat mesh.csv)"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 1, rows
+r = rows[0]
+assert (r["scene"], r["shader"], r["triangles"]) == ("spot.obj", "phong", "5856"), r
+assert "framed by its bounds" in r["note"] and float(r["llvmpipe_median_ms"]) > 0, r
+assert r["coverage_diff_pixels"] == "0", r
+PY
+"$bench" --mesh no-such.obj --size 160x90 --runs 1 > missing.out 2> missing.err
+status=$?
+[ $status -eq 2 ] || fail "facet-bench --mesh no-such.obj exited $status, not 2"
+grep -q "no-such.obj: file not found" missing.err || fail "no error naming the mesh: $(cat missing.err)"
 echo "tools ok"
