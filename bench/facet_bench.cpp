@@ -235,7 +235,8 @@ Scene make_scene(const std::string& name, std::string& note) {
 }
 
 bool is_scene_file(const std::string& name) {
-    return name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0;
+    return !is_mesh_scene(name) && name.size() > 5 &&
+           name.compare(name.size() - 5, 5, ".yaml") == 0;
 }
 
 // The textured scenes by name, as the scene files they are: `town` (the
@@ -296,6 +297,7 @@ private:
 struct CoverageDiff {
     double percent = 0.0;
     size_t pixels = 0;
+    size_t covered = 0;  // pixels facet covers (0: nothing in view)
 };
 
 // --llvmpipe: the same configuration drawn by llvmpipe.
@@ -419,7 +421,7 @@ public:
                 "shadow_ms,ao_ms,post_ms,post_passes,peak_rss_mib";
         if (llvmpipe_)
             out_ << ",llvmpipe_threads,llvmpipe_median_ms,llvmpipe_min_ms,"
-                    "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels";
+                    "ratio_llvmpipe_over_facet,coverage_diff_percent,coverage_diff_pixels,covered_pixels";
         out_ << ",round\n" << std::flush;
     }
 
@@ -432,9 +434,10 @@ public:
         if (llvmpipe_ && r.llvmpipe)
             out_ << ',' << r.llvmpipe->threads << ',' << r.llvmpipe->median_ms << ','
                  << r.llvmpipe->min_ms << ',' << r.llvmpipe->median_ms / r.median_ms << ','
-                 << r.llvmpipe->coverage.percent << ',' << r.llvmpipe->coverage.pixels;
+                 << r.llvmpipe->coverage.percent << ',' << r.llvmpipe->coverage.pixels << ','
+                 << r.llvmpipe->coverage.covered;
         else if (llvmpipe_)
-            out_ << ",,,,,,";
+            out_ << ",,,,,,,";
         out_ << ',' << round << '\n' << std::flush;
         ++rows_;
     }
@@ -455,14 +458,16 @@ std::string json_llvmpipe(const Result& r) {
     if (!r.llvmpipe)
         return ", \"llvmpipe_threads\": null, \"llvmpipe_median_ms\": null, "
                "\"llvmpipe_min_ms\": null, \"ratio_llvmpipe_over_facet\": null, "
-               "\"coverage_diff_percent\": null, \"coverage_diff_pixels\": null";
+               "\"coverage_diff_percent\": null, \"coverage_diff_pixels\": null, "
+               "\"covered_pixels\": null";
     std::ostringstream out;
     out << ", \"llvmpipe_threads\": " << r.llvmpipe->threads
         << ", \"llvmpipe_median_ms\": " << r.llvmpipe->median_ms
         << ", \"llvmpipe_min_ms\": " << r.llvmpipe->min_ms
         << ", \"ratio_llvmpipe_over_facet\": " << r.llvmpipe->median_ms / r.median_ms
         << ", \"coverage_diff_percent\": " << r.llvmpipe->coverage.percent
-        << ", \"coverage_diff_pixels\": " << r.llvmpipe->coverage.pixels;
+        << ", \"coverage_diff_pixels\": " << r.llvmpipe->coverage.pixels
+        << ", \"covered_pixels\": " << r.llvmpipe->coverage.covered;
     return out.str();
 }
 
@@ -508,7 +513,10 @@ CoverageDiff coverage_diff(const std::vector<uint8_t>& a, const std::vector<uint
     if (a.size() != b.size() || a.empty())
         throw std::runtime_error("coverage masks of different sizes");
     CoverageDiff d;
-    for (size_t i = 0; i < a.size(); ++i) d.pixels += (a[i] != 0) != (b[i] != 0);
+    for (size_t i = 0; i < a.size(); ++i) {
+        d.pixels += (a[i] != 0) != (b[i] != 0);
+        d.covered += a[i] != 0;
+    }
     d.percent = 100.0 * double(d.pixels) / double(a.size());
     return d;
 }
@@ -981,6 +989,17 @@ std::vector<Result> median_of_rounds(const std::vector<std::vector<Result>>& rou
     return out;
 }
 
+// Whether `path` loads as a mesh with a triangle, having said why not.
+bool loads_as_mesh(const std::filesystem::path& path) {
+    try {
+        if (load_mesh(path)->triangle_count() > 0) return true;
+        spdlog::error("--mesh {}: the file holds no triangle", path.string());
+    } catch (const Error& e) {
+        spdlog::error("--mesh {}", e.what());
+    }
+    return false;
+}
+
 // Turns --scene's names into what bench_scene() takes and adds --mesh's
 // files; false, having said why, when one is not a scene.
 bool check_scenes(Options& o) {
@@ -995,6 +1014,7 @@ bool check_scenes(Options& o) {
                               path.string());
                 return false;
             }
+            if (is_mesh_scene(name) && !loads_as_mesh(path)) return false;
         } else if (name != "small" && name != "medium" && name != "dragon" && name != "large" &&
                    name != "fill" && name != "subpixel" && name != "huge") {
             spdlog::error("--scene {}: expected small, medium, dragon, large, fill, subpixel, "

@@ -87,7 +87,7 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   # the threads that share a frame, whatever the path each runs: those
   # builds' shaders run their portable fragment functions only.
   set(FACET_SHADER_ISAS ${FACET_WIDE_ISAS})
-  if(FACET_FUZZ OR FACET_SANITIZE STREQUAL "thread")
+  if(FACET_FUZZ OR FACET_SANITIZE MATCHES "thread")
     set(FACET_SHADER_ISAS "")
   endif()
 else()

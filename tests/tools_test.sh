@@ -111,23 +111,36 @@ for shown, wanted in ((median, ratios[1]), (lowest, ratios[0]), (highest, ratios
     assert abs(shown - wanted) <= 0.006, (line, ratios)
 PY
 # --mesh: a user's mesh as a scene of its own (alone, without --scene),
-# framed and lit by one light: a row a shader, named by the file, with its
-# triangles; llvmpipe's worker makes the same scene again from the row, so
-# the two cover the same pixels. A missing file is a usage error naming it.
+# framed and lit by one light that casts no shadow: a row a shader, named by
+# the file, with its triangles, in view. Where OSMesa is built in,
+# llvmpipe's worker makes the same scene again from the row, and the two
+# cover the same pixels. A file that is missing or holds no mesh is an error
+# naming it, before any row.
+lp=()
+grep -q "^OSMESA_FOUND:INTERNAL=1" "$build/CMakeCache.txt" && lp=(--llvmpipe)
 "$bench" --mesh "$source_dir/assets/spot/spot.obj" --shader phong --size 160x90 --threads 1 \
-         --isa sse2 --runs 1 --llvmpipe --csv mesh.csv --json mesh.json > mesh.out 2> mesh.err ||
+         --isa sse2 --runs 1 "${lp[@]}" --csv mesh.csv --json mesh.json > mesh.out 2> mesh.err ||
   fail "facet-bench --mesh: $(cat mesh.err)"
-python3 - mesh.csv <<'PY' || fail "facet-bench --mesh rows: $(cat mesh.csv)"
+python3 - mesh.csv "${#lp[@]}" <<'PY' || fail "facet-bench --mesh rows: $(cat mesh.csv)"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 assert len(rows) == 1, rows
 r = rows[0]
 assert (r["scene"], r["shader"], r["triangles"]) == ("spot.obj", "phong", "5856"), r
-assert "framed by its bounds" in r["note"] and float(r["llvmpipe_median_ms"]) > 0, r
-assert r["coverage_diff_pixels"] == "0", r
+assert r["note"] == "framed by its bounds; one light", r  # no shadows dropped: it casts none
+if sys.argv[2] == "1":
+    assert float(r["llvmpipe_median_ms"]) > 0 and r["coverage_diff_pixels"] == "0", r
+    # in view (about 9% of the frame: its bounding sphere fills the height)
+    assert 0.03 * 160 * 90 < int(r["covered_pixels"]) < 0.5 * 160 * 90, r
 PY
 "$bench" --mesh no-such.obj --size 160x90 --runs 1 > missing.out 2> missing.err
 status=$?
 [ $status -eq 2 ] || fail "facet-bench --mesh no-such.obj exited $status, not 2"
 grep -q "no-such.obj: file not found" missing.err || fail "no error naming the mesh: $(cat missing.err)"
+printf 'v 0 0 0\nf 1 2 3\n' > bad.obj
+"$bench" --mesh bad.obj --size 160x90 --runs 1 --csv bad.csv > bad.out 2> bad.err
+status=$?
+[ $status -eq 2 ] || fail "facet-bench --mesh bad.obj exited $status, not 2"
+grep -q "bad.obj: .*index out of range" bad.err || fail "no error naming bad.obj: $(cat bad.err)"
+[ ! -e bad.csv ] || fail "facet-bench --mesh bad.obj wrote a CSV"
 echo "tools ok"

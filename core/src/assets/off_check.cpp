@@ -30,13 +30,13 @@ std::string next_word(std::istream& in, size_t& read, size_t limit) {
     return word;
 }
 
-std::string lower(std::string s) {
+std::string off_lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
     return s;
 }
 
 bool is_off_keyword(const std::string& word) {
-    const std::string w = lower(word);
+    const std::string w = off_lower(word);
     // OFF with any of its prefixes: ST, C, N, 4, n (STCN4nOFF is the longest).
     return w.size() >= 3 && w.size() <= 12 && w.compare(w.size() - 3, 3, "off") == 0;
 }
@@ -48,7 +48,7 @@ bool is_off_keyword(const std::string& word) {
 }  // namespace
 
 bool looks_like_off(const std::filesystem::path& path) {
-    if (lower(path.extension().string()) == ".off") return true;
+    if (off_lower(path.extension().string()) == ".off") return true;
     std::ifstream in(path, std::ios::binary);
     size_t read = 0;
     return is_off_keyword(next_word(in, read, 256));
@@ -63,9 +63,9 @@ void check_off(const std::filesystem::path& path) {
         // "nOFF" (lower-case n; NOFF is normals) puts a dimension first.
         const bool dimension = word.find("nOFF") != std::string::npos;
         word = next_word(in, read, kHeader);
-        if (lower(word) == "binary") off_fail(path, "binary OFF is not supported");
+        if (off_lower(word) == "binary") off_fail(path, "binary OFF is not supported");
         if (dimension) word = next_word(in, read, kHeader);
-    } else if (lower(path.extension().string()) != ".off") {
+    } else if (off_lower(path.extension().string()) != ".off") {
         return;  // not OFF after all: assimp decides
     }
     // A .off file may start with its counts, without the keyword.

@@ -463,12 +463,14 @@ FACET_INLINE void sample_format(const TexelLevels& t, const TextureBinding& b, c
     }
 }
 
-// 16 lanes: coordinates x, y (u, v; a cube's x, y, z), levels of detail
-// `lod` (null: from the quads; a cube's: 0).
+// 16 lanes: coordinates x, y (u, v) or, for a cube, x, y, z (a direction),
+// levels of detail `lod` (null: from the quads; a cube's: 0). A cube with no
+// z (sample_block: a slot at a UV varying, which descriptors refuse for
+// cubes) reads as nothing bound.
 void sample(const TextureBinding& b, const float* x, const float* y, const float* z,
             const float* lod, uint32_t mask, float* rgba) {
     const TexelLevels* t = b.texture ? &b.texture->sampled() : nullptr;
-    if (!t || t->levels == 0) {  // nothing bound reads as white
+    if (!t || t->levels == 0 || (t->faces == 6 && !z)) {  // nothing bound reads as white
         for (int k = 0; k < 4; ++k)
             for (int i = 0; i < N; ++i) rgba[k * N + i] = mask >> i & 1u ? 1.0f : 0.0f;
         return;
