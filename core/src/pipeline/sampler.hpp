@@ -9,8 +9,10 @@
 // and the filter weights. Nothing is read for a lane outside the mask.
 //
 // It computes what the scalar reference sampler of facet/texture.hpp
-// (sample, sample_block) computes, in the same steps, and every path
-// computes the same floats: tests hold the two to 1/65535 on each path.
+// (sample, sample_block) computes, in the same steps but filtering in
+// 16-bit fixed point, and every path computes the same floats: tests
+// (test_sampler.cpp) hold it to the reference within one 8-bit code, and
+// every path to the same bits.
 //   - nearest: the texel holding (u w, v h); bilinear: the four texels
 //     around (u w - 1/2, v h - 1/2), weighted by the fractions; both on
 //     level 0. A coordinate is pinned to +-2^23 texels, NaN to 0.
