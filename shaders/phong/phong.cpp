@@ -53,10 +53,7 @@ struct Phong {
         (receiving, receive))
 
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, Vec4& clip) {
-        clip = d.model_view_projection() * Vec4(in.position, 1.0f);
-        const Vec3 world = xyz(d.model() * Vec4(in.position, 1.0f));
-        return {world, normalize(d.normal_matrix() * in.normal), in.uv,
-                p.normal_texture ? world_tangent(d, in.tangent) : Vec4(splat(0.0f))};
+        return surface_vertex<Varyings>(in, d, bool(p.normal_texture), clip);
     }
 
     // The specular lobe s for unit n, L, v; 0 where n.L <= 0 is left to the caller.

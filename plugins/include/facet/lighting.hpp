@@ -121,6 +121,18 @@ inline Vec4 world_tangent(const Draw& d, const Vec4& t) {
     return {unit, glm::determinant(m) < 0.0f ? -t.w : t.w};
 }
 
+// The vertex stage of a lit surface that may be normal mapped: clip, and
+// varyings V of world position, unit world normal, UV and world tangent
+// (0 without a normal map, whose tangent the host then does not
+// interpolate: conditional_varyings).
+template <class V>
+V surface_vertex(const VertexIn& in, const Draw& d, bool with_tangent, Vec4& clip) {
+    clip = d.model_view_projection() * Vec4(in.position, 1.0f);
+    const Vec3 world = xyz(d.model() * Vec4(in.position, 1.0f));
+    return {world, normalize(d.normal_matrix() * in.normal), in.uv,
+            with_tangent ? world_tangent(d, in.tangent) : Vec4(splat(0.0f))};
+}
+
 // The unit normals a normal map's texels give, their X and Y times `scale`,
 // in the frame of unit normals n and the interpolated world tangents t (not
 // unit, nor perpendicular to n: both are mended here). Where t has nothing
