@@ -62,7 +62,7 @@ constexpr int kMaxLights = 16;  // the light arrays of kPhongFragment
 
 // phong.cpp's vertex() and fragment() in GLSL, term for term; the light
 // loop is facet::sdk::incident_light and spot_cone (shader.hpp).
-constexpr const char* kPhongVertex = R"(#version 450 core
+constexpr const char* kPhongVertex = R"(
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 3) in vec2 uv;
@@ -80,7 +80,7 @@ void main() {
 }
 )";
 
-constexpr const char* kPhongFragment = R"(#version 450 core
+constexpr const char* kPhongFragment = R"(
 const int kMaxLights = 16;
 const int kDirectional = 0, kSpot = 2;
 uniform vec3 camera_position;
@@ -97,7 +97,6 @@ uniform float light_cos_outer[kMaxLights];
 uniform vec3 ambient, diffuse, specular, emission;
 uniform float shininess;
 uniform bool blinn;
-uniform bool textured;
 uniform sampler2D base_texture;
 uniform float alpha_cutoff;
 in vec3 world_position;
@@ -141,8 +140,14 @@ float lobe(vec3 n, vec3 l, vec3 v) {
 void main() {
     vec3 n = normalize(world_normal);
     vec3 to_eye = normalize(camera_position - world_position);
-    vec4 base = textured ? texture(base_texture, texture_uv) : vec4(1.0);
+#if TEXTURED
+    vec4 base = texture(base_texture, texture_uv);
+#else
+    vec4 base = vec4(1.0);
+#endif
+#if DISCARDS
     if (base.a < alpha_cutoff) discard;
+#endif
     vec3 kd = diffuse * base.rgb;
     vec3 c = emission + ambient;
     for (int i = 0; i < light_count; ++i) {
@@ -157,7 +162,7 @@ void main() {
 )";
 
 // unlit.cpp: vertex colour x base colour x base texture.
-constexpr const char* kUnlitVertex = R"(#version 450 core
+constexpr const char* kUnlitVertex = R"(
 layout(location = 0) in vec3 position;
 layout(location = 2) in vec4 color;
 layout(location = 3) in vec2 uv;
@@ -171,17 +176,21 @@ void main() {
 }
 )";
 
-constexpr const char* kUnlitFragment = R"(#version 450 core
+constexpr const char* kUnlitFragment = R"(
 uniform vec4 base_color;
-uniform bool textured;
 uniform sampler2D base_texture;
 uniform float alpha_cutoff;
 in vec4 vertex_color;
 in vec2 texture_uv;
 out vec4 frag_color;
 void main() {
-    vec4 c = vertex_color * base_color * (textured ? texture(base_texture, texture_uv) : vec4(1.0));
+    vec4 c = vertex_color * base_color;
+#if TEXTURED
+    c *= texture(base_texture, texture_uv);
+#endif
+#if DISCARDS
     if (c.a < alpha_cutoff) discard;
+#endif
     frag_color = c;
 }
 )";
@@ -325,7 +334,7 @@ struct LlvmpipeRenderer::Impl {
     LlvmpipeTarget target = LlvmpipeTarget::rgba32f;
     GLuint fbo = 0, color = 0, depth = 0;
     std::map<const Mesh*, MeshBuffers> meshes;
-    std::map<std::string, Program> programs;
+    std::map<std::string, Program> programs;  // by shader name and defines
     std::map<TextureKey, GLuint> textures;
 
     Impl() = default;
@@ -337,8 +346,8 @@ struct LlvmpipeRenderer::Impl {
     void make_current();
     void check_errors(const char* after);
     void make_framebuffer();
-    GLuint compile(GLenum stage, const char* source);
-    Program& program(const std::string& shader);
+    GLuint compile(GLenum stage, const std::string& defines, const char* body);
+    Program& program(const Material& m);
     void upload_mesh(const Mesh& mesh);
     void upload_texture(const TextureBinding& binding);
     void bind_texture(const Program& p, const Material& m);
@@ -434,9 +443,11 @@ void LlvmpipeRenderer::Impl::make_framebuffer() {
     gl.Viewport(0, 0, width, height);
 }
 
-GLuint LlvmpipeRenderer::Impl::compile(GLenum stage, const char* source) {
+GLuint LlvmpipeRenderer::Impl::compile(GLenum stage, const std::string& defines,
+                                       const char* body) {
     const GLuint s = gl.CreateShader(stage);
-    gl.ShaderSource(s, 1, &source, nullptr);
+    const char* parts[] = {"#version 450 core\n", defines.c_str(), body};
+    gl.ShaderSource(s, 3, parts, nullptr);
     gl.CompileShader(s);
     GLint ok = 0;
     gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
@@ -448,12 +459,20 @@ GLuint LlvmpipeRenderer::Impl::compile(GLenum stage, const char* source) {
     return s;
 }
 
-Program& LlvmpipeRenderer::Impl::program(const std::string& shader) {
-    if (auto it = programs.find(shader); it != programs.end()) return it->second;
-    if (!supports(shader)) throw std::runtime_error("llvmpipe: no GLSL version of " + shader);
-    const bool phong = shader == "phong";
-    const GLuint vs = compile(GL_VERTEX_SHADER, phong ? kPhongVertex : kUnlitVertex);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, phong ? kPhongFragment : kUnlitFragment);
+// m's shader in GLSL, specialised as a GL programmer would write it for
+// the material: the texture read only where a base texture is bound, and
+// the discard only where the material may discard (Material::discards, as
+// facet decides it). A shader that can discard loses llvmpipe's early
+// depth test, as a facet draw that may discard is not packed.
+Program& LlvmpipeRenderer::Impl::program(const Material& m) {
+    const std::string defines = std::string("#define TEXTURED ") + (base_texture(m) ? "1" : "0") +
+                                "\n#define DISCARDS " + (m.discards ? "1" : "0") + "\n";
+    const std::string key = m.shader + "\n" + defines;
+    if (auto it = programs.find(key); it != programs.end()) return it->second;
+    if (!supports(m.shader)) throw std::runtime_error("llvmpipe: no GLSL version of " + m.shader);
+    const bool phong = m.shader == "phong";
+    const GLuint vs = compile(GL_VERTEX_SHADER, defines, phong ? kPhongVertex : kUnlitVertex);
+    const GLuint fs = compile(GL_FRAGMENT_SHADER, defines, phong ? kPhongFragment : kUnlitFragment);
     Program p{gl.CreateProgram(), phong};
     gl.AttachShader(p.id, vs);
     gl.AttachShader(p.id, fs);
@@ -467,7 +486,7 @@ Program& LlvmpipeRenderer::Impl::program(const std::string& shader) {
         gl.GetProgramInfoLog(p.id, sizeof log, nullptr, log);
         throw std::runtime_error(std::string("llvmpipe: GLSL does not link: ") + log);
     }
-    return programs[shader] = p;
+    return programs[key] = p;
 }
 
 // Positions, normals, colours and UVs in separate buffers, plus 32-bit
@@ -556,7 +575,6 @@ void LlvmpipeRenderer::Impl::upload_texture(const TextureBinding& b) {
 // Material m's base texture on unit 0, or none; and its alpha cutoff.
 void LlvmpipeRenderer::Impl::bind_texture(const Program& p, const Material& m) {
     const TextureBinding* b = base_texture(m);
-    gl.Uniform1i(uniform(p.id, "textured"), b ? 1 : 0);
     gl.Uniform1i(uniform(p.id, "base_texture"), 0);
     float cutoff = 0.0f;
     read_param(m, "alpha_cutoff", &cutoff, 1);
@@ -659,7 +677,7 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
     for (const Object& o : scene.objects) {
         if (!o.visible || !o.mesh) continue;
         for (const Material* m : o.materials()) {
-            impl_->program(m->shader);
+            impl_->program(*m);
             if (m->blend != BlendMode::opaque)
                 throw std::runtime_error("llvmpipe: only opaque materials are drawn");
             if (const TextureBinding* b = base_texture(*m)) impl_->upload_texture(*b);
@@ -698,7 +716,7 @@ double LlvmpipeRenderer::render(const Scene& scene) {
                 gl.CullFace(cull == CullMode::back ? GL_BACK : GL_FRONT);
             }
             gl.DepthMask(m->writes_depth() ? GL_TRUE : GL_FALSE);
-            const Program& p = impl_->program(m->shader);
+            const Program& p = impl_->program(*m);
             gl.UseProgram(p.id);
             impl_->set_uniforms(p, scene, o.part_matrix(i), *m, view_projection);
             const MeshBuffers& b = impl_->meshes.at(o.mesh.get());
