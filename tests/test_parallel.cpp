@@ -377,6 +377,88 @@ TEST_CASE("a pre-pass's triangles drawn again with the main pass's state give th
     CHECK_FALSE(p.redraw({call}, fb, ignored));
 }
 
+namespace {
+
+// Every byte of fb's storage, padding and samples included.
+std::vector<uint8_t> storage(const Framebuffer& fb) {
+    const size_t pixels = size_t(fb.stride()) * size_t(fb.rows()), n = size_t(fb.samples());
+    const size_t bytes = size_t(bytes_per_pixel(fb.format()));
+    std::vector<uint8_t> out;
+    const auto add = [&](const void* p, size_t size) {
+        const auto* b = static_cast<const uint8_t*>(p);
+        out.insert(out.end(), b, b + size);
+    };
+    add(fb.depth(), pixels * 4);
+    add(fb.color_data(), pixels * bytes);
+    if (n > 1) {
+        add(fb.sample_depth(), pixels * n * 4);
+        add(fb.sample_color_data(), pixels * n * bytes);
+    }
+    return out;
+}
+
+// Bytes of the two framebuffers' storage that differ (a count prints
+// shorter than the storage itself).
+size_t bytes_differing(const Framebuffer& a, const Framebuffer& b) {
+    const std::vector<uint8_t> x = storage(a), y = storage(b);
+    if (x.size() != y.size()) return std::max(x.size(), y.size());
+    size_t n = 0;
+    for (size_t i = 0; i < x.size(); ++i) n += x[i] != y[i];
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("a pipeline's clear, waiting for the draws, leaves every byte Framebuffer::clear "
+          "leaves", "[parallel][queue][clear]") {
+    // 150 x 70: tiles cut by both edges, and padding past them. The draws
+    // touch some tiles (cleared as they are drawn), not others (cleared when
+    // the clear completes).
+    std::mt19937 rng(9);
+    const Mesh soup = triangle_soup(rng, 30, 0.5f, -3.0f, 0.5f, 1.0f);
+    auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const glm::vec4 clear(0.25f, 0.5f, 0.75f, 1.0f), garbage(7.0f, -3.0f, 0.5f, 0.0f);
+    DrawCall call = test::clip_space_call(soup, *shader);
+    call.projection = perspective(glm::radians(60.0f), 150.0f / 70.0f, 0.2f, 50.0f, true);
+    call.state.depth_compare = DepthCompare::greater;
+    call.state.cull = CullMode::none;
+    for (Isa isa : supported_isas())
+        for (ColorFormat format : {ColorFormat::srgb8, ColorFormat::rgba32f, ColorFormat::none})
+            for (int samples : {1, 4}) {
+                INFO(isa_name(isa) << ", " << color_format_name(format) << ", " << samples
+                                   << " samples");
+                Framebuffer want(150, 70, format, samples), got(150, 70, format, samples);
+                want.clear(garbage, 0.75f);
+                got.clear(garbage, 0.75f);
+                Pipeline p(2, isa);
+                FrameStats stats;
+                want.clear(clear, 0.0f);
+                p.draw(call, want, stats);
+                p.clear(got, clear, 0.0f);
+                p.queue(call, got, stats);
+                p.flush(stats);
+                CHECK(bytes_differing(got, want) == 0);
+
+                // With no draw, each way of completing it.
+                want.clear(clear, 0.0f);
+                Framebuffer resolved = want;
+                resolved.resolve();
+                for (int way = 0; way < 4; ++way) {
+                    const char* ways[] = {"flush", "resolve", "resolve_srgb8", "cancel"};
+                    INFO("completed by " << ways[way]);
+                    got.clear(garbage, 0.75f);
+                    p.clear(got, clear, 0.0f);
+                    std::vector<uint8_t> rgba;
+                    if (way == 0) p.flush(stats);
+                    if (way == 1) p.resolve(got);
+                    if (way == 2) p.resolve_srgb8(got, rgba);
+                    if (way == 3) p.cancel();
+                    CHECK(bytes_differing(got, way == 1 ? resolved : want) == 0);
+                    if (way == 2) CHECK(rgba == want.resolve_srgb8());
+                }
+            }
+}
+
 #if FACET_COUNT_ALLOCATIONS
 TEST_CASE("a steady frame allocates nothing on the heap", "[parallel][memory]") {
     PluginRegistry registry;

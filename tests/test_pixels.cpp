@@ -147,7 +147,11 @@ TEST_CASE("every path clears, resolves and converts to 8 bits as the scalar code
             INFO("path " << isa_name(isa) << ", " << color_format_name(format));
             const Kernels& k = kernels(isa);
             Framebuffer fb(37, 11, format, 4);  // a width that is no multiple of anything
-            k.clear_rows(fb, 0, fb.height(), clear, 0.25f);
+            // In pieces, as a pipeline clears tiles: whole rows streamed, then
+            // the rest in two rectangles, one through the cache.
+            k.clear_rect(fb, 0, 0, fb.stride(), 5, clear, 0.25f, true);
+            k.clear_rect(fb, 0, 5, 16, fb.rows(), clear, 0.25f, false);
+            k.clear_rect(fb, 16, 5, fb.stride(), fb.rows(), clear, 0.25f, true);
             uint8_t px[16];
             encode_pixel(format, clear, px);
             const glm::vec4 stored = decode_pixel(format, px);

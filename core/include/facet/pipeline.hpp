@@ -206,8 +206,18 @@ public:
     // `target` wait.
     void require_flushed(const Framebuffer& target, const char* what) const;
 
-    // Framebuffer::clear() and resolve() on all the pipeline's threads.
+    // Framebuffer::clear(), waiting for the draws that follow: each 64x64
+    // tile of `target` is cleared as the first triangles drawn into it are,
+    // in the cache, and the tiles none touched when flush() (or redraw(),
+    // cancel(), resolve(), resolve_srgb8()) completes the clear, so no pass
+    // reads the whole target only to overwrite it. Until then `target` must
+    // live, keep its size, and be read through none of its own methods.
     void clear(Framebuffer& target, const glm::vec4& color, float depth);
+    // Drops the queued draws (and what flush(stats, true) kept) undrawn,
+    // and completes any clear that waits: for a frame abandoned part way,
+    // say by an exception, so that the next one starts afresh.
+    void cancel();
+    // Framebuffer::resolve() on all the pipeline's threads.
     void resolve(Framebuffer& target);
     // Framebuffer::resolve_srgb8() on all the pipeline's threads: the 8-bit
     // sRGB image of a float target, for a PNG or a window, at the cost of a

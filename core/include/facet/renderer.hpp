@@ -101,6 +101,8 @@ private:
                           bool prepassed);
     void draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffer& target,
                             FrameStats& stats);
+    // render_rows, which cancels what it queued when this throws.
+    FrameStats draw_frame(const Scene& scene, int first_row, int rows, Framebuffer& target);
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                         bool prepassed, FrameStats& stats);
 

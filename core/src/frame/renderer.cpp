@@ -115,6 +115,17 @@ FrameStats Renderer::render(const Scene& scene, Framebuffer& target) {
 
 FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
                                  Framebuffer& target) {
+    pipeline_.require_flushed(target, "Renderer::render");  // it may resize the target
+    try {
+        return draw_frame(scene, first_row, rows, target);
+    } catch (...) {
+        pipeline_.cancel();  // nothing of the frame waits for the next one
+        throw;
+    }
+}
+
+FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
+                                Framebuffer& target) {
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
     const bool band = first_row != 0 || rows != s.height;
@@ -132,7 +143,6 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
                     "a band starts at row " + std::to_string(first_row) + ", not on a multiple of " +
                         std::to_string(FACET_BLOCK_SIZE) + " (the rasterizer's blocks)",
                     scene.source.string());
-    pipeline_.require_flushed(target, "Renderer::render");  // it may resize the target
     const auto fit = [&](Framebuffer& fb, ColorFormat format, int samples) {
         if (fb.width() != s.width || fb.height() != rows || fb.samples() != samples ||
             fb.format() != format)
@@ -149,7 +159,6 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
     Framebuffer& frame = post ? passes_->hdr : target;
     fit(frame, post ? ColorFormat::rgba32f : s.color_format, s.msaa);
     if (post) fit(target, s.color_format, 1);
-    pipeline_.clear(frame, s.clear_color, s.far_depth());
 
     DrawCall call;
     call.view = scene.camera.view();
@@ -223,13 +232,21 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
             return in_depth_prepass(pipeline_state(*d.material, s));
         });
     const bool prepassed = s.depth_prepass || ao_shares_prepass;
-    if (prepassed) draw_depth_prepass(scene, call, frame, stats);
+    // The frame's clear waits for its first pass's draws (Pipeline::clear),
+    // and a pass into another target (shadow maps, AO's own pre-pass) would
+    // complete it first: so it comes after those.
+    const auto clear_frame = [&] { pipeline_.clear(frame, s.clear_color, s.far_depth()); };
+    if (prepassed) {
+        clear_frame();
+        draw_depth_prepass(scene, call, frame, stats);
+    }
     if (needs_ao) {
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s, call.time,
                         ao_shares_prepass ? &frame : nullptr, pipeline_, stats);
         call.ao = passes_->ao.visibility();
         call.ao_grid = passes_->ao.grid();
     }
+    if (!prepassed) clear_frame();
     draw_main_pass(scene, call, frame, prepassed, stats);
     const auto post_start = std::chrono::steady_clock::now();
     if (!pipeline_.stopped()) pipeline_.resolve(frame);

@@ -66,6 +66,29 @@ struct QueuedDraw {
     std::vector<float> varyings;       // per vertex, varying_floats each
 };
 
+// A clear waiting for the draws into its target (Pipeline::clear). A tile
+// is cleared as its first triangles are drawn (draw_tile), while its pixels
+// are about to be in the cache anyway, and the tiles no draw touched when
+// the clear is completed (Pipeline::flush), with streaming stores: no pass
+// over the whole target reads it in only to overwrite it.
+struct PendingClear {
+    bool waiting = false;  // else done, and kept for its storage (a steady frame allocates nothing)
+    Framebuffer* target = nullptr;
+    glm::vec4 color{0.0f};
+    float depth = 0.0f;
+    int columns = 0, rows = 0;     // the target's tiles (kTileSize pixels), as Bins lays them out
+    std::vector<uint8_t> cleared;  // per tile: done; each written by the thread drawing the tile
+
+    // Tile `tile`'s storage rectangle [x0, x1) x [y0, y1): its pixels, and
+    // the storage's padding where it is the last column or row of tiles.
+    void storage_rect(int tile, int& x0, int& y0, int& x1, int& y1) const {
+        x0 = tile % columns * kTileSize;
+        y0 = tile / columns * kTileSize;
+        x1 = tile % columns == columns - 1 ? target->stride() : x0 + kTileSize;
+        y1 = tile / columns == rows - 1 ? target->rows() : y0 + kTileSize;
+    }
+};
+
 struct DrawQueue {
     explicit DrawQueue(int threads) : worker_stats(size_t(threads)) {}
 
@@ -91,6 +114,8 @@ struct DrawQueue {
     int kept_width = 0, kept_height = 0, kept_samples = 0;
     Bins bins;
     std::vector<WorkerStats> worker_stats;
+    std::vector<PendingClear> clears;  // at most one waiting per target
+    PendingClear* clear_now = nullptr;  // that of `target`, while its tiles are drawn
 };
 
 }  // namespace facet

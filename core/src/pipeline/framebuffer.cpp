@@ -214,7 +214,7 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples)
 }
 
 void Framebuffer::clear(const glm::vec4& color, float depth) {
-    kernels(default_isa()).clear_rows(*this, 0, height_, color, depth);
+    kernels(default_isa()).clear_rect(*this, 0, 0, stride_, rows_, color, depth, true);
 }
 
 void Framebuffer::resolve() {

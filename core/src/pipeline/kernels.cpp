@@ -25,6 +25,12 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     int x0, y0, x1, y1;
     g.bins.rect(tile, x0, y0, x1, y1);
     const int samples = g.target->samples();
+    if (PendingClear* c = g.clear_now; c && !c->cleared[size_t(tile)]) {
+        int cx0, cy0, cx1, cy1;
+        c->storage_rect(tile, cx0, cy0, cx1, cy1);
+        clear_rect(*g.target, cx0, cy0, cx1, cy1, c->color, c->depth, false);
+        c->cleared[size_t(tile)] = 1;
+    }
     PackedBatch packed;
     alignas(64) static thread_local float visibility[kTileSize * kTileSize];  // the tile's AO
     TileAo ao{x0, y0, x1, y1, false, visibility};
@@ -63,7 +69,7 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     facet::Isa::FACET_KERNEL_ISA,
     &facet::FACET_KERNEL_NS::draw_tile,
     &facet::FACET_KERNEL_NS::cover,
-    &facet::FACET_KERNEL_NS::clear_rows,
+    &facet::FACET_KERNEL_NS::clear_rect,
     &facet::FACET_KERNEL_NS::resolve_rows,
     &facet::FACET_KERNEL_NS::srgb8_rows,
     &facet::FACET_KERNEL_NS::encode_pixels,

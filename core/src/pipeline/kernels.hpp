@@ -147,10 +147,14 @@ struct Kernels {
     // to `out`. For tests and tools; draw_tile does the same inline.
     void (*cover)(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples,
                   EdgeWidth width, std::vector<Block>& out);
-    // Framebuffer rows [first, first + count): clear; average the samples
-    // into each pixel; write 8-bit sRGB RGBA, `width * 4` bytes a row.
-    void (*clear_rows)(Framebuffer& fb, int first, int count, const glm::vec4& color,
-                       float depth);
+    // Clears the storage rectangle [x0, x1) x [y0, y1) (the padding past the
+    // last column and row included where x1 is stride() and y1 rows()),
+    // every sample, with streaming stores past the caches or (for the draws
+    // about to follow) into them.
+    void (*clear_rect)(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4& color,
+                       float depth, bool stream);
+    // Framebuffer rows [first, first + count): average the samples into
+    // each pixel; write 8-bit sRGB RGBA, `width * 4` bytes a row.
     void (*resolve_rows)(Framebuffer& fb, int first, int count);
     void (*srgb8_rows)(const Framebuffer& fb, int first, int count, uint8_t* out);
     // `count` pixels from linear RGBA to `format`'s bytes, and back: the

@@ -76,10 +76,14 @@ void rasterize_binned(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
                       const Pipeline& stop, FrameStats& stats) {
     for (DrawQueue::WorkerStats& w : g.worker_stats) w.stats = {};
     const std::vector<int>& busy = g.bins.busy();
+    g.clear_now = nullptr;
+    for (PendingClear& c : g.clears)
+        if (c.waiting && c.target == g.target) g.clear_now = &c;
     pool.parallel_for(int(busy.size()), [&](int i, int worker) {
         if (stop.stopped()) return;
         kernels.draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)].stats);
     });
+    g.clear_now = nullptr;
     for (int c = 0; c < g.chunks_used; ++c) stats += g.chunks[size_t(c)].stats;
     for (const DrawQueue::WorkerStats& w : g.worker_stats) stats += w.stats;
 }
@@ -102,6 +106,33 @@ void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
     }
     g.bins.clear();
     drop_queued(g);
+}
+
+// Completes the clears that wait (PendingClear): each row of tiles in
+// parallel, the tiles no draw cleared in runs, a row with none cleared as
+// one run of storage.
+void complete_clears(DrawQueue& g, ThreadPool& pool, const Kernels& kernels) {
+    for (PendingClear& c : g.clears) {
+        if (!c.waiting) continue;
+        c.waiting = false;
+        Framebuffer& fb = *c.target;
+        pool.parallel_for(c.rows, [&](int row, int) {
+            const uint8_t* cleared = c.cleared.data() + size_t(row) * size_t(c.columns);
+            for (int first = 0; first < c.columns;) {
+                if (cleared[first]) {
+                    ++first;
+                    continue;
+                }
+                int last = first;
+                while (last + 1 < c.columns && !cleared[last + 1]) ++last;
+                int x0, y0, x1, y1, last_x0, last_y0, last_x1, last_y1;
+                c.storage_rect(row * c.columns + first, x0, y0, x1, y1);
+                c.storage_rect(row * c.columns + last, last_x0, last_y0, last_x1, last_y1);
+                kernels.clear_rect(fb, x0, y0, last_x1, y1, c.color, c.depth, true);
+                first = last + 1;
+            }
+        });
+    }
 }
 
 // Calls fn(first_row, rows) for bands of `height` rows, in parallel.
@@ -257,6 +288,14 @@ void Pipeline::flush(FrameStats& stats, bool keep_geometry) {
     rasterize_queued(g, *pool_, *kernels_, *this, stats, keep_geometry && !g.split);
     g.split = false;
     if (!g.kept) g.draws_used = 0;
+    complete_clears(g, *pool_, *kernels_);
+}
+
+void Pipeline::cancel() {
+    drop_queued(*queue_);
+    queue_->draws_used = 0;
+    queue_->split = false;
+    complete_clears(*queue_, *pool_, *kernels_);
 }
 
 bool Pipeline::redraw(const std::vector<DrawCall>& calls, Framebuffer& target,
@@ -289,6 +328,7 @@ bool Pipeline::redraw(const std::vector<DrawCall>& calls, Framebuffer& target,
     }
     drop_queued(g);
     g.draws_used = 0;
+    complete_clears(g, *pool_, *kernels_);
     return match;
 }
 
@@ -317,13 +357,24 @@ void Pipeline::require_flushed(const Framebuffer& target, const char* what) cons
 
 void Pipeline::clear(Framebuffer& target, const glm::vec4& color, float depth) {
     require_flushed(target, "Pipeline::clear");
-    const Kernels& k = *kernels_;
-    for_row_bands(*pool_, target.height(),
-                  [&](int first, int rows) { k.clear_rows(target, first, rows, color, depth); });
+    DrawQueue& g = *queue_;
+    // This target's entry, waiting or done, else one done, else a new one.
+    PendingClear* c = nullptr;
+    for (PendingClear& e : g.clears)
+        if (e.target == &target || (!c && !e.waiting)) c = &e;
+    if (!c) c = &g.clears.emplace_back();
+    c->waiting = target.width() > 0 && target.height() > 0;
+    c->target = &target;
+    c->color = color;
+    c->depth = depth;
+    c->columns = (target.width() + kTileSize - 1) / kTileSize;
+    c->rows = (target.height() + kTileSize - 1) / kTileSize;
+    c->cleared.assign(size_t(c->columns) * size_t(c->rows), 0);
 }
 
 void Pipeline::resolve(Framebuffer& target) {
     require_flushed(target, "Pipeline::resolve");
+    complete_clears(*queue_, *pool_, *kernels_);
     if (target.samples() == 1) return;
     const Kernels& k = *kernels_;
     for_row_bands(*pool_, target.height(),
@@ -332,6 +383,7 @@ void Pipeline::resolve(Framebuffer& target) {
 
 void Pipeline::resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out) {
     require_flushed(target, "Pipeline::resolve_srgb8");
+    complete_clears(*queue_, *pool_, *kernels_);
     if (target.format() != ColorFormat::rgba16f && target.format() != ColorFormat::rgba32f) {
         target.resolve_srgb8(out);  // a copy (srgb8), or black (no colour)
         return;

@@ -12,23 +12,27 @@ namespace facet::FACET_KERNEL_NS {
 namespace {
 
 // Fills `bytes` bytes at p with copies of `pixel` (`size` bytes, dividing
-// 16; p a multiple of `size` into its buffer), streaming past the caches
-// where the path has SSE2: a clear's data is not read back soon, and a
-// streaming store skips reading each line in before overwriting it.
-void fill(uint8_t* p, size_t bytes, const uint8_t* pixel, size_t size) {
+// 16; p a multiple of `size` into its buffer). With `stream`, where the
+// path has SSE2, past the caches: a streaming store skips reading each
+// line in before overwriting it, for data not read back soon. Without, the
+// lines stay in the cache for the draws that follow.
+void fill(uint8_t* p, size_t bytes, const uint8_t* pixel, size_t size, bool stream) {
     uint8_t pattern[16];
     for (size_t i = 0; i < 16; i += size) std::memcpy(pattern + i, pixel, size);
     size_t i = 0;
 #if defined(__SSE2__)
-    for (; i < bytes && reinterpret_cast<uintptr_t>(p + i) % 16 != 0; i += size)
-        std::memcpy(p + i, pixel, size);
-    __m128i v;
-    std::memcpy(&v, pattern, 16);  // a whole number of pixels, so any phase is the same
-    for (; i + 16 <= bytes; i += 16) _mm_stream_si128(reinterpret_cast<__m128i*>(p + i), v);
-    _mm_sfence();
+    if (stream) {
+        for (; i < bytes && reinterpret_cast<uintptr_t>(p + i) % 16 != 0; i += size)
+            std::memcpy(p + i, pixel, size);
+        __m128i v;
+        std::memcpy(&v, pattern, 16);  // a whole number of pixels, so any phase is the same
+        for (; i + 16 <= bytes; i += 16) _mm_stream_si128(reinterpret_cast<__m128i*>(p + i), v);
+        _mm_sfence();
+    }
 #else
-    for (; i + 16 <= bytes; i += 16) std::memcpy(p + i, pattern, 16);
+    (void)stream;  // no streaming stores on this path
 #endif
+    for (; i + 16 <= bytes; i += 16) std::memcpy(p + i, pattern, 16);
     for (; i < bytes; i += size) std::memcpy(p + i, pixel, size);
 }
 
@@ -71,20 +75,26 @@ void put_pixels(ColorFormat format, const Rgba& c, uint8_t* out, int count) {
 
 }  // namespace
 
-void clear_rows(Framebuffer& fb, int first, int count, const glm::vec4& color, float depth) {
-    // The band that ends the image also clears the padding rows below it.
-    const int last = first + count >= fb.height() ? fb.rows() : first + count;
-    const size_t begin = size_t(first) * size_t(fb.stride());
-    const size_t pixels = size_t(last - first) * size_t(fb.stride());
+void clear_rect(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4& color,
+                float depth, bool stream) {
     const size_t n = size_t(fb.samples()), bytes = size_t(bytes_per_pixel(fb.format()));
-    const auto* z = reinterpret_cast<const uint8_t*>(&depth);
-    fill(reinterpret_cast<uint8_t*>(fb.depth() + begin), pixels * 4, z, 4);
-    if (n > 1) fill(reinterpret_cast<uint8_t*>(fb.sample_depth() + begin * n), pixels * n * 4, z, 4);
-    if (!fb.has_color()) return;
+    const size_t stride = size_t(fb.stride());
     uint8_t encoded[16];
-    encode_pixel(fb.format(), color, encoded);
-    fill(fb.color_data() + begin * bytes, pixels * bytes, encoded, bytes);
-    if (n > 1) fill(fb.sample_color_data() + begin * n * bytes, pixels * n * bytes, encoded, bytes);
+    if (fb.has_color()) encode_pixel(fb.format(), color, encoded);
+    const auto* z = reinterpret_cast<const uint8_t*>(&depth);
+    // Whole rows are one run of storage; otherwise a run a row.
+    const bool whole = x0 == 0 && size_t(x1) == stride;
+    const size_t run = size_t(x1 - x0) * (whole ? size_t(y1 - y0) : 1);
+    for (int y = y0; y < (whole ? y0 + 1 : y1); ++y) {
+        const size_t at = size_t(y) * stride + size_t(x0);
+        fill(reinterpret_cast<uint8_t*>(fb.depth() + at), run * 4, z, 4, stream);
+        if (n > 1)
+            fill(reinterpret_cast<uint8_t*>(fb.sample_depth() + at * n), run * n * 4, z, 4, stream);
+        if (!fb.has_color()) continue;
+        fill(fb.color_data() + at * bytes, run * bytes, encoded, bytes, stream);
+        if (n > 1)
+            fill(fb.sample_color_data() + at * n * bytes, run * n * bytes, encoded, bytes, stream);
+    }
 }
 
 void resolve_rows(Framebuffer& fb, int first, int count) {
