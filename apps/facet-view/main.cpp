@@ -7,7 +7,7 @@
 //
 // With no scene it opens the default scene. --frames renders N frames and
 // exits (with --screenshot, saving the last one first): scripted runs and
-// tests. Keys and mouse: press H in the window, or see README.md.
+// tests. Keys and mouse: press H in the window, or see docs/viewer.md.
 #include "viewer.hpp"
 
 #include <facet/command_line.hpp>
