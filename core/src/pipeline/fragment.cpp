@@ -114,8 +114,8 @@ uint32_t interpolated_lanes(const DrawContext& dc, uint32_t mask) {
     return (mask & 0x00FFu ? 0x00FFu : 0u) | (mask & 0xFF00u ? 0xFF00u : 0u);
 }
 
-void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t,
-                          const TriangleVaryings& tv, const Block& b, uint32_t lanes, float* out) {
+void interpolate_varyings(const DrawContext& dc, const TriangleVaryings& tv, const Block& b,
+                          uint32_t lanes, float* out) {
     const uint32_t floats = dc.varying_floats;
     for (int p = 0; p < kParts; ++p) {
         const int first = p * kWidth;
@@ -123,23 +123,16 @@ void interpolate_varyings(const DrawContext& dc, const TriangleSetup& t,
             for (uint32_t k = 0; k < floats; ++k) simd::store(out + k * N + first, Float{});
             continue;
         }
-        // Perspective-correct weights: bary_k * (1/w_k), normalised per lane.
-        const Float l1 = simd::load<Float>(b.bary[1] + first);
-        const Float l2 = simd::load<Float>(b.bary[2] + first);
-        const Float a = simd::load<Float>(b.bary[0] + first) * t.inv_w[0];
-        const Float c = l1 * t.inv_w[1], d = l2 * t.inv_w[2];
-        const Float w = 1.0f / (a + c + d);
-        const Float p1 = c * w, p2 = d * w;
-        // Relative to v0: exact for constant attributes, better conditioned.
+        const LaneWeights w = lane_weights(tv, b, p);
         if (dc.perspective_only) {
             for (uint32_t k = 0; k < floats; ++k)
-                simd::store(out + k * N + first, tv.v0[k] + p1 * tv.d1[k] + p2 * tv.d2[k]);
+                simd::store(out + k * N + first, interpolate(tv, k, w.p1, w.p2));
             continue;
         }
         for (uint32_t k = 0; k < floats; ++k) {
-            const bool linear = dc.interpolation[k] == FACET_INTERP_LINEAR;
+            const bool linear = screen_linear(dc, k);
             simd::store(out + k * N + first,
-                        tv.v0[k] + (linear ? l1 : p1) * tv.d1[k] + (linear ? l2 : p2) * tv.d2[k]);
+                        interpolate(tv, k, linear ? w.l1 : w.p1, linear ? w.l2 : w.p2));
         }
     }
 }
@@ -344,9 +337,9 @@ void lane_positions(const Block& b, int32_t* position) {
 
 }  // namespace
 
-void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
-                      const float* varyings, const float* depth, const float* texels,
-                      const float* ao, FrameStats& stats) {
+template <class Append>
+void PackedBatch::add_fragments(const DrawContext& dc, bool front_facing, uint32_t mask,
+                                FrameStats& stats, Append&& append) {
     if (count_ && (dc_ != &dc || front_facing_ != front_facing)) flush(stats);
     dc_ = &dc;
     front_facing_ = front_facing;
@@ -354,12 +347,66 @@ void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, 
     if (simd::popcount(mask) > room) {  // the first `room` fragments fill this batch
         uint32_t first = 0;
         for (uint32_t m = mask; simd::popcount(first) < room; m &= m - 1) first |= m & (0u - m);
-        append(b, first, varyings, depth, texels, ao);
+        append(first);
         flush(stats);
         mask &= ~first;
     }
-    append(b, mask, varyings, depth, texels, ao);
+    append(mask);
     if (count_ == N) flush(stats);
+}
+
+void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
+                      const float* varyings, const float* depth, const float* texels,
+                      const float* ao, FrameStats& stats) {
+    add_fragments(dc, front_facing, mask, stats, [&](uint32_t m) {
+        append(b, m, varyings, depth, texels, ao);
+    });
+}
+
+void PackedBatch::add(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
+                      const Block& b, uint32_t mask, const float* depth, const float* ao,
+                      FrameStats& stats) {
+    alignas(64) float weights[4][N];  // l1, l2, p1, p2
+    for (int p = 0; p < kParts; ++p) {
+        const LaneWeights w = simd::part_mask(mask, p) ? lane_weights(tv, b, p) : LaneWeights{};
+        simd::store(weights[0] + p * kWidth, w.l1);
+        simd::store(weights[1] + p * kWidth, w.l2);
+        simd::store(weights[2] + p * kWidth, w.p1);
+        simd::store(weights[3] + p * kWidth, w.p2);
+    }
+    add_fragments(dc, t.front_facing, mask, stats, [&](uint32_t m) {
+        append_interpolated(tv, b, m, weights[0], depth, ao);
+    });
+}
+
+void PackedBatch::append_interpolated(const TriangleVaryings& tv, const Block& b, uint32_t mask,
+                                      const float* weights, const float* depth, const float* ao) {
+    const DrawContext& dc = *dc_;
+    const simd::Compressor compress(mask);
+    const int n = compress.count();
+    alignas(64) float packed[4][kRow];  // the weights, at the fragments of `mask`
+    const bool linear_too = !dc.perspective_only;  // l1 and l2 only where a varying needs them
+    for (int r = linear_too ? 0 : 2; r < 4; ++r) compress(weights + r * N, packed[r]);
+    for (int at = 0; at < n; at += kWidth) {  // rows of kRow: room past N
+        const Float p1 = simd::load<Float>(packed[2] + at), p2 = simd::load<Float>(packed[3] + at);
+        if (!linear_too) {
+            for (uint32_t k = 0; k < dc.varying_floats; ++k)
+                simd::store(varyings_[k] + count_ + at, interpolate(tv, k, p1, p2));
+            continue;
+        }
+        const Float l1 = simd::load<Float>(packed[0] + at), l2 = simd::load<Float>(packed[1] + at);
+        for (uint32_t k = 0; k < dc.varying_floats; ++k) {
+            const bool linear = screen_linear(dc, k);
+            simd::store(varyings_[k] + count_ + at,
+                        interpolate(tv, k, linear ? l1 : p1, linear ? l2 : p2));
+        }
+    }
+    if (dc.needs_ao) compress(ao, ao_ + count_);
+    compress(depth, depth_ + count_);
+    alignas(64) int32_t position[N];
+    lane_positions(b, position);
+    compress(position, position_ + count_);
+    count_ += n;
 }
 
 void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
@@ -381,10 +428,15 @@ void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, c
 void PackedBatch::flush(FrameStats& stats) {
     if (!count_) return;
     const DrawContext& dc = *dc_;
-    // Into the ABI's layout, rows of 16 lanes; lanes past count_ read 0.
+    // Into the ABI's layout, rows of 16 lanes; lanes past count_ read 0. A
+    // row moves whole, in registers (the batch's rows have room past N): a
+    // copy of a size known only at run time would be a call.
+    simd::Int live[kParts];
+    for (int p = 0; p < kParts; ++p)
+        for (int j = 0; j < kWidth; ++j) live[p][j] = p * kWidth + j < count_ ? -1 : 0;
     const auto row = [&](const float* from, float* to) {
-        std::memcpy(to, from, sizeof(float) * size_t(count_));
-        std::fill(to + count_, to + N, 0.0f);
+        for (int p = 0; p < kParts; ++p)
+            simd::store(to + p * kWidth, live[p] ? simd::load<Float>(from + p * kWidth) : Float{});
     };
     alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
     for (uint32_t k = 0; k < dc.varying_floats; ++k) row(varyings_[k], varyings + k * N);
@@ -396,9 +448,9 @@ void PackedBatch::flush(FrameStats& stats) {
     row(depth_, depth);
     if (dc.needs_ao) row(ao_, ao);
     const int32_t stride = dc.target->stride();
-    std::fill(position_ + count_, position_ + N, 0);
     for (int p = 0; p < kParts; ++p) {
-        const simd::Int position = simd::load<simd::Int>(position_ + p * kWidth);
+        const simd::Int position =
+            live[p] ? simd::load<simd::Int>(position_ + p * kWidth) : simd::Int{};
         const simd::Int x = position & 0xFFFF, y = position >> 16;
         simd::store(coord + p * kWidth, simd::to_float(x) + 0.5f);
         simd::store(coord + N + p * kWidth, simd::to_float(y + dc.first_row) + 0.5f);
@@ -446,6 +498,7 @@ void PackedBatch::flush(FrameStats& stats) {
 }
 
 void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out) {
+    for (int v = 0; v < 3; ++v) out.inv_w[v] = t.inv_w[v];
     for (uint32_t k = 0; k < dc.varying_floats; ++k) {
         const float v0 = t.varyings[0][k];
         const bool flat = dc.interpolation[k] == FACET_INTERP_FLAT;  // vertex 0 is the first
@@ -579,11 +632,6 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         return;
     }
 
-    alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
-    interpolate_varyings(dc, t, tv, b, interpolated_lanes(dc, mask), varyings);
-    alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
-    if (dc.sample_textures) sample_textures(dc, varyings, mask, texels);
-    alignas(64) float color[4 * N];
     alignas(64) float depth[N];
     for (int p = 0; p < kParts; ++p)
         simd::store(depth + p * kWidth, msaa || !simd::part_mask(mask, p)
@@ -594,8 +642,18 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     if (dc.ao_grid) ao = tile_ao.block(*dc.ao_grid, b);  // half size: upsampled by tiles
     else if (dc.ao) gather_ao(dc, b, gathered);
     else if (dc.needs_ao) std::fill(gathered, gathered + N, 1.0f);  // AO off: full visibility
-    if (pack) {
+    if (pack && !dc.sample_textures) {  // varyings only at the fragments packed
         write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
+        packed.add(dc, t, tv, b, mask, depth, ao, stats);
+        return;
+    }
+    alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
+    interpolate_varyings(dc, tv, b, interpolated_lanes(dc, mask), varyings);
+    alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];
+    if (dc.sample_textures) sample_textures(dc, varyings, mask, texels);
+    alignas(64) float color[4 * N];
+    if (pack) {
+        write_pixels(dc, b, z, nullptr, mask);
         packed.add(dc, t.front_facing, b, mask, varyings, depth, texels, ao, stats);
         return;
     }

@@ -22,6 +22,7 @@
 #include "pipeline/draw_context.hpp"
 #include "pipeline/kernels.hpp"
 #include "pipeline/setup.hpp"
+#include "base/simd.hpp"
 
 namespace facet::FACET_KERNEL_NS {
 
@@ -33,9 +34,41 @@ struct TriangleVaryings {
     float v0[FACET_MAX_VARYING_FLOATS];
     float d1[FACET_MAX_VARYING_FLOATS];
     float d2[FACET_MAX_VARYING_FLOATS];
+    float inv_w[3];  // the setup's, for the perspective-correct weights
 };
 
 void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out);
+
+// The weights of vertices 1 and 2 at part p of a block's lanes: screen-linear
+// (l1, l2), and perspective-correct (p1, p2: each over its vertex's w,
+// normalised per lane).
+struct LaneWeights {
+    simd::Float l1, l2, p1, p2;
+};
+
+inline LaneWeights lane_weights(const TriangleVaryings& tv, const Block& b, int p) {
+    const int first = p * simd::kWidth;
+    const simd::Float l1 = simd::load<simd::Float>(b.bary[1] + first);
+    const simd::Float l2 = simd::load<simd::Float>(b.bary[2] + first);
+    const simd::Float a = simd::load<simd::Float>(b.bary[0] + first) * tv.inv_w[0];
+    const simd::Float c = l1 * tv.inv_w[1], d = l2 * tv.inv_w[2];
+    const simd::Float w = 1.0f / (a + c + d);
+    return {l1, l2, c * w, d * w};
+}
+
+// Varying float k where vertices 1 and 2 weigh w1 and w2: relative to
+// vertex 0, which is exact for a constant attribute and better conditioned.
+// Every route to a shader computes it this way, so that each gives the same
+// floats.
+inline simd::Float interpolate(const TriangleVaryings& tv, uint32_t k, const simd::Float& w1,
+                               const simd::Float& w2) {
+    return tv.v0[k] + w1 * tv.d1[k] + w2 * tv.d2[k];
+}
+
+// Whether varying float k of the draw is screen-linear.
+inline bool screen_linear(const DrawContext& dc, uint32_t k) {
+    return !dc.perspective_only && dc.interpolation[k] == FACET_INTERP_LINEAR;
+}
 
 void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x_count,
                       float* blocks, int across);  // ao_kernels.cpp
@@ -78,6 +111,12 @@ public:
     void add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
              const float* varyings, const float* depth, const float* texels, const float* ao,
              FrameStats& stats);
+    // The same for a draw that samples no texture, with the varyings
+    // interpolated here, at the fragments of `mask` only, from triangle t's
+    // `tv` and the weights at b's lanes: no copy of them is made in the
+    // block's layout to be moved into the batch's.
+    void add(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
+             const Block& b, uint32_t mask, const float* depth, const float* ao, FrameStats& stats);
     // Shades and writes what waits.
     void flush(FrameStats& stats);
     bool empty() const { return count_ == 0; }
@@ -85,8 +124,18 @@ public:
 private:
     static constexpr int N = FACET_BLOCK_LANES;
     static constexpr int kRow = 2 * N;  // room to compress a block past a full batch
+    // Starts adding fragments of dc's draw and of that facing (shading
+    // what waits of another), then appends mask's through append(m) for
+    // each part m that fits a batch, shading each batch it fills.
+    template <class Append>
+    void add_fragments(const DrawContext& dc, bool front_facing, uint32_t mask, FrameStats& stats,
+                       Append&& append);
     void append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
                 const float* texels, const float* ao);
+    // The weights of `weights` ([4][N]: l1, l2, p1, p2 at each lane) at the
+    // lanes of `mask`, then the varyings from them.
+    void append_interpolated(const TriangleVaryings& tv, const Block& b, uint32_t mask,
+                             const float* weights, const float* depth, const float* ao);
 
     const DrawContext* dc_ = nullptr;
     bool front_facing_ = true;
