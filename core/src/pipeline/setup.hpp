@@ -84,6 +84,11 @@ struct EdgeFunction {
 enum class SetupResult { ok, culled_backface, degenerate, no_pixels, clipped_away };
 
 struct TriangleSetup {
+    // Left uninitialized: setup_triangle() sets every member of a setup it
+    // keeps, and a set-up stage that zeroed each setup it appends (as an
+    // aggregate's value-initialization would) wrote every byte twice.
+    TriangleSetup() {}
+
     // Edge k runs from vertex k to vertex k+1 and is opposite vertex k+2, so
     // the barycentric weight of vertex k+2 is edge[k].at(P) / area2.
     EdgeFunction edge[3];
