@@ -11,29 +11,39 @@ namespace facet::FACET_KERNEL_NS {
 
 namespace {
 
-// Fills `bytes` bytes at p with copies of `pixel` (`size` bytes, dividing
-// 16; p a multiple of `size` into its buffer). With `stream`, where the
-// path has SSE2, past the caches: a streaming store skips reading each
-// line in before overwriting it, for data not read back soon. Without, the
-// lines stay in the cache for the draws that follow.
-void fill(uint8_t* p, size_t bytes, const uint8_t* pixel, size_t size, bool stream) {
-    uint8_t pattern[16];
-    for (size_t i = 0; i < 16; i += size) std::memcpy(pattern + i, pixel, size);
+// Copies of one pixel of `size` bytes (dividing 16) across a register.
+struct Pattern {
+    const uint8_t* pixel;
+    size_t size;
+    simd::Int v;
+    Pattern(const uint8_t* px, size_t bytes) : pixel(px), size(bytes) {
+        uint8_t copies[sizeof v];
+        for (size_t i = 0; i < sizeof v; i += size) std::memcpy(copies + i, pixel, size);
+        std::memcpy(&v, copies, sizeof v);
+    }
+};
+
+// Fills `bytes` bytes at p with copies of the pattern's pixel (p a multiple
+// of its size into its buffer). With `stream`, where the path has SSE2,
+// past the caches: a streaming store skips reading each line in before
+// overwriting it, for data not read back soon. Without, a register at a
+// time into the cache, for the draws that follow.
+void fill(uint8_t* p, size_t bytes, const Pattern& pattern, bool stream) {
     size_t i = 0;
 #if defined(__SSE2__)
     if (stream) {
-        for (; i < bytes && reinterpret_cast<uintptr_t>(p + i) % 16 != 0; i += size)
-            std::memcpy(p + i, pixel, size);
+        for (; i < bytes && reinterpret_cast<uintptr_t>(p + i) % 16 != 0; i += pattern.size)
+            std::memcpy(p + i, pattern.pixel, pattern.size);
         __m128i v;
-        std::memcpy(&v, pattern, 16);  // a whole number of pixels, so any phase is the same
+        std::memcpy(&v, &pattern.v, 16);  // a whole number of pixels, so any phase is the same
         for (; i + 16 <= bytes; i += 16) _mm_stream_si128(reinterpret_cast<__m128i*>(p + i), v);
         _mm_sfence();
     }
 #else
     (void)stream;  // no streaming stores on this path
 #endif
-    for (; i + 16 <= bytes; i += 16) std::memcpy(p + i, pattern, 16);
-    for (; i < bytes; i += size) std::memcpy(p + i, pixel, size);
+    for (; i + sizeof pattern.v <= bytes; i += sizeof pattern.v) simd::store(p + i, pattern.v);
+    for (; i < bytes; i += pattern.size) std::memcpy(p + i, pattern.pixel, pattern.size);
 }
 
 // Up to kWidth pixels of `size` bytes from `in` (`step` bytes apart), decoded.
@@ -79,21 +89,19 @@ void clear_rect(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4
                 float depth, bool stream) {
     const size_t n = size_t(fb.samples()), bytes = size_t(bytes_per_pixel(fb.format()));
     const size_t stride = size_t(fb.stride());
-    uint8_t encoded[16];
+    uint8_t encoded[16] = {};
     if (fb.has_color()) encode_pixel(fb.format(), color, encoded);
-    const auto* z = reinterpret_cast<const uint8_t*>(&depth);
+    const Pattern z(reinterpret_cast<const uint8_t*>(&depth), 4), c(encoded, bytes ? bytes : 4);
     // Whole rows are one run of storage; otherwise a run a row.
     const bool whole = x0 == 0 && size_t(x1) == stride;
     const size_t run = size_t(x1 - x0) * (whole ? size_t(y1 - y0) : 1);
     for (int y = y0; y < (whole ? y0 + 1 : y1); ++y) {
         const size_t at = size_t(y) * stride + size_t(x0);
-        fill(reinterpret_cast<uint8_t*>(fb.depth() + at), run * 4, z, 4, stream);
-        if (n > 1)
-            fill(reinterpret_cast<uint8_t*>(fb.sample_depth() + at * n), run * n * 4, z, 4, stream);
+        fill(reinterpret_cast<uint8_t*>(fb.depth() + at), run * 4, z, stream);
+        if (n > 1) fill(reinterpret_cast<uint8_t*>(fb.sample_depth() + at * n), run * n * 4, z, stream);
         if (!fb.has_color()) continue;
-        fill(fb.color_data() + at * bytes, run * bytes, encoded, bytes, stream);
-        if (n > 1)
-            fill(fb.sample_color_data() + at * n * bytes, run * n * bytes, encoded, bytes, stream);
+        fill(fb.color_data() + at * bytes, run * bytes, c, stream);
+        if (n > 1) fill(fb.sample_color_data() + at * n * bytes, run * n * bytes, c, stream);
     }
 }
 
