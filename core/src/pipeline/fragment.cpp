@@ -218,7 +218,7 @@ void write_pixels(const DrawContext& dc, const Block& b, const Float* z, const f
     const ColorFormat format = fb.format();
     const size_t bytes = size_t(bytes_per_pixel(format)), row_bytes = size_t(fb.stride()) * bytes;
     uint8_t* block = fb.color_data() + at * bytes;
-    const bool write_color = color && dc.state.color_write;
+    const bool write_color = color && dc.state.color_write && fb.has_color();
     for (int p = 0; p < kParts; ++p) {
         const uint32_t lanes = simd::part_mask(mask, p);
         if (!lanes) continue;
@@ -284,7 +284,7 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
     const int n = fb.samples();
     const ColorFormat format = fb.format();
     const size_t bytes = size_t(bytes_per_pixel(format));
-    const bool write_color = color && dc.state.color_write;
+    const bool write_color = color && dc.state.color_write && fb.has_color();
     const bool opaque = dc.state.blend == BlendMode::opaque;
     for (int p = 0; p < kParts; ++p) {
         const uint32_t lanes = simd::part_mask(mask, p);
