@@ -83,11 +83,13 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
     endif()
     message(STATUS "facet: sanitizer build of the paths this CPU runs: portable ${FACET_WIDE_ISAS}")
   endif()
-  # The fuzz targets test loading and the core's kernels, and ThreadSanitizer
-  # the threads that share a frame, whatever the path each runs: those
-  # builds' shaders run their portable fragment functions only.
+  # The fuzz targets test loading and the core's kernels, ThreadSanitizer
+  # the threads that share a frame, and AddressSanitizer the core's memory,
+  # whatever path a shader runs: those builds' shaders run their portable
+  # fragment functions only (the default build holds every shader's wide
+  # builds to it, on every path).
   set(FACET_SHADER_ISAS ${FACET_WIDE_ISAS})
-  if(FACET_FUZZ OR FACET_SANITIZE MATCHES "thread")
+  if(FACET_FUZZ OR FACET_SANITIZE)
     set(FACET_SHADER_ISAS "")
   endif()
 else()
