@@ -103,6 +103,19 @@ private:
                             FrameStats& stats);
     // render_rows, which cancels what it queued when this throws.
     FrameStats draw_frame(const Scene& scene, int first_row, int rows, Framebuffer& target);
+    // The frame plan: what is visible (Scratch), and which passes its
+    // materials need.
+    struct FramePlan {
+        bool shadows = false;            // shadow maps
+        bool ao = false;                 // the AO pass
+        bool ao_shares_prepass = false;  // which reads the frame's depth pre-pass
+        bool prepassed = false;          // a depth pre-pass before the main pass
+    };
+    FramePlan plan_frame(const Scene& scene, const DrawCall& call, FrameStats& stats);
+    // The plan's passes into `frame`, in order: shadow maps, the frame's
+    // clear and depth pre-pass, AO, the main pass.
+    void draw_passes(const Scene& scene, const FramePlan& plan, DrawCall& call,
+                     Framebuffer& frame, FrameStats& stats);
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                         bool prepassed, FrameStats& stats);
 

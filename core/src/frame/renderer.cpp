@@ -124,25 +124,34 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
     }
 }
 
-FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
-                                Framebuffer& target) {
-    const auto start = std::chrono::steady_clock::now();
+namespace {
+
+// Rows [first_row, first_row + rows) of the scene's image: inside it, and
+// starting on the image's grid of blocks, so that each block's weights,
+// and the quads that give derivatives, are the whole image's.
+void check_rows(const Scene& scene, int first_row, int rows) {
     const RenderSettings& s = scene.settings;
-    const bool band = first_row != 0 || rows != s.height;
     if (rows < 1 || first_row < 0 || first_row > s.height - rows)
         throw Error(ErrorCode::out_of_range,
                     "rows " + std::to_string(first_row) + ".." +
                         std::to_string(int64_t(first_row) + rows - 1) + " of a " +
                         std::to_string(s.width) + "x" + std::to_string(s.height) + " image",
                     scene.source.string());
-    // Blocks of pixels start on the image's grid of blocks: each block's
-    // weights, and the quads that give derivatives, are then the whole
-    // image's.
     if (first_row % FACET_BLOCK_SIZE != 0)
         throw Error(ErrorCode::out_of_range,
                     "a band starts at row " + std::to_string(first_row) + ", not on a multiple of " +
                         std::to_string(FACET_BLOCK_SIZE) + " (the rasterizer's blocks)",
                     scene.source.string());
+}
+
+}  // namespace
+
+FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
+                                Framebuffer& target) {
+    const auto start = std::chrono::steady_clock::now();
+    const RenderSettings& s = scene.settings;
+    check_rows(scene, first_row, rows);
+    const bool band = first_row != 0 || rows != s.height;
     const auto fit = [&](Framebuffer& fb, ColorFormat format, int samples) {
         if (fb.width() != s.width || fb.height() != rows || fb.samples() != samples ||
             fb.format() != format)
@@ -174,10 +183,31 @@ FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
     call.lights = scratch_.lights.data();
     call.light_count = uint32_t(scratch_.lights.size());
 
-    // The frame plan: what is visible, and which passes its materials need.
     FrameStats stats;
-    bool needs_ao = false;
-    bool needs_shadow = false;
+    const FramePlan plan = plan_frame(scene, call, stats);
+    if (plan.ao && band)
+        throw Error(ErrorCode::config_invalid,
+                    "a band of rows cannot run ambient occlusion, which reads depth beyond it; "
+                    "render the whole image, or set render: {ao: false}",
+                    scene.source.string());
+    draw_passes(scene, plan, call, frame, stats);
+    const auto post_start = std::chrono::steady_clock::now();
+    if (!pipeline_.stopped()) pipeline_.resolve(frame);
+    if (post && !pipeline_.stopped())
+        passes_->post.run(scene.post, frame, target, s, float(scene.time), pipeline_, stats);
+    stats.ms_post += elapsed_ms(post_start);
+    if (pipeline_.stopped()) {
+        forget_shadow_maps();  // maps cut short must not be kept as if complete
+        throw Error(ErrorCode::interrupted, "the frame was stopped before it was complete");
+    }
+    stats.milliseconds = elapsed_ms(start);
+    return stats;
+}
+
+Renderer::FramePlan Renderer::plan_frame(const Scene& scene, const DrawCall& call,
+                                         FrameStats& stats) {
+    const RenderSettings& s = scene.settings;
+    FramePlan plan;
     scratch_.items.clear();
     scratch_.blended.clear();
     scratch_.casters.clear();
@@ -203,62 +233,52 @@ FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
             const Material& m = *d.material;
             stats.shadows_needed |= m.uses_shadows;
             stats.ao_needed |= m.uses_ao;
-            needs_shadow |= s.shadows && m.uses_shadows;
-            needs_ao |= s.ao && m.uses_ao;
+            plan.shadows |= s.shadows && m.uses_shadows;
+            plan.ao |= s.ao && m.uses_ao;
             if (m.blend == BlendMode::opaque) scratch_.opaque.push_back(d);
             else scratch_.blended.push_back({d, 0.0f});
         }
     }
-    if (needs_shadow) {
-        const auto t = std::chrono::steady_clock::now();
-        render_shadow_maps(scene, scratch_.casters, pipeline_, passes_->shadow, stats);
-        call.shadows = passes_->shadow.by_light.data();
-        stats.ms_shadow += elapsed_ms(t);
-    }
-    if (needs_ao && band)
-        throw Error(ErrorCode::config_invalid,
-                    "a band of rows cannot run ambient occlusion, which reads depth beyond it; "
-                    "render the whole image, or set render: {ao: false}",
-                    scene.source.string());
     // AO needs the depth of every opaque surface before the main pass. When
     // the frame is single-sampled and every opaque part can take part in the
     // main pass's depth pre-pass, that pre-pass is drawn first and serves
     // both: AO reads the frame's depth, and the main pass then shades each
     // pixel once (the same image, as with depth_prepass). Otherwise AO draws
     // its own.
-    const bool ao_shares_prepass =
-        needs_ao && s.msaa == 1 &&
+    plan.ao_shares_prepass =
+        plan.ao && s.msaa == 1 &&
         std::all_of(scratch_.opaque.begin(), scratch_.opaque.end(), [&](const DrawItem& d) {
             return in_depth_prepass(pipeline_state(*d.material, s));
         });
-    const bool prepassed = s.depth_prepass || ao_shares_prepass;
+    plan.prepassed = s.depth_prepass || plan.ao_shares_prepass;
+    return plan;
+}
+
+void Renderer::draw_passes(const Scene& scene, const FramePlan& plan, DrawCall& call,
+                           Framebuffer& frame, FrameStats& stats) {
+    const RenderSettings& s = scene.settings;
+    if (plan.shadows) {
+        const auto t = std::chrono::steady_clock::now();
+        render_shadow_maps(scene, scratch_.casters, pipeline_, passes_->shadow, stats);
+        call.shadows = passes_->shadow.by_light.data();
+        stats.ms_shadow += elapsed_ms(t);
+    }
     // The frame's clear waits for its first pass's draws (Pipeline::clear),
     // and a pass into another target (shadow maps, AO's own pre-pass) would
     // complete it first: so it comes after those.
     const auto clear_frame = [&] { pipeline_.clear(frame, s.clear_color, s.far_depth()); };
-    if (prepassed) {
+    if (plan.prepassed) {
         clear_frame();
         draw_depth_prepass(scene, call, frame, stats);
     }
-    if (needs_ao) {
+    if (plan.ao) {
         passes_->ao.run(scratch_.opaque, call.view, call.projection, s, call.time,
-                        ao_shares_prepass ? &frame : nullptr, pipeline_, stats);
+                        plan.ao_shares_prepass ? &frame : nullptr, pipeline_, stats);
         call.ao = passes_->ao.visibility();
         call.ao_grid = passes_->ao.grid();
     }
-    if (!prepassed) clear_frame();
-    draw_main_pass(scene, call, frame, prepassed, stats);
-    const auto post_start = std::chrono::steady_clock::now();
-    if (!pipeline_.stopped()) pipeline_.resolve(frame);
-    if (post && !pipeline_.stopped())
-        passes_->post.run(scene.post, frame, target, s, float(scene.time), pipeline_, stats);
-    stats.ms_post += elapsed_ms(post_start);
-    if (pipeline_.stopped()) {
-        forget_shadow_maps();  // maps cut short must not be kept as if complete
-        throw Error(ErrorCode::interrupted, "the frame was stopped before it was complete");
-    }
-    stats.milliseconds = elapsed_ms(start);
-    return stats;
+    if (!plan.prepassed) clear_frame();
+    draw_main_pass(scene, call, frame, plan.prepassed, stats);
 }
 
 void Renderer::queue_item(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
