@@ -1029,37 +1029,33 @@ bool check_scenes(Options& o) {
     return true;
 }
 
-// The table, CSV and JSON; non-zero when a size is malformed or an llvmpipe
-// measurement failed (the rest still runs and is written); 130 or 143 when
-// stopped by SIGINT or SIGTERM, after writing what was finished.
-int run_table(Options& o, const Interrupts& interrupts) {
+// Checks every option of the table before the CSV (and a previous run's
+// rows in it) is touched, saying what is wrong; gives the paths to measure
+// and the --render settings ("" for the scene's own: no --render, or "{}").
+bool check_options(Options& o, const PluginRegistry& registry, std::vector<Isa>& isas,
+                   std::vector<std::string>& renders) {
     for (const std::string& size : o.sizes)
         if (!parse_size(size)) {
             spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
                           Framebuffer::kMaxSize, size);
-            return 2;
+            return false;
         }
-    std::vector<Isa> isas;
     for (const std::string& name : o.isas) {
         const std::optional<Isa> isa = parse_isa(name);
         if (!isa || !isa_supported(*isa)) {
             spdlog::error("--isa {}: {}", name,
                           isa ? "this CPU does not have it" : "expected sse2, avx2 or avx512");
-            return 2;
+            return false;
         }
         isas.push_back(*isa);
     }
     if (isas.empty()) isas = supported_isas();
     o.runs = std::max(1, o.runs);
     o.rounds = std::max(1, o.rounds);
-    // --render settings, "" for the scene's own (no --render, or "{}").
-    std::vector<std::string> renders = o.render.empty() ? std::vector<std::string>{""} : o.render;
+    renders = o.render.empty() ? std::vector<std::string>{""} : o.render;
     for (std::string& render : renders)
         if (render == "{}") render.clear();
-    // Every name and setting is checked before the CSV (and a previous run's
-    // rows in it) is touched.
-    PluginRegistry registry;
-    if (!check_scenes(o)) return 2;
+    if (!check_scenes(o)) return false;
     const bool any_built_in = std::any_of(o.scenes.begin(), o.scenes.end(),
                                           [](const std::string& n) { return !is_scene_file(n); });
     for (const std::string& shader : any_built_in ? o.shaders : std::vector<std::string>{})
@@ -1071,7 +1067,7 @@ int run_table(Options& o, const Interrupts& interrupts) {
                                   dirs += (dirs.empty() ? "" : ", ") + d.string();
                               return dirs;
                           }());
-            return 2;
+            return false;
         }
     for (const std::string& render : renders) {
         if (render.empty()) continue;
@@ -1080,9 +1076,20 @@ int run_table(Options& o, const Interrupts& interrupts) {
             apply_render_settings(check, render, "--render");
         } catch (const Error& e) {
             spdlog::error("{}", e.what());
-            return 2;
+            return false;
         }
     }
+    return true;
+}
+
+// The table, CSV and JSON; non-zero when an option is wrong or an llvmpipe
+// measurement failed (the rest still runs and is written); 130 or 143 when
+// stopped by SIGINT or SIGTERM, after writing what was finished.
+int run_table(Options& o, const Interrupts& interrupts) {
+    PluginRegistry registry;
+    std::vector<Isa> isas;
+    std::vector<std::string> renders;
+    if (!check_options(o, registry, isas, renders)) return 2;
     int total = 0;
     for (const std::string& name : o.scenes) total += configurations(name, o, isas.size());
     total *= int(renders.size()) * o.rounds;

@@ -229,30 +229,22 @@ std::string label(const Setting& s) {
     return l;
 }
 
-}  // namespace
+// One scene of the sweep: its reference settings and the quality
+// settings to measure against it.
+struct Study {
+    std::string name;
+    fs::path file;
+    Scene base;
+    std::vector<Setting> settings;
+    reference::RenderOptions ro;
+    double samples;  // the reference's rays: its cost
+};
 
-int run_pareto(const ParetoOptions& o) {
-    const int threads = o.threads > 0 ? o.threads : default_threads();
-    std::printf("facet-bench --pareto: %dx%d, %d thread(s), median of %d frames; reference "
-                "%dx%d samples per pixel (ao scene: %dx%d, %d AO rays each), %d thread(s)\n",
-                o.width, o.height, threads, o.runs, o.grid, o.grid, o.ao_grid, o.ao_grid,
-                o.ao_rays, threads);
-    PluginRegistry registry;
-    Renderer renderer(threads);
-    renderer.pipeline().stop_when(o.stop);
-    Framebuffer fb;
-
-    // Every scene and its settings first, to count the work.
-    struct Study {
-        std::string name;
-        fs::path file;
-        Scene base;
-        std::vector<Setting> settings;
-        reference::RenderOptions ro;
-        double samples;  // the reference's rays: its cost
-    };
+// Every scene and its settings, first, to count the work (`total` steps:
+// each scene's reference and its settings).
+std::vector<Study> load_studies(const ParetoOptions& o, PluginRegistry& registry, int threads,
+                                int& total) {
     std::vector<Study> studies;
-    int total = 0;
     for (const std::string name : {"default", "lit", "phong", "toon", "shadow", "ao", "gallery"}) {
         Study st{name, data_dir() / "configs" / (name == "default" ? "default.yaml" : "scenes/" + name + ".yaml"),
                  {}, {}, {}, 0.0};
@@ -277,6 +269,38 @@ int run_pareto(const ParetoOptions& o) {
         total += 1 + int(st.settings.size());
         studies.push_back(std::move(st));
     }
+    return studies;
+}
+
+// The plot of the sweep (o.plot) from its CSV, through matplotlib.
+int plot(const ParetoOptions& o) {
+    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    const std::string command = python + " \"" FACET_SOURCE_DIR "/bench/plot_pareto.py\" \"" +
+                                o.csv + "\" \"" + o.plot + "\"";
+    if (std::system(command.c_str()) != 0) {
+        spdlog::error("plotting failed ({}); python3-matplotlib comes with scripts/install-deps",
+                      command);
+        return 1;
+    }
+    std::printf("wrote %s\n", o.plot.c_str());
+    return 0;
+}
+
+}  // namespace
+
+int run_pareto(const ParetoOptions& o) {
+    const int threads = o.threads > 0 ? o.threads : default_threads();
+    std::printf("facet-bench --pareto: %dx%d, %d thread(s), median of %d frames; reference "
+                "%dx%d samples per pixel (ao scene: %dx%d, %d AO rays each), %d thread(s)\n",
+                o.width, o.height, threads, o.runs, o.grid, o.grid, o.ao_grid, o.ao_grid,
+                o.ao_rays, threads);
+    PluginRegistry registry;
+    Renderer renderer(threads);
+    renderer.pipeline().stop_when(o.stop);
+    Framebuffer fb;
+
+    int total = 0;
+    std::vector<Study> studies = load_studies(o, registry, threads, total);
     Progress progress("steps", total);
     // Time left: the references still to render at the seconds per sample
     // of those done, and the settings left at the mean time of those done.
@@ -350,17 +374,7 @@ int run_pareto(const ParetoOptions& o) {
     write_csv(o.csv, points, threads);
     std::printf("wrote %s\n", o.csv.c_str());
 
-    if (o.plot.empty()) return 0;
-    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    const std::string command = python + " \"" FACET_SOURCE_DIR "/bench/plot_pareto.py\" \"" +
-                                o.csv + "\" \"" + o.plot + "\"";
-    if (std::system(command.c_str()) != 0) {
-        spdlog::error("plotting failed ({}); python3-matplotlib comes with scripts/install-deps",
-                      command);
-        return 1;
-    }
-    std::printf("wrote %s\n", o.plot.c_str());
-    return 0;
+    return o.plot.empty() ? 0 : plot(o);
 }
 
 }  // namespace facet::bench

@@ -457,6 +457,143 @@ bool Editor::set_param(EditorTarget& t, Material& material, const facet_param_de
     return true;
 }
 
+namespace {
+
+// A texture parameter's widgets: its file, filter and wrap.
+bool texture_widget(const Material& m, const std::string& name, MaterialParam& p,
+                    std::string& text, EditorResult& r) {
+    bool changed = false;
+    const MaterialParam* w = written(m, name);
+    p.kind = MaterialParam::Kind::texture;
+    if (w) {
+        p.texture_file = w->texture_file;
+        p.filter = w->filter;
+        p.wrap = w->wrap;
+    }
+    const fs::path folder = fs::path(m.source).parent_path();
+    std::string file = p.texture_file.empty()
+                           ? ""
+                           : p.texture_file.lexically_relative(folder).generic_string();
+    ImGui::Text("%s", name.c_str());
+    const std::string field = "file##" + name;
+    if (ImGui::InputText(field.c_str(), &file, ImGuiInputTextFlags_EnterReturnsTrue)) {
+        p.texture_file = (folder / file).lexically_normal();
+        changed = !file.empty();
+    }
+    int filter = int(p.filter), wrap = int(p.wrap);
+    if (ImGui::Combo(("filter##" + name).c_str(), &filter, kFilters, 3)) changed = true;
+    if (ImGui::Combo(("wrap##" + name).c_str(), &wrap, kWraps, 3)) changed = true;
+    p.filter = Filter(filter);
+    p.wrap = Wrap(wrap);
+    if (changed && p.texture_file.empty()) {
+        r.errors.push_back(name + ": type the texture's file first");
+        changed = false;
+    }
+    text = "{file: " + yaml_string(p.texture_file.lexically_relative(folder).generic_string()) +
+           ", filter: " + filter_text(p.filter) + ", wrap: " + wrap_text(p.wrap) + "}";
+    return changed;
+}
+
+// A choice parameter's combo box, of the names its schema gives.
+bool choice_widget(const Material& m, uint32_t k, MaterialParam& p, std::string& text) {
+    const facet_param_desc& d = m.plugin->schema().params[k];
+    const std::string name = d.name;
+    bool changed = false;
+    const std::vector<std::string> names =
+        m.plugin->schema().choices && m.plugin->schema().choices[k]
+            ? choice_names(m.plugin->schema().choices[k])
+            : std::vector<std::string>{};
+    const MaterialParam* w = written(m, name);
+    std::string current = w ? w->word : "";
+    if (current.empty() && !names.empty())
+        current = names[std::min(names.size() - 1, size_t(std::max(0.0f, d.default_value[0])))];
+    if (ImGui::BeginCombo(name.c_str(), current.c_str())) {
+        for (const std::string& c : names)
+            if (ImGui::Selectable(c.c_str(), c == current) && c != current) {
+                current = c;
+                changed = true;
+            }
+        ImGui::EndCombo();
+    }
+    p.kind = MaterialParam::Kind::word;
+    p.word = current;
+    text = yaml_string(current);
+    return changed;
+}
+
+}  // namespace
+
+bool Editor::param_widget(Material& m, uint32_t k, const ParamRange& range, MaterialParam& p,
+                          std::string& text, EditorResult& r) {
+    const facet_param_desc& d = m.plugin->schema().params[k];
+    const std::string name = d.name;
+    float* v = range.v;
+    const float lo = range.lo, hi = range.hi;
+    const bool bounded = range.bounded;
+    bool changed = false;
+    switch (d.type) {
+        case FACET_PARAM_FLOAT:
+            changed = bounded ? ImGui::SliderFloat(name.c_str(), v, lo, hi, "%.3f",
+                                                   ImGuiSliderFlags_AlwaysClamp)
+                              : ImGui::DragFloat(name.c_str(), v, 0.01f, lo, hi, "%.3f",
+                                                 ImGuiSliderFlags_AlwaysClamp);
+            if (!std::isfinite(v[0])) break;
+            p.numbers = {v[0]};
+            text = yaml_number(v[0]);
+            break;
+        case FACET_PARAM_INT: {
+            int i = int(std::lround(v[0]));
+            changed = bounded ? ImGui::SliderInt(name.c_str(), &i, int(lo), int(hi), "%d",
+                                                 ImGuiSliderFlags_AlwaysClamp)
+                              : ImGui::DragInt(name.c_str(), &i, 0.2f);
+            p.numbers = {double(i)};
+            p.is_integer = true;
+            text = std::to_string(i);
+            break;
+        }
+        case FACET_PARAM_BOOL: {
+            const MaterialParam* w = written(m, name);
+            bool on = w ? (w->kind == MaterialParam::Kind::boolean ? w->flag : w->numbers.size() && w->numbers[0] != 0)
+                        : d.default_value[0] != 0.0f;
+            changed = ImGui::Checkbox(name.c_str(), &on);
+            p.kind = MaterialParam::Kind::boolean;
+            p.flag = on;
+            text = on ? "true" : "false";
+            break;
+        }
+        case FACET_PARAM_VEC2:
+        case FACET_PARAM_VEC3:
+        case FACET_PARAM_VEC4: {
+            const int n = int(d.type - FACET_PARAM_VEC2) + 2;
+            changed = ImGui::DragScalarN(name.c_str(), ImGuiDataType_Float, v, n, 0.01f,
+                                         &lo, &hi, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+            if (!finite(v, n)) break;
+            p.kind = MaterialParam::Kind::vector;
+            p.numbers.assign(v, v + n);
+            text = yaml_sequence(v, n);
+            break;
+        }
+        case FACET_PARAM_COLOR3:
+        case FACET_PARAM_COLOR4: {
+            const int n = d.type == FACET_PARAM_COLOR3 ? 3 : 4;
+            const ImGuiColorEditFlags flags = ImGuiColorEditFlags_Float |
+                                              (hi > 1.0f ? ImGuiColorEditFlags_HDR : 0);
+            changed = n == 3 ? ImGui::ColorEdit3(name.c_str(), v, flags)
+                             : ImGui::ColorEdit4(name.c_str(), v, flags);
+            for (int c = 0; c < n; ++c) v[c] = std::clamp(v[c], std::max(lo, 0.0f), hi);
+            if (!finite(v, n)) break;
+            p.kind = MaterialParam::Kind::vector;
+            p.numbers.assign(v, v + n);
+            text = yaml_sequence(v, n);
+            break;
+        }
+        case FACET_PARAM_CHOICE: changed = choice_widget(m, k, p, text); break;
+        case FACET_PARAM_TEXTURE: changed = texture_widget(m, name, p, text, r); break;
+        default: ImGui::TextDisabled("%s (%s)", name.c_str(), std::string(param_type_name(d.type)).c_str());
+    }
+    return changed;
+}
+
 void Editor::material_panel(EditorTarget& t, EditorResult& r) {
     if (t.scene.objects.empty()) return;
     const Object& o = t.scene.objects[size_t(t.selected)];
@@ -505,119 +642,8 @@ void Editor::material_panel(EditorTarget& t, EditorResult& r) {
         float v[4];
         current_floats(m, d, v);
         MaterialParam p;
-        bool changed = false;
         std::string text;
-        switch (d.type) {
-            case FACET_PARAM_FLOAT:
-                changed = bounded ? ImGui::SliderFloat(name.c_str(), v, lo, hi, "%.3f",
-                                                       ImGuiSliderFlags_AlwaysClamp)
-                                  : ImGui::DragFloat(name.c_str(), v, 0.01f, lo, hi, "%.3f",
-                                                     ImGuiSliderFlags_AlwaysClamp);
-                if (!std::isfinite(v[0])) break;
-                p.numbers = {v[0]};
-                text = yaml_number(v[0]);
-                break;
-            case FACET_PARAM_INT: {
-                int i = int(std::lround(v[0]));
-                changed = bounded ? ImGui::SliderInt(name.c_str(), &i, int(lo), int(hi), "%d",
-                                                     ImGuiSliderFlags_AlwaysClamp)
-                                  : ImGui::DragInt(name.c_str(), &i, 0.2f);
-                p.numbers = {double(i)};
-                p.is_integer = true;
-                text = std::to_string(i);
-                break;
-            }
-            case FACET_PARAM_BOOL: {
-                const MaterialParam* w = written(m, name);
-                bool on = w ? (w->kind == MaterialParam::Kind::boolean ? w->flag : w->numbers.size() && w->numbers[0] != 0)
-                            : d.default_value[0] != 0.0f;
-                changed = ImGui::Checkbox(name.c_str(), &on);
-                p.kind = MaterialParam::Kind::boolean;
-                p.flag = on;
-                text = on ? "true" : "false";
-                break;
-            }
-            case FACET_PARAM_VEC2:
-            case FACET_PARAM_VEC3:
-            case FACET_PARAM_VEC4: {
-                const int n = int(d.type - FACET_PARAM_VEC2) + 2;
-                changed = ImGui::DragScalarN(name.c_str(), ImGuiDataType_Float, v, n, 0.01f,
-                                             &lo, &hi, "%.3f", ImGuiSliderFlags_AlwaysClamp);
-                if (!finite(v, n)) break;
-                p.kind = MaterialParam::Kind::vector;
-                p.numbers.assign(v, v + n);
-                text = yaml_sequence(v, n);
-                break;
-            }
-            case FACET_PARAM_COLOR3:
-            case FACET_PARAM_COLOR4: {
-                const int n = d.type == FACET_PARAM_COLOR3 ? 3 : 4;
-                const ImGuiColorEditFlags flags = ImGuiColorEditFlags_Float |
-                                                  (hi > 1.0f ? ImGuiColorEditFlags_HDR : 0);
-                changed = n == 3 ? ImGui::ColorEdit3(name.c_str(), v, flags)
-                                 : ImGui::ColorEdit4(name.c_str(), v, flags);
-                for (int c = 0; c < n; ++c) v[c] = std::clamp(v[c], std::max(lo, 0.0f), hi);
-                if (!finite(v, n)) break;
-                p.kind = MaterialParam::Kind::vector;
-                p.numbers.assign(v, v + n);
-                text = yaml_sequence(v, n);
-                break;
-            }
-            case FACET_PARAM_CHOICE: {
-                const std::vector<std::string> names =
-                    m.plugin->schema().choices && m.plugin->schema().choices[k]
-                        ? choice_names(m.plugin->schema().choices[k])
-                        : std::vector<std::string>{};
-                const MaterialParam* w = written(m, name);
-                std::string current = w ? w->word : "";
-                if (current.empty() && !names.empty())
-                    current = names[std::min(names.size() - 1, size_t(std::max(0.0f, d.default_value[0])))];
-                if (ImGui::BeginCombo(name.c_str(), current.c_str())) {
-                    for (const std::string& c : names)
-                        if (ImGui::Selectable(c.c_str(), c == current) && c != current) {
-                            current = c;
-                            changed = true;
-                        }
-                    ImGui::EndCombo();
-                }
-                p.kind = MaterialParam::Kind::word;
-                p.word = current;
-                text = yaml_string(current);
-                break;
-            }
-            case FACET_PARAM_TEXTURE: {
-                const MaterialParam* w = written(m, name);
-                p.kind = MaterialParam::Kind::texture;
-                if (w) {
-                    p.texture_file = w->texture_file;
-                    p.filter = w->filter;
-                    p.wrap = w->wrap;
-                }
-                const fs::path folder = fs::path(m.source).parent_path();
-                std::string file = p.texture_file.empty()
-                                       ? ""
-                                       : p.texture_file.lexically_relative(folder).generic_string();
-                ImGui::Text("%s", name.c_str());
-                const std::string field = "file##" + name;
-                if (ImGui::InputText(field.c_str(), &file, ImGuiInputTextFlags_EnterReturnsTrue)) {
-                    p.texture_file = (folder / file).lexically_normal();
-                    changed = !file.empty();
-                }
-                int filter = int(p.filter), wrap = int(p.wrap);
-                if (ImGui::Combo(("filter##" + name).c_str(), &filter, kFilters, 3)) changed = true;
-                if (ImGui::Combo(("wrap##" + name).c_str(), &wrap, kWraps, 3)) changed = true;
-                p.filter = Filter(filter);
-                p.wrap = Wrap(wrap);
-                if (changed && p.texture_file.empty()) {
-                    r.errors.push_back(name + ": type the texture's file first");
-                    changed = false;
-                }
-                text = "{file: " + yaml_string(p.texture_file.lexically_relative(folder).generic_string()) +
-                       ", filter: " + filter_text(p.filter) + ", wrap: " + wrap_text(p.wrap) + "}";
-                break;
-            }
-            default: ImGui::TextDisabled("%s (%s)", name.c_str(), std::string(param_type_name(d.type)).c_str());
-        }
+        bool changed = param_widget(m, k, {v, lo, hi, bounded}, p, text, r);
         if (d.type != FACET_PARAM_TEXTURE) remember(name);
         if (d.doc && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d.doc);
         if (changed && d.type != FACET_PARAM_TEXTURE && d.type != FACET_PARAM_CHOICE &&

@@ -110,6 +110,17 @@ private:
 
     void objects_panel(EditorTarget& t, EditorResult& r);
     void material_panel(EditorTarget& t, EditorResult& r);
+    // The widget of material m's parameter k, whose value `v` (4 floats,
+    // current_floats) the widget edits within [lo, hi], as a slider where
+    // `bounded`; fills the parameter's new value and its YAML text, and
+    // returns whether the user changed it.
+    struct ParamRange {
+        float* v;
+        float lo, hi;
+        bool bounded;
+    };
+    bool param_widget(Material& m, uint32_t k, const ParamRange& range, MaterialParam& p,
+                      std::string& text, EditorResult& r);
     void lights_panel(EditorTarget& t, EditorResult& r);
     void render_panel(EditorTarget& t, EditorResult& r);
     void frame_panel();

@@ -186,16 +186,11 @@ int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory) {
     return 0;
 }
 
-IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::string>& args,
-                             const IsolationLimits& limits) {
-    const std::optional<std::filesystem::path> program = sandbox_program();
-    if (!program) throw std::system_error(ENOENT, std::generic_category(), "facet-sandbox");
-    std::vector<std::string> words = {program->string(), job, std::to_string(limits.memory)};
-    words.insert(words.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& w : words) argv.push_back(w.data());
-    argv.push_back(nullptr);
+namespace {
 
+// Starts facet-sandbox with argv, its stdin /dev/null, its stdout and
+// stderr the write ends of two pipes whose read ends it gives.
+pid_t spawn_sandbox(std::vector<char*>& argv, int& result_fd, int& stderr_fd) {
     int result_pipe[2], stderr_pipe[2];
     if (pipe2(result_pipe, O_CLOEXEC) != 0)
         throw std::system_error(errno, std::generic_category(), "pipe");
@@ -232,21 +227,26 @@ IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::stri
         close(stderr_pipe[0]);
         throw std::system_error(spawned, std::generic_category(), "posix_spawn facet-sandbox");
     }
+    result_fd = result_pipe[0];
+    stderr_fd = stderr_pipe[0];
+    return child;
+}
 
-    const bool timed = limits.time.count() > 0;
-    const Clock::time_point deadline = Clock::now() + limits.time;
-    auto left_ms = [&] {
-        if (!timed) return -1;
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-        return int(std::clamp<int64_t>(left.count(), 0, 1 << 30));
-    };
+// Milliseconds left until `deadline` (0 when past it), or -1, no limit.
+int left_ms(bool timed, Clock::time_point deadline) {
+    if (!timed) return -1;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    return int(std::clamp<int64_t>(left.count(), 0, 1 << 30));
+}
 
-    // Read both pipes until the child closes them (it exits) or time is up.
-    std::string account, said;
-    pollfd fds[2] = {{result_pipe[0], POLLIN, 0}, {stderr_pipe[0], POLLIN, 0}};
+// Reads both pipes until the child closes them (it exits) or time is up,
+// and closes them; true when time ran out.
+bool read_pipes(int result_fd, int stderr_fd, bool timed, Clock::time_point deadline,
+                std::string& account, std::string& said) {
+    pollfd fds[2] = {{result_fd, POLLIN, 0}, {stderr_fd, POLLIN, 0}};
     bool out_of_time = false;
     while (fds[0].fd >= 0 || fds[1].fd >= 0) {
-        const int wait = left_ms();
+        const int wait = left_ms(timed, deadline);
         if (timed && wait == 0) {
             out_of_time = true;
             break;
@@ -271,34 +271,30 @@ IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::stri
     }
     for (pollfd& p : fds)
         if (p.fd >= 0) close(p.fd);
+    return out_of_time;
+}
 
-    // The pipes are closed when the child exits; it may take a moment more
-    // to be reaped.
+// Waits for the child to be reaped (the pipes close as it exits; it may
+// take a moment more), killing it once time is up; its wait status.
+int reap(pid_t child, bool timed, Clock::time_point deadline, bool& out_of_time) {
     if (out_of_time) kill(child, SIGKILL);
     int status = 0;
     for (;;) {
         const pid_t done = waitpid(child, &status, WNOHANG);
         if (done == child) break;
         if (done < 0 && errno != EINTR) break;
-        if (!out_of_time && timed && left_ms() == 0) {
+        if (!out_of_time && timed && left_ms(timed, deadline) == 0) {
             out_of_time = true;
             kill(child, SIGKILL);
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
+    return status;
+}
 
+// What a sandbox that exited cleanly wrote to its account (serve_sandboxed).
+IsolatedResult read_account(const std::string& account) {
     IsolatedResult result;
-    if (out_of_time) {
-        result.end = IsolatedResult::End::out_of_time;
-        result.output = "it did not finish within " + std::to_string(limits.time.count()) + " ms";
-        return result;
-    }
-    const bool clean = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    if (!clean || account.empty()) {
-        result.end = IsolatedResult::End::crashed;
-        result.output = describe_exit(status, said);
-        return result;
-    }
     const std::string_view body = std::string_view(account).substr(1);
     switch (account[0]) {
         case 'K':
@@ -318,6 +314,41 @@ IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::stri
             result.output = "it threw " + std::string(body);
     }
     return result;
+}
+
+}  // namespace
+
+IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::string>& args,
+                             const IsolationLimits& limits) {
+    const std::optional<std::filesystem::path> program = sandbox_program();
+    if (!program) throw std::system_error(ENOENT, std::generic_category(), "facet-sandbox");
+    std::vector<std::string> words = {program->string(), job, std::to_string(limits.memory)};
+    words.insert(words.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    int result_fd = -1, stderr_fd = -1;
+    const pid_t child = spawn_sandbox(argv, result_fd, stderr_fd);
+
+    const bool timed = limits.time.count() > 0;
+    const Clock::time_point deadline = Clock::now() + limits.time;
+    std::string account, said;
+    bool out_of_time = read_pipes(result_fd, stderr_fd, timed, deadline, account, said);
+    const int status = reap(child, timed, deadline, out_of_time);
+
+    IsolatedResult result;
+    if (out_of_time) {
+        result.end = IsolatedResult::End::out_of_time;
+        result.output = "it did not finish within " + std::to_string(limits.time.count()) + " ms";
+        return result;
+    }
+    const bool clean = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (!clean || account.empty()) {
+        result.end = IsolatedResult::End::crashed;
+        result.output = describe_exit(status, said);
+        return result;
+    }
+    return read_account(account);
 }
 
 }  // namespace facet
