@@ -1,8 +1,10 @@
 // Shadows and ambient occlusion against the exact ray caster, and the frame
 // plan's skips. Scenes are YAML, rendered through the real shadow.so / ao.so.
 #include "frame/shadow.hpp"
+#include "pipeline/ao_frame.hpp"
 #include "pipeline/bin.hpp"
 #include "pipeline/kernels.hpp"
+#include "pipeline/shadow_rows.hpp"
 #include "reference/raycast.hpp"
 #include "support.hpp"
 

@@ -1,6 +1,7 @@
 #include "frame/ao.hpp"
 
 #include "base/timing.hpp"
+#include "pipeline/kernels.hpp"
 
 #include <glm/gtc/constants.hpp>
 

@@ -43,7 +43,7 @@
 // more than 32k triangles or 256 draws, upsamples a tile again in each).
 #pragma once
 
-#include "pipeline/kernels.hpp"
+#include "pipeline/ao_frame.hpp"
 #include "base/thread_pool.hpp"
 
 #include "facet/framebuffer.hpp"

@@ -4,6 +4,7 @@
 #include "plugin/internal_shaders.hpp"
 #include "base/thread_pool.hpp"
 #include "pipeline/kernels.hpp"
+#include "pipeline/shadow_rows.hpp"
 
 #include "facet/math.hpp"
 

@@ -1,6 +1,6 @@
 // The AO pass's row kernels (ao.hpp): occlusion, blur and upsample, kWidth
 // texels of a row at a time; one of the per-ISA kernel sources.
-#include "pipeline/kernels.hpp"
+#include "pipeline/ao_frame.hpp"
 #include "base/simd.hpp"
 
 #include <algorithm>

@@ -20,7 +20,8 @@
 
 #include "pipeline/bin.hpp"
 #include "pipeline/draw_context.hpp"
-#include "pipeline/kernels.hpp"
+#include "pipeline/ao_frame.hpp"
+#include "pipeline/block.hpp"
 #include "pipeline/setup.hpp"
 #include "base/simd.hpp"
 

@@ -2,7 +2,6 @@
 // codecs, kWidth pixels at a time; one of the per-ISA kernel sources.
 #include "pipeline/pixels.hpp"
 
-#include "pipeline/kernels.hpp"
 
 #include <algorithm>
 #include <cstring>

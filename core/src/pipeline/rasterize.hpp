@@ -30,7 +30,7 @@
 // there are extrapolated, by less than half a pixel).
 #pragma once
 
-#include "pipeline/kernels.hpp"
+#include "pipeline/block.hpp"
 #include "pipeline/setup.hpp"
 #include "base/simd.hpp"
 

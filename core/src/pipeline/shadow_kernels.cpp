@@ -2,7 +2,7 @@
 // 16-bit distances from the light (facet_shadow_distances), kWidth texels
 // at a time, and the planes that bound them tile by tile
 // (facet_shadow_planes); one of the per-ISA kernel sources.
-#include "pipeline/kernels.hpp"
+#include "pipeline/shadow_rows.hpp"
 #include "base/simd.hpp"
 
 #include <facet/shader_abi.h>
