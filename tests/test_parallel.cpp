@@ -457,6 +457,24 @@ TEST_CASE("a pipeline's clear, waiting for the draws, leaves every byte Framebuf
                     if (way == 2) CHECK(rgba == want.resolve_srgb8());
                 }
             }
+    // A target resized while its clear waits is left alone, not written past
+    // its new end (the sanitizer build would see it), and a clear after that
+    // clears it.
+    Pipeline p(2);
+    FrameStats stats;
+    Framebuffer shrunk(150, 70);
+    p.clear(shrunk, clear, 0.0f);
+    shrunk.resize(20, 10);
+    p.queue(call, shrunk, stats);
+    p.flush(stats);
+    Framebuffer want(20, 10), got(20, 10);
+    want.clear(clear, 0.0f);
+    p.draw(call, want, stats);
+    p.clear(shrunk, clear, 0.0f);
+    p.queue(call, shrunk, stats);
+    p.flush(stats);
+    got = shrunk;
+    CHECK(bytes_differing(got, want) == 0);
 }
 
 #if FACET_COUNT_ALLOCATIONS

@@ -335,6 +335,9 @@ struct LlvmpipeRenderer::Impl {
     GLuint fbo = 0, color = 0, depth = 0;
     std::map<const Mesh*, MeshBuffers> meshes;
     std::map<std::string, Program> programs;  // by shader name and defines
+    // Each material's, found without building its key again in a timed frame
+    // (upload() forgets them: a scene's materials are its own).
+    std::map<const Material*, Program*> by_material;
     std::map<TextureKey, GLuint> textures;
 
     Impl() = default;
@@ -465,10 +468,11 @@ GLuint LlvmpipeRenderer::Impl::compile(GLenum stage, const std::string& defines,
 // facet decides it). A shader that can discard loses llvmpipe's early
 // depth test, as a facet draw that may discard is not packed.
 Program& LlvmpipeRenderer::Impl::program(const Material& m) {
+    if (auto it = by_material.find(&m); it != by_material.end()) return *it->second;
     const std::string defines = std::string("#define TEXTURED ") + (base_texture(m) ? "1" : "0") +
                                 "\n#define DISCARDS " + (m.discards ? "1" : "0") + "\n";
     const std::string key = m.shader + "\n" + defines;
-    if (auto it = programs.find(key); it != programs.end()) return it->second;
+    if (auto it = programs.find(key); it != programs.end()) return *(by_material[&m] = &it->second);
     if (!supports(m.shader)) throw std::runtime_error("llvmpipe: no GLSL version of " + m.shader);
     const bool phong = m.shader == "phong";
     const GLuint vs = compile(GL_VERTEX_SHADER, defines, phong ? kPhongVertex : kUnlitVertex);
@@ -486,7 +490,8 @@ Program& LlvmpipeRenderer::Impl::program(const Material& m) {
         gl.GetProgramInfoLog(p.id, sizeof log, nullptr, log);
         throw std::runtime_error(std::string("llvmpipe: GLSL does not link: ") + log);
     }
-    return programs[key] = p;
+    Program& made = programs[key] = p;
+    return *(by_material[&m] = &made);
 }
 
 // Positions, normals, colours and UVs in separate buffers, plus 32-bit
@@ -674,6 +679,7 @@ std::string LlvmpipeRenderer::renderer_name() const {
 void LlvmpipeRenderer::upload(const Scene& scene) {
     require_modelled(scene.settings);
     impl_->make_current();
+    impl_->by_material.clear();
     for (const Object& o : scene.objects) {
         if (!o.visible || !o.mesh) continue;
         for (const Material* m : o.materials()) {
@@ -697,7 +703,7 @@ double LlvmpipeRenderer::render(const Scene& scene) {
     const auto start = std::chrono::steady_clock::now();
     gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
     gl.ClearColor(s.clear_color.r, s.clear_color.g, s.clear_color.b, s.clear_color.a);
-    gl.ClearDepth(s.reversed_z ? 0.0 : 1.0);  // as Framebuffer::clear in Renderer::render
+    gl.ClearDepth(s.reversed_z ? 0.0 : 1.0);  // RenderSettings::far_depth(), as Renderer clears
     gl.DepthFunc(gl_compare(s.depth_compare));
     gl.DepthMask(GL_TRUE);  // glClear honours the depth mask
     gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);

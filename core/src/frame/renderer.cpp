@@ -119,7 +119,8 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
     try {
         return draw_frame(scene, first_row, rows, target);
     } catch (...) {
-        pipeline_.cancel();  // nothing of the frame waits for the next one
+        pipeline_.cancel();    // nothing of the frame waits for the next one
+        forget_shadow_maps();  // a map cut short must not be kept as if complete
         throw;
     }
 }

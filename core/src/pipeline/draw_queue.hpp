@@ -79,6 +79,14 @@ struct PendingClear {
     int columns = 0, rows = 0;     // the target's tiles (kTileSize pixels), as Bins lays them out
     std::vector<uint8_t> cleared;  // per tile: done; each written by the thread drawing the tile
 
+    // Whether the target still has the size it was cleared at (a target
+    // resized since is left alone: Framebuffer::resize leaves its contents
+    // undefined until it is cleared again).
+    bool fits() const {
+        return columns == (target->width() + kTileSize - 1) / kTileSize &&
+               rows == (target->height() + kTileSize - 1) / kTileSize &&
+               cleared.size() == size_t(columns) * size_t(rows);
+    }
     // Tile `tile`'s storage rectangle [x0, x1) x [y0, y1): its pixels, and
     // the storage's padding where it is the last column or row of tiles.
     void storage_rect(int tile, int& x0, int& y0, int& x1, int& y1) const {

@@ -386,7 +386,10 @@ void PackedBatch::append_interpolated(const TriangleVaryings& tv, const Block& b
     const int n = compress.count();
     alignas(64) float packed[4][kRow];  // the weights, at the fragments of `mask`
     const bool linear_too = !dc.perspective_only;  // l1 and l2 only where a varying needs them
-    for (int r = linear_too ? 0 : 2; r < 4; ++r) compress(weights + r * N, packed[r]);
+    for (int r = linear_too ? 0 : 2; r < 4; ++r) {
+        compress(weights + r * N, packed[r]);
+        simd::store(packed[r] + n, Float{});  // the last vector's lanes past n: zeros
+    }
     for (int at = 0; at < n; at += kWidth) {  // rows of kRow: room past N
         const Float p1 = simd::load<Float>(packed[2] + at), p2 = simd::load<Float>(packed[3] + at);
         if (!linear_too) {

@@ -78,7 +78,7 @@ void rasterize_binned(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
     const std::vector<int>& busy = g.bins.busy();
     g.clear_now = nullptr;
     for (PendingClear& c : g.clears)
-        if (c.waiting && c.target == g.target) g.clear_now = &c;
+        if (c.waiting && c.target == g.target && c.fits()) g.clear_now = &c;
     pool.parallel_for(int(busy.size()), [&](int i, int worker) {
         if (stop.stopped()) return;
         kernels.draw_tile(g, busy[size_t(i)], g.worker_stats[size_t(worker)].stats);
@@ -115,6 +115,7 @@ void complete_clears(DrawQueue& g, ThreadPool& pool, const Kernels& kernels) {
     for (PendingClear& c : g.clears) {
         if (!c.waiting) continue;
         c.waiting = false;
+        if (!c.fits()) continue;  // resized since: its contents are undefined until cleared again
         Framebuffer& fb = *c.target;
         pool.parallel_for(c.rows, [&](int row, int) {
             const uint8_t* cleared = c.cleared.data() + size_t(row) * size_t(c.columns);
