@@ -25,8 +25,8 @@ bool overlaps(const TriangleSetup& t, int x0, int y0, int x1, int y1) {
 void Bins::resize(int width, int height) {
     width_ = width;
     height_ = height;
-    columns_ = (width + kTileSize - 1) / kTileSize;
-    rows_ = (height + kTileSize - 1) / kTileSize;
+    columns_ = tiles_across(width);
+    rows_ = tiles_across(height);
     // Only ever grows: a shadow map's many tiles keep their lists' storage
     // while the (smaller) main target uses the first few.
     if (tiles_.size() < size_t(columns_) * rows_) tiles_.resize(size_t(columns_) * rows_);

@@ -22,6 +22,9 @@ namespace facet {
 
 constexpr int kTileSize = 64;
 
+// Tiles across `pixels` (the last one may be cut short).
+constexpr int tiles_across(int pixels) { return (pixels + kTileSize - 1) / kTileSize; }
+
 // What one setup task produced. Chunks sit side by side and two threads
 // fill neighbours at once: each has cache lines of its own, or their
 // counters would bounce between the cores (false sharing).

@@ -83,9 +83,7 @@ struct PendingClear {
     // resized since is left alone: Framebuffer::resize leaves its contents
     // undefined until it is cleared again).
     bool fits() const {
-        return columns == (target->width() + kTileSize - 1) / kTileSize &&
-               rows == (target->height() + kTileSize - 1) / kTileSize &&
-               cleared.size() == size_t(columns) * size_t(rows);
+        return columns == tiles_across(target->width()) && rows == tiles_across(target->height());
     }
     // Tile `tile`'s storage rectangle [x0, x1) x [y0, y1): its pixels, and
     // the storage's padding where it is the last column or row of tiles.

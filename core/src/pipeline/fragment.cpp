@@ -363,7 +363,7 @@ void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, 
     });
 }
 
-void PackedBatch::add(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
+void PackedBatch::add(const DrawContext& dc, bool front_facing, const TriangleVaryings& tv,
                       const Block& b, uint32_t mask, const float* depth, const float* ao,
                       FrameStats& stats) {
     alignas(64) float weights[4][N];  // l1, l2, p1, p2
@@ -374,7 +374,7 @@ void PackedBatch::add(const DrawContext& dc, const TriangleSetup& t, const Trian
         simd::store(weights[2] + p * kWidth, w.p1);
         simd::store(weights[3] + p * kWidth, w.p2);
     }
-    add_fragments(dc, t.front_facing, mask, stats, [&](uint32_t m) {
+    add_fragments(dc, front_facing, mask, stats, [&](uint32_t m) {
         append_interpolated(tv, b, m, weights[0], depth, ao);
     });
 }
@@ -404,12 +404,17 @@ void PackedBatch::append_interpolated(const TriangleVaryings& tv, const Block& b
                         interpolate(tv, k, linear ? l1 : p1, linear ? l2 : p2));
         }
     }
-    if (dc.needs_ao) compress(ao, ao_ + count_);
+    append_pixels(compress, b, depth, ao);
+}
+
+void PackedBatch::append_pixels(const simd::Compressor& compress, const Block& b,
+                                const float* depth, const float* ao) {
+    if (dc_->needs_ao) compress(ao, ao_ + count_);
     compress(depth, depth_ + count_);
     alignas(64) int32_t position[N];
     lane_positions(b, position);
     compress(position, position_ + count_);
-    count_ += n;
+    count_ += compress.count();
 }
 
 void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
@@ -420,12 +425,7 @@ void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, c
     if (dc.sample_textures)
         for (int row = 0; row < 4 * dc.shader->texture_count(); ++row)
             compress(texels + row * N, texels_[row] + count_);
-    if (dc.needs_ao) compress(ao, ao_ + count_);
-    compress(depth, depth_ + count_);
-    alignas(64) int32_t position[N];
-    lane_positions(b, position);
-    compress(position, position_ + count_);
-    count_ += compress.count();
+    append_pixels(compress, b, depth, ao);
 }
 
 void PackedBatch::flush(FrameStats& stats) {
@@ -647,7 +647,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     else if (dc.needs_ao) std::fill(gathered, gathered + N, 1.0f);  // AO off: full visibility
     if (pack && !dc.sample_textures) {  // varyings only at the fragments packed
         write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
-        packed.add(dc, t, tv, b, mask, depth, ao, stats);
+        packed.add(dc, t.front_facing, tv, b, mask, depth, ao, stats);
         return;
     }
     alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];

@@ -116,8 +116,8 @@ public:
     // interpolated here, at the fragments of `mask` only, from triangle t's
     // `tv` and the weights at b's lanes: no copy of them is made in the
     // block's layout to be moved into the batch's.
-    void add(const DrawContext& dc, const TriangleSetup& t, const TriangleVaryings& tv,
-             const Block& b, uint32_t mask, const float* depth, const float* ao, FrameStats& stats);
+    void add(const DrawContext& dc, bool front_facing, const TriangleVaryings& tv, const Block& b,
+             uint32_t mask, const float* depth, const float* ao, FrameStats& stats);
     // Shades and writes what waits.
     void flush(FrameStats& stats);
     bool empty() const { return count_ == 0; }
@@ -137,6 +137,10 @@ private:
     // lanes of `mask`, then the varyings from them.
     void append_interpolated(const TriangleVaryings& tv, const Block& b, uint32_t mask,
                              const float* weights, const float* depth, const float* ao);
+    // What both appends end with: the fragments' AO, depth and pixel, and
+    // their count.
+    void append_pixels(const simd::Compressor& compress, const Block& b, const float* depth,
+                       const float* ao);
 
     const DrawContext* dc_ = nullptr;
     bool front_facing_ = true;

@@ -368,8 +368,8 @@ void Pipeline::clear(Framebuffer& target, const glm::vec4& color, float depth) {
     c->target = &target;
     c->color = color;
     c->depth = depth;
-    c->columns = (target.width() + kTileSize - 1) / kTileSize;
-    c->rows = (target.height() + kTileSize - 1) / kTileSize;
+    c->columns = tiles_across(target.width());
+    c->rows = tiles_across(target.height());
     c->cleared.assign(size_t(c->columns) * size_t(c->rows), 0);
 }
 
