@@ -321,7 +321,6 @@ uint64_t outcomes(const FrameStats& s) {
 
 void check_weights(const Triangle& t, int x, int y, const glm::vec4& c) {
     const float eps = 1e-4f;
-    if (!(std::isfinite(c.g) && std::isfinite(c.b)) && known("raster-nonfinite-weights")) return;
     if (!(c.g >= -eps && c.b >= -eps && c.g + c.b <= 1.0f + eps))
         fail_at(t, x, y, 0,
                 "barycentric weights (" + std::to_string(c.g) + ", " + std::to_string(c.b) +
@@ -335,7 +334,7 @@ struct Covered {
 
 // Coverage of one triangle drawn alone, against the reference.
 Covered check_coverage(const Triangle& t, const Config& c, const Reference& ref,
-                       bool weights, const std::vector<glm::vec4>& fb) {
+                       const std::vector<glm::vec4>& fb) {
     Covered covered;
     for (int y = 0; y < c.height; ++y)
         for (int x = 0; x < c.width; ++x) {
@@ -354,30 +353,10 @@ Covered check_coverage(const Triangle& t, const Config& c, const Reference& ref,
                 if (expected == -1 && count != 0.0f)
                     fail_at(t, x, y, s, "covered, but outside the triangle or culled");
             }
-            if (any && weights && c.samples == 1) check_weights(t, x, y, fb[pixel]);
+            if (any && c.samples == 1) check_weights(t, x, y, fb[pixel]);
             covered.pixels += any;
         }
     return covered;
-}
-
-// Known bugs (see known() in support.hpp):
-//  - raster-clip-scale: vertices whose sizes (largest components) differ by
-//    more than 2^40; clipping an edge between them can put the intersection
-//    on the outside vertex itself, outside the guard band;
-//  - raster-zero-area-fan: a triangle with no area on screen (front == 0)
-//    whose clipped polygon gets orientation 0, so no fan piece is dropped
-//    for facing the other way and pieces overlap;
-//  - raster-bary-plane: with mixed sizes, a vertex's tiny 1/w meets
-//    barycentric weights that are a little below 0 on an edge (rounding of
-//    the per-block plane), and the perspective weights leave [0, 1].
-bool mixed_scales(const Triangle& t) {
-    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-    for (const glm::vec4& v : t) {
-        const double size = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z), std::abs(v.w)});
-        lo = std::min(lo, size);
-        hi = std::max(hi, size);
-    }
-    return hi > std::ldexp(lo, 40);
 }
 
 void check_alone(const Triangle& t, const Config& c, const std::vector<glm::vec4>& fb,
@@ -387,11 +366,7 @@ void check_alone(const Triangle& t, const Config& c, const std::vector<glm::vec4
           tri + "the outcomes do not add up to one triangle");
     check(finite(t) || st.triangles_invalid == 1, tri + "non-finite, but not counted invalid");
     check(st.fragments_depth_rejected == 0, tri + "fragments failed depth test 'always'");
-    if (known("raster-clip-scale") && mixed_scales(t)) return;
-    const Reference ref = reference(t, c);
-    if (known("raster-zero-area-fan") && ref.front == 0) return;
-    const bool weights = !(known("raster-bary-plane") && mixed_scales(t));
-    const Covered covered = check_coverage(t, c, ref, weights, fb);
+    const Covered covered = check_coverage(t, c, reference(t, c), fb);
     // With MSAA a pixel whose samples two pieces of a clipped fan share is
     // shaded once for each, but never more often than it has samples.
     const bool shaded = c.samples == 1 ? st.fragments_shaded == covered.pixels

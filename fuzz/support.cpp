@@ -91,14 +91,6 @@ std::string describe(const std::exception& e) {
     return std::string(status == 0 ? name.get() : mangled) + ": " + e.what();
 }
 
-bool known(std::string_view id) {
-    static const std::string list = [] {
-        const char* env = std::getenv("FACET_FUZZ_KNOWN");
-        return "," + std::string(env ? env : "") + ",";
-    }();
-    return list.find("," + std::string(id) + ",") != std::string::npos;
-}
-
 void unexpected(const std::string& call, const std::exception& e) {
     fail(call + " threw " + describe(e));
 }

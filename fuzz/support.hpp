@@ -27,14 +27,6 @@ std::string describe(const std::exception& e);
 // Fails: `call` threw `e`, which is not a facet::Error.
 [[noreturn]] void unexpected(const std::string& call, const std::exception& e);
 
-// True if the environment variable FACET_FUZZ_KNOWN (a comma-separated
-// list) names `id`: a core bug that is known and reported but not yet
-// fixed. A target would find it again within seconds and never get past
-// it; listing it lets fuzzing look for what else there is. The ids are in
-// the targets' checks. The regression tests never set the variable, so
-// their inputs keep failing until the bug is fixed.
-bool known(std::string_view id);
-
 // A folder of this process's own, laid out like the repository so that the
 // relative paths in its scenes and materials resolve:
 //

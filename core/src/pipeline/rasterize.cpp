@@ -14,8 +14,20 @@ using simd::Long;
 using simd::kParts;
 using simd::kWidth;
 
+namespace {
+
+// Lane j of a part holds bit j: a part's lanes of a 16-bit mask, as a vector.
+Int lane_bits() {
+    Int b;
+    for (int j = 0; j < kWidth; ++j) b[j] = 1 << j;
+    return b;
+}
+
+}  // namespace
+
 BlockCoverage::BlockCoverage(const TriangleSetup& t, int samples, EdgeWidth width)
-    : t_(t), samples_(samples), narrow_(t.narrow && width == EdgeWidth::automatic) {
+    : t_(t), samples_(samples), narrow_(t.narrow && width == EdgeWidth::automatic),
+      clamp_weights_(t.clamp_weights && samples == 1) {
     const int64_t half = kSubpixelOne / 2;
     for (int k = 0; k < 3; ++k) {
         const EdgeFunction& e = t.edge[k];
@@ -70,6 +82,17 @@ uint32_t BlockCoverage::cover_samples(const int64_t* e0, uint32_t partial,
     return any;
 }
 
+void BlockCoverage::clamp_covered_weights(uint32_t inside, Block& block) {
+    const Int lane_bit = lane_bits();
+    for (int p = 0; p < kParts; ++p) {
+        const Int covered = (lane_bit & int(simd::part_mask(inside, p))) != 0;
+        for (int v = 0; v < 3; ++v) {
+            const Float w = simd::load<Float>(block.bary[v] + p * kWidth);
+            simd::store(block.bary[v] + p * kWidth, covered ? simd::max(w, Float{}) : w);
+        }
+    }
+}
+
 uint32_t BlockCoverage::operator()(int bx, int by, uint32_t inside, Block& block) const {
     block.x = bx;
     block.y = by;
@@ -95,12 +118,20 @@ uint32_t BlockCoverage::operator()(int bx, int by, uint32_t inside, Block& block
     }
     if (!inside) return 0;
     // The weight of the vertex opposite edge k: the exact edge value at lane
-    // 0 over the exact area, then the plane's step to each lane.
+    // 0 over the exact area, then the plane's step to each lane. With one
+    // sample a covered lane's centre is inside, where no exact weight is
+    // negative, but the float plane's rounding can make one a little so on
+    // an edge: held at 0 there (clamp_weights_), a vertex whose 1/w is far
+    // larger than the others' cannot pull the perspective weights out of
+    // [0, 1] (lane_weights). Lanes not covered keep the plane's values, whose
+    // differences are the quads' derivatives; so do MSAA lanes, whose
+    // centres may lie outside, where the weights extrapolate.
     for (int k = 0; k < 3; ++k) {
         const float at_lane0 = float(double(e0[k]) * t_.inv_area2);
         for (int p = 0; p < kParts; ++p)
             simd::store(block.bary[(k + 2) % 3] + p * kWidth, at_lane0 + weight_lanes_[k][p]);
     }
+    if (clamp_weights_) clamp_covered_weights(inside, block);
     block.mask = inside;
     return inside;
 }

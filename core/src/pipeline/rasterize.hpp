@@ -65,10 +65,12 @@ public:
 private:
     uint32_t covered(int k, int64_t at_lane0) const;  // lanes where edge k holds
     uint32_t cover_samples(const int64_t* e0, uint32_t partial, uint8_t* lane_samples) const;
+    static void clamp_covered_weights(uint32_t inside, Block& block);
 
     const TriangleSetup& t_;
     int samples_;
     bool narrow_;                    // 32-bit lanes
+    bool clamp_weights_;             // covered lanes' weights held >= 0 (operator())
     int64_t centre_[3];              // edge k at the centre of pixel (0, 0)
     int64_t step_x_[3], step_y_[3];  // per pixel
     int64_t threshold_[3];           // covered where edge >= threshold (top-left rule)

@@ -22,6 +22,22 @@ int64_t snap(double window, int bits) {
     return int64_t(r) * (int64_t(1) << (kSubpixelBits - bits));
 }
 
+// The floor of a setup's scaled 1/w (see setup_triangle).
+constexpr float kMinInverseW = 0x1p-64f;
+
+// TriangleSetup::clamp_weights. A lane's weight is rounded by about
+// 2^-22 (1 + 4 s), s being the most a weight steps from one pixel to the
+// next (at most `step`: rounding of the lane-0 value, of the steps and of
+// their sum); a vertex whose 1/w is r times another's scales that error by
+// up to r in the perspective weights. Past 2^-17 there (r (1 + 4 s) > 32:
+// far-apart 1/w, or a triangle a few pixels across) the covered lanes are
+// clamped; below, a perspective weight is at most 2^-17 below 0.
+bool needs_clamped_weights(const TriangleSetup& t, double step) {
+    const float lo = std::min({t.inv_w[0], t.inv_w[1], t.inv_w[2]});
+    const float hi = std::max({t.inv_w[0], t.inv_w[1], t.inv_w[2]});
+    return !(double(hi) * (1.0 + 4.0 * step) <= 32.0 * double(lo));
+}
+
 int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 // Top-left rule in a y-down window with the interior on the positive side:
@@ -98,8 +114,12 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
 
     // Orient so the interior is on the positive side of every edge.
     // 1/w times a power of two that brings the largest to (0.5, 1], and at
-    // least FLT_MIN: perspective weights need only the ratios, and 1/w alone
-    // overflows float for w < 2^-128 (and underflows past 2^128).
+    // least 2^-64: perspective weights need only the ratios, and 1/w alone
+    // overflows float for w < 2^-128 (and underflows past 2^128). With the
+    // floor, lane_weights' sum of weight times 1/w is at least about 2^-66
+    // (some weight is at least about 1/3), so its reciprocal is finite; a
+    // vertex whose 1/w is below 2^-64 of the largest weighs nothing a float
+    // shows.
     const double scale = power_of_two_below(std::min({v[0]->w, v[1]->w, v[2]->w}));
     int order[3] = {0, 1, 2};
     if (area2 < 0) std::swap(order[1], order[2]);
@@ -107,21 +127,24 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
         const int a = order[k], b = order[(k + 1) % 3];
         out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
         out.z[k] = v[a]->z;
-        out.inv_w[k] = std::max(float(1.0 / v[a]->w * scale), std::numeric_limits<float>::min());
+        out.inv_w[k] = std::max(float(1.0 / v[a]->w * scale), kMinInverseW);
         out.varyings[k] = varyings[a];
     }
     out.area2 = area2 < 0 ? -area2 : area2;
     out.front_facing = front;
     out.inv_area2 = 1.0 / double(out.area2);
     out.narrow = true;
+    int64_t span = 0;  // the largest |dx| + |dy| of an edge
     for (int k = 0; k < 3; ++k) {
         const EdgeFunction& e = out.edge[k];
+        span = std::max(span, std::abs(int64_t(e.dx)) + std::abs(int64_t(e.dy)));
         out.narrow &= std::abs(int64_t(e.dx)) + std::abs(int64_t(e.dy)) < kNarrowEdgeSpan;
         // Edge k gives the weight of vertex k + 2; it grows by -dy per
         // sub-pixel in x and by dx in y.
         out.bary_dx[(k + 2) % 3] = float(double(-e.dy * kSubpixelOne) * out.inv_area2);
         out.bary_dy[(k + 2) % 3] = float(double(e.dx * kSubpixelOne) * out.inv_area2);
     }
+    out.clamp_weights = needs_clamped_weights(out, double(span * kSubpixelOne) * out.inv_area2);
 
     // Samples lie less than half a pixel from the centre.
     const int64_t reach = viewport.samples > 1 ? kSubpixelOne / 2 : 0;

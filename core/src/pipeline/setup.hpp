@@ -95,6 +95,10 @@ struct TriangleSetup {
     int64_t area2;            // twice the signed area, > 0 after orientation
     int x0, y0, x1, y1;       // inclusive pixel bounding box
     bool narrow;              // every edge spans less than kNarrowEdgeSpan
+    // The weights' rounding, scaled by the ratio of the 1/w, may leave the
+    // perspective weights more than 2^-17 below 0 on an edge: covered
+    // lanes hold theirs at 0 or above (BlockCoverage; with one sample).
+    bool clamp_weights;
     // The weights as planes: vertex k's weight changes by bary_dx[k] from
     // one pixel to the next in x (bary_dy[k] in y), and is edge[k + 1]'s
     // value times inv_area2 (both rasterize.hpp).
