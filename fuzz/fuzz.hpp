@@ -13,6 +13,10 @@
 //   mesh_import    load_mesh() on an OBJ or PLY file (assimp + ply_check)
 //   raster         random clip-space triangles through Pipeline::draw,
 //                  against an exact-geometry coverage oracle
+//   texture_decode decode_texture() on an image file, then the per-path
+//                  sampler against the reference on what it decoded
+//   gltf           a glTF or GLB file: load_mesh(), its materials bound
+//                  with their embedded images, its node animation posed
 #pragma once
 
 #include <cstddef>
@@ -32,5 +36,7 @@ void scene_yaml(const uint8_t* data, size_t size);
 void material_yaml(const uint8_t* data, size_t size);
 void mesh_import(const uint8_t* data, size_t size);
 void raster(const uint8_t* data, size_t size);
+void texture_decode(const uint8_t* data, size_t size);
+void gltf(const uint8_t* data, size_t size);
 
 }  // namespace facet::fuzz

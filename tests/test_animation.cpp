@@ -195,7 +195,7 @@ TEST_CASE("bad animation input names the file, line and problem", "[animation][e
     CHECK_THAT(dir.error("camera:\n  position: [0, 0, 3]\n  animate:\n    position: {keys: [{time: 0, "
                          "value: [0, 0, -1]}, {time: 2, value: [0, 0, 1]}]}\n"),
                Contains("at 1 s") && Contains("target is at its position"));
-    CHECK_THAT(dir.error("animation: {fps: 0}\n"), Contains("fps must be above 0"));
+    CHECK_THAT(dir.error("animation: {fps: 0}\n"), Contains("fps must be 0.001..1000"));
     CHECK_THAT(dir.error("animation: {start: 2, end: 1}\n"), Contains("end must be after start"));
     CHECK_THAT(dir.error("animation: {start: 2}\n" + plane_object("    animate: {position: {keys: "
                                                                     "[{time: 1, value: [0, 0, 0]}]}}\n")),

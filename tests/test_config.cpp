@@ -381,6 +381,18 @@ TEST_CASE("scene values are checked for sense", "[scene]") {
     check("objects:\n  - {mesh: tri.obj, material: {shader: test}, scale: [1, 1e300, 1]}\n",
           ErrorCode::out_of_range, 2, 58);
     check("camera: {position: [0, 0, 1e39]}\n", ErrorCode::out_of_range, 1, 27);
+    // Within float, but past what a transform or the lighting keeps finite.
+    check("camera: {far: 1e16}\n", ErrorCode::out_of_range, 1, 15);
+    check("camera: {fov_y: 1e-4}\n", ErrorCode::out_of_range, 1, 17);
+    check("render: {clear_color: [0, 0, 0, 2]}\n", ErrorCode::out_of_range, 1, 23);
+    check("lights:\n  - {intensity: 1e10}\n", ErrorCode::out_of_range, 2, 17);
+    check("lights:\n  - {attenuation: [1e-9, 0, 0]}\n", ErrorCode::out_of_range, 2, 19);
+    check("lights:\n  - {type: spot, spot_inner: 0, spot_outer: 0}\n", ErrorCode::out_of_range, 2,
+          45);
+    check("objects:\n  - {mesh: tri.obj, material: {shader: test}, scale: 1e10}\n",
+          ErrorCode::out_of_range, 2, 54);
+    check("objects:\n  - {mesh: tri.obj, material: {shader: test}, position: [0, 0, 1e16]}\n",
+          ErrorCode::out_of_range, 2, 57);
     check("plugin_paths: [no-such-folder]\n", ErrorCode::file_not_found, 1, 16);
     check("objects: {mesh: tri.obj}\n", ErrorCode::wrong_type, 1, 10);
 }
@@ -390,7 +402,8 @@ TEST_CASE("scenes that would draw nothing without a word get a warning or work",
     {
         // Each triangle overflows a float once scaled: a warning at the object.
         const facet::test::LogCapture log;
-        env.scene("objects:\n  - {name: giant, mesh: tri.obj, material: {shader: test}, scale: 3e38}\n");
+        env.write("huge.obj", "v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nf 1 2 3\n");
+        env.scene("objects:\n  - {name: giant, mesh: huge.obj, material: {shader: test}, scale: 1e9}\n");
         CHECK_THAT(log.text(), Contains((env.dir / "scene.yaml").string() +
                                         ":2:5: object 'giant': none of its 1 triangles survives "
                                         "its transform"));

@@ -19,8 +19,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -243,6 +245,43 @@ TEST_CASE("broken PLY files are refused, never hang or crash", "[mesh][ply]") {
     CHECK(facet::load_mesh(dir.write("be.ply", binary_ply(true)))->triangle_count() == 1);
     CHECK(facet::load_mesh(dir.write("ok.ply", header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"))
               ->triangle_count() == 1);
+}
+
+TEST_CASE("GLB files whose lengths run past the file are refused at once, named",
+          "[mesh][glb]") {
+    // assimp 5.2 alone spends seconds and hundreds of megabytes on such a
+    // file; the preflight names the length that does not fit.
+    TempDir dir("glb");
+    const auto u32 = [](uint32_t v) {
+        return std::string{char(v), char(v >> 8), char(v >> 16), char(v >> 24)};
+    };
+    const std::string json = "{\"asset\":{\"version\":\"2.0\"}}  ";  // 4-byte aligned
+    const auto glb = [&](uint32_t version, uint32_t length, uint32_t chunk,
+                         const std::string& type) {
+        return "glTF" + u32(version) + u32(length) + u32(chunk) + type + json;
+    };
+    const uint32_t whole = uint32_t(20 + json.size());
+    struct Case {
+        std::string bytes;
+        const char* says;
+    };
+    for (const Case& c : {Case{glb(2, whole + 1000, uint32_t(json.size()), "JSON"),
+                               "the header says the file has"},
+                          Case{glb(2, whole, 964, "JSON"), "says it holds 964 bytes, but only"},
+                          Case{glb(3, whole, uint32_t(json.size()), "JSON"), "version 3"},
+                          Case{glb(2, whole, uint32_t(json.size()), std::string("BIN\0", 4)),
+                               "is not the JSON"},
+                          Case{"glTF" + u32(2), "ends inside its 12-byte header"}}) {
+        // Named .gltf: assimp would read it by its content all the same.
+        const std::filesystem::path file = dir.write("bad.gltf", c.bytes);
+        try {
+            facet::load_mesh(file);
+            FAIL("loaded");
+        } catch (const facet::Error& e) {
+            CHECK(e.code() == facet::ErrorCode::mesh_load_failed);
+            CHECK_THAT(e.what(), Contains(c.says));
+        }
+    }
 }
 
 TEST_CASE("validate_mesh names the first problem", "[mesh]") {
@@ -496,4 +535,65 @@ TEST_CASE("JPEG textures load through stb_image, decoded from sRGB", "[texture]"
     CHECK(texel.g == Approx(srgb_to_linear(64 / 255.0f)).margin(0.01));
     CHECK(texel.b == Approx(srgb_to_linear(32 / 255.0f)).margin(0.01));
     CHECK(tex->levels() == 4);  // 8x8 down to 1x1
+}
+
+TEST_CASE("every image layout in the decoder's seeds decodes to its pixels", "[texture]") {
+    // fuzz/seeds/make_texture_seeds.py writes a 5x3 image in each layout,
+    // after one flags byte; channel c of pixel (x, y) is the ramp below.
+    // The lossless 8- and 16-bit RGB(A) ones must give it exactly (16 bits
+    // keep their high byte), the others their size.
+    const fs::path dir = fs::path(FACET_SOURCE_DIR) / "fuzz" / "seeds" / "texture_decode";
+    int decoded = 0, exact = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        const std::string name = entry.path().filename().string();
+        INFO(name);
+        std::ifstream in(entry.path(), std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+        const auto texture = decode_texture(std::string_view(bytes).substr(1), false, name);
+        REQUIRE((texture->width == 5 && texture->height == 3));
+        ++decoded;
+        const bool rgb = name == "png-rgb8.png" || name == "png-rgb8-interlaced.png" ||
+                         name == "bmp-rgb24.bmp" || name == "pnm-rgb.ppm";
+        const bool rgba = name == "png-rgba8.png" || name == "png-rgba16.png" ||
+                          name == "tga-rgba.tga" || name == "tga-rgba-rle.tga";
+        if (!rgb && !rgba) continue;
+        ++exact;
+        for (int y = 0; y < 3; ++y)
+            for (int x = 0; x < 5; ++x) {
+                const Texel8 t = texture->texels[size_t(y * 5 + x)];
+                const uint8_t got[4] = {t.r, t.g, t.b, t.a};
+                for (int c = 0; c < (rgba ? 4 : 3); ++c)
+                    CHECK(int(got[c]) == (x * 53 + y * 97 + c * 71) / 2 % 256);
+            }
+    }
+    CHECK(decoded >= 15);
+    CHECK(exact == 8);
+}
+
+TEST_CASE("damaged and cut-short PNGs are named as such", "[texture]") {
+    const TempDir dir("png-check");
+    std::vector<unsigned char> pixels(16 * 16 * 4);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = uint8_t(i * 7);
+    REQUIRE(stbi_write_png((dir.path / "good.png").c_str(), 16, 16, 4, pixels.data(), 16 * 4));
+    std::ifstream in(dir.path / "good.png", std::ios::binary);
+    const std::string good((std::istreambuf_iterator<char>(in)), {});
+    CHECK(load_texture(dir.path / "good.png", true)->width == 16);
+    const auto error_of = [&](const std::string& name, const std::string& bytes) {
+        try {
+            load_texture(dir.write(name, bytes), true);
+        } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::texture_load_failed);
+            return std::string(e.what());
+        }
+        return std::string("loaded");
+    };
+    std::string damaged = good;
+    damaged[good.find("IDAT") + 20] ^= 0x10;  // a bit of the image data
+    CHECK_THAT(error_of("damaged.png", damaged),
+               Contains("damaged.png: ") && Contains("chunk 'IDAT' at byte") &&
+                   Contains("fails its CRC") && Contains("the file is damaged"));
+    CHECK_THAT(error_of("cut.png", good.substr(0, good.find("IDAT") + 30)),
+               Contains("chunk 'IDAT' at byte") && Contains("it is cut short"));
+    CHECK_THAT(error_of("no-end.png", good.substr(0, good.size() - 12)),
+               Contains("before its IEND chunk: it is cut short"));
 }

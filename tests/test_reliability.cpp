@@ -3,6 +3,7 @@
 // plugin code named, private plugin copies cleaned up, paths that are not
 // regular files refused, and the memory budget. The tests of the programs
 // run the real facet-render in a child process.
+#include "run_program.hpp"
 #include "support.hpp"
 
 #include <facet/error.hpp>
@@ -39,64 +40,8 @@ namespace fs = std::filesystem;
 namespace {
 
 #ifdef FACET_RENDER_EXE
-struct Finished {
-    pid_t pid = 0;
-    int status = 0;        // as waitpid() gives it
-    std::string log;       // stderr and stdout
-    double after_signal = 0.0;  // seconds from the signal to the exit
-};
-
-// Runs `args` (args[0] is the program) with output to `log_file`; sends
-// `signal` once `marker` appears in the output (or at once when marker is
-// empty), and waits at most 60 s in all.
-Finished run(const std::vector<std::string>& args, const fs::path& log_file, int signal = 0,
-             const std::string& marker = {}) {
-    Finished out;
-    std::vector<char*> argv;  // made before the fork: the child only calls what is safe there
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    out.pid = fork();
-    REQUIRE(out.pid >= 0);
-    if (out.pid == 0) {
-        const int fd = open(log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(fd, STDOUT_FILENO);
-        dup2(fd, STDERR_FILENO);
-        // The signals as a program started from a shell has them, even when
-        // these tests run in the background (SIGINT ignored) or blocked.
-        std::signal(SIGINT, SIG_DFL);
-        std::signal(SIGTERM, SIG_DFL);
-        sigset_t none;
-        sigemptyset(&none);
-        sigprocmask(SIG_SETMASK, &none, nullptr);
-        execv(argv[0], argv.data());
-        _exit(127);
-    }
-    auto read_log = [&] {
-        std::ifstream in(log_file);
-        return std::string(std::istreambuf_iterator<char>(in), {});
-    };
-    const auto start = std::chrono::steady_clock::now();
-    std::optional<std::chrono::steady_clock::time_point> signalled;
-    for (;;) {
-        if (waitpid(out.pid, &out.status, WNOHANG) == out.pid) break;
-        const auto now = std::chrono::steady_clock::now();
-        if (signal && !signalled && (marker.empty() || read_log().find(marker) != std::string::npos)) {
-            kill(out.pid, signal);
-            signalled = now;
-        }
-        if (now - start > 60s) {
-            kill(out.pid, SIGKILL);
-            waitpid(out.pid, &out.status, 0);
-            FAIL("still running after 60 s: " << args[0]);
-        }
-        std::this_thread::sleep_for(2ms);
-    }
-    if (signalled)
-        out.after_signal =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - *signalled).count();
-    out.log = read_log();
-    return out;
-}
+using test::Finished;
+using test::run;
 
 // A folder with a scene that draws a full-screen quad at `size` with the
 // test plugin compiled as "probe" with `flags`.
@@ -116,10 +61,22 @@ struct ProbeScene {
                                        "objects:\n  - {mesh: quad.obj, material: {shader: probe}}\n");
     }
 
-    Finished render(int signal = 0, const std::string& marker = {}) const {
-        return run({FACET_RENDER_EXE, scene.string(), "-o", image.string()}, log, signal, marker);
+    // With `banded`, the image in bands of 64 rows: its PNG is open, as a
+    // partial file, while the plugin runs.
+    Finished render(int signal = 0, const std::string& marker = {}, bool banded = false) const {
+        std::vector<std::string> args = {FACET_RENDER_EXE, scene.string(), "-o", image.string()};
+        if (banded) args.insert(args.end(), {"--band-rows", "64"});
+        return run(args, log, signal, marker);
     }
 };
+
+// The partial output files in `folder` ("*.part").
+int partial_files(const fs::path& folder) {
+    int n = 0;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder))
+        n += e.path().extension() == ".part";
+    return n;
+}
 
 bool private_copies_of(pid_t pid) {
     const std::string prefix = "facet-plugins-" + std::to_string(pid) + "-";
@@ -146,7 +103,7 @@ TEST_CASE("a crash in plugin code names the plugin and the function", "[reliabil
                           Case{"-DABORT_IN_FRAGMENT", "crashed in its fragment function", SIGABRT}}) {
         INFO(c.flags);
         const ProbeScene s(c.flags);
-        const Finished f = s.render();
+        const Finished f = s.render(0, {}, true);
         INFO(f.log);
         REQUIRE(WIFSIGNALED(f.status));
         CHECK(WTERMSIG(f.status) == c.signal);
@@ -158,10 +115,25 @@ TEST_CASE("a crash in plugin code names the plugin and the function", "[reliabil
         CHECK_THAT(f.log, Contains(who + c.where));
         CHECK_THAT(f.log, Contains(c.signal == SIGSEGV ? "SIGSEGV" : "SIGABRT"));
         CHECK_FALSE(fs::exists(s.image));
+        CHECK(partial_files(s.folder.path) == 0);  // removed by the crash handler
     }
 }
 
-TEST_CASE("SIGINT and SIGTERM stop a render within a second, writing nothing",
+TEST_CASE("exit() in plugin code is named and ends the render with status 70",
+          "[reliability][plugin]") {
+    // Status 0 would claim a success that wrote no image.
+    const ProbeScene s("-DEXIT_IN_FRAGMENT");
+    const Finished f = s.render(0, {}, true);
+    INFO(f.log);
+    REQUIRE(WIFEXITED(f.status));
+    CHECK(WEXITSTATUS(f.status) == 70);
+    CHECK_THAT(f.log, Contains("facet: shader plugin 'probe' (" + s.plugin.string() +
+                               ") called exit() in its fragment function"));
+    CHECK_FALSE(fs::exists(s.image));
+    CHECK(partial_files(s.folder.path) == 0);
+}
+
+TEST_CASE("SIGINT, SIGTERM and SIGHUP stop a render within a second, leaving no file",
           "[reliability][signal]") {
     struct Case {
         const char* flags;
@@ -175,16 +147,18 @@ TEST_CASE("SIGINT and SIGTERM stop a render within a second, writing nothing",
         // Stuck in a plugin that never returns: the process exits anyway.
         {"-DLOOP_IN_FRAGMENT", 64, "still busy 500 ms after the signal; exiting now"}};
     for (const Case& c : cases)
-        for (const int sig : {SIGINT, SIGTERM}) {
+        for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
             INFO(c.flags << ", signal " << sig);
             const ProbeScene s(c.flags, c.size);
-            const Finished f = s.render(sig, "probe: shading");  // once the plugin runs
+            // Once the plugin runs; in bands, while the PNG is being written.
+            const Finished f = s.render(sig, "probe: shading", true);
             INFO(f.log);
             REQUIRE(WIFEXITED(f.status));
             CHECK(WEXITSTATUS(f.status) == 128 + sig);
             CHECK(f.after_signal < 1.0);
             CHECK_THAT(f.log, Contains(c.said));
             CHECK_FALSE(fs::exists(s.image));
+            CHECK(partial_files(s.folder.path) == 0);
             CHECK_FALSE(private_copies_of(f.pid));  // by the destructors, or before _exit
         }
 }
@@ -239,6 +213,12 @@ TEST_CASE("a path that names no regular file is refused, saying what it is",
             "folder.obj: it is a folder", "not a regular file");
     refused("objects:\n  - {mesh: /dev/zero, material: {shader: unlit}}\n",
             "/dev/zero: it is a character device", "not a regular file");
+    // A loop of links is not "not found": it says what stops the path.
+    fs::create_symlink(dir.path / "loop-b.obj", dir.path / "loop-a.obj");
+    fs::create_symlink(dir.path / "loop-a.obj", dir.path / "loop-b.obj");
+    refused("objects:\n  - {mesh: loop-a.obj, material: {shader: unlit}}\n",
+            "loop-a.obj: cannot reach it: Too many levels of symbolic links",
+            "not a regular file");
     auto code_of = [](auto&& load) {
         try {
             load();
@@ -272,8 +252,12 @@ TEST_CASE("memory sizes parse strictly", "[reliability][memory]") {
     CHECK(parse_memory_size("512m") == uint64_t(512) << 20);
     CHECK(parse_memory_size("3K") == 3072u);
     CHECK(parse_memory_size("16777215T") == uint64_t(16777215) << 40);
-    for (const char* bad : {"", "0", "G", "1.5G", "-1G", " 1G", "1GB", "16777216T",
-                            "18446744073709551616", "1e9"})
+    CHECK(parse_memory_size("1GB") == uint64_t(1) << 30);  // the common spellings
+    CHECK(parse_memory_size("1GiB") == uint64_t(1) << 30);
+    CHECK(parse_memory_size("64mB") == uint64_t(64) << 20);
+    CHECK(parse_memory_size("4096B") == 4096u);
+    for (const char* bad : {"", "0", "G", "GB", "B", "iB", "1.5G", "-1G", " 1G", "1 GB", "1Gb",
+                            "1GiBB", "1iB", "1KG", "16777216T", "18446744073709551616", "1e9"})
         CHECK_FALSE(parse_memory_size(bad));
     CHECK(memory_text(512) == "512 bytes");
     CHECK(memory_text(uint64_t(3) << 29) == "1.5 GiB");
@@ -400,6 +384,18 @@ TEST_CASE("facet-render names the options that ask for too much memory", "[relia
     const Finished bad = run({FACET_RENDER_EXE, "--max-memory", "lots"}, dir.path / "log.txt");
     CHECK(WEXITSTATUS(bad.status) == 2);
     CHECK_THAT(bad.log, Contains("--max-memory: expected a size such as 8G"));
+    // The environment's budget: a common spelling is taken, one that is no
+    // size refused, never ignored.
+    const Finished env = run({"/usr/bin/env", "FACET_MAX_MEMORY=1GB", FACET_RENDER_EXE, "--size",
+                              "16384x16384", "--msaa", "8", "-o", (dir.path / "x.png").string()},
+                             dir.path / "log.txt");
+    CHECK(WEXITSTATUS(env.status) == 1);
+    CHECK_THAT(env.log, Contains("the budget is 1.0 GiB"));
+    const Finished bad_env = run({"/usr/bin/env", "FACET_MAX_MEMORY=lots", FACET_RENDER_EXE, "-o",
+                                  (dir.path / "x.png").string()},
+                                 dir.path / "log.txt");
+    CHECK(WEXITSTATUS(bad_env.status) == 2);
+    CHECK_THAT(bad_env.log, Contains("FACET_MAX_MEMORY: expected a size such as 8G"));
 }
 #endif
 

@@ -9,16 +9,19 @@
 // its animation's start (or --time T). --frames renders frames A..B of its
 // animation, frame k at time k / fps, each to the output pattern with k in
 // it (-o out_%04d.png), with progress and the time left; --resume skips
-// frames whose files exist. --band-rows N renders the image in bands of N
+// frames whose files exist, and removes the partial files of a run that was
+// killed. -o - writes the PNG to standard output. --band-rows N renders the image in bands of N
 // rows, streamed into the PNG, so that no more than a band is in memory
 // (images over 16384x16384 pixels always are). With
 // --watch it keeps running and renders again whenever the scene, a material
 // or a shader plugin changes (hot reload); with --rebuild it also rebuilds
 // the shaders whose sources change: the built-in ones (shaders/, in a build
 // tree) and any shader project whose CMake build folder is a plugin folder
-// (--plugin-path, the scene's plugin_paths). Ctrl-C (SIGINT)
-// or SIGTERM stops it within a second, writing no image: exit status 130 or
-// 143.
+// (--plugin-path, the scene's plugin_paths). Ctrl-C (SIGINT), SIGTERM or
+// SIGHUP stops it within a second, writing no image and leaving no partial
+// file: exit status 130, 143 or 129. An image that cannot be written (a
+// full disk, a closed pipe) is an error with its cause, exit status 1, and
+// a file that was there stays as it was.
 #include <facet/command_line.hpp>
 #include <facet/error.hpp>
 #include <facet/frame_report.hpp>
@@ -27,6 +30,7 @@
 #include <facet/interrupts.hpp>
 #include <facet/isa.hpp>
 #include <facet/plugin.hpp>
+#include <facet/output.hpp>
 #include <facet/rebuild.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
@@ -37,6 +41,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <thread>
@@ -90,6 +95,11 @@ void report(const facet::FrameStats& s, const facet::Scene& scene) {
                              "nothing"));
 }
 
+// Where the image went, for the log.
+std::string written(const std::string& output) {
+    return output == "-" ? "the image to standard output" : output;
+}
+
 // The image in bands of rows, each encoded as it is rendered and streamed
 // into the PNG: the memory a band needs, whatever the image's size.
 void render_bands(const Options& opt, const facet::Scene& scene, facet::Renderer& renderer) {
@@ -108,7 +118,7 @@ void render_bands(const Options& opt, const facet::Scene& scene, facet::Renderer
         progress.done(fmt::format("rows {}..{}", b * rows, std::min(s.height, (b + 1) * rows) - 1));
     }
     png.finish();
-    spdlog::info("wrote {}", opt.output);
+    spdlog::info("wrote {}", written(opt.output));
 }
 
 // Frames A..B of the scene's animation, each to its own file.
@@ -121,8 +131,20 @@ void render_sequence(const Options& opt, facet::Scene& scene, facet::Renderer& r
     spdlog::info("rendering frames {}..{} at {} fps ({:.3f} s..{:.3f} s) to {}", range.first,
                  range.last, fps, double(range.first) / fps, double(range.last) / fps,
                  opt.output);
+    // What a run that was killed left half-written: removed as its frame
+    // comes up (and rendered again).
+    std::multimap<std::string, std::filesystem::path> abandoned;
+    if (opt.resume)
+        for (const facet::AbandonedPartial& a :
+             facet::abandoned_partials(std::filesystem::path(opt.output).parent_path()))
+            abandoned.emplace(a.image.string(), a.file);
     for (long k = range.first; k <= range.last && !interrupts.stopped(); ++k) {
         const std::string path = facet::frame_path(opt.output, k);
+        for (auto [at, end] = abandoned.equal_range(path); at != end; ++at) {
+            std::error_code ec;
+            if (std::filesystem::remove(at->second, ec))
+                spdlog::info("removed {}, which a stopped run left unfinished", at->second.string());
+        }
         if (opt.resume && std::filesystem::exists(path)) {
             spdlog::debug("frame {}: {} exists; skipped", k, path);
             progress.skipped();
@@ -185,7 +207,7 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
     facet::write_png(opt.output, framebuffer.width(), framebuffer.height(), rgba,
                      renderer.threads());
     report(stats, scene);
-    spdlog::info("wrote {}", opt.output);
+    spdlog::info("wrote {}", written(opt.output));
 }
 
 // Renders again whenever hot reload applies a change, until Ctrl-C.
@@ -245,7 +267,9 @@ int main(int argc, char** argv) {
     Options opt;
     CLI::App app{"Renders a facet scene headless to a PNG.", "facet-render"};
     app.add_option("scene", opt.scene, "scene file (YAML); default: the default scene");
-    app.add_option("-o,--output", opt.output, "output PNG")->capture_default_str();
+    app.add_option("-o,--output", opt.output,
+                   "output PNG; - is standard output, and a device or FIFO is written in place")
+        ->capture_default_str();
     app.add_option("--size", opt.size, "image size WxH, overriding the scene's");
     app.add_option("--camera", opt.camera,
                    "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");

@@ -71,10 +71,14 @@ std::optional<Camera> parse_camera(std::string_view text, const Camera& base) {
 }
 
 bool apply_max_memory(std::string_view text) {
+    const char* env = std::getenv("FACET_MAX_MEMORY");
+    const bool from_env = text.empty() && env && *env;
+    if (from_env) text = env;
     if (text.empty()) return true;
     const std::optional<uint64_t> bytes = parse_memory_size(text);
     if (!bytes) {
-        spdlog::error("--max-memory: expected a size such as 8G, 512M or 1000000, got '{}'", text);
+        spdlog::error("{}: expected a size such as 8G, 8GB, 8GiB, 512M or 1000000, got '{}'",
+                      from_env ? "FACET_MAX_MEMORY" : "--max-memory", text);
         return false;
     }
     set_memory_budget(*bytes);

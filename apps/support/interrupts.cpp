@@ -1,6 +1,7 @@
 #include "facet/interrupts.hpp"
 
 #include <facet/plugin.hpp>
+#include <facet/output.hpp>
 
 #include <spdlog/spdlog.h>
 
@@ -18,6 +19,7 @@ sigset_t interrupt_signals() {
     sigemptyset(&set);
     sigaddset(&set, SIGINT);
     sigaddset(&set, SIGTERM);
+    sigaddset(&set, SIGHUP);
     return set;
 }
 
@@ -39,6 +41,11 @@ Interrupts::Interrupts(std::string program, std::function<void()> on_stop,
     : program_(std::move(program)), on_stop_(std::move(on_stop)), grace_(grace) {
     const sigset_t set = interrupt_signals();
     pthread_sigmask(SIG_BLOCK, &set, &before_);
+    // A reader that goes away (facet-render -o - | head) and a file past
+    // the size limit (ulimit -f) are write errors, EPIPE and EFBIG, that the
+    // writer reports: not a silent end by SIGPIPE or SIGXFSZ.
+    std::signal(SIGPIPE, SIG_IGN);
+    std::signal(SIGXFSZ, SIG_IGN);
     thread_ = std::thread([this] { run(); });
 }
 
@@ -69,7 +76,9 @@ void Interrupts::run() {
     }
     signal_ = sig;
     stop_ = true;
-    spdlog::warn("{}: stopping", sig == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)");
+    spdlog::warn("{}: stopping", sig == SIGINT    ? "interrupted (SIGINT)"
+                                 : sig == SIGHUP ? "hung up (SIGHUP)"
+                                                 : "terminated (SIGTERM)");
     if (on_stop_) on_stop_();
 
     // A second signal ends the wait early; so does the program's exit.
@@ -94,6 +103,7 @@ void Interrupts::run() {
     say(program_ + ": still busy " + std::to_string(grace_.count()) +
         " ms after the signal; exiting now");
     remove_private_plugin_copies();
+    remove_partial_outputs();
     _exit(128 + sig);
 }
 

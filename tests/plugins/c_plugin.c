@@ -15,6 +15,7 @@
  *   FAULT_AT_LOAD, FAULT_IN_ENTRY, FAULT_IN_VERTEX, FAULT_IN_FRAGMENT
  *                   an invalid memory access there
  *   ABORT_IN_FRAGMENT  abort() in the fragment function
+ *   EXIT_IN_FRAGMENT   exit(0) in the fragment function
  *   LOOP_IN_FRAGMENT   a fragment function that never returns
  *   SLOW_FRAGMENT      a fragment function that spins ~20 us per call
  *   TIME_AND_ROW       green is facet_draw.time, blue the pixel's window y / 1024
@@ -76,6 +77,9 @@ static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
 #endif
 #ifdef ABORT_IN_FRAGMENT
     abort();
+#endif
+#ifdef EXIT_IN_FRAGMENT
+    exit(0);
 #endif
 #if defined(LOOP_IN_FRAGMENT) || defined(SLOW_FRAGMENT)
     static volatile int said = 0; /* a benign race: it may be said twice */

@@ -4,8 +4,10 @@
 // rather than a machine brought down by the out-of-memory killer.
 //
 // The budget is half of physical memory unless FACET_MAX_MEMORY says
-// otherwise (bytes, or a number with a K, M, G or T suffix: "8G"), or a
-// program sets it (facet-render and facet-view: --max-memory).
+// otherwise (parse_memory_size: "8G", "8GB", "8GiB"), or a program sets it
+// (facet-render and facet-view: --max-memory). The programs refuse a
+// FACET_MAX_MEMORY that is not a size (apply_max_memory); a library user
+// gets a warning on standard error, and the default.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +20,10 @@ namespace facet {
 uint64_t memory_budget();
 void set_memory_budget(uint64_t bytes);
 
-// "8G", "512M", "1000000": bytes (K = 1024); nothing for anything else
-// (a zero, a sign, a fraction, a number past 2^64).
+// "8G", "8GB", "8GiB", "512M", "1000000", "1000000B": bytes. K, M, G and T
+// (either case) are powers of 1024, with or without "B" or "iB" after them.
+// Nothing for anything else (a zero, a sign, a fraction, a space, a number
+// past 2^64).
 std::optional<uint64_t> parse_memory_size(std::string_view text);
 
 // "1.5 GiB", "12 MiB", "512 bytes".

@@ -12,14 +12,19 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
+#include "facet/output.hpp"
+
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace facet {
 
 constexpr int kPngSegmentRows = 64;
+
+class OutputFile;  // core/src/base/output_file.hpp
+
 
 // One segment's rows, filtered and deflated: raw deflate that ends on a
 // byte boundary (the image's last segment ends the stream).
@@ -35,10 +40,13 @@ struct PngSegment {
 PngSegment encode_png_segment(const uint8_t* rgba, size_t stride, int width, int rows,
                               bool ends_image);
 
-// Writes a PNG from its segments in order. The file is written beside
-// `path` (path + ".part") and renamed into place by finish(), so a writer
-// that stops early (an error, a crash) never leaves a truncated image where
-// the image should be. Throws Error(output_failed) naming the file.
+// Writes a PNG from its segments in order, to `path`: "-" is standard
+// output, and a device or FIFO is written where it is. A file is written
+// beside it under a name of its own ("<path>.<pid>-<n>.part") and renamed
+// into place by finish(), so a writer that stops early (an error, a signal,
+// a crash) never leaves a truncated image where the image should be, and
+// two writers never mix their bytes (core/src/base/output_file.hpp). Throws
+// Error(output_failed) naming the file and the cause.
 class PngWriter {
 public:
     PngWriter(const std::filesystem::path& path, int width, int height);
@@ -57,8 +65,8 @@ private:
     void chunk(const char type[4], const void* data, size_t size);
     void put(const void* data, size_t size);
 
-    std::filesystem::path path_, partial_;
-    std::FILE* file_ = nullptr;
+    std::filesystem::path path_;
+    std::unique_ptr<OutputFile> file_;
     int width_, height_, rows_ = 0;
     uint32_t adler_ = 1;
 };

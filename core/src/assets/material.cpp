@@ -200,10 +200,15 @@ int32_t choice_index(const std::string& m, const MaterialParam& p, const char* c
 void check_range(const std::string& m, const MaterialParam& p, const facet_param_desc& d) {
     if (d.type == FACET_PARAM_BOOL || d.type == FACET_PARAM_TEXTURE || d.type == FACET_PARAM_CHOICE)
         return;
+    // What the block stores holds the number: an int32, else a finite
+    // float (beyond 3.4e38 a colour would be infinite, and inf x 0 NaN).
     double lo = d.min_value, hi = d.max_value;
     if (d.type == FACET_PARAM_INT) {
         lo = std::max(lo, double(std::numeric_limits<int32_t>::min()));
         hi = std::min(hi, double(std::numeric_limits<int32_t>::max()));
+    } else {
+        lo = std::max(lo, double(-std::numeric_limits<float>::max()));
+        hi = std::min(hi, double(std::numeric_limits<float>::max()));
     }
     for (size_t i = 0; i < p.numbers.size(); ++i) {
         if (p.numbers[i] >= lo && p.numbers[i] <= hi) continue;

@@ -8,6 +8,7 @@
 #include "assets/mesh_import.hpp"
 #include "assets/mesh_materials.hpp"
 #include "assets/tangents.hpp"
+#include "assets/glb_check.hpp"
 #include "assets/off_check.hpp"
 #include "assets/ply_check.hpp"
 #include "base/files.hpp"
@@ -441,8 +442,9 @@ std::string import_mesh_bytes(const std::filesystem::path& path) {
 
 std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImport how) {
     require_regular_file(path);
-    if (looks_like_ply(path)) check_ply(path);  // clear errors for bad PLY and OFF headers,
-    if (looks_like_off(path)) check_off(path);  // without starting the importer
+    if (looks_like_ply(path)) check_ply(path);  // clear errors for bad PLY, OFF and GLB
+    if (looks_like_off(path)) check_off(path);  // headers, without starting the importer
+    if (looks_like_glb(path)) check_glb(path);
     auto mesh = std::make_shared<Mesh>(how == MeshImport::isolated ? import_isolated(path)
                                                                     : import_mesh(path));
     validate_mesh(*mesh);

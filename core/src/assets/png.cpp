@@ -2,6 +2,7 @@
 #include "facet/png.hpp"
 
 #include "facet/error.hpp"
+#include "base/output_file.hpp"
 
 #include <zlib.h>
 
@@ -107,22 +108,11 @@ PngSegment encode_png_segment(const uint8_t* rgba, size_t stride, int width, int
 }
 
 PngWriter::PngWriter(const std::filesystem::path& path, int width, int height)
-    : path_(path), partial_(path.string() + ".part"), width_(width), height_(height) {
+    : path_(path), width_(width), height_(height) {
     if (width < 1 || height < 1)
         throw Error(ErrorCode::output_failed, "a PNG needs at least one pixel", path.string());
-    file_ = std::fopen(partial_.string().c_str(), "wb");
-    if (!file_)
-        throw Error(ErrorCode::output_failed,
-                    std::string("cannot write PNG: ") + std::strerror(errno), path.string());
-    try {
-        start();
-    } catch (...) {
-        std::fclose(file_);
-        file_ = nullptr;
-        std::error_code ec;
-        std::filesystem::remove(partial_, ec);
-        throw;
-    }
+    file_ = std::make_unique<OutputFile>(path);
+    start();
 }
 
 void PngWriter::start() {
@@ -139,18 +129,9 @@ void PngWriter::start() {
     chunk("IDAT", zlib_header, 2);
 }
 
-PngWriter::~PngWriter() {
-    if (!file_) return;
-    std::fclose(file_);
-    std::error_code ec;
-    std::filesystem::remove(partial_, ec);
-}
+PngWriter::~PngWriter() = default;
 
-void PngWriter::put(const void* data, size_t size) {
-    if (std::fwrite(data, 1, size, file_) != size)
-        throw Error(ErrorCode::output_failed,
-                    std::string("cannot write PNG: ") + std::strerror(errno), path_.string());
-}
+void PngWriter::put(const void* data, size_t size) { file_->write(data, size); }
 
 void PngWriter::chunk(const char type[4], const void* data, size_t size) {
     uint8_t head[8], tail[4];
@@ -187,15 +168,7 @@ void PngWriter::finish() {
     put_u32(adler, adler_);
     chunk("IDAT", adler, 4);
     chunk("IEND", nullptr, 0);
-    const bool closed = std::fclose(file_) == 0;
-    file_ = nullptr;
-    std::error_code ec;
-    if (closed) std::filesystem::rename(partial_, path_, ec);
-    if (!closed || ec) {
-        const std::string why = !closed ? std::strerror(errno) : ec.message();
-        std::filesystem::remove(partial_, ec);
-        throw Error(ErrorCode::output_failed, "cannot write PNG: " + why, path_.string());
-    }
+    file_->commit();
 }
 
 std::vector<PngSegment> encode_png_rows(const uint8_t* rgba, size_t stride, int width,

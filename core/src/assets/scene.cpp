@@ -72,6 +72,17 @@ YAML::Node where(const YAML::Node& map, const std::string& key) {
 
 bool all_at_least(const glm::vec3& v, float lo) { return v.x >= lo && v.y >= lo && v.z >= lo; }
 
+// How far from the origin an object or a light may be: past it, the
+// products of a transform (two such numbers) leave float's range. (The
+// camera's view is made in double, and may look from farther.)
+constexpr float kMaxCoordinate = 1e15f;
+bool within_world(const glm::vec3& v) {
+    return std::abs(v.x) <= kMaxCoordinate && std::abs(v.y) <= kMaxCoordinate &&
+           std::abs(v.z) <= kMaxCoordinate;
+}
+const std::string kWorldText = "must lie within 1e15 of the origin, where transforms stay in "
+                               "float's range";
+
 // ---- camera and render settings ----------------------------------------------
 
 // v scaled to unit length in double precision, where float's squares would
@@ -83,13 +94,14 @@ glm::vec3 unit(const glm::vec3& v) {
 }
 
 void check_camera(const yaml::Context& ctx, const YAML::Node& node, const Camera& c) {
-    ensure(c.near > 0.0f, ctx, where(node, "near"), ErrorCode::out_of_range, "near must be > 0");
-    ensure(c.far > c.near, ctx, where(node, "far"), ErrorCode::out_of_range,
-           "far must be greater than near");
-    ensure(c.fov_y > 0.0f && c.fov_y < 180.0f, ctx, where(node, "fov_y"), ErrorCode::out_of_range,
-           "fov_y must be between 0 and 180 degrees");
-    ensure(c.ortho_height > 0.0f, ctx, where(node, "height"), ErrorCode::out_of_range,
-           "height must be > 0");
+    ensure(c.near >= 1e-9f, ctx, where(node, "near"), ErrorCode::out_of_range,
+           "near must be at least 1e-9");
+    ensure(c.far > c.near && c.far <= kMaxCoordinate, ctx, where(node, "far"),
+           ErrorCode::out_of_range, "far must be greater than near and at most 1e15");
+    ensure(c.fov_y >= 1e-3f && c.fov_y < 180.0f, ctx, where(node, "fov_y"),
+           ErrorCode::out_of_range, "fov_y must be at least 0.001 and below 180 degrees");
+    ensure(c.ortho_height >= 1e-9f && c.ortho_height <= kMaxCoordinate, ctx, where(node, "height"),
+           ErrorCode::out_of_range, "height must be 1e-9..1e15");
     // In double: a camera 1e20 away is far, not at its target.
     const glm::vec3 forward = unit(glm::vec3(glm::dvec3(c.target) - glm::dvec3(c.position)));
     ensure(forward != glm::vec3(0.0f), ctx, where(node, "target"), ErrorCode::config_invalid,
@@ -134,8 +146,11 @@ void read_size(const yaml::Context& ctx, const YAML::Node& node, RenderSettings&
 glm::vec4 read_clear_color(const yaml::Context& ctx, const YAML::Node& node) {
     const std::vector<double> n = yaml::as_numbers(ctx, node, 3, 4);
     const glm::vec4 c(n[0], n[1], n[2], n.size() == 4 ? n[3] : 1.0);
-    ensure(all_at_least(glm::vec3(c), 0.0f) && c.a >= 0.0f, ctx, node, ErrorCode::out_of_range,
-           "clear_color components must be >= 0");
+    // 65504: the largest a half-float (rgba16f) target holds.
+    ensure(all_at_least(glm::vec3(c), 0.0f) && c.r <= 65504.0f && c.g <= 65504.0f &&
+               c.b <= 65504.0f && c.a >= 0.0f && c.a <= 1.0f,
+           ctx, node, ErrorCode::out_of_range,
+           "clear_color must be 0..65504 in red, green and blue and 0..1 in alpha");
     return c;
 }
 
@@ -213,14 +228,26 @@ void check_light(const yaml::Context& ctx, const YAML::Node& node, const Light& 
            "color components must be >= 0");
     ensure(l.intensity >= 0.0f, ctx, where(node, "intensity"), ErrorCode::out_of_range,
            "intensity must be >= 0");
+    // Lighting multiplies it by albedos, exposures and 1 / attenuation:
+    // beyond this they overflow, and inf x 0 is NaN.
+    ensure(std::max({l.color.r, l.color.g, l.color.b}) * l.intensity <= 1e9f, ctx,
+           where(node, "intensity"), ErrorCode::out_of_range,
+           "color x intensity must be at most 1e9");
+    ensure(within_world(l.position), ctx, where(node, "position"), ErrorCode::out_of_range,
+           "a light's position " + kWorldText);
     ensure(l.range >= 0.0f, ctx, where(node, "range"), ErrorCode::out_of_range,
            "range must be >= 0 (0: unlimited)");
-    ensure(all_at_least(l.attenuation, 0.0f) && glm::length(l.attenuation) > 0.0f, ctx,
-           where(node, "attenuation"), ErrorCode::out_of_range,
-           "attenuation [constant, linear, quadratic] must be >= 0 and not all 0");
+    const glm::vec3 a = l.attenuation;
+    ensure(all_at_least(a, 0.0f) && std::max({a.x, a.y, a.z}) > 0.0f &&
+               std::max({a.x, a.y, a.z}) <= 1e6f && (a.x == 0.0f || a.x >= 1e-6f),
+           ctx, where(node, "attenuation"), ErrorCode::out_of_range,
+           "attenuation [constant, linear, quadratic] must be 0..1e6, not all 0, and a constant "
+           "term below 1e-6 is 0 (it would make the light a million times brighter)");
     ensure(l.spot_inner >= 0.0f && l.spot_inner <= l.spot_outer && l.spot_outer <= 90.0f, ctx,
            where(node, "spot_inner"), ErrorCode::out_of_range,
            "spot angles are half-angles in degrees with 0 <= spot_inner <= spot_outer <= 90");
+    ensure(l.type != LightType::spot || l.spot_outer >= 0.1f, ctx, where(node, "spot_outer"),
+           ErrorCode::out_of_range, "a spot light's spot_outer must be at least 0.1 degrees");
     ensure(l.shadow_map_size == 0 || (l.shadow_map_size >= 16 && l.shadow_map_size <= 8192), ctx,
            where(node, "shadow_map_size"), ErrorCode::out_of_range,
            "a light's shadow_map_size must be 16..8192 (or 0: the scene's)");
@@ -273,6 +300,8 @@ glm::vec3 read_scale(const yaml::Context& ctx, const YAML::Node& node) {
     // Subnormal factors (below 1.2e-38) flatten every triangle to nothing.
     ensure(std::isnormal(s.x) && std::isnormal(s.y) && std::isnormal(s.z), ctx, node,
            ErrorCode::out_of_range, "scale is below float's normal range (1.2e-38)");
+    ensure(std::max({std::abs(s.x), std::abs(s.y), std::abs(s.z)}) <= 1e9f, ctx, node,
+           ErrorCode::out_of_range, "scale must be at most 1e9");
     return s;
 }
 
@@ -310,10 +339,20 @@ Track<T> read_track(const yaml::Context& ctx, const YAML::Node& node, const std:
 }
 
 // Degrees a second: a finite number, not zero.
+// A spin's degrees a second: not 0, and within what frames can show. Past
+// a turn a microsecond, every frame's angle is noise; below a turn in 28
+// years, the animation would never end (animation_end: one turn).
 double read_speed(const yaml::Context& ctx, const YAML::Node& node) {
     const float speed = yaml::as<float>(ctx, node);
     ensure(speed != 0.0f, ctx, node, ErrorCode::out_of_range,
            "a speed of 0 degrees a second does not move; leave the key out");
+    ensure(std::abs(speed) <= 3.6e8f, ctx, node, ErrorCode::out_of_range,
+           "a speed of " + node.Scalar() +
+               " degrees a second turns more than a million times a second, faster than any "
+               "frame can show (at most 3.6e8)");
+    ensure(std::abs(speed) >= 4e-7f, ctx, node, ErrorCode::out_of_range,
+           "a speed of " + node.Scalar() +
+               " degrees a second takes more than 28 years a turn (at least 4e-7)");
     return speed;
 }
 
@@ -389,8 +428,8 @@ Timeline read_timeline(const yaml::Context& ctx, const YAML::Node& node, double 
     t.end = end;
     if (const YAML::Node fps = node["fps"]) {
         t.fps = yaml::as<double>(ctx, fps);
-        ensure(t.fps > 0.0 && t.fps <= 1000.0, ctx, fps, ErrorCode::out_of_range,
-               "fps must be above 0 and at most 1000");
+        ensure(t.fps >= 1e-3 && t.fps <= 1000.0, ctx, fps, ErrorCode::out_of_range,
+               "fps must be 0.001..1000");
     }
     if (const YAML::Node start = node["start"]) {
         t.start = yaml::as<double>(ctx, start);
@@ -612,6 +651,8 @@ Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
     o.mesh = loader.mesh(yaml::require(ctx, node, "mesh"));
     resolve_materials(loader, node, o);
     yaml::read(ctx, node, "position", o.transform.translation);
+    ensure(within_world(o.transform.translation), ctx, where(node, "position"),
+           ErrorCode::out_of_range, "an object's position " + kWorldText);
     if (const YAML::Node rotation = node["rotation"])
         o.transform.rotation = read_rotation(ctx, rotation);
     if (const YAML::Node scale = node["scale"]) o.transform.scale = read_scale(ctx, scale);

@@ -8,6 +8,7 @@
 #include "facet/error.hpp"
 #include "facet/framebuffer.hpp"
 #include "facet/memory.hpp"
+#include "assets/png_check.hpp"
 #include "base/files.hpp"
 
 #include <spdlog/spdlog.h>
@@ -18,6 +19,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <limits>
 
 namespace facet {
@@ -179,8 +181,10 @@ namespace {
 // decoded image, the texture with its mipmaps (a third more), and the
 // sampler's copy of them (TexelLevels: 8 bytes a texel for colour, 4 for
 // data, in tiles that hold a fifth more).
-void require_decodable(int width, int height, bool srgb, const std::string& source) {
-    if (width <= 0 || height <= 0) return;
+void require_decodable(int header_width, int header_height, bool srgb, const std::string& source) {
+    // stb_image gives a top-down BMP's height as the file has it: negative.
+    const int64_t width = std::abs(int64_t(header_width)), height = std::abs(int64_t(header_height));
+    if (width == 0 || height == 0) return;
     const uint64_t texels = uint64_t(width) * uint64_t(height);
     // texels in tiles of 4 x 4 that hold 20 (TexelLevels), with the mipmaps
     const uint64_t sampled = (uint64_t(width) + 3) / 4 * 20 * ((uint64_t(height) + 3) / 4) * 4 / 3;
@@ -199,6 +203,13 @@ void require_decodable(int width, int height, bool srgb, const std::string& sour
 // A texture of stb_image's decoded RGBA `pixels`, which it frees.
 std::shared_ptr<const Texture> adopt_pixels(stbi_uc* pixels, int width, int height, int channels,
                                             bool srgb, const std::string& source) {
+    if (width <= 0 || height <= 0) {  // a header that says so (HDR's "+X 0")
+        stbi_image_free(pixels);
+        throw Error(ErrorCode::texture_load_failed,
+                    "an image of " + std::to_string(width) + "x" + std::to_string(height) +
+                        " pixels: it has none",
+                    source);
+    }
     auto texture = std::make_shared<Texture>();
     texture->source = source;
     texture->width = width;
@@ -219,18 +230,25 @@ std::shared_ptr<const Texture> adopt_pixels(stbi_uc* pixels, int width, int heig
 
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
     require_regular_file(path);
-    int width = 0, height = 0, channels = 0;
-    if (stbi_info(path.string().c_str(), &width, &height, &channels))
-        require_decodable(width, height, srgb, path.string());
-    stbi_uc* pixels = stbi_load(path.string().c_str(), &width, &height, &channels, 4);
-    if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), path.string());
-    return adopt_pixels(pixels, width, height, channels, srgb, path.string());
+    // The file's bytes, then as decode_texture: one way in for every image.
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw Error(ErrorCode::texture_load_failed, ec.message(), path.string());
+    if (size > uintmax_t(std::numeric_limits<int>::max()))
+        throw Error(ErrorCode::texture_load_failed, "an image over 2 GiB", path.string());
+    require_within_budget(size, "the image file", path.string());
+    std::string bytes(size_t(size), '\0');
+    std::ifstream in(path, std::ios::binary);
+    if (!in.read(bytes.data(), std::streamsize(size)))
+        throw Error(ErrorCode::texture_load_failed, "cannot read the file", path.string());
+    return decode_texture(bytes, srgb, path.string());
 }
 
 std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
                                               const std::string& source) {
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
         throw Error(ErrorCode::texture_load_failed, "an image over 2 GiB", source);
+    if (looks_like_png(bytes)) check_png(bytes, source);
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int size = int(bytes.size());
     int width = 0, height = 0, channels = 0;

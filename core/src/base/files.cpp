@@ -2,6 +2,8 @@
 
 #include "facet/error.hpp"
 
+#include <cerrno>
+
 namespace facet {
 
 namespace fs = std::filesystem;
@@ -25,6 +27,10 @@ void require_regular_file(const fs::path& path) {
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
     if (status.type() == fs::file_type::regular) return;
+    // A link that leads back to itself, or a path the system cannot
+    // follow, is named as such: "not found" would send the user looking.
+    if (ec && ec.value() != ENOENT && ec.value() != ENOTDIR && ec.value() != ENAMETOOLONG)
+        throw Error(ErrorCode::not_a_file, "cannot reach it: " + ec.message(), path.string());
     if (ec || !fs::exists(status)) throw Error(ErrorCode::file_not_found, "", path.string());
     throw Error(ErrorCode::not_a_file, std::string("it is ") + kind_name(status.type()),
                 path.string());

@@ -14,7 +14,8 @@ namespace facet {
 // Throws Error(file_not_found) when nothing is at `path` (a name too long
 // for the system, or a dangling link, is nothing too), and
 // Error(not_a_file), saying what is there, when it is not a regular file
-// (after following links).
+// (after following links), or why the path cannot be followed (a loop of
+// links, a folder on the way that may not be searched).
 void require_regular_file(const std::filesystem::path& path);
 
 }  // namespace facet

@@ -37,17 +37,22 @@ uint64_t memory_budget() { return budget().load(); }
 void set_memory_budget(uint64_t bytes) { budget() = bytes; }
 
 std::optional<uint64_t> parse_memory_size(std::string_view text) {
-    if (text.empty()) return std::nullopt;
+    // The unit: "B", or K, M, G or T (either case) alone, with "B" or "iB".
+    const bool binary = text.ends_with("iB");  // needs a unit before it
+    if (binary) text.remove_suffix(2);
+    else if (text.ends_with('B')) text.remove_suffix(1);
     int shift = 0;
-    switch (text.back()) {
-        case 'K': case 'k': shift = 10; break;
-        case 'M': case 'm': shift = 20; break;
-        case 'G': case 'g': shift = 30; break;
-        case 'T': case 't': shift = 40; break;
-        default: break;
+    if (!text.empty()) {
+        switch (text.back()) {
+            case 'K': case 'k': shift = 10; break;
+            case 'M': case 'm': shift = 20; break;
+            case 'G': case 'g': shift = 30; break;
+            case 'T': case 't': shift = 40; break;
+            default: break;
+        }
     }
     if (shift) text.remove_suffix(1);
-    if (text.empty() || text.size() > 19) return std::nullopt;
+    if ((binary && !shift) || text.empty() || text.size() > 19) return std::nullopt;
     uint64_t value = 0;
     for (const char c : text) {
         if (c < '0' || c > '9') return std::nullopt;

@@ -105,7 +105,7 @@ void spot(const Light& light, const std::vector<glm::vec3>& casters, int size,
     float far = 0.1f;
     for (const glm::vec3& p : casters) far = std::max(far, glm::length(p - light.position));
     const float fov = glm::radians(std::min(2.0f * light.spot_outer + 2.0f, 170.0f));
-    sm.near_plane = std::max(far * 1e-4f, 0.01f);
+    sm.near_plane = std::min(std::max(far * 1e-4f, 0.01f), far * 0.5f);  // a range of 0.005 too
     sm.far_plane = far * 1.01f;
     proj = perspective(fov, 1.0f, sm.near_plane, sm.far_plane, false);
     sm.projection = FACET_SHADOW_PERSPECTIVE;
@@ -247,7 +247,7 @@ void cube_face(const Light& light, const std::vector<glm::vec3>& casters, int fa
     float far = 0.1f;
     for (const glm::vec3& p : casters) far = std::max(far, glm::length(p - light.position));
     if (light.range > 0.0f) far = std::min(far, light.range);
-    sm.near_plane = std::max(far * 1e-4f, 0.01f);
+    sm.near_plane = std::min(std::max(far * 1e-4f, 0.01f), far * 0.5f);  // a range of 0.005 too
     sm.far_plane = far * 1.01f;
     sm.projection = FACET_SHADOW_PERSPECTIVE;
     sm.texel_size = 2.0f / float(size);  // 2 tan(45 degrees) / size

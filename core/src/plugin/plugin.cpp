@@ -2,6 +2,7 @@
 
 #include "facet/error.hpp"
 #include "facet/paths.hpp"
+#include "facet/output.hpp"
 #include "base/files.hpp"
 #include "base/signal_stack.hpp"
 #include "plugin/descriptor.hpp"
@@ -242,13 +243,23 @@ std::string ShaderPlugin::describe_params() const {
 
 namespace {
 
+// FACET_PLUGIN_PATH's folders. One that is not a folder is named in a
+// warning (once a process), not skipped in silence.
 std::vector<fs::path> env_plugin_path() {
     std::vector<fs::path> out;
     const char* env = std::getenv("FACET_PLUGIN_PATH");
     if (!env) return out;
+    static std::atomic<bool> warned{false};
+    const bool warn = !warned.exchange(true);
     std::stringstream ss(env);
-    for (std::string item; std::getline(ss, item, ':');)
-        if (!item.empty()) out.emplace_back(item);
+    for (std::string item; std::getline(ss, item, ':');) {
+        if (item.empty()) continue;
+        std::error_code ec;
+        if (warn && !fs::is_directory(item, ec))
+            spdlog::warn("FACET_PLUGIN_PATH: '{}' is not a folder; no plugins are found there",
+                         item);
+        out.emplace_back(item);
+    }
     return out;
 }
 
@@ -430,41 +441,60 @@ const char* signal_text(int sig) {
     }
 }
 
-// Only async-signal-safe calls from here on: write(), sigaction(), raise().
+// Only async-signal-safe calls from here on: write(), unlink(), sigaction(),
+// raise(), _exit().
+
+// "facet: shader plugin 'NAME' (FILE) <event> <where>: <detail>" on stderr.
+void report_call(const PluginCall& call, const char* event, const char* detail) {
+    char text[1024];
+    size_t used = 0;
+    auto add = [&](const char* s) {
+        while (*s && used + 1 < sizeof text) text[used++] = *s++;
+    };
+    add("facet: shader plugin ");
+    if (call.plugin->name().empty()) {  // not known before its entry point returns
+        add(call.plugin->origin().c_str());
+    } else {
+        add("'");
+        add(call.plugin->name().c_str());
+        add("' (");
+        add(call.plugin->origin().c_str());
+        add(")");
+    }
+    add(" ");
+    add(event);
+    add(" ");
+    add(entry_text(call.entry));
+    add(": ");
+    add(detail);
+    add("\n");
+    for (size_t done = 0; done < used;) {
+        const ssize_t n = write(STDERR_FILENO, text + done, used - done);
+        if (n <= 0) break;
+        done += size_t(n);
+    }
+}
+
 void on_fault(int sig, siginfo_t* info, void*) {
     const PluginCall call = t_plugin_call;
-    if (call.plugin) {
-        char text[1024];
-        size_t used = 0;
-        auto add = [&](const char* s) {
-            while (*s && used + 1 < sizeof text) text[used++] = *s++;
-        };
-        add("facet: shader plugin ");
-        if (call.plugin->name().empty()) {  // not known before its entry point returns
-            add(call.plugin->origin().c_str());
-        } else {
-            add("'");
-            add(call.plugin->name().c_str());
-            add("' (");
-            add(call.plugin->origin().c_str());
-            add(")");
-        }
-        add(" crashed ");
-        add(entry_text(call.entry));
-        add(": ");
-        add(signal_text(sig));
-        add("\n");
-        for (size_t done = 0; done < used;) {
-            const ssize_t n = write(STDERR_FILENO, text + done, used - done);
-            if (n <= 0) break;
-            done += size_t(n);
-        }
-    }
+    if (call.plugin) report_call(call, "crashed", signal_text(sig));
+    remove_partial_outputs();  // the images this process will not finish
     // The earlier handler takes it from here: a fault repeats when its
     // instruction runs again; a signal sent by a call (abort, raise, kill)
     // is sent again, and arrives when this handler returns.
     sigaction(sig, &g_before[sig], nullptr);
     if (info->si_code <= 0) raise(sig);
+}
+
+// exit() called by plugin code (an atexit handler runs on the thread that
+// called it): named, and the process ends with status 70 (EX_SOFTWARE),
+// not with the plugin's status, which could claim success with no image.
+void on_exit_in_plugin() {
+    const PluginCall call = t_plugin_call;
+    if (!call.plugin) return;
+    report_call(call, "called exit()", "the process ends with status 70");
+    remove_partial_outputs();
+    _exit(70);
 }
 
 }  // namespace
@@ -478,6 +508,8 @@ void report_plugin_faults() {
     action.sa_flags = SA_SIGINFO | SA_ONSTACK;
     sigemptyset(&action.sa_mask);
     for (const int sig : kFaultSignals) sigaction(sig, &action, &g_before[sig]);
+    static const bool exit_watched = std::atexit(on_exit_in_plugin) == 0;
+    (void)exit_watched;
 }
 
 bool plugin_file_complete(const fs::path& path) { return !elf_incomplete(path); }

@@ -21,8 +21,9 @@ std::optional<glm::ivec2> parse_size(std::string_view text);
 // target on the position), or with fov outside (0, 180).
 std::optional<Camera> parse_camera(std::string_view text, const Camera& base);
 
-// --max-memory: sets the memory budget (facet/memory.hpp) from `text`, if
-// not empty. False, having logged what was expected, when it is no size.
+// --max-memory: sets the memory budget (facet/memory.hpp) from `text`, or
+// when it is empty from FACET_MAX_MEMORY, if set. False, having logged
+// which of the two is wrong and what was expected, when it is no size.
 bool apply_max_memory(std::string_view text);
 
 }  // namespace facet

@@ -1,7 +1,8 @@
-// SIGINT and SIGTERM for facet's programs: stop promptly, whatever runs.
+// SIGINT, SIGTERM and SIGHUP for facet's programs: stop promptly, whatever
+// runs, and leave no partial output file behind.
 //
 // Construct one Interrupts at the top of main(), before any other thread
-// starts (the thread pool, SDL): it blocks both signals in the calling
+// starts (the thread pool, SDL): it blocks the three signals in the calling
 // thread, so that every thread made later inherits the block, and takes
 // them on a thread of its own. The first signal raises stop(), which the
 // program polls and hands to Pipeline::stop_when(), so that a render ends
@@ -10,7 +11,10 @@
 // exit_code(). If the process still runs `grace` after the signal, because
 // it is stuck where no flag is read (a mesh import, a plugin that loops),
 // or on a second signal, it says so, removes its private plugin copies and
-// exits at once with the same code.
+// its partial output files (facet/output.hpp) and exits at once with the same
+// code. It also ignores SIGPIPE and SIGXFSZ, so that a reader that goes
+// away, or a file past the size limit, is a write error the program
+// reports.
 #pragma once
 
 #include <signal.h>
@@ -35,8 +39,8 @@ public:
 
     const std::atomic<bool>& stop() const { return stop_; }
     bool stopped() const { return stop_.load(); }
-    // 128 + the signal's number (130 for SIGINT, 143 for SIGTERM), the
-    // shell's convention; 0 before any signal.
+    // 128 + the signal's number (130 for SIGINT, 143 for SIGTERM, 129 for
+    // SIGHUP), the shell's convention; 0 before any signal.
     int exit_code() const;
 
 private:

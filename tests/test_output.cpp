@@ -1,0 +1,197 @@
+// Output never lies: facet-render's image reaches where -o names, whole, or
+// the run fails saying why, with a file that was there left as it was and
+// no partial file left behind. Standard output, devices, FIFOs, links,
+// full disks, closed pipes, two writers at once and a killed run's
+// leftovers (core/src/base/output_file.hpp). The real facet-render runs in
+// a child process.
+#include "run_program.hpp"
+#include "support.hpp"
+
+#include <facet/error.hpp>
+#include <facet/png.hpp>
+#include <facet/texture.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+using namespace facet;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+int partial_files(const fs::path& folder) {
+    int n = 0;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder))
+        n += e.path().extension() == ".part";
+    return n;
+}
+
+#ifdef FACET_RENDER_EXE
+// facet-render on the default scene at `size` to `output`, through bash
+// when `shell` wraps the command ("{}" stands for it).
+test::Finished render(const fs::path& log, const std::string& size, const std::string& output,
+                      const std::string& shell = {}) {
+    const std::string command = std::string(FACET_RENDER_EXE) + " -q --size " + size + " -o '" +
+                                output + "'";
+    if (shell.empty()) return test::run({FACET_RENDER_EXE, "-q", "--size", size, "-o", output}, log);
+    std::string line = shell;
+    line.replace(line.find("{}"), 2, command);
+    return test::run({"/bin/bash", "-c", line}, log);
+}
+
+int exit_status(const test::Finished& f) { return WIFEXITED(f.status) ? WEXITSTATUS(f.status) : -1; }
+
+int png_width(const fs::path& file) { return load_texture(file, true)->width; }
+#endif
+
+}  // namespace
+
+#ifdef FACET_RENDER_EXE
+
+TEST_CASE("an output of - streams the PNG to standard output", "[output]") {
+    const test::TempDir dir("output-stream");
+    const test::Finished f = render(dir.path / "log.txt", "48x32", "-",
+                                    "exec {} > '" + (dir.path / "out.png").string() + "'");
+    INFO(f.log);
+    CHECK(exit_status(f) == 0);
+    CHECK(png_width(dir.path / "out.png") == 48);
+}
+
+TEST_CASE("a closed pipe, a full device and a folder are errors with their cause",
+          "[output]") {
+    const test::TempDir dir("output-errors");
+    const fs::path log = dir.path / "log.txt";
+    // The reader goes after 8 bytes: EPIPE, not a silent end by SIGPIPE.
+    const test::Finished pipe =
+        render(log, "1024x1024", "-", "{} | head -c 8 > /dev/null; exit ${PIPESTATUS[0]}");
+    CHECK(exit_status(pipe) == 1);
+    CHECK_THAT(pipe.log, Contains("standard output") && Contains("Broken pipe"));
+    const test::Finished full = render(log, "64x64", "/dev/full");
+    CHECK(exit_status(full) == 1);
+    CHECK_THAT(full.log, Contains("/dev/full") && Contains("No space left on device"));
+    // A folder is refused, named.
+    const test::Finished folder = render(log, "64x64", dir.path.string());
+    CHECK(exit_status(folder) == 1);
+    CHECK_THAT(folder.log, Contains("it is a folder"));
+}
+
+#endif  // FACET_RENDER_EXE
+
+TEST_CASE("a write that fails midway leaves the earlier image as it was", "[output]") {
+    // In a child whose files may not grow past 4 KiB (RLIMIT_FSIZE, with
+    // SIGXFSZ ignored as facet's programs do): a noise image's PNG is far
+    // larger, so its write fails with EFBIG partway through.
+    const test::TempDir dir("output-limit");
+    const fs::path old = dir.write("old.png", "the bytes of an earlier image");
+    std::vector<uint8_t> noise(size_t(128) * 128 * 4);
+    std::mt19937 random(5);
+    for (uint8_t& byte : noise) byte = uint8_t(random());
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        const rlimit small{4096, 4096};
+        setrlimit(RLIMIT_FSIZE, &small);
+        std::signal(SIGXFSZ, SIG_IGN);
+        try {
+            write_png_rows(old, noise.data(), 128 * 4, 128, 128, 1);
+        } catch (const Error& e) {
+            _exit(std::string(e.what()).find("File too large") != std::string::npos ? 3 : 4);
+        }
+        _exit(0);
+    }
+    int status = 0;
+    waitpid(child, &status, 0);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 3);  // the error, with its cause
+    CHECK(read(old) == "the bytes of an earlier image");
+    CHECK(partial_files(dir.path) == 0);
+}
+
+#ifdef FACET_RENDER_EXE
+
+TEST_CASE("devices, FIFOs and links are written through, never replaced", "[output]") {
+    const test::TempDir dir("output-special");
+    const fs::path log = dir.path / "log.txt";
+    CHECK(exit_status(render(log, "64x64", "/dev/null")) == 0);
+    CHECK(fs::is_character_file("/dev/null"));
+    // A FIFO: refused at once while no one reads it, written when one does.
+    const fs::path fifo = dir.path / "fifo.png";
+    REQUIRE(mkfifo(fifo.c_str(), 0644) == 0);
+    const test::Finished alone = render(log, "64x64", fifo.string());
+    CHECK(exit_status(alone) == 1);
+    CHECK_THAT(alone.log, Contains("no process reads the FIFO"));
+    const fs::path read_back = dir.path / "from-fifo.png";
+    std::thread reader([&] { std::ofstream(read_back, std::ios::binary) << read(fifo); });
+    // The reader opens the FIFO before the writer looks for one.
+    for (int i = 0; i < 500 && exit_status(render(log, "40x24", fifo.string())) != 0; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    reader.join();
+    CHECK(fs::is_fifo(fifo));
+    CHECK(png_width(read_back) == 40);
+    // A link to a file: the file gets the image, the link stays a link.
+    const fs::path target = dir.write("real/target.png", "old");
+    const fs::path link = dir.path / "link.png";
+    fs::create_symlink(target, link);
+    CHECK(exit_status(render(log, "56x24", link.string())) == 0);
+    CHECK(fs::is_symlink(link));
+    CHECK(png_width(target) == 56);
+    CHECK(partial_files(dir.path / "real") == 0);
+}
+
+TEST_CASE("two renders to one path each write a whole image of their own", "[output]") {
+    const test::TempDir dir("output-race");
+    const std::string out = (dir.path / "out.png").string();
+    const std::string exe = FACET_RENDER_EXE;
+    // Both at once; the shell's status is the first's and the second's.
+    const std::string both = exe + " -q --size 320x200 -o '" + out + "' & " + exe +
+                             " -q --size 200x320 -o '" + out + "'; b=$?; wait $!; a=$?; " +
+                             "exit $((a * 16 + b))";
+    for (int round = 0; round < 3; ++round) {
+        const test::Finished f = test::run({"/bin/bash", "-c", both}, dir.path / "log.txt");
+        INFO(f.log);
+        CHECK(exit_status(f) == 0);
+        const int width = png_width(out);  // whole: it decodes
+        CHECK((width == 320 || width == 200));
+        CHECK(partial_files(dir.path) == 0);
+    }
+}
+
+TEST_CASE("resuming a sequence removes the partial files of a run that was killed", "[output]") {
+    const test::TempDir dir("output-resume");
+    const pid_t dead = fork();  // a process id that no longer runs
+    if (dead == 0) _exit(0);
+    waitpid(dead, nullptr, 0);
+    const fs::path left = dir.write("frame_0001.png." + std::to_string(dead) + "-0.part", "half");
+    const fs::path running =  // this process runs: its file is not abandoned
+        dir.write("frame_0000.png." + std::to_string(getpid()) + "-7.part", "busy");
+    const test::Finished f =
+        test::run({FACET_RENDER_EXE, "--size", "32x32", "--frames", "0..1", "--resume", "-o",
+                   (dir.path / "frame_%04d.png").string()},
+                  dir.path / "log.txt");
+    INFO(f.log);
+    CHECK(exit_status(f) == 0);
+    CHECK_FALSE(fs::exists(left));
+    CHECK_THAT(f.log, Contains("which a stopped run left unfinished"));
+    CHECK(fs::exists(running));
+    CHECK(png_width(dir.path / "frame_0001.png") == 32);
+}
+
+#endif  // FACET_RENDER_EXE
