@@ -21,9 +21,10 @@ void check_mesh(const Mesh& mesh);
 // load_mesh(file) in this process, unless importing it would end the
 // process (a crash, an abort or a sanitizer's report inside assimp, or an
 // allocation past a limit that stands for facet-sandbox's memory budget,
-// tried in a fork first: facet-sandbox's to contain). Null then, and when
-// load_mesh refuses the file with an error id that mesh.hpp documents;
-// throws Failure for any other error or exception.
+// tried in a fork first: facet-sandbox's to contain). Null then (after
+// facet's own checks before assimp have run here, where a crash in them is
+// a finding), and when load_mesh refuses the file with an error id that
+// mesh.hpp documents; throws Failure for any other error or exception.
 std::shared_ptr<const Mesh> import_checked(const std::filesystem::path& file);
 
 }  // namespace facet::fuzz

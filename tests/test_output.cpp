@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -80,8 +81,9 @@ TEST_CASE("a closed pipe, a full device and a folder are errors with their cause
     const test::TempDir dir("output-errors");
     const fs::path log = dir.path / "log.txt";
     // The reader goes after 8 bytes: EPIPE, not a silent end by SIGPIPE.
+    // 2048x2048: the PNG (some 200 KB) is far past the pipe's 64 KiB buffer.
     const test::Finished pipe =
-        render(log, "1024x1024", "-", "{} | head -c 8 > /dev/null; exit ${PIPESTATUS[0]}");
+        render(log, "2048x2048", "-", "{} | head -c 8 > /dev/null; exit ${PIPESTATUS[0]}");
     CHECK(exit_status(pipe) == 1);
     CHECK_THAT(pipe.log, Contains("standard output") && Contains("Broken pipe"));
     const test::Finished full = render(log, "64x64", "/dev/full");
@@ -141,9 +143,17 @@ TEST_CASE("devices, FIFOs and links are written through, never replaced", "[outp
     const fs::path read_back = dir.path / "from-fifo.png";
     std::thread reader([&] { std::ofstream(read_back, std::ios::binary) << read(fifo); });
     // The reader opens the FIFO before the writer looks for one.
-    for (int i = 0; i < 500 && exit_status(render(log, "40x24", fifo.string())) != 0; ++i)
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    bool written = false;
+    for (int i = 0; i < 500 && !written; ++i) {
+        written = exit_status(render(log, "40x24", fifo.string())) == 0;
+        if (!written) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (!written) {  // the reader still waits: an open and close ends its read
+        const int fd = open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+        if (fd >= 0) close(fd);
+    }
     reader.join();
+    CHECK(written);
     CHECK(fs::is_fifo(fifo));
     CHECK(png_width(read_back) == 40);
     // A link to a file: the file gets the image, the link stays a link.
@@ -154,6 +164,17 @@ TEST_CASE("devices, FIFOs and links are written through, never replaced", "[outp
     CHECK(fs::is_symlink(link));
     CHECK(png_width(target) == 56);
     CHECK(partial_files(dir.path / "real") == 0);
+    // A link to a file not there yet: made where the link points.
+    fs::create_symlink(dir.path / "real" / "new.png", dir.path / "ahead.png");
+    CHECK(exit_status(render(log, "24x24", (dir.path / "ahead.png").string())) == 0);
+    CHECK(fs::is_symlink(dir.path / "ahead.png"));
+    CHECK(png_width(dir.path / "real" / "new.png") == 24);
+    // Links that loop: refused, named.
+    fs::create_symlink(dir.path / "loop-b.png", dir.path / "loop-a.png");
+    fs::create_symlink(dir.path / "loop-a.png", dir.path / "loop-b.png");
+    const test::Finished loop = render(log, "24x24", (dir.path / "loop-a.png").string());
+    CHECK(exit_status(loop) == 1);
+    CHECK_THAT(loop.log, Contains("its links loop"));
 }
 
 TEST_CASE("two renders to one path each write a whole image of their own", "[output]") {
@@ -182,9 +203,11 @@ TEST_CASE("resuming a sequence removes the partial files of a run that was kille
     const fs::path left = dir.write("frame_0001.png." + std::to_string(dead) + "-0.part", "half");
     const fs::path running =  // this process runs: its file is not abandoned
         dir.write("frame_0000.png." + std::to_string(getpid()) + "-7.part", "busy");
+    // As a user types it: a pattern relative to the working folder.
     const test::Finished f =
-        test::run({FACET_RENDER_EXE, "--size", "32x32", "--frames", "0..1", "--resume", "-o",
-                   (dir.path / "frame_%04d.png").string()},
+        test::run({"/bin/bash", "-c",
+                   "cd '" + dir.path.string() + "' && exec " + FACET_RENDER_EXE +
+                       " --size 32x32 --frames 0..1 --resume -o frame_%04d.png"},
                   dir.path / "log.txt");
     INFO(f.log);
     CHECK(exit_status(f) == 0);

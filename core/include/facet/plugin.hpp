@@ -137,10 +137,12 @@ void remove_private_plugin_copies();
 // file) and which of its functions: loading (its static constructors), its
 // entry point, vertex, fragment, or unloading. The process then ends as it
 // would have: the handler that was there before (the default, or a
-// sanitizer's) takes the signal. Plugin code that calls exit() is named
-// the same way, and the process ends with status 70 rather than the status
-// the plugin gave (an atexit handler). For programs, once, early in main():
-// a library should not take its host's signals.
+// sanitizer's) takes the signal. Plugin code that calls exit() on a thread
+// running a plugin call (not on a thread the plugin started) is named the
+// same way, and the process ends with status 70 rather than the status the
+// plugin gave (an atexit handler; static destructors registered after it
+// run first). For programs, once, early in main(): a library should not
+// take its host's signals.
 void report_plugin_faults();
 
 class PluginRegistry {

@@ -27,9 +27,11 @@ namespace fs = std::filesystem;
 
 // The partial files not yet committed, for a signal handler to remove: a
 // slot is claimed, its path copied, and only then marked ready, so that
-// the handler reads no path half-written.
+// the handler reads no path half-written. The handler takes a ready slot
+// for itself (3) before it reads the path, so that no writer reuses the
+// slot meanwhile; a writer frees only a slot that is still ready.
 struct PartialSlot {
-    std::atomic<int> state{0};  // 0 free, 1 being written, 2 ready
+    std::atomic<int> state{0};  // 0 free, 1 being written, 2 ready, 3 being removed
     char path[PATH_MAX];
 };
 std::array<PartialSlot, 64> g_partials;
@@ -47,7 +49,8 @@ int list_partial(const std::string& path) {
 }
 
 void unlist_partial(int slot) {
-    if (slot >= 0) g_partials[size_t(slot)].state.store(0, std::memory_order_release);
+    int ready = 2;
+    if (slot >= 0) g_partials[size_t(slot)].state.compare_exchange_strong(ready, 0);
 }
 
 std::atomic<unsigned> g_partial_count{0};
@@ -79,51 +82,72 @@ std::vector<AbandonedPartial> abandoned_partials(const fs::path& folder) {
         if (!parsed || parsed->second == long(getpid()) ||
             !(::kill(pid_t(parsed->second), 0) != 0 && errno == ESRCH))
             continue;
-        out.push_back({e.path(), e.path().parent_path() / parsed->first});
+        // Named as `folder` names them: "out.png" for the working folder.
+        out.push_back({folder / e.path().filename(), folder / parsed->first});
     }
     return out;
 }
 
 void remove_partial_outputs() noexcept {
-    for (PartialSlot& s : g_partials)
-        if (s.state.load(std::memory_order_acquire) == 2) unlink(s.path);
+    for (PartialSlot& s : g_partials) {
+        int ready = 2;
+        if (s.state.compare_exchange_strong(ready, 3, std::memory_order_acquire)) unlink(s.path);
+    }
 }
 
 OutputFile::OutputFile(const fs::path& path) : path_(path), target_(path) {
-    if (path == "-") {
-        path_ = "standard output";
+    if (path == "-" || path == "/dev/stdout" || path == "/dev/fd/1" || path == "/proc/self/fd/1") {
+        path_ = "standard output";  // whatever it is: a pipe, a terminal, a file (>>)
         fd_ = STDOUT_FILENO;
         stream_ = true;
         return;
     }
     struct stat st {};
     const bool exists = ::stat(path.c_str(), &st) == 0;
-    if (exists && S_ISDIR(st.st_mode))
-        throw Error(ErrorCode::output_failed, "cannot write an image: it is a folder",
-                    path.string());
+    if (exists && S_ISDIR(st.st_mode)) fail("cannot write an image: it is a folder", 0);
+    if (exists && S_ISSOCK(st.st_mode)) fail("cannot write an image: it is a socket", 0);
     if (exists && !S_ISREG(st.st_mode)) {
-        // In place; a FIFO with no reader fails (ENXIO) rather than blocks.
-        fd_ = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
-        if (fd_ < 0)
-            fail(errno == ENXIO ? "cannot write an image: no process reads the FIFO"
-                                : "cannot open it",
-                 errno == ENXIO ? 0 : errno);
-        ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_NONBLOCK);
+        open_in_place();
         return;
     }
-    // Through a link, the file it names: the link itself stays.
-    std::error_code ec;
-    if (fs::is_symlink(fs::symlink_status(path, ec))) target_ = fs::weakly_canonical(path, ec);
-    if (ec) target_ = path;
+    target_ = link_target(path);
     partial_ = target_.string() + "." + std::to_string(getpid()) + "-" +
                std::to_string(g_partial_count.fetch_add(1)) + ".part";
+    // Listed before it exists, so that no moment has it on disk unlisted.
+    slot_ = list_partial(partial_.string());
     fd_ = ::open(partial_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd_ < 0) {
         const int error = errno;
+        unlist_partial(slot_);
+        slot_ = -1;
         partial_.clear();  // not ours to remove
         fail("cannot create it", error);
     }
-    slot_ = list_partial(partial_.string());
+}
+
+// A device or a FIFO, written where it is. A FIFO with no reader fails
+// (ENXIO) rather than blocks.
+void OutputFile::open_in_place() {
+    fd_ = ::open(path_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd_ < 0 && errno == ENXIO) fail("cannot write an image: no process reads the FIFO", 0);
+    if (fd_ < 0) fail("cannot open it", errno);
+    const int flags = ::fcntl(fd_, F_GETFL);
+    if (flags < 0 || ::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK) < 0) fail("cannot open it", errno);
+}
+
+// The file a chain of links ends at (the path itself when it is no link):
+// the image replaces that file, and the links stay. A chain that loops is
+// refused.
+fs::path OutputFile::link_target(const fs::path& path) {
+    fs::path at = path;
+    std::error_code ec;
+    for (int hops = 0; fs::is_symlink(fs::symlink_status(at, ec)); ++hops) {
+        if (hops == 40) fail("cannot write an image: its links loop", 0);
+        const fs::path next = fs::read_symlink(at, ec);
+        if (ec) fail("cannot follow its link", ec.value());
+        at = next.is_absolute() ? next : at.parent_path() / next;
+    }
+    return at.lexically_normal();
 }
 
 OutputFile::~OutputFile() { discard(); }
@@ -132,8 +156,8 @@ void OutputFile::discard() noexcept {
     if (fd_ >= 0 && !stream_) ::close(fd_);
     fd_ = -1;
     if (!partial_.empty()) {
+        ::unlink(partial_.c_str());  // then unlisted: never on disk unlisted
         unlist_partial(slot_);
-        ::unlink(partial_.c_str());
         partial_.clear();
     }
     slot_ = -1;

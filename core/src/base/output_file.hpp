@@ -3,16 +3,17 @@
 //
 // Takes: the path a user gave for an output (-o).
 // Gives: a place to write bytes, and commit() once they are all there:
-//  - "-" is standard output, written as the bytes come.
-//  - A device, a FIFO or a socket (after following links: /dev/null, a
-//    link to /dev/stdout) is written to where it is, never replaced by a
-//    file. A FIFO that no process reads is refused rather than waited on.
+//  - "-" (or /dev/stdout) is standard output, written as the bytes come.
+//  - A device or a FIFO (after following links: /dev/null, /dev/tty) is
+//    written to where it is, never replaced by a file. A FIFO that no
+//    process reads is refused rather than waited on; so is a socket.
 //  - Anything else (a new name, a regular file, a link to one) is written
 //    beside its target under a name no other writer has,
 //    "<target>.<pid>-<n>.part", then flushed to disk and renamed onto the
 //    target by commit(). The target holds its old bytes or all of the new
 //    ones, never a mix; two processes writing one path each rename their own
-//    complete file; a link keeps pointing where it did.
+//    complete file; a link (or a chain of them) keeps pointing where it did,
+//    and one that loops is refused.
 // Every error (a folder, no permission, a full disk, a closed pipe) throws
 // Error(output_failed) naming the path and the system's cause, and the
 // partial file is removed: by the destructor, by an error, and, when a
@@ -43,6 +44,8 @@ public:
 private:
     [[noreturn]] void fail(const char* doing, int error);
     void discard() noexcept;
+    void open_in_place();
+    std::filesystem::path link_target(const std::filesystem::path& path);
 
     std::filesystem::path path_;     // as given, for messages
     std::filesystem::path target_;   // where the bytes end up

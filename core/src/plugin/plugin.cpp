@@ -489,11 +489,13 @@ void on_fault(int sig, siginfo_t* info, void*) {
 // exit() called by plugin code (an atexit handler runs on the thread that
 // called it): named, and the process ends with status 70 (EX_SOFTWARE),
 // not with the plugin's status, which could claim success with no image.
+// Not a signal handler: it may remove the private plugin copies too.
 void on_exit_in_plugin() {
     const PluginCall call = t_plugin_call;
     if (!call.plugin) return;
     report_call(call, "called exit()", "the process ends with status 70");
     remove_partial_outputs();
+    remove_private_plugin_copies();
     _exit(70);
 }
 
