@@ -66,4 +66,11 @@ Finished run(const std::vector<std::string>& args, const fs::path& log_file, int
     return out;
 }
 
+int partial_files(const fs::path& folder) {
+    int n = 0;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder))
+        n += e.path().extension() == ".part";
+    return n;
+}
+
 }  // namespace facet::test

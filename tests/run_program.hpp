@@ -24,4 +24,7 @@ struct Finished {
 Finished run(const std::vector<std::string>& args, const std::filesystem::path& log_file,
              int signal = 0, const std::string& marker = {});
 
+// How many partial output files ("*.part") a program left in `folder`.
+int partial_files(const std::filesystem::path& folder);
+
 }  // namespace facet::test

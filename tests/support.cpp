@@ -137,6 +137,11 @@ void write(const std::filesystem::path& file, const std::string& text) {
     std::ofstream(file) << text;
 }
 
+std::string read_file(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 ParamBlock param_block(const ShaderPlugin& plugin,
                        std::initializer_list<std::pair<const char*, glm::vec4>> values) {
     ParamBlock block;

@@ -164,6 +164,8 @@ ParamBlock param_block(const ShaderPlugin& plugin,
 
 // Writes `text` to `file`.
 void write(const std::filesystem::path& file, const std::string& text);
+// A file's bytes, as they are (empty if it cannot be read).
+std::string read_file(const std::filesystem::path& file);
 
 // Compiles the test plugin (tests/plugins/c_plugin.c) as shader `name` into
 // `out`, with extra compiler `flags` (-DFILL_RED=..., -DWITH_GAIN, ...).

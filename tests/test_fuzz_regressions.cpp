@@ -10,6 +10,7 @@
 // Each input runs in a child process, so that one that crashes or hangs
 // fails on its own, and the others still run.
 #include "fuzz.hpp"
+#include "support.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -50,11 +51,6 @@ std::vector<fs::path> inputs(const std::string& target) {
     }
     std::sort(files.begin(), files.end());
     return files;
-}
-
-std::string read(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // In the child: runs the target and reports through `out` what went wrong,
@@ -118,7 +114,7 @@ void replay_all(const std::string& target, Target run) {
     REQUIRE_FALSE(files.empty());
     for (const fs::path& file : files) {
         INFO(target << "/" << file.filename().string());
-        CHECK(replay(run, read(file)) == "");
+        CHECK(replay(run, facet::test::read_file(file)) == "");
     }
 }
 

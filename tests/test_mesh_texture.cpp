@@ -547,8 +547,7 @@ TEST_CASE("every image layout in the decoder's seeds decodes to its pixels", "[t
     for (const auto& entry : fs::directory_iterator(dir)) {
         const std::string name = entry.path().filename().string();
         INFO(name);
-        std::ifstream in(entry.path(), std::ios::binary);
-        const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+        const std::string bytes = facet::test::read_file(entry.path());
         const auto texture = decode_texture(std::string_view(bytes).substr(1), false, name);
         REQUIRE((texture->width == 5 && texture->height == 3));
         ++decoded;
@@ -575,8 +574,7 @@ TEST_CASE("damaged and cut-short PNGs are named as such", "[texture]") {
     std::vector<unsigned char> pixels(16 * 16 * 4);
     for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = uint8_t(i * 7);
     REQUIRE(stbi_write_png((dir.path / "good.png").c_str(), 16, 16, 4, pixels.data(), 16 * 4));
-    std::ifstream in(dir.path / "good.png", std::ios::binary);
-    const std::string good((std::istreambuf_iterator<char>(in)), {});
+    const std::string good = facet::test::read_file(dir.path / "good.png");
     CHECK(load_texture(dir.path / "good.png", true)->width == 16);
     const auto error_of = [&](const std::string& name, const std::string& bytes) {
         try {

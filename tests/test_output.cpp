@@ -33,18 +33,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-
-int partial_files(const fs::path& folder) {
-    int n = 0;
-    for (const fs::directory_entry& e : fs::directory_iterator(folder))
-        n += e.path().extension() == ".part";
-    return n;
-}
-
 #ifdef FACET_RENDER_EXE
 // facet-render on the default scene at `size` to `output`, through bash
 // when `shell` wraps the command ("{}" stands for it).
@@ -123,8 +111,8 @@ TEST_CASE("a write that fails midway leaves the earlier image as it was", "[outp
     waitpid(child, &status, 0);
     CHECK(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 3);  // the error, with its cause
-    CHECK(read(old) == "the bytes of an earlier image");
-    CHECK(partial_files(dir.path) == 0);
+    CHECK(test::read_file(old) == "the bytes of an earlier image");
+    CHECK(test::partial_files(dir.path) == 0);
 }
 
 #ifdef FACET_RENDER_EXE
@@ -141,7 +129,7 @@ TEST_CASE("devices, FIFOs and links are written through, never replaced", "[outp
     CHECK(exit_status(alone) == 1);
     CHECK_THAT(alone.log, Contains("no process reads the FIFO"));
     const fs::path read_back = dir.path / "from-fifo.png";
-    std::thread reader([&] { std::ofstream(read_back, std::ios::binary) << read(fifo); });
+    std::thread reader([&] { std::ofstream(read_back, std::ios::binary) << test::read_file(fifo); });
     // The reader opens the FIFO before the writer looks for one.
     bool written = false;
     for (int i = 0; i < 500 && !written; ++i) {
@@ -163,7 +151,7 @@ TEST_CASE("devices, FIFOs and links are written through, never replaced", "[outp
     CHECK(exit_status(render(log, "56x24", link.string())) == 0);
     CHECK(fs::is_symlink(link));
     CHECK(png_width(target) == 56);
-    CHECK(partial_files(dir.path / "real") == 0);
+    CHECK(test::partial_files(dir.path / "real") == 0);
     // A link to a file not there yet: made where the link points.
     fs::create_symlink(dir.path / "real" / "new.png", dir.path / "ahead.png");
     CHECK(exit_status(render(log, "24x24", (dir.path / "ahead.png").string())) == 0);
@@ -191,7 +179,7 @@ TEST_CASE("two renders to one path each write a whole image of their own", "[out
         CHECK(exit_status(f) == 0);
         const int width = png_width(out);  // whole: it decodes
         CHECK((width == 320 || width == 200));
-        CHECK(partial_files(dir.path) == 0);
+        CHECK(test::partial_files(dir.path) == 0);
     }
 }
 

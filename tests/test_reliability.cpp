@@ -41,6 +41,7 @@ namespace {
 
 #ifdef FACET_RENDER_EXE
 using test::Finished;
+using test::partial_files;
 using test::run;
 
 // A folder with a scene that draws a full-screen quad at `size` with the
@@ -70,13 +71,6 @@ struct ProbeScene {
     }
 };
 
-// The partial output files in `folder` ("*.part").
-int partial_files(const fs::path& folder) {
-    int n = 0;
-    for (const fs::directory_entry& e : fs::directory_iterator(folder))
-        n += e.path().extension() == ".part";
-    return n;
-}
 
 bool private_copies_of(pid_t pid) {
     const std::string prefix = "facet-plugins-" + std::to_string(pid) + "-";
