@@ -4,7 +4,7 @@
 // bit, over the values where rounding decides: each sRGB code's threshold,
 // each table bucket's edges, each half float's midpoints, and the special
 // values. And the sRGB PNG a framebuffer writes.
-#include "pipeline/color_tables.hpp"
+#include "base/srgb8_tables.hpp"
 #include "pipeline/kernels.hpp"
 #include "support.hpp"
 
@@ -194,7 +194,7 @@ TEST_CASE("every path clears, resolves and converts to 8 bits as the scalar code
         }
 }
 
-// The bucket scheme of color_tables.hpp against its definition, for every
+// The bucket scheme of srgb8_tables.hpp against its definition, for every
 // float where the code can change: the code of x is the number of
 // thresholds at or below it, minus one. Below 2^-14 every float is code 0
 // (threshold[1] is 1.5e-4). Sanitizer builds, many times slower, take every

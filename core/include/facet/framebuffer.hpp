@@ -29,19 +29,17 @@
 // to the renderer's threads.
 #pragma once
 
+#include "facet/color.hpp"
+
 #include <glm/glm.hpp>
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <new>
-#include <optional>
-#include <string_view>
 #include <vector>
 
 namespace facet {
-
-enum class ColorFormat { none, srgb8, rgba16f, rgba32f };
 
 // Storage that starts on a cache line. With rows a multiple of 16 pixels
 // apart, a 64-pixel tile's rows are then whole lines, and threads drawing
@@ -56,20 +54,6 @@ struct CacheLineAllocator {
     void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(64)); }
     friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) { return true; }
 };
-
-// "none", "srgb8", "rgba16f", "rgba32f"; and back.
-std::string_view color_format_name(ColorFormat format);
-std::optional<ColorFormat> parse_color_format(std::string_view name);
-// Bytes a pixel (or sample) takes: 0, 4, 8 or 16.
-constexpr int bytes_per_pixel(ColorFormat format) {
-    switch (format) {
-        case ColorFormat::none: return 0;
-        case ColorFormat::srgb8: return 4;
-        case ColorFormat::rgba16f: return 8;
-        case ColorFormat::rgba32f: return 16;
-    }
-    return 0;
-}
 
 class Framebuffer {
 public:
@@ -175,31 +159,11 @@ private:
 // Vulkan's standard sample locations share. n = 1 gives the centre.
 glm::ivec2 sample_offset(int n, int s);
 
-// Linear light -> sRGB-encoded value, both in 0..1 (input clamped).
-float linear_to_srgb(float linear);
-// sRGB-encoded value -> linear light.
-float srgb_to_linear(float encoded);
-// Linear light -> 8-bit sRGB code: the code whose value on the exact sRGB
-// curve is nearest (NaN and below 0 give 0, 1 and above 255).
-uint8_t linear_to_srgb8(float linear);
-// 8-bit sRGB code -> linear light, correctly rounded.
-float srgb8_to_linear(uint8_t code);
-// A linear value in 0..1 -> 8 bits: round(255 v), halves away from zero
-// (NaN gives 0). Alpha in srgb8 targets.
-uint8_t unorm8(float value);
-// IEEE half precision, rounded to nearest even (overflow to infinity, NaN
-// kept); and back, exactly.
-uint16_t float_to_half(float value);
-float half_to_float(uint16_t half);
-
 // Writes width x height 8-bit RGBA pixels (rows width * 4 bytes apart) as
 // a PNG, compressed on `threads` threads (0: every hardware thread; see
 // facet/png.hpp); throws Error(output_failed).
 void write_png(const std::filesystem::path& path, int width, int height,
                const std::vector<uint8_t>& rgba8, int threads = 0);
 
-// Encodes and decodes one pixel in `format` (not none).
-void encode_pixel(ColorFormat format, const glm::vec4& linear, uint8_t* out);
-glm::vec4 decode_pixel(ColorFormat format, const uint8_t* in);
 
 }  // namespace facet

@@ -4,7 +4,7 @@
 // gives the words the per-path sampler loads.
 #include "facet/texture.hpp"
 
-#include "facet/framebuffer.hpp"
+#include "facet/color.hpp"
 
 #include <algorithm>
 #include <array>

@@ -6,7 +6,7 @@
 #include "facet/texture.hpp"
 
 #include "facet/error.hpp"
-#include "facet/framebuffer.hpp"
+#include "facet/color.hpp"
 #include "facet/memory.hpp"
 #include "assets/png_check.hpp"
 #include "base/files.hpp"

@@ -258,9 +258,9 @@ void ao_normal_rows(const AoFrame& f, int first, int count) {
 
 namespace {
 
-// One texel vector's march inputs (occlusion_rows): where it starts, its
-// tangent plane as a key over the grid, and its clip-space start and frame,
-// from which each direction's segment is projected.
+// One texel vector's march inputs (Marcher): where it starts, its tangent
+// plane as a key over the grid, and its clip-space start and frame, from
+// which each direction's segment is projected.
 struct MarchStart {
     Int x, surface;
     int y;
@@ -280,49 +280,41 @@ struct MarchStep {
     bool bordered; // every lane's march stays within the key's border
 };
 
-// The marches of ao_occlusion_rows for one path and projection. A vector's
-// work comes in stages: its start (itself three: begin, orient, frame),
-// then each direction's step, then the marches. All but the marches are
-// chains of dependent operations (square roots, divisions); each stage
-// done for every vector of the groups in hand (one group, or two on
-// AVX-512: kGroups) and a batch of directions before the next, they
-// overlap, and no march waits on them.
+// The marches of ao_occlusion_rows for one projection: a vector's work in
+// stages, its start (begin, orient, frame), then each direction's step
+// (aim), then the march. Texel i stands for target pixel i * scale, whose
+// centre is at i * scale + 1/2: target x X falls to texel
+// floor((X + (scale - 1) / 2) / scale).
 template <bool Perspective>
-void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
-    const glm::mat4& P = f.projection;
-    // Texel i stands for target pixel i * scale, whose centre is at
-    // i * scale + 1/2: target x X falls to texel floor((X + (scale - 1) / 2) / scale).
-    const float sx_scale = 0.5f * float(f.target_width) / float(f.scale);
-    const float sy_scale = 0.5f * float(f.target_height) / float(f.scale);
-    const float offset = 0.5f * float(f.scale - 1) / float(f.scale);
-    constexpr float kFixed = 65536.0f;  // screen positions in 16.16 fixed point
-    constexpr float kStep = 1.0f / float(AoFrame::kSteps);
-    // How far ndc moves per texel, over P00 and P11: 2 scale / W across,
-    // -2 scale / H down (the tangent planes' slopes below).
-    const float per_x = 2.0f * float(f.scale) / (P[0][0] * float(f.target_width));
-    const float per_y = -2.0f * float(f.scale) / (P[1][1] * float(f.target_height));
-    // An occluder stands at least tol in front of the march and of the
-    // tangent plane (float error and curvature), and less than reach.
-    const float tol = 0.005f * f.radius, reach = f.radius;
-    // A group: 16 texels of each of 4 rows, whatever the path, as kAcross
-    // vectors of kWidth neighbours per row, so that every path takes the
-    // same groups as open.
-    constexpr int kGroupWidth = AoFrame::kGroupWidth, kGroupRows = AoFrame::kGroupRows;
-    constexpr int kAcross = kGroupWidth / kWidth, kGroupVectors = kAcross * kGroupRows;
-    // Groups side by side whose starts run together, so that each stage of
-    // them has at least 8 vectors to overlap: one group of 8 (AVX2) or 16
-    // (SSE2), two of 4 (AVX-512; the AO pass on one thread, fastest of 40:
-    // 9.8-10.0 -> 9.0-9.3 ms; two groups of 8 on AVX2 were no faster).
-    constexpr int kGroups = std::max(8 / kGroupVectors, 1);
-    constexpr int kVectors = kGroups * kGroupVectors, kBatch = 8;
-    MarchStart start[kVectors];
-    MarchStep steps[kVectors][kBatch];
-    Int lane;
-    for (int i = 0; i < kWidth; ++i) lane[i] = i;
-    const int x_end = std::min(x_first + x_count, f.width);
+class Marcher {
+public:
+    static constexpr float kFixed = 65536.0f;  // screen positions in 16.16 fixed point
+    static constexpr float kStep = 1.0f / float(AoFrame::kSteps);
+
+    Marcher(const AoFrame& frame, int x_end)
+        : f(frame),
+          x_end(x_end),
+          P(frame.projection),
+          sx_scale(0.5f * float(frame.target_width) / float(frame.scale)),
+          sy_scale(0.5f * float(frame.target_height) / float(frame.scale)),
+          offset(0.5f * float(frame.scale - 1) / float(frame.scale)),
+          // How far ndc moves per texel, over P00 and P11: 2 scale / W
+          // across, -2 scale / H down (the tangent planes' slopes).
+          per_x(2.0f * float(frame.scale) / (P[0][0] * float(frame.target_width))),
+          per_y(-2.0f * float(frame.scale) / (P[1][1] * float(frame.target_height))),
+          // An occluder stands at least tol in front of the march and of
+          // the tangent plane (float error and curvature), and less than
+          // reach.
+          tol(0.005f * frame.radius),
+          reach(frame.radius),
+          // Where the key's stride fits in 16 bits, as a march's rows from
+          // its start do, their product is simd::mul_short's.
+          short_rows(frame.key_stride <= 32767) {
+        for (int i = 0; i < kWidth; ++i) lane[i] = i;
+    }
 
     // Texels x0 .. x0 + kWidth - 1 of row y: where their marches start.
-    const auto begin = [&](MarchStart& t, int x0, int y) {
+    void begin(MarchStart& t, int x0, int y) const {
         const size_t row = size_t(y) * size_t(f.width);
         t.x = lane + x0;
         t.y = y;
@@ -332,11 +324,141 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
         const Float px = view_x(f, pixel_column(f, t.x), pz), py = view_y(f, pixel_row(f, y), pz);
         t.px = px, t.py = py, t.pz = pz;
         normal_directions(f, x0, y, t.nx, t.ny, t.nz);  // of unit length in orient()
-        // The march starts at the surface point: its clip position (clip
-        // positions are linear along a ray), through the terms of P that
-        // are not 0 (AoFrame::set_pixel_rays: x from x and z, y from y and
-        // z, and in perspective w from z alone; orthographic x and y from
-        // x and y, moved).
+        start_on_grid(t, y);
+    }
+
+    // Start t's unit normal and its tangent plane, as a key over the grid
+    // (the key is affine in screen position on a plane): only what stands
+    // above it can block a direction of the hemisphere, and a lookup up to
+    // half a texel from the march then never takes the surface itself, seen
+    // at a grazing angle, for an occluder. Along the pixel rays
+    // u = ((ndc + P20) / P00, (ndc + P21) / P11, -1) of a perspective
+    // projection the plane n . p = d has key (n . u) / d; an orthographic
+    // one's has z = (d - nx x - ny y) / nz; per_x and per_y turn their slopes
+    // into steps of a texel. A plane seen edge on blocks nothing: its key is
+    // one below every march's (0 for keys 1 / w, which are positive; the
+    // lowest float for z).
+    void orient(MarchStart& t) const {
+        unit_normals(t.nx, t.ny, t.nz);
+        const Float nx = t.nx, ny = t.ny, nz = t.nz, px = t.px, py = t.py, pz = t.pz;
+        constexpr float kLowest = std::numeric_limits<float>::lowest();
+        if constexpr (Perspective) {
+            const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
+            const Int tilted = t.surface & (d < 1e-6f * pz);
+            const Float inv_d = 1.0f / select(tilted, d, Float{} - 1.0f);
+            t.plane_key = select(tilted, t.k0, Float{});  // the texel's own key: w = -z
+            t.plane_dx = select(tilted, nx * inv_d * per_x, Float{});
+            t.plane_dy = select(tilted, ny * inv_d * per_y, Float{});
+        } else {
+            const Int tilted = t.surface & (nz > 1e-6f);
+            const Float inv_nz = 1.0f / select(tilted, nz, Float{} + 1.0f);
+            t.plane_key = select(tilted, pz, Float{} + kLowest);
+            t.plane_dx = select(tilted, -nx * inv_nz * per_x, Float{});
+            t.plane_dy = select(tilted, -ny * inv_nz * per_y, Float{});
+        }
+    }
+
+    // The frame of start t in clip space, reach long: a direction's end is
+    // the start plus a mix of these, with the direction's weights. The
+    // tangent t is perpendicular to n (n x X, or n x Y near X), and b = n x t.
+    void frame(MarchStart& t) const {
+        const Float nx = t.nx, ny = t.ny, nz = t.nz;
+        const Int near_x = (nx < -0.9f) | (nx > 0.9f);
+        Float tx = select(near_x, -nz, Float{}), ty = select(near_x, Float{}, nz),
+              tz = select(near_x, nx, -ny);
+        const Float inv_t = 1.0f / simd::sqrt(tx * tx + ty * ty + tz * tz);
+        tx *= inv_t, ty *= inv_t, tz *= inv_t;
+        const Float bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
+        t.tcx = clip(tx, ty, tz, 0), t.tcy = clip(tx, ty, tz, 1), t.tcw = clip(tx, ty, tz, 3);
+        t.bcx = clip(bx, by, bz, 0), t.bcy = clip(bx, by, bz, 1), t.bcw = clip(bx, by, bz, 3);
+        t.ncx = clip(nx, ny, nz, 0), t.ncy = clip(nx, ny, nz, 1), t.ncw = clip(nx, ny, nz, 3);
+    }
+
+    // Texel (x, y) turns its directions by (x & 3) * 4 + (y & 3), and a
+    // vector starts at a multiple of 4: lane i takes turn i & 3 of its
+    // row's four. Direction k of each lane of row y.
+    void direction(int k, int y, Float& hx, Float& hy, Float& hz) const {
+        const float* turns = f.directions + size_t(((y & 3) * f.samples + k) * 3) * 4;
+        hx = repeat4(turns), hy = repeat4(turns + 4), hz = repeat4(turns + 8);
+    }
+
+    // Direction h's step from start t: the direction's end, `reach` away,
+    // projected once; on the screen the march is a straight segment,
+    // stepped evenly, along which the key is linear too.
+    void aim(MarchStep& m, const MarchStart& t, const Float& hx, const Float& hy,
+             const Float& hz) const {
+        const Float cex = t.cpx + (t.tcx * hx + t.bcx * hy + t.ncx * hz);
+        const Float cey = t.cpy + (t.tcy * hx + t.bcy * hy + t.ncy * hz);
+        const Float cew = t.cpw + (t.tcw * hx + t.bcw * hy + t.ncw * hz);
+        m.ahead = t.surface;
+        Float k1 = cew, nx1 = cex, ny1 = cey;
+        if constexpr (Perspective) {
+            m.ahead &= cew > 0.0f;  // a march behind the camera sees nothing
+            k1 = 1.0f / select(m.ahead, cew, Float{} + 1.0f);
+            nx1 = cex * k1, ny1 = cey * k1;
+        }
+        m.dsx = fixed_step((nx1 - t.nx0) * (sx_scale * kStep * kFixed), m.ahead);
+        m.dsy = fixed_step((t.ny0 - ny1) * (sy_scale * kStep * kFixed), m.ahead);
+        m.dk = (k1 - t.k0) * kStep;
+        // A march is straight and starts on the grid: it stays within the
+        // border if its end does.
+        const Int ex = t.x + ((t.sx0 + AoFrame::kSteps * m.dsx) >> 16);
+        const Int ey = ((t.sy0 + AoFrame::kSteps * m.dsy) >> 16) + t.y;
+        constexpr int border = AoFrame::kBorder;
+        m.bordered = !simd::bits(t.surface & ((ex < -border) | (ex >= f.width + border) |
+                                              (ey < -border) | (ey >= f.height + border)));
+    }
+
+    // Whether the march is blocked: a step reads a surface nearer than the
+    // march by tol .. reach (in view units, compared on keys without a
+    // division) and above the tangent plane by tol. For keys 1 / w the two
+    // tests by tol read there - m > tol there m, for m the march's key and
+    // for m the plane's, which is the one test for the larger m; the reach
+    // test, there - here < reach there here, is there (1 - reach here) < here.
+    template <bool Bordered>
+    Int march(const MarchStart& t, const MarchStep& m, int y) const {
+        Int sx = t.sx0, sy = t.sy0;
+        Int blocked = Int{};
+        const Int start = y * f.key_stride + t.x;  // the start texel's key
+        for (int s = 1; s <= AoFrame::kSteps; ++s) {
+            sx += m.dsx, sy += m.dsy;
+            // Texels from the start: at most kSteps 2^11 (fixed_step), so a
+            // row's offset is simd::mul_short's where the stride fits.
+            Int dx = sx >> 16, dy = sy >> 16;
+            // Off the grid, the border (key 0, which blocks nothing): read as
+            // it is by a bordered march, else clamped to its first texel.
+            if constexpr (!Bordered) {
+                const Int ix = t.x + dx, iy = dy + y;
+                dx = (ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix) - t.x;
+                dy = (iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy) - y;
+            }
+            const Int row = short_rows ? simd::mul_short(dy, f.key_stride) : dy * f.key_stride;
+            const Float there = simd::gather(f.key, start + row + dx);
+            const Float here = t.k0 + float(s) * m.dk;  // the march's key
+            const Float plane = t.plane_key + t.plane_dx * simd::to_float(dx) +
+                                t.plane_dy * simd::to_float(dy);
+            const Float higher = simd::max(plane, here);
+            if constexpr (Perspective) {
+                blocked |= (there - tol * higher * there > higher) &
+                           (there * (1.0f - reach * here) < here);
+            } else {
+                blocked |= (there != 0.0f) & (there - higher > tol) & (there - here < reach);
+            }
+        }
+        return blocked & m.ahead;
+    }
+
+    const AoFrame& f;
+    const int x_end;
+
+private:
+    // The march starts at the surface point: its clip position (clip
+    // positions are linear along a ray), through the terms of P that are
+    // not 0 (AoFrame::set_pixel_rays: x from x and z, y from y and z, and in
+    // perspective w from z alone; orthographic x and y from x and y, moved),
+    // and where it falls on the grid.
+    void start_on_grid(MarchStart& t, int y) const {
+        const Float px = t.px, py = t.py, pz = t.pz;
         if constexpr (Perspective) {
             t.cpx = P[0][0] * px + P[2][0] * pz;
             t.cpy = P[1][1] * py + P[2][1] * pz;
@@ -360,238 +482,183 @@ void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_c
                        Int{});
         t.sy0 = select(t.surface,
                        to_int((((1.0f - t.ny0) * sy_scale + offset) - float(y)) * kFixed), Int{});
-    };
+    }
 
-    // Start t's unit normal and its tangent plane, as a key over the grid
-    // (the key is affine in screen position on a plane): only what stands
-    // above it can block a direction of the hemisphere, and a lookup up to
-    // half a texel from the march then never takes the surface itself, seen
-    // at a grazing angle, for an occluder. Along the pixel rays
-    // u = ((ndc + P20) / P00, (ndc + P21) / P11, -1) of a perspective
-    // projection the plane n . p = d has key (n . u) / d; an orthographic
-    // one's has z = (d - nx x - ny y) / nz; per_x and per_y turn their slopes
-    // into steps of a texel. A plane seen edge on blocks nothing: its key is
-    // one below every march's (0 for keys 1 / w, which are positive; the
-    // lowest float for z).
-    const auto orient = [&](MarchStart& t) {
-        unit_normals(t.nx, t.ny, t.nz);
-        const Float nx = t.nx, ny = t.ny, nz = t.nz, px = t.px, py = t.py, pz = t.pz;
-        constexpr float kLowest = std::numeric_limits<float>::lowest();
+    // Vector (vx, vy, vz) of the frame in clip space, reach long: its row c
+    // (0 x, 1 y, 3 w) through P's terms that are not 0, as for the start.
+    // An orthographic march's key is z, so its third row is the vector's z.
+    Float clip(const Float& vx, const Float& vy, const Float& vz, int c) const {
         if constexpr (Perspective) {
-            const Float d = nx * px + ny * py + nz * pz;  // < 0: n faces the eye
-            const Int tilted = t.surface & (d < 1e-6f * pz);
-            const Float inv_d = 1.0f / select(tilted, d, Float{} - 1.0f);
-            t.plane_key = select(tilted, t.k0, Float{});  // the texel's own key: w = -z
-            t.plane_dx = select(tilted, nx * inv_d * per_x, Float{});
-            t.plane_dy = select(tilted, ny * inv_d * per_y, Float{});
+            if (c == 0) return reach * (P[0][0] * vx + P[2][0] * vz);
+            if (c == 1) return reach * (P[1][1] * vy + P[2][1] * vz);
+            return reach * (P[2][3] * vz);
         } else {
-            const Int tilted = t.surface & (nz > 1e-6f);
-            const Float inv_nz = 1.0f / select(tilted, nz, Float{} + 1.0f);
-            t.plane_key = select(tilted, pz, Float{} + kLowest);
-            t.plane_dx = select(tilted, -nx * inv_nz * per_x, Float{});
-            t.plane_dy = select(tilted, -ny * inv_nz * per_y, Float{});
+            return c == 0 ? reach * (P[0][0] * vx) : c == 1 ? reach * (P[1][1] * vy) : reach * vz;
         }
-    };
+    }
 
-    // The frame of start t in clip space, reach long: a direction's end is
-    // the start plus a mix of these, with the direction's weights. The
-    // tangent t is perpendicular to n (n x X, or n x Y near X), and b = n x t.
-    //
-    // begin(), orient() and frame() run in turn over the groups' vectors,
-    // each for all of them before the next: one vector's whole start is a chain
-    // of dependent divisions and square roots too long for the processor to
-    // overlap with the next vector's, and a stage at a time it can (the AO
-    // pass on one thread, fastest of 40: 10.7-10.8 -> 9.6-10.1 ms, AVX2).
-    const auto frame = [&](MarchStart& t) {
-        const Float nx = t.nx, ny = t.ny, nz = t.nz;
-        const Int near_x = (nx < -0.9f) | (nx > 0.9f);
-        Float tx = select(near_x, -nz, Float{}), ty = select(near_x, Float{}, nz),
-              tz = select(near_x, nx, -ny);
-        const Float inv_t = 1.0f / simd::sqrt(tx * tx + ty * ty + tz * tz);
-        tx *= inv_t, ty *= inv_t, tz *= inv_t;
-        const Float bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
-        // An orthographic march's key is z, so its third row is the frame's z.
-        // (P's terms that are not 0, as for the start.)
-        const auto clip = [&](const Float& vx, const Float& vy, const Float& vz, int c) {
-            if constexpr (Perspective) {
-                if (c == 0) return reach * (P[0][0] * vx + P[2][0] * vz);
-                if (c == 1) return reach * (P[1][1] * vy + P[2][1] * vz);
-                return reach * (P[2][3] * vz);
-            } else {
-                return c == 0 ? reach * (P[0][0] * vx) : c == 1 ? reach * (P[1][1] * vy) : reach * vz;
-            }
-        };
-        t.tcx = clip(tx, ty, tz, 0), t.tcy = clip(tx, ty, tz, 1), t.tcw = clip(tx, ty, tz, 3);
-        t.bcx = clip(bx, by, bz, 0), t.bcy = clip(bx, by, bz, 1), t.bcw = clip(bx, by, bz, 3);
-        t.ncx = clip(nx, ny, nz, 0), t.ncy = clip(nx, ny, nz, 1), t.ncw = clip(nx, ny, nz, 3);
-    };
+    // A step in fixed point, within +-2^27 so that kSteps of them from a
+    // start (within a texel of its texel's corner) stay in int range (a
+    // longer one leaves the grid at its first step either way); none for
+    // NaN or where the march does not go ahead.
+    static Int fixed_step(const Float& v, const Int& ahead) {
+        const Float c = simd::min(simd::max(v, Float{} - 134217728.0f), Float{} + 134217728.0f);
+        return to_int(select(ahead & (v == v), c, Float{}));
+    }
 
-    // Direction h's step from start t: the direction's end, `reach` away,
-    // projected once; on the screen the march is a straight segment,
-    // stepped evenly, along which the key is linear too.
-    const auto aim = [&](MarchStep& m, const MarchStart& t, const Float& hx, const Float& hy,
-                         const Float& hz) {
-        const Float cex = t.cpx + (t.tcx * hx + t.bcx * hy + t.ncx * hz);
-        const Float cey = t.cpy + (t.tcy * hx + t.bcy * hy + t.ncy * hz);
-        const Float cew = t.cpw + (t.tcw * hx + t.bcw * hy + t.ncw * hz);
-        m.ahead = t.surface;
-        Float k1 = cew, nx1 = cex, ny1 = cey;
-        if constexpr (Perspective) {
-            m.ahead &= cew > 0.0f;  // a march behind the camera sees nothing
-            k1 = 1.0f / select(m.ahead, cew, Float{} + 1.0f);
-            nx1 = cex * k1, ny1 = cey * k1;
+    const glm::mat4& P;
+    const float sx_scale, sy_scale, offset, per_x, per_y, tol, reach;
+    const bool short_rows;
+    Int lane;
+};
+
+// The groups side by side at (x0, y0) whose marches run together. A group
+// is 16 texels of each of 4 rows, whatever the path, as kAcross vectors of
+// kWidth neighbours per row, so that every path takes the same groups as
+// open. So that each stage has at least 8 vectors to overlap, there are
+// kGroups of them: one group of 8 vectors (AVX2) or 16 (SSE2), two of 4
+// (AVX-512; the AO pass on one thread, fastest of 40: 9.8-10.0 -> 9.0-9.3
+// ms; two groups of 8 on AVX2 were no faster).
+//
+// All but the marches are chains of dependent operations (square roots,
+// divisions); each stage done for every vector in hand and a batch of
+// directions before the next, they overlap, and no march waits on them
+// (the AO pass on one thread, fastest of 40: 10.7-10.8 -> 9.6-10.1 ms, AVX2).
+template <bool Perspective>
+class GroupMarches {
+public:
+    static constexpr int kGroupWidth = AoFrame::kGroupWidth, kGroupRows = AoFrame::kGroupRows;
+    static constexpr int kAcross = kGroupWidth / kWidth, kGroupVectors = kAcross * kGroupRows;
+    static constexpr int kGroups = std::max(8 / kGroupVectors, 1);
+    static constexpr int kVectors = kGroups * kGroupVectors, kBatch = 8;
+
+    GroupMarches(const Marcher<Perspective>& marcher, int x0, int y0, int y_end)
+        : m_(marcher), f_(marcher.f), x0_(x0), y0_(y0), y_end_(y_end) {}
+
+    // The visibility of the groups' texels, into AoFrame::raw.
+    void run() {
+        start_all();
+        // The most grazing direction first (the last: the directions'
+        // elevations fall with their index); where it is open for every
+        // texel of the group, the group is taken as open. A grazing
+        // direction is the first a nearby occluder blocks; only an overhang
+        // within reach could block a steeper one alone. The group's 16
+        // texels of a row and 4 rows turn the direction set all 16 ways:
+        // between them they look for an occluder all round.
+        for (int i0 = 0; i0 < f_.samples && any_active();) {
+            const int batch = std::min(i0 == 0 ? 1 : kBatch, f_.samples - i0);
+            aim_batch(i0, batch);
+            march_batch(batch);
+            i0 += batch;
+            if (i0 == 1 && i0 < f_.samples) settle_open_groups();
         }
-        // A step in fixed point, within +-2^27 so that kSteps of them from a
-        // start (within a texel of its texel's corner) stay in int range (a
-        // longer one leaves the grid at its first step either way); none for
-        // NaN.
-        const auto fixed_step = [&](const Float& v) {
-            const Float c = simd::min(simd::max(v, Float{} - 134217728.0f), Float{} + 134217728.0f);
-            return to_int(select(m.ahead & (v == v), c, Float{}));
-        };
-        m.dsx = fixed_step((nx1 - t.nx0) * (sx_scale * kStep * kFixed));
-        m.dsy = fixed_step((t.ny0 - ny1) * (sy_scale * kStep * kFixed));
-        m.dk = (k1 - t.k0) * kStep;
-        // A march is straight and starts on the grid: it stays within the
-        // border if its end does.
-        const Int ex = t.x + ((t.sx0 + AoFrame::kSteps * m.dsx) >> 16);
-        const Int ey = ((t.sy0 + AoFrame::kSteps * m.dsy) >> 16) + t.y;
-        constexpr int border = AoFrame::kBorder;
-        m.bordered = !simd::bits(t.surface & ((ex < -border) | (ex >= f.width + border) |
-                                              (ey < -border) | (ey >= f.height + border)));
-    };
+        store();
+    }
 
-    // Where the key's stride fits in 16 bits, as a march's rows from its
-    // start do (below), their product is simd::mul_short's.
-    const bool short_rows = f.key_stride <= 32767;
+private:
+    // Vector v: of group v / kGroupVectors (from x0 + that kGroupWidth),
+    // row y0 + (v % kGroupVectors) / kAcross, texels from the group's first
+    // plus (v % kAcross) kWidth.
+    static int group_of(int v) { return v / kGroupVectors; }
+    int row_of(int v) const { return y0_ + v % kGroupVectors / kAcross; }
+    int column_of(int v) const { return x0_ + group_of(v) * kGroupWidth + (v % kAcross) * kWidth; }
+    bool marching(int v) const { return active_[group_of(v)] && simd::bits(start_[v].surface); }
+    bool any_active() const {
+        bool any = false;
+        for (bool a : active_) any |= a;
+        return any;
+    }
+    // Sample i's direction: the last first, then the rest in order.
+    int direction(int i) const { return i < 1 ? f_.samples - 1 : i - 1; }
 
-    // Whether the march is blocked: a step reads a surface nearer than the
-    // march by tol .. reach (in view units, compared on keys without a
-    // division) and above the tangent plane by tol. For keys 1 / w the two
-    // tests by tol read there - m > tol there m, for m the march's key and
-    // for m the plane's, which is the one test for the larger m; the reach
-    // test, there - here < reach there here, is there (1 - reach here) < here.
-    const auto march = [&](const MarchStart& t, const MarchStep& m, int y, auto bordered) {
-        Int sx = t.sx0, sy = t.sy0;
-        Int blocked = Int{};
-        const Int start = y * f.key_stride + t.x;  // the start texel's key
-        for (int s = 1; s <= AoFrame::kSteps; ++s) {
-            sx += m.dsx, sy += m.dsy;
-            // Texels from the start: at most kSteps 2^11 (fixed_step), so a
-            // row's offset is simd::mul_short's where the stride fits.
-            Int dx = sx >> 16, dy = sy >> 16;
-            // Off the grid, the border (key 0, which blocks nothing): read as
-            // it is by a bordered march, else clamped to its first texel.
-            if constexpr (!decltype(bordered)::value) {
-                const Int ix = t.x + dx, iy = dy + y;
-                dx = (ix < -1 ? Int{} - 1 : ix > f.width ? Int{} + f.width : ix) - t.x;
-                dy = (iy < -1 ? Int{} - 1 : iy > f.height ? Int{} + f.height : iy) - y;
-            }
-            const Int row = short_rows ? simd::mul_short(dy, f.key_stride) : dy * f.key_stride;
-            const Float there = simd::gather(f.key, start + row + dx);
-            const Float here = t.k0 + float(s) * m.dk;  // the march's key
-            const Float plane = t.plane_key + t.plane_dx * simd::to_float(dx) +
-                                t.plane_dy * simd::to_float(dy);
-            const Float higher = simd::max(plane, here);
-            if constexpr (Perspective) {
-                blocked |= (there - tol * higher * there > higher) &
-                           (there * (1.0f - reach * here) < here);
-            } else {
-                blocked |= (there != 0.0f) & (there - higher > tol) & (there - here < reach);
-            }
+    // Each stage of the starts for every vector before the next.
+    void start_all() {
+        for (bool& a : active_) a = false;
+        for (int v = 0; v < kVectors; ++v) {
+            start_[v].surface = Int{};
+            open_[v] = Float{};
+            if (row_of(v) < y_end_ && column_of(v) < m_.x_end)
+                m_.begin(start_[v], column_of(v), row_of(v));
+            active_[group_of(v)] |= simd::bits(start_[v].surface) != 0;
         }
-        return blocked & m.ahead;
-    };
+        for (int v = 0; v < kVectors; ++v)
+            if (simd::bits(start_[v].surface)) m_.orient(start_[v]);
+        for (int v = 0; v < kVectors; ++v)
+            if (simd::bits(start_[v].surface)) m_.frame(start_[v]);
+    }
 
-    const int y_end = first + count;
-    for (int y0 = first; y0 < y_end; y0 += kGroupRows) {
-        // Texel (x, y) turns its directions by (x & 3) * 4 + (y & 3), and a
-        // vector starts at a multiple of 4: lane i takes turn i & 3 of its
-        // row's four. Direction k of each lane of row y.
-        const auto lane_direction = [&](int k, int y, Float& hx, Float& hy, Float& hz) {
-            const float* turns = f.directions + size_t(((y & 3) * f.samples + k) * 3) * 4;
-            hx = repeat4(turns), hy = repeat4(turns + 4), hz = repeat4(turns + 8);
-        };
-        for (int x0 = x_first; x0 < x_end; x0 += kGroups * kGroupWidth) {
-            // Vector v: of group v / kGroupVectors (from x0 + that kGroupWidth),
-            // row y0 + (v % kGroupVectors) / kAcross, texels from the
-            // group's first plus (v % kAcross) kWidth.
-            const auto group_of = [&](int v) { return v / kGroupVectors; };
-            const auto row_of = [&](int v) { return y0 + v % kGroupVectors / kAcross; };
-            const auto column_of = [&](int v) {
-                return x0 + group_of(v) * kGroupWidth + (v % kAcross) * kWidth;
-            };
-            bool active[kGroups] = {};  // a group with a surface, not yet settled
-            for (int v = 0; v < kVectors; ++v) {
-                start[v].surface = Int{};
-                if (row_of(v) < y_end && column_of(v) < x_end)
-                    begin(start[v], column_of(v), row_of(v));
-                active[group_of(v)] |= simd::bits(start[v].surface) != 0;
+    // The steps of directions i0 .. i0 + batch - 1, row by row (a row's
+    // lanes share their directions).
+    void aim_batch(int i0, int batch) {
+        for (int k = 0; k < batch; ++k)
+            for (int r = 0; r < kGroupRows; ++r) {
+                Float hx{}, hy{}, hz{};
+                m_.direction(direction(i0 + k), y0_ + r, hx, hy, hz);
+                for (int g = 0; g < kGroups; ++g)
+                    for (int v = g * kGroupVectors + r * kAcross;
+                         v < g * kGroupVectors + (r + 1) * kAcross; ++v)
+                        if (marching(v)) m_.aim(steps_[v][k], start_[v], hx, hy, hz);
             }
-            for (int v = 0; v < kVectors; ++v)
-                if (simd::bits(start[v].surface)) orient(start[v]);
-            for (int v = 0; v < kVectors; ++v)
-                if (simd::bits(start[v].surface)) frame(start[v]);
-            // The most grazing direction first (the last: the directions'
-            // elevations fall with their index); where it is open for every
-            // texel of the group, the group is taken as open. A grazing
-            // direction is the first a nearby occluder blocks; only an
-            // overhang within reach could block a steeper one alone. The
-            // group's 16 texels of a row and 4 rows turn the direction set
-            // all 16 ways: between them they look for an occluder all round.
-            Float open[kVectors] = {};
-            const auto direction = [&](int i) { return i < 1 ? f.samples - 1 : i - 1; };
-            const auto marching = [&](int v) {
-                return active[group_of(v)] && simd::bits(start[v].surface);
-            };
-            for (int i0 = 0; i0 < f.samples;) {
-                bool any = false;
-                for (bool a : active) any |= a;
-                if (!any) break;
-                const int batch = std::min(i0 == 0 ? 1 : kBatch, f.samples - i0);
-                for (int k = 0; k < batch; ++k) {
-                    for (int r = 0; r < kGroupRows; ++r) {
-                        Float hx{}, hy{}, hz{};
-                        lane_direction(direction(i0 + k), y0 + r, hx, hy, hz);
-                        for (int g = 0; g < kGroups; ++g)
-                            for (int v = g * kGroupVectors + r * kAcross;
-                                 v < g * kGroupVectors + (r + 1) * kAcross; ++v)
-                                if (marching(v)) aim(steps[v][k], start[v], hx, hy, hz);
-                    }
-                }
-                for (int v = 0; v < kVectors; ++v) {
-                    if (!marching(v)) continue;
-                    for (int k = 0; k < batch; ++k) {
-                        const MarchStep& m = steps[v][k];
-                        const Int blocked = m.bordered
-                                                ? march(start[v], m, row_of(v), std::true_type{})
-                                                : march(start[v], m, row_of(v), std::false_type{});
-                        open[v] += select(blocked, Float{}, Float{} + 1.0f);
-                    }
-                }
-                i0 += batch;
-                if (i0 == 1 && i0 < f.samples)
-                    for (int g = 0; g < kGroups; ++g) {
-                        if (!active[g]) continue;
-                        uint32_t closed = 0;
-                        for (int v = g * kGroupVectors; v < (g + 1) * kGroupVectors; ++v)
-                            closed |= simd::bits(start[v].surface & (open[v] != 1.0f));
-                        if (!closed) {
-                            for (int v = g * kGroupVectors; v < (g + 1) * kGroupVectors; ++v)
-                                open[v] = Float{} + float(f.samples);
-                            active[g] = false;
-                        }
-                    }
-            }
-            for (int v = 0; v < kVectors; ++v) {
-                const int first_texel = column_of(v);
-                if (first_texel >= x_end || row_of(v) >= y_end) continue;
-                const Float visible = select(start[v].surface, open[v] * (1.0f / float(f.samples)),
-                                             Float{} + 1.0f);
-                store_row(f.raw + size_t(row_of(v)) * size_t(f.width), first_texel, x_end, visible);
+    }
+
+    void march_batch(int batch) {
+        for (int v = 0; v < kVectors; ++v) {
+            if (!marching(v)) continue;
+            for (int k = 0; k < batch; ++k) {
+                const MarchStep& s = steps_[v][k];
+                const Int blocked = s.bordered ? m_.template march<true>(start_[v], s, row_of(v))
+                                               : m_.template march<false>(start_[v], s, row_of(v));
+                open_[v] += select(blocked, Float{}, Float{} + 1.0f);
             }
         }
     }
+
+    // After the first direction: a group open for all of its texels is
+    // taken as open in every direction, and marches no more.
+    void settle_open_groups() {
+        for (int g = 0; g < kGroups; ++g) {
+            if (!active_[g]) continue;
+            uint32_t closed = 0;
+            for (int v = g * kGroupVectors; v < (g + 1) * kGroupVectors; ++v)
+                closed |= simd::bits(start_[v].surface & (open_[v] != 1.0f));
+            if (!closed) {
+                for (int v = g * kGroupVectors; v < (g + 1) * kGroupVectors; ++v)
+                    open_[v] = Float{} + float(f_.samples);
+                active_[g] = false;
+            }
+        }
+    }
+
+    void store() const {
+        for (int v = 0; v < kVectors; ++v) {
+            const int first_texel = column_of(v);
+            if (first_texel >= m_.x_end || row_of(v) >= y_end_) continue;
+            const Float visible = select(start_[v].surface, open_[v] * (1.0f / float(f_.samples)),
+                                         Float{} + 1.0f);
+            store_row(f_.raw + size_t(row_of(v)) * size_t(f_.width), first_texel, m_.x_end,
+                      visible);
+        }
+    }
+
+    const Marcher<Perspective>& m_;
+    const AoFrame& f_;
+    const int x0_, y0_, y_end_;
+    MarchStart start_[kVectors];
+    MarchStep steps_[kVectors][kBatch];
+    bool active_[kGroups];  // a group with a surface, not yet settled
+    Float open_[kVectors];  // directions found open, per texel
+};
+
+template <bool Perspective>
+void occlusion_rows(const AoFrame& f, int first, int count, int x_first, int x_count) {
+    const Marcher<Perspective> marcher(f, std::min(x_first + x_count, f.width));
+    using Groups = GroupMarches<Perspective>;
+    const int y_end = first + count;
+    for (int y0 = first; y0 < y_end; y0 += Groups::kGroupRows)
+        for (int x0 = x_first; x0 < marcher.x_end; x0 += Groups::kGroups * Groups::kGroupWidth) {
+            Groups groups(marcher, x0, y0, y_end);
+            groups.run();
+        }
 }
 
 }  // namespace
@@ -672,6 +739,86 @@ void ao_blur_rows(const AoFrame& f, int first, int count) {
     }
 }
 
+namespace {
+
+// The rows' loads would miss the cache (a tile's rows are too short for the
+// hardware's prefetcher to follow): row y asks for the depth of the row
+// kAhead on and, every other row, for the row of texels that row will
+// reach first (at half size, the only size this runs at). j0 is the first
+// row of texels that row y reads, and rows from `last` on are not drawn.
+void prefetch_rows_ahead(const AoFrame& f, int y, int j0, int last, int x_first, int x_count) {
+    constexpr int kAhead = 4;
+    const float* depth = f.target_depth + size_t(y) * size_t(f.target_stride);
+    if (y + kAhead < last)
+        for (int x = x_first; x < x_first + x_count; x += 16)
+            __builtin_prefetch(depth + kAhead * size_t(f.target_stride) + size_t(x));
+    if (y % 2 == 0 && j0 + kAhead / 2 + 1 < f.height)
+        for (int i = x_first / 2; i < (x_first + x_count) / 2; i += 16) {
+            const size_t at = size_t(j0 + kAhead / 2 + 1) * size_t(f.width) + size_t(i);
+            __builtin_prefetch(f.z + at);
+            __builtin_prefetch(f.blurred + at);
+        }
+}
+
+// Corner k of the texels around a vector of pixels (bit 0 the right
+// column, bit 1 the lower row; `texels(k, z, a)` gives their view z and
+// blurred visibility) weighs c_k / d_k: its bilinear weight c_k (0 where
+// nothing was drawn) over d_k = 1 / depth_weight. The weighted mean
+// sum(c_k a_k / d_k) / sum(c_k / d_k) is taken with both sums times the
+// product of the d_k, which needs no division: d_k is capped at 1e8 (a
+// weight below 1e-8 changes nothing that shows), so that the product stays
+// finite. A row of texels with no weight (fy 0: the pixel's row is the
+// texels') adds nothing. `enough` where the mean weight is above 1e-4.
+template <class Texels>
+Float depth_weighted_mean(const Texels& texels, const Float& fx, float fy, const Float& z,
+                          const Float& inv_z, Int& enough) {
+    Float c[4], dk[4], a[4];
+    for (int corner = 0; corner < 4; ++corner) {
+        if (corner >= 2 && fy == 0.0f) {
+            c[corner] = Float{}, dk[corner] = Float{} + 1.0f, a[corner] = Float{};
+            continue;
+        }
+        Float zt;
+        texels(corner, zt, a[corner]);
+        const Float wx = corner & 1 ? fx : 1.0f - fx;
+        const float wy = corner & 2 ? fy : 1.0f - fy;
+        const Float r = (zt - z) * inv_z;
+        const Int drawn = zt != 0.0f;
+        c[corner] = select(drawn, wx * wy, Float{});
+        dk[corner] = select(drawn, select(r * r < 4e4f, 1.0f + 2500.0f * r * r, Float{} + 1e8f),
+                            Float{} + 1.0f);
+    }
+    const Float d01 = dk[0] * dk[1], d23 = dk[2] * dk[3];
+    const Float others[4] = {dk[1] * d23, dk[0] * d23, dk[3] * d01, dk[2] * d01};
+    Float sum = Float{}, weight = Float{};
+    for (int corner = 0; corner < 4; ++corner) {
+        const Float w = c[corner] * others[corner];
+        sum += w * a[corner];
+        weight += w;
+    }
+    enough = weight > 1e-4f * (d01 * d23);
+    return sum / select(enough, weight, Float{} + 1.0f);
+}
+
+// The visibility of the corner nearest in depth (across an edge, where no
+// corner is alike).
+template <class Texels>
+Float nearest_in_depth(const Texels& texels, const Float& z, const Float& inv_z) {
+    Float nearest = Float{} + 1.0f, closest = Float{} + INFINITY;
+    for (int corner = 0; corner < 4; ++corner) {
+        Float zt, at;
+        texels(corner, zt, at);
+        const Float difference = (zt - z) * inv_z;
+        const Float distance = select(zt != 0.0f, difference * difference, Float{} + INFINITY);
+        const Int nearer = distance < closest;
+        closest = select(nearer, distance, closest);
+        nearest = select(nearer, at, nearest);
+    }
+    return nearest;
+}
+
+}  // namespace
+
 // The visibility of target pixels [x_first, x_first + x_count) of rows
 // [first, first + count) (x_first and x_count multiples of kWidth, first
 // of 4), into `blocks`: 4x4 blocks of 16 floats (row by row), `across`
@@ -686,11 +833,6 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
     const float inv_scale = 1.0f / float(f.scale);
     Int lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = i;
-    // The rows' loads would miss the cache (a tile's rows are too short for
-    // the hardware's prefetcher to follow): each row asks for the depth of
-    // the row kAhead on and, every other row, for the row of texels that
-    // row will reach first (at half size, the only size this runs at).
-    constexpr int kAhead = 4;
     for (int y = first; y < first + count; ++y) {
         // Texel j stands for target pixel j * scale: rows j0 and j1 straddle y.
         const int j0 = std::min(y / f.scale, f.height - 1), j1 = std::min(j0 + 1, f.height - 1);
@@ -706,15 +848,7 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
         };
         const float* depth = f.target_depth + size_t(y) * size_t(f.target_stride);
         const float ndc_y = 1.0f - (float(y) + 0.5f) * (2.0f / float(f.target_height));
-        if (y + kAhead < first + count)
-            for (int x = x_first; x < x_first + x_count; x += 16)
-                __builtin_prefetch(depth + kAhead * size_t(f.target_stride) + size_t(x));
-        if (y % 2 == 0 && j0 + kAhead / 2 + 1 < f.height)
-            for (int i = x_first / 2; i < (x_first + x_count) / 2; i += 16) {
-                const size_t at = size_t(j0 + kAhead / 2 + 1) * size_t(f.width) + size_t(i);
-                __builtin_prefetch(f.z + at);
-                __builtin_prefetch(f.blurred + at);
-            }
+        prefetch_rows_ahead(f, y, j0, first + count, x_first, x_count);
         const int x_end = std::min(x_first + x_count, f.target_width);
         for (int x0 = x_first; x0 < x_end; x0 += kWidth) {
             // At half size a vector of pixels spans half as many texels,
@@ -754,6 +888,8 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
             const Float fx = simd::to_float(x - i0 * f.scale) * inv_scale;
             const Int columns[2] = {i0 < f.width - 1 ? i0 : Int{} + (f.width - 1),
                                     i0 + 1 < f.width - 1 ? i0 + 1 : Int{} + (f.width - 1)};
+            // Corner k's view z and blurred visibility (bit 0 the right
+            // column, bit 1 the lower row).
             const auto texels = [&](int corner, Float& zt, Float& at) {
                 const int texel_row = (corner & 2 ? j1 : j0) * f.width;
                 if (spread) {
@@ -766,55 +902,10 @@ void ao_upsample_rows(const AoFrame& f, int first, int count, int x_first, int x
                     zt = simd::gather(f.z, k), at = simd::gather(f.blurred, k);
                 }
             };
-            // Corner k weighs c_k / d_k: its bilinear weight c_k (0 where
-            // nothing was drawn) over d_k = 1 / depth_weight. The weighted
-            // mean sum(c_k a_k / d_k) / sum(c_k / d_k) is taken with both
-            // sums times the product of the d_k, which needs no division:
-            // d_k is capped at 1e8 (a weight below 1e-8 changes nothing that
-            // shows), so that the product stays finite. A row of texels with
-            // no weight (fy 0: the pixel's row is the texels') adds nothing.
-            Float c[4], dk[4], a[4];
-            for (int corner = 0; corner < 4; ++corner) {
-                if (corner >= 2 && fy == 0.0f) {
-                    c[corner] = Float{}, dk[corner] = Float{} + 1.0f, a[corner] = Float{};
-                    continue;
-                }
-                Float zt;
-                texels(corner, zt, a[corner]);
-                const Float wx = corner & 1 ? fx : 1.0f - fx;
-                const float wy = corner & 2 ? fy : 1.0f - fy;
-                const Float r = (zt - z) * inv_z;
-                const Int drawn = zt != 0.0f;
-                c[corner] = select(drawn, wx * wy, Float{});
-                dk[corner] = select(drawn, select(r * r < 4e4f, 1.0f + 2500.0f * r * r,
-                                                  Float{} + 1e8f),
-                                    Float{} + 1.0f);
-            }
-            const Float d01 = dk[0] * dk[1], d23 = dk[2] * dk[3];
-            const Float others[4] = {dk[1] * d23, dk[0] * d23, dk[3] * d01, dk[2] * d01};
-            Float sum = Float{}, weight = Float{};
-            for (int corner = 0; corner < 4; ++corner) {
-                const Float w = c[corner] * others[corner];
-                sum += w * a[corner];
-                weight += w;
-            }
-            const Int enough = weight > 1e-4f * (d01 * d23);  // the mean weight above 1e-4
-            Float v = sum / select(enough, weight, Float{} + 1.0f);
-            if (simd::bits(surface & ~enough)) {
-                // Rarely (across an edge): the texel of the four nearest in depth.
-                Float nearest = Float{} + 1.0f, closest = Float{} + INFINITY;
-                for (int corner = 0; corner < 4; ++corner) {
-                    Float zt, at;
-                    texels(corner, zt, at);
-                    const Float difference = (zt - z) * inv_z;
-                    const Float distance =
-                        select(zt != 0.0f, difference * difference, Float{} + INFINITY);
-                    const Int nearer = distance < closest;
-                    closest = select(nearer, distance, closest);
-                    nearest = select(nearer, at, nearest);
-                }
-                v = select(enough, v, nearest);
-            }
+            Int enough;
+            Float v = depth_weighted_mean(texels, fx, fy, z, inv_z, enough);
+            if (simd::bits(surface & ~enough))  // rarely (across an edge)
+                v = select(enough, v, nearest_in_depth(texels, z, inv_z));
             store(x0, select(surface, v, Float{} + 1.0f));
         }
     }

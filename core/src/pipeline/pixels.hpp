@@ -8,7 +8,7 @@
 // Gives: the target's stored bits for them, and back.
 #pragma once
 
-#include "pipeline/color_tables.hpp"
+#include "base/srgb8_tables.hpp"
 #include "base/simd.hpp"
 
 #include "facet/framebuffer.hpp"
@@ -26,7 +26,7 @@ struct Rgba {
     Float r, g, b, a;
 };
 
-// linear_to_srgb8 of each lane (color_tables.hpp).
+// linear_to_srgb8 of each lane (base/srgb8_tables.hpp).
 inline Int srgb8_encode(const Float& x) {
     const Float c = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f;  // NaN fails: 0
     const Int bits = std::bit_cast<Int>(c);

@@ -20,7 +20,7 @@ struct PluginCall {
     PluginEntry entry = PluginEntry::none;
 };
 
-// Defined in plugin.cpp, and not inline: the per-path kernels, whose other
+// Defined in faults.cpp, and not inline: the per-path kernels, whose other
 // symbols are made local, must share this one.
 extern thread_local PluginCall t_plugin_call;
 

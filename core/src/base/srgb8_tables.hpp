@@ -1,5 +1,5 @@
-// Exact 8-bit sRGB by table, shared by the scalar codecs (framebuffer.cpp)
-// and the per-ISA kernels (pixels.hpp).
+// Exact 8-bit sRGB by table, shared by the scalar codecs (base/color.cpp)
+// and the per-ISA kernels (pipeline/pixels.hpp).
 //
 // Encoding: code c starts at threshold[c], the least float whose exact
 // sRGB encoding (in double precision) is at least (c - 0.5) / 255, so the
