@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 
 #include <cstddef>
 #include <fstream>
@@ -98,6 +99,25 @@ TEST_CASE("files that are not plugins are refused", "[plugin]") {
     fs::resize_file(dir / "truncated.so", fs::file_size(good) / 3);
     CHECK(load_error(dir / "truncated.so") == ErrorCode::plugin_load_failed);
     CHECK(load_error(dir / "absent.so") == ErrorCode::file_not_found);
+    // A whole library for another machine, and an object file: the cause
+    // named (dlopen's own message does not say it). The ELF header's
+    // e_type is at byte 16 and e_machine at 18, little-endian here.
+    const auto patched = [&](const char* name, int offset, uint16_t value) {
+        fs::copy_file(good, dir / name);
+        std::fstream file(dir / name, std::ios::in | std::ios::out | std::ios::binary);
+        file.seekp(offset);
+        const char bytes[2] = {char(value & 0xFF), char(value >> 8)};
+        file.write(bytes, 2);
+        return dir / name;
+    };
+    std::string why;
+#if defined(__x86_64__)
+    CHECK(load_error(patched("arm.so", 18, 183), &why) == ErrorCode::plugin_load_failed);
+    CHECK_THAT(why, Catch::Contains("it is built for AArch64 (ELF machine 183), and "
+                                    "this process runs on x86-64"));
+#endif
+    CHECK(load_error(patched("object.so", 16, 1), &why) == ErrorCode::plugin_load_failed);
+    CHECK_THAT(why, Catch::Contains("it is an object file, not a shared library"));
 }
 
 namespace {

@@ -113,6 +113,37 @@ TEST_CASE("a crash in plugin code names the plugin and the function", "[reliabil
     }
 }
 
+TEST_CASE("a C++ exception out of plugin code is caught at the SDK's boundary and named",
+          "[reliability][plugin]") {
+    for (const std::string where : {"vertex", "fragment", "post"}) {
+        INFO(where);
+        const test::TempDir folder("throwing");
+        folder.write("quad.obj", test::kQuadObj);
+        folder.write("scene.yaml", std::string("render: {size: [64, 64]}\nplugin_paths: [") +
+                                       FACET_TEST_PLUGIN_DIR + "]\n"
+                                       "objects:\n  - {mesh: quad.obj, material: {shader: throwing}}\n"
+                                       "post:\n  - {pass: throwing_post}\n");
+        const fs::path image = folder.path / "out.png";
+        setenv("FACET_TEST_THROW", where.c_str(), 1);
+        const Finished f = run({FACET_RENDER_EXE, (folder.path / "scene.yaml").string(), "-o",
+                                image.string(), "--band-rows", "64"},
+                               folder.path / "log.txt");
+        unsetenv("FACET_TEST_THROW");
+        INFO(f.log);
+        REQUIRE(WIFSIGNALED(f.status));
+        CHECK(WTERMSIG(f.status) == SIGABRT);
+        const std::string plugin = where == "post" ? "throwing_post" : "throwing";
+        CHECK_THAT(f.log, Contains("facet: shader plugin '" + plugin +
+                                   "' let a C++ exception out of its " + where +
+                                   " function: thrown in " + where + " on purpose"));
+        // The host's fault report names the plugin's file as well.
+        CHECK_THAT(f.log, Contains("facet: shader plugin '" + plugin + "' (") &&
+                              Contains(plugin + ".so) crashed in its " + where + " function"));
+        CHECK_FALSE(fs::exists(image));
+        CHECK(partial_files(folder.path) == 0);
+    }
+}
+
 TEST_CASE("exit() in plugin code is named and ends the render with status 70",
           "[reliability][plugin]") {
     // Status 0 would claim a success that wrote no image.
@@ -207,6 +238,25 @@ TEST_CASE("a path that names no regular file is refused, saying what it is",
             "folder.obj: it is a folder", "not a regular file");
     refused("objects:\n  - {mesh: /dev/zero, material: {shader: unlit}}\n",
             "/dev/zero: it is a character device", "not a regular file");
+    // A file the mesh names is held to the same rule, before it is opened:
+    // an OBJ's material library that is a named pipe, a glTF buffer that
+    // is a folder.
+    REQUIRE(mkfifo((dir.path / "pipe.mtl").c_str(), 0600) == 0);
+    dir.write("piped.obj", std::string("mtllib pipe.mtl\n") + test::kQuadObj);
+    refused("objects:\n  - {mesh: piped.obj, material: {shader: unlit}}\n",
+            "piped.obj: it names " + (dir.path / "pipe.mtl").string(),
+            "it is a named pipe (FIFO)");
+    fs::create_directories(dir.path / "data.bin");
+    dir.write("folder-buffer.gltf",
+              R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+                  "nodes": [{"mesh": 0}],
+                  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+                  "buffers": [{"byteLength": 36, "uri": "data.bin"}],
+                  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+                  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3,
+                                 "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}]})");
+    refused("objects:\n  - {mesh: folder-buffer.gltf, material: {shader: unlit}}\n",
+            "folder-buffer.gltf: it names", "data.bin, which it cannot read: it is a folder");
     // A loop of links is not "not found": it says what stops the path.
     fs::create_symlink(dir.path / "loop-b.obj", dir.path / "loop-a.obj");
     fs::create_symlink(dir.path / "loop-a.obj", dir.path / "loop-b.obj");

@@ -4,6 +4,7 @@
 
 #include "facet/error.hpp"
 #include "facet/math.hpp"
+#include "assets/import_files.hpp"
 #include "assets/mesh_animation.hpp"
 #include "assets/mesh_import.hpp"
 #include "assets/mesh_materials.hpp"
@@ -25,6 +26,7 @@
 #include <cmath>
 #include <cstring>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <string_view>
 #include <unordered_map>
@@ -223,7 +225,13 @@ Mesh import_mesh(const std::filesystem::path& path) {
     Assimp::Importer importer;
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    auto* files = new RegularFilesOnly;  // the importer owns it
+    importer.SetIOHandler(files);
     const aiScene* scene = importer.ReadFile(path.string(), kImportFlags);
+    if (const std::optional<Error>& refused = files->refused())
+        throw Error(ErrorCode::not_a_file,
+                    "it names " + refused->file() + ", which it cannot read: " + refused->detail(),
+                    path.string());
     if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
         // assimp catches what its readers throw and keeps only the message:
         // an allocation that failed is told by its what().

@@ -5,7 +5,9 @@
 // with SIGBUS on first touch. The loader and hot reload (which waits for a
 // plugin's build to finish) ask here first.
 //
-// Takes: a path. Gives: why it is not a whole ELF-64 file, or nothing.
+// Takes: a path. Gives: why it is not a whole ELF-64 file, or why a whole
+// one cannot be loaded here (another machine or byte order, an object file
+// or an executable), or nothing.
 #pragma once
 
 #include <filesystem>
@@ -15,5 +17,7 @@
 namespace facet {
 
 std::optional<std::string> elf_incomplete(const std::filesystem::path& path);
+// Of a whole ELF-64 file (elf_incomplete gave nothing).
+std::optional<std::string> elf_foreign(const std::filesystem::path& path);
 
 }  // namespace facet

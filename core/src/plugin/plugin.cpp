@@ -27,10 +27,14 @@ namespace {
 
 // dlopen() maps a library's segments straight from the file; a segment
 // that runs past the end of a truncated file (a compiler still writing it)
-// faults with SIGBUS on first touch. Refuse such a file before dlopen.
-void check_elf_complete(const fs::path& path, const std::string& origin) {
-    if (const std::optional<std::string> why = elf_incomplete(path))
+// faults with SIGBUS on first touch. Refuse such a file before dlopen, and
+// one built for another machine, or not a shared library, with the cause
+// (dlopen's own message for them does not say it).
+void check_elf(const fs::path& path, const std::string& origin) {
+    if (std::optional<std::string> why = elf_incomplete(path))
         refuse(ErrorCode::plugin_load_failed, origin, *why);
+    if (std::optional<std::string> why = elf_foreign(path))
+        refuse(ErrorCode::plugin_load_failed, origin, "it is " + *why);
 }
 
 // A library with no facet_plugin_entry: an ABI 1 plugin (which exported
@@ -75,7 +79,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
         if (ec) refuse(ErrorCode::plugin_load_failed, origin, "cannot copy: " + ec.message());
         plugin->private_copy_ = file = private_copy;  // deleted by the destructor
     }
-    check_elf_complete(file, origin);
+    check_elf(file, origin);
     // RTLD_LOCAL keeps each plugin's symbols to itself; RTLD_NOW reports a
     // missing symbol here rather than at the first draw.
     {

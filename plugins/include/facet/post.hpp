@@ -32,6 +32,7 @@
 // write what their index owns. Passes keep no state between frames.
 #pragma once
 
+#include <facet/boundary.hpp>
 #include <facet/declare.hpp>
 #include <facet/params.hpp>
 #include <facet/shader_abi.h>
@@ -121,7 +122,9 @@ namespace detail {
 
 template <class P>
 void post_entry(const facet_pass_frame* frame) {
-    P::run(PostFrame(frame), *static_cast<const typename P::Params*>(frame->params));
+    guarded(P::name, "post", [&] {
+        P::run(PostFrame(frame), *static_cast<const typename P::Params*>(frame->params));
+    });
 }
 
 // P's schema: from FACET_PARAMS, or from a `params` table of

@@ -44,6 +44,7 @@
 //     static constexpr const char* varyings_condition = "normal_texture";
 #pragma once
 
+#include <facet/boundary.hpp>
 #include <facet/declare.hpp>
 #include <facet/params.hpp>
 #include <facet/shader_abi.h>
@@ -363,10 +364,12 @@ void vertex_lanes(const Draw& d, const typename S::Params& p, const facet_vertex
 
 template <class S>
 void vertex_batch(const facet_draw* draw, const facet_vertex_batch* b) {
-    const Draw d{draw};
-    const auto& params = *static_cast<const typename S::Params*>(draw->params);
-    for (uint32_t first = 0; first < b->count; first += kLanes)
-        vertex_lanes<S>(d, params, b, first);
+    guarded(S::name, "vertex", [&] {
+        const Draw d{draw};
+        const auto& params = *static_cast<const typename S::Params*>(draw->params);
+        for (uint32_t first = 0; first < b->count; first += kLanes)
+            vertex_lanes<S>(d, params, b, first);
+    });
 }
 
 // One fragment call: the lanes `lanes` of batch b, whose lane i is pixel
@@ -450,7 +453,7 @@ void fragment_quads(const Draw& d, const typename S::Params& params, facet_fragm
 
 // A batch in calls of kLanes lanes, each holding whole 2x2 quads of a block.
 template <class S>
-void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
+void fragment_loop(const facet_draw* draw, facet_fragment_batch* b) {
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
     const uint32_t read = read_floats<S>(params);
@@ -461,6 +464,12 @@ void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
     Batch batch{draw, block};
     for (int first = 0; first < FACET_BLOCK_LANES; first += kLanes)
         fragment_lanes<S>(d, params, b, batch, {first}, read, kPixels.column, kPixels.row);
+}
+
+// The fragment entry: the loop, with what it throws caught (boundary.hpp).
+template <class S>
+void fragment_batch(const facet_draw* draw, facet_fragment_batch* b) {
+    guarded(S::name, "fragment", [&] { fragment_loop<S>(draw, b); });
 }
 
 // The loop a per-path build (FACET_SDK_ISA_*) gives.
