@@ -190,6 +190,14 @@ bool compile_post_plugin(const std::filesystem::path& out, const std::string& na
     return compile_c(out, name, flags, "c_post.c");
 }
 
+size_t resident_bytes(const char* key) {
+    std::ifstream status("/proc/self/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind(key, 0) == 0)
+            return size_t(std::stoull(line.substr(std::strlen(key) + 1))) * 1024;
+    return 0;
+}
+
 LogCapture::LogCapture() : sink_(std::make_shared<spdlog::sinks::ostream_sink_mt>(out_)) {
     spdlog::default_logger()->sinks().push_back(sink_);
 }

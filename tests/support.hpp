@@ -135,6 +135,10 @@ struct SceneDir {
     std::string error(const std::string& yaml);
 };
 
+// Resident memory of this process, in bytes: "VmRSS:" now, or "VmHWM:" (the
+// peak). 0 where /proc does not say.
+size_t resident_bytes(const char* key);
+
 // A square of side 18 at z = 0, facing +Z, as OBJ text: it fills the view
 // of a camera at the default position.
 inline constexpr const char* kQuadObj =

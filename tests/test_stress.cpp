@@ -104,15 +104,6 @@ TEST_CASE("near-singular and singular model matrices keep normals well defined",
 
 namespace {
 
-// Resident memory of this process, in bytes: "VmRSS" now or "VmHWM" (the
-// peak since the last reset_peak_rss()). 0 where /proc does not say.
-size_t rss_bytes(const char* key) {
-    std::ifstream status("/proc/self/status");
-    for (std::string line; std::getline(status, line);)
-        if (line.rfind(key, 0) == 0) return size_t(std::stoull(line.substr(std::strlen(key) + 1))) * 1024;
-    return 0;
-}
-
 // Linux: writing 5 to clear_refs resets VmHWM to the current RSS.
 bool reset_peak_rss() { return bool(std::ofstream("/proc/self/clear_refs") << "5"); }
 
@@ -134,10 +125,10 @@ TEST_CASE("a 5M-triangle mesh renders watertight in bounded memory", "[stress][m
     call.state.blend = BlendMode::additive;
     FrameStats stats;
     Pipeline renderer(2);
-    const size_t before = rss_bytes("VmRSS:");
+    const size_t before = test::resident_bytes("VmRSS:");
     const bool measured = reset_peak_rss() && before > 0;
     renderer.draw(call, fb, stats);
-    const size_t peak = rss_bytes("VmHWM:");
+    const size_t peak = test::resident_bytes("VmHWM:");
     CHECK(stats.triangles_in == sphere.triangle_count());
     CHECK(stats.triangles_invalid == 0);
     int inside = 0;

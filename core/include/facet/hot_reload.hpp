@@ -22,6 +22,16 @@
 //
 // A plugin that appears in a plugin folder is available by name at once;
 // if the scene had failed to load, it is tried again.
+//
+// The scene's meshes and textures are watched too. A changed texture is
+// read again and swapped into every material that uses it; a changed mesh
+// reads the scene again, whole (its parts and its own materials may have
+// changed). A file that will not load is refused, and the last good
+// version stays.
+//
+// Changes are told by content: each file's digest as last applied is kept,
+// and a file written again with the same bytes (a save with no edit, a
+// link that gives the same library) is not applied again.
 #pragma once
 
 #include "facet/file_watcher.hpp"
@@ -32,6 +42,8 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -107,10 +119,16 @@ private:
 
     void watch_scene();
     void note(const std::filesystem::path& path);
+    // Whether `path` holds what was last applied from it (`digest`).
+    bool unchanged(const std::filesystem::path& path, std::optional<uint64_t> digest) const;
+    // Keeps the digest of a file as it is loaded now, unless one is kept.
+    void remember(const std::filesystem::path& path);
     bool apply(const std::filesystem::path& path);
     bool reload_plugin(const std::string& name);
     bool reload_material(const std::filesystem::path& file);
-    bool reload_scene();
+    bool reload_scene(const std::filesystem::path& cause = {});
+    bool reload_asset(const std::filesystem::path& path);
+    bool reload_texture(const std::filesystem::path& path);
     std::string trial_frame(const std::string& name);
     void report(ReloadEvent::Kind kind, std::string subject, std::string message);
 
@@ -124,6 +142,10 @@ private:
     std::map<std::filesystem::path, std::pair<uintmax_t, std::filesystem::file_time_type>> ours_;
     std::vector<ReloadEvent> events_;
     bool scene_failed_ = false;
+    // The scene's mesh and texture files, and each watched file's digest as
+    // last applied (file_digest.hpp), by canonical path.
+    std::set<std::filesystem::path> assets_;
+    std::map<std::filesystem::path, uint64_t> content_;
 };
 
 }  // namespace facet

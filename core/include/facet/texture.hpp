@@ -165,6 +165,10 @@ public:
     std::shared_ptr<const Texture> get_cube(const std::vector<std::filesystem::path>& faces,
                                             bool srgb);
 
+    // Drops the copies of `path` (either encoding), so that the next get()
+    // reads the file again: hot reload, when it changed on disk.
+    void forget(const std::filesystem::path& path);
+
     // Makes `name` (which need not exist on disk) stand for the image file
     // `bytes`: get(name) decodes them. For textures embedded in a mesh
     // file (Mesh::images).

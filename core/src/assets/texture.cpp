@@ -273,6 +273,13 @@ std::shared_ptr<const Texture> TextureCache::get(const std::filesystem::path& pa
     return texture;
 }
 
+void TextureCache::forget(const std::filesystem::path& path) {
+    std::error_code ec;
+    std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+    if (ec) canonical = path;
+    for (const bool srgb : {false, true}) textures_.erase({canonical.string(), srgb});
+}
+
 void TextureCache::add_encoded(const std::filesystem::path& name,
                                std::shared_ptr<const std::string> bytes) {
     std::error_code ec;

@@ -3,6 +3,7 @@
 #include "facet/error.hpp"
 #include "facet/memory.hpp"
 #include "base/isolated.hpp"
+#include "reload/file_digest.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -32,6 +33,22 @@ std::vector<Material*> materials_of(const Scene& scene) {
     return out;
 }
 
+// The files of the scene's meshes and of its materials' textures (not
+// those a mesh file embeds, nor cube maps' faces), by canonical path.
+std::set<fs::path> asset_files(const Scene& scene) {
+    std::set<fs::path> out;
+    const auto add = [&](const std::string& source) {
+        std::error_code ec;
+        if (fs::is_regular_file(source, ec)) out.insert(canonical_or_same(source));
+    };
+    for (const Object& o : scene.objects)
+        if (o.mesh) add(o.mesh->source);
+    for (const Material* m : materials_of(scene))
+        for (const TextureBinding& b : m->textures)
+            if (b.texture && b.texture->faces == 1) add(b.texture->source);
+    return out;
+}
+
 }  // namespace
 
 HotReload::HotReload(PluginRegistry& registry, Scene& scene)
@@ -43,9 +60,33 @@ HotReload::HotReload(PluginRegistry& registry, Scene& scene, Options options)
 }
 
 void HotReload::watch_scene() {
-    watcher_.watch(canonical_or_same(scene_.source).parent_path());
-    for (const auto& [file, material] : scene_.material_files) watcher_.watch(file.parent_path());
+    const fs::path scene_file = canonical_or_same(scene_.source);
+    watcher_.watch(scene_file.parent_path());
+    remember(scene_file);
+    for (const auto& [file, material] : scene_.material_files) {
+        watcher_.watch(file.parent_path());
+        remember(file);
+    }
+    assets_ = asset_files(scene_);
+    for (const fs::path& file : assets_) {
+        watcher_.watch(file.parent_path());
+        remember(file);
+    }
     for (const fs::path& folder : registry_.search_path()) watcher_.watch(folder);
+    for (const Material* m : materials_of(scene_))
+        if (m->plugin) remember(canonical_or_same(m->plugin->origin()));
+    for (const PostPass& p : scene_.post)
+        if (p.plugin) remember(canonical_or_same(p.plugin->origin()));
+}
+
+void HotReload::remember(const fs::path& path) {
+    if (content_.count(path)) return;
+    if (const std::optional<uint64_t> digest = file_digest(path)) content_[path] = *digest;
+}
+
+bool HotReload::unchanged(const fs::path& path, std::optional<uint64_t> digest) const {
+    const auto kept = content_.find(path);
+    return digest && kept != content_.end() && kept->second == *digest;
 }
 
 void HotReload::report(ReloadEvent::Kind kind, std::string subject, std::string message) {
@@ -105,7 +146,18 @@ bool HotReload::update() {
             ours_.erase(own);
             if (same) continue;  // what memory already holds
         }
+        const std::optional<uint64_t> digest = file_digest(path);
+        if (unchanged(path, digest)) {  // what memory already holds
+            spdlog::info("hot reload: {} was written again with the content already loaded; "
+                         "nothing to reload", path.string());
+            if (path == canonical_or_same(scene_.source)) scene_failed_ = false;
+            continue;
+        }
+        const size_t before = events_.size();
         changed |= apply(path);
+        const bool refused = std::any_of(events_.begin() + ptrdiff_t(before), events_.end(),
+                                         [](const ReloadEvent& e) { return e.refused(); });
+        if (digest && events_.size() > before && !refused) content_[path] = *digest;
     }
     return changed;
 }
@@ -118,11 +170,14 @@ void HotReload::written_by_us(const fs::path& file) {
     const uintmax_t size = fs::file_size(path, ec);
     const fs::file_time_type time = fs::last_write_time(path, ec);
     if (!ec) ours_[path] = {size, time};
+    // Memory holds what was written: that is the content to tell changes by.
+    if (const std::optional<uint64_t> digest = file_digest(path)) content_[path] = *digest;
 }
 
 bool HotReload::apply(const fs::path& path) {
     if (path == canonical_or_same(scene_.source)) return reload_scene();
     if (scene_.material_files.count(path)) return reload_material(path);
+    if (assets_.count(path)) return reload_asset(path);
     const std::string name = path.stem().string();
     if (path.extension() == ".so" && canonical_or_same(registry_.locate(name)) == path)
         return reload_plugin(name);
@@ -222,7 +277,50 @@ bool HotReload::reload_material(const fs::path& file) {
     return true;
 }
 
-bool HotReload::reload_scene() {
+// A mesh: the scene read again, whole (the mesh's parts, and the materials
+// its file gives them, may have changed). A texture: read again and swapped
+// into the materials that use it.
+bool HotReload::reload_asset(const fs::path& path) {
+    for (const Object& o : scene_.objects)
+        if (o.mesh && canonical_or_same(o.mesh->source) == path) return reload_scene(path);
+    return reload_texture(path);
+}
+
+bool HotReload::reload_texture(const fs::path& path) {
+    std::vector<TextureBinding*> uses;
+    size_t materials = 0;
+    for (Material* m : materials_of(scene_)) {
+        bool used = false;
+        for (TextureBinding& b : m->textures) {
+            if (!b.texture || b.texture->faces != 1 ||
+                canonical_or_same(b.texture->source) != path)
+                continue;
+            uses.push_back(&b);
+            used = true;
+        }
+        materials += used;
+    }
+    if (uses.empty()) return false;
+    std::shared_ptr<const Texture> fresh[2];  // linear, sRGB
+    try {
+        textures_.forget(path);
+        for (TextureBinding* b : uses) {
+            const bool srgb = b->texture->srgb;
+            if (!fresh[srgb]) fresh[srgb] = textures_.get(path, srgb);
+        }
+    } catch (const Error& e) {
+        report(ReloadEvent::Kind::config_refused, path.string(),
+               std::string(e.what()) + " (keeping the previous version)");
+        return false;
+    }
+    for (TextureBinding* b : uses) b->texture = fresh[b->texture->srgb];
+    report(ReloadEvent::Kind::config_reloaded, path.string(),
+           "reloaded texture " + path.string() + " (" + std::to_string(materials) +
+               " material(s))");
+    return true;
+}
+
+bool HotReload::reload_scene(const fs::path& cause) {
     try {
         Scene fresh = load_scene(scene_.source, registry_);
         fresh.pose(scene_.time);  // an animation goes on where it was
@@ -236,7 +334,8 @@ bool HotReload::reload_scene() {
     scene_failed_ = false;
     watch_scene();
     report(ReloadEvent::Kind::config_reloaded, scene_.source.string(),
-           "reloaded " + scene_.source.string());
+           "reloaded " + scene_.source.string() +
+               (cause.empty() ? "" : " (" + cause.string() + " changed)"));
     return true;
 }
 

@@ -1,0 +1,17 @@
+// What a file holds, as a 64-bit digest: hot reload tells a change of
+// content from a touch (an editor saving the same bytes, a build linking
+// the same library again) and applies only the first.
+//
+// Takes: a path. Gives: the digest of its bytes, or nothing when it cannot
+// be read. Not cryptographic: it tells edits apart, not adversaries.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+
+namespace facet {
+
+std::optional<uint64_t> file_digest(const std::filesystem::path& path);
+
+}  // namespace facet
