@@ -118,6 +118,9 @@ TEST_CASE("files that are not plugins are refused", "[plugin]") {
 #endif
     CHECK(load_error(patched("object.so", 16, 1), &why) == ErrorCode::plugin_load_failed);
     CHECK_THAT(why, Catch::Contains("it is an object file, not a shared library"));
+    // EI_DATA (byte 5) says big-endian: named, not taken for a file cut short.
+    CHECK(load_error(patched("big.so", 4, 0x0202), &why) == ErrorCode::plugin_load_failed);
+    CHECK_THAT(why, Catch::Contains("it is built for a machine of the other byte order"));
 }
 
 namespace {

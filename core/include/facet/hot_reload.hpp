@@ -101,7 +101,7 @@ public:
 
     // Watches the folders of the scene's files again; call after adding a
     // material file to scene.material_files (a viewer swapping materials).
-    void rewatch() { watch_scene(); }
+    void rewatch() { watch_scene(false); }
 
     // `file` was just written by this program from the scene as it is in
     // memory (the viewer's editor saving): that change is not applied
@@ -117,12 +117,14 @@ private:
         std::chrono::steady_clock::time_point since;
     };
 
-    void watch_scene();
+    // Watches the folders of the scene's files, and keeps their digests:
+    // of all of them when `loaded_now` (the scene was just read from them),
+    // else of those that have none yet.
+    void watch_scene(bool loaded_now);
     void note(const std::filesystem::path& path);
     // Whether `path` holds what was last applied from it (`digest`).
     bool unchanged(const std::filesystem::path& path, std::optional<uint64_t> digest) const;
-    // Keeps the digest of a file as it is loaded now, unless one is kept.
-    void remember(const std::filesystem::path& path);
+    void remember(const std::filesystem::path& path, bool loaded_now);
     bool apply(const std::filesystem::path& path);
     bool reload_plugin(const std::string& name);
     bool reload_material(const std::filesystem::path& file);

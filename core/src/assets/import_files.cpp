@@ -15,9 +15,14 @@ bool RegularFilesOnly::allowed(const char* file) const {
         // Nothing there is assimp's to report (a missing .mtl is a warning
         // of its own); something there that is no file is refused.
         if (e.code() == ErrorCode::file_not_found) return false;
-        if (!refused_) refused_ = e;
+        refused_.push_back(e);
         return false;
     }
+}
+
+std::optional<Error> RegularFilesOnly::refused() const {
+    if (refused_.empty()) return std::nullopt;
+    return refused_.front();
 }
 
 bool RegularFilesOnly::Exists(const char* file) const {
@@ -27,7 +32,16 @@ bool RegularFilesOnly::Exists(const char* file) const {
 Assimp::IOStream* RegularFilesOnly::Open(const char* file, const char* mode) {
     // Writing is not an importer's business; only reads are checked.
     if (std::strchr(mode, 'w') == nullptr && !allowed(file)) return nullptr;
-    return Assimp::DefaultIOSystem::Open(file, mode);
+    Assimp::IOStream* stream = Assimp::DefaultIOSystem::Open(file, mode);
+    if (stream) {
+        // A file of this name found at a later place stands in for one
+        // refused at an earlier place.
+        const std::filesystem::path name = std::filesystem::path(file).filename();
+        std::erase_if(refused_, [&](const Error& e) {
+            return std::filesystem::path(e.file()).filename() == name;
+        });
+    }
+    return stream;
 }
 
 }  // namespace facet

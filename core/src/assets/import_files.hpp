@@ -15,6 +15,7 @@
 #include <assimp/DefaultIOSystem.h>
 
 #include <optional>
+#include <vector>
 
 namespace facet {
 
@@ -23,15 +24,18 @@ public:
     bool Exists(const char* file) const override;
     Assimp::IOStream* Open(const char* file, const char* mode = "rb") override;
 
-    // The first file refused, with what is there; nothing if none was.
-    const std::optional<Error>& refused() const { return refused_; }
+    // The first file refused, with what is there, that no file of the
+    // same name opened later stood in for; nothing if there is none.
+    // (assimp looks for a file a mesh names at several places in turn: as
+    // written, from the working folder, then beside the mesh.)
+    std::optional<Error> refused() const;
 
 private:
-    // Whether `file` may be opened; records the first refusal. (Exists is
-    // const in assimp's interface.)
+    // Whether `file` may be opened; records a refusal. (Exists is const in
+    // assimp's interface.)
     bool allowed(const char* file) const;
 
-    mutable std::optional<Error> refused_;
+    mutable std::vector<Error> refused_;
 };
 
 }  // namespace facet

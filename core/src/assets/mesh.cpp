@@ -228,7 +228,7 @@ Mesh import_mesh(const std::filesystem::path& path) {
     auto* files = new RegularFilesOnly;  // the importer owns it
     importer.SetIOHandler(files);
     const aiScene* scene = importer.ReadFile(path.string(), kImportFlags);
-    if (const std::optional<Error>& refused = files->refused())
+    if (const std::optional<Error> refused = files->refused())
         throw Error(ErrorCode::not_a_file,
                     "it names " + refused->file() + ", which it cannot read: " + refused->detail(),
                     path.string());

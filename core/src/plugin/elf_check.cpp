@@ -14,29 +14,6 @@ namespace facet {
 
 namespace fs = std::filesystem;
 
-std::optional<std::string> elf_incomplete(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    Elf64_Ehdr eh{};
-    std::error_code ec;
-    const uint64_t size = fs::file_size(path, ec);
-    if (ec) return "cannot read it: " + ec.message();
-    if (!in.read(reinterpret_cast<char*>(&eh), sizeof eh) ||
-        std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 || eh.e_ident[EI_CLASS] != ELFCLASS64)
-        return "not a 64-bit ELF shared library";
-    uint64_t needed = uint64_t(eh.e_shoff) + uint64_t(eh.e_shnum) * eh.e_shentsize;
-    needed = std::max<uint64_t>(needed, eh.e_phoff + uint64_t(eh.e_phnum) * eh.e_phentsize);
-    for (int i = 0; i < eh.e_phnum && needed <= size; ++i) {
-        Elf64_Phdr ph{};
-        in.seekg(std::streamoff(eh.e_phoff + uint64_t(i) * eh.e_phentsize));
-        if (!in.read(reinterpret_cast<char*>(&ph), sizeof ph)) break;
-        if (ph.p_type == PT_LOAD) needed = std::max<uint64_t>(needed, ph.p_offset + ph.p_filesz);
-    }
-    if (needed > size)
-        return "file is truncated (" + std::to_string(size) + " bytes, its headers need " +
-               std::to_string(needed) + "); is it still being written?";
-    return std::nullopt;
-}
-
 namespace {
 
 #if defined(__x86_64__)
@@ -62,15 +39,44 @@ const char* machine_name(uint16_t machine) {
     }
 }
 
+bool native_byte_order(const Elf64_Ehdr& eh) {
+    return eh.e_ident[EI_DATA] ==
+           (std::endian::native == std::endian::little ? ELFDATA2LSB : ELFDATA2MSB);
+}
+
 }  // namespace
+
+std::optional<std::string> elf_incomplete(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    Elf64_Ehdr eh{};
+    std::error_code ec;
+    const uint64_t size = fs::file_size(path, ec);
+    if (ec) return "cannot read it: " + ec.message();
+    if (!in.read(reinterpret_cast<char*>(&eh), sizeof eh) ||
+        std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 || eh.e_ident[EI_CLASS] != ELFCLASS64)
+        return "not a 64-bit ELF shared library";
+    // The offsets below are in the file's byte order: one of the other
+    // order is whole as far as this can tell, and elf_foreign names it.
+    if (!native_byte_order(eh)) return std::nullopt;
+    uint64_t needed = uint64_t(eh.e_shoff) + uint64_t(eh.e_shnum) * eh.e_shentsize;
+    needed = std::max<uint64_t>(needed, eh.e_phoff + uint64_t(eh.e_phnum) * eh.e_phentsize);
+    for (int i = 0; i < eh.e_phnum && needed <= size; ++i) {
+        Elf64_Phdr ph{};
+        in.seekg(std::streamoff(eh.e_phoff + uint64_t(i) * eh.e_phentsize));
+        if (!in.read(reinterpret_cast<char*>(&ph), sizeof ph)) break;
+        if (ph.p_type == PT_LOAD) needed = std::max<uint64_t>(needed, ph.p_offset + ph.p_filesz);
+    }
+    if (needed > size)
+        return "file is truncated (" + std::to_string(size) + " bytes, its headers need " +
+               std::to_string(needed) + "); is it still being written?";
+    return std::nullopt;
+}
 
 std::optional<std::string> elf_foreign(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     Elf64_Ehdr eh{};
     if (!in.read(reinterpret_cast<char*>(&eh), sizeof eh)) return std::nullopt;
-    if (eh.e_ident[EI_DATA] != (std::endian::native == std::endian::little ? ELFDATA2LSB
-                                                                             : ELFDATA2MSB))
-        return std::string("built for a machine of the other byte order");
+    if (!native_byte_order(eh)) return std::string("built for a machine of the other byte order");
     // e_type and e_machine are in the file's byte order, which is ours.
     if (kHostMachine != EM_NONE && eh.e_machine != kHostMachine)
         return std::string("built for ") + machine_name(eh.e_machine) + " (ELF machine " +

@@ -56,31 +56,31 @@ HotReload::HotReload(PluginRegistry& registry, Scene& scene)
 
 HotReload::HotReload(PluginRegistry& registry, Scene& scene, Options options)
     : registry_(registry), scene_(scene), options_(options), watcher_(options.watcher) {
-    watch_scene();
+    watch_scene(true);
 }
 
-void HotReload::watch_scene() {
+void HotReload::watch_scene(bool loaded_now) {
     const fs::path scene_file = canonical_or_same(scene_.source);
     watcher_.watch(scene_file.parent_path());
-    remember(scene_file);
+    remember(scene_file, loaded_now);
     for (const auto& [file, material] : scene_.material_files) {
         watcher_.watch(file.parent_path());
-        remember(file);
+        remember(file, loaded_now);
     }
     assets_ = asset_files(scene_);
     for (const fs::path& file : assets_) {
         watcher_.watch(file.parent_path());
-        remember(file);
+        remember(file, loaded_now);
     }
     for (const fs::path& folder : registry_.search_path()) watcher_.watch(folder);
     for (const Material* m : materials_of(scene_))
-        if (m->plugin) remember(canonical_or_same(m->plugin->origin()));
+        if (m->plugin) remember(canonical_or_same(m->plugin->origin()), loaded_now);
     for (const PostPass& p : scene_.post)
-        if (p.plugin) remember(canonical_or_same(p.plugin->origin()));
+        if (p.plugin) remember(canonical_or_same(p.plugin->origin()), loaded_now);
 }
 
-void HotReload::remember(const fs::path& path) {
-    if (content_.count(path)) return;
+void HotReload::remember(const fs::path& path, bool loaded_now) {
+    if (!loaded_now && content_.count(path)) return;
     if (const std::optional<uint64_t> digest = file_digest(path)) content_[path] = *digest;
 }
 
@@ -273,6 +273,7 @@ bool HotReload::reload_material(const fs::path& file) {
                std::string(e.what()) + " (keeping the previous version)");
         return false;
     }
+    watch_scene(false);  // the textures it names now
     report(ReloadEvent::Kind::config_reloaded, file.string(), "reloaded " + file.string());
     return true;
 }
@@ -301,18 +302,18 @@ bool HotReload::reload_texture(const fs::path& path) {
         materials += used;
     }
     if (uses.empty()) return false;
-    std::shared_ptr<const Texture> fresh[2];  // linear, sRGB
+    std::shared_ptr<const Texture> fresh[2];  // linear, sRGB: each loaded before either is used
     try {
-        textures_.forget(path);
         for (TextureBinding* b : uses) {
             const bool srgb = b->texture->srgb;
-            if (!fresh[srgb]) fresh[srgb] = textures_.get(path, srgb);
+            if (!fresh[srgb]) fresh[srgb] = load_texture(path, srgb);
         }
     } catch (const Error& e) {
         report(ReloadEvent::Kind::config_refused, path.string(),
                std::string(e.what()) + " (keeping the previous version)");
         return false;
     }
+    textures_.forget(path);  // a material read again later reads the file as it is now
     for (TextureBinding* b : uses) b->texture = fresh[b->texture->srgb];
     report(ReloadEvent::Kind::config_reloaded, path.string(),
            "reloaded texture " + path.string() + " (" + std::to_string(materials) +
@@ -332,7 +333,7 @@ bool HotReload::reload_scene(const fs::path& cause) {
         return false;
     }
     scene_failed_ = false;
-    watch_scene();
+    watch_scene(true);  // every file it read is what memory holds now
     report(ReloadEvent::Kind::config_reloaded, scene_.source.string(),
            "reloaded " + scene_.source.string() +
                (cause.empty() ? "" : " (" + cause.string() + " changed)"));
