@@ -16,20 +16,22 @@ namespace facet {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// What polling remembers of a file.
-struct Stamp {
+// What polling remembers of a file. (Not in the anonymous namespace:
+// FileWatcher::Impl holds them, which in a unity build GCC warns of,
+// -Wsubobject-linkage.)
+struct PolledFile {
     uintmax_t size = 0;
     fs::file_time_type time;
-    bool operator!=(const Stamp& o) const { return size != o.size || time != o.time; }
+    bool operator!=(const PolledFile& o) const { return size != o.size || time != o.time; }
 };
 
-std::map<fs::path, Stamp> listing(const fs::path& folder) {
-    std::map<fs::path, Stamp> out;
+namespace {
+
+std::map<fs::path, PolledFile> listing(const fs::path& folder) {
+    std::map<fs::path, PolledFile> out;
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(folder, ec)) {
-        Stamp s;
+        PolledFile s;
         s.size = entry.file_size(ec);
         s.time = entry.last_write_time(ec);
         if (!ec) out[entry.path()] = s;
@@ -49,7 +51,7 @@ struct FileWatcher::Impl {
     std::condition_variable stop_cv;
     bool stopping = false;
     std::map<int, fs::path> watches;                   // inotify descriptor -> folder
-    std::map<fs::path, std::map<fs::path, Stamp>> polled;  // folder -> listing
+    std::map<fs::path, std::map<fs::path, PolledFile>> polled;  // folder -> listing
     std::set<fs::path> changes;
     std::thread thread;
 
@@ -95,10 +97,10 @@ void FileWatcher::Impl::poll_once() {
     }
     bool changed = false;
     for (const fs::path& folder : folders) {
-        std::map<fs::path, Stamp> now = listing(folder);
+        std::map<fs::path, PolledFile> now = listing(folder);
         std::lock_guard lock(mutex);
         const size_t queued = changes.size();
-        std::map<fs::path, Stamp>& before = polled[folder];
+        std::map<fs::path, PolledFile>& before = polled[folder];
         for (const auto& [path, stamp] : now) {
             auto it = before.find(path);
             if (it == before.end() || it->second != stamp) changes.insert(path);
