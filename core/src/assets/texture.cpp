@@ -259,13 +259,24 @@ std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
     return adopt_pixels(pixels, width, height, channels, srgb, source);
 }
 
-std::shared_ptr<const Texture> TextureCache::get(const std::filesystem::path& path, bool srgb) {
+namespace {
+
+// A file's name in the cache: its canonical path where there is one (the
+// name of an embedded image need not exist), so that two spellings of one
+// file share one copy.
+std::string texture_cache_key(const std::filesystem::path& path) {
     std::error_code ec;
-    std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
-    if (ec) canonical = path;
-    const auto key = std::make_pair(canonical.string(), srgb);
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+    return ec ? path.string() : canonical.string();
+}
+
+}  // namespace
+
+std::shared_ptr<const Texture> TextureCache::get(const std::filesystem::path& path, bool srgb) {
+    const std::string name = texture_cache_key(path);
+    const auto key = std::make_pair(name, srgb);
     if (const auto found = textures_.find(key); found != textures_.end()) return found->second;
-    const auto encoded = encoded_.find(canonical.string());
+    const auto encoded = encoded_.find(name);
     std::shared_ptr<const Texture> texture =
         encoded != encoded_.end() ? decode_texture(*encoded->second, srgb, path.string())
                                   : load_texture(path, srgb);
@@ -274,18 +285,13 @@ std::shared_ptr<const Texture> TextureCache::get(const std::filesystem::path& pa
 }
 
 void TextureCache::forget(const std::filesystem::path& path) {
-    std::error_code ec;
-    std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
-    if (ec) canonical = path;
-    for (const bool srgb : {false, true}) textures_.erase({canonical.string(), srgb});
+    const std::string name = texture_cache_key(path);
+    for (const bool srgb : {false, true}) textures_.erase({name, srgb});
 }
 
 void TextureCache::add_encoded(const std::filesystem::path& name,
                                std::shared_ptr<const std::string> bytes) {
-    std::error_code ec;
-    std::filesystem::path canonical = std::filesystem::weakly_canonical(name, ec);
-    if (ec) canonical = name;
-    encoded_[canonical.string()] = std::move(bytes);
+    encoded_[texture_cache_key(name)] = std::move(bytes);
 }
 
 void generate_mipmaps(Texture& texture) {
