@@ -11,6 +11,7 @@
 #include <facet/memory.hpp>
 #include <facet/mesh.hpp>
 #include <facet/plugin.hpp>
+#include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 #include <facet/texture.hpp>
 
@@ -19,6 +20,7 @@
 #include <catch2/catch.hpp>
 
 #include <stb/stb_image_write.h>
+#include <zlib.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -65,7 +67,9 @@ struct ProbeScene {
     // With `banded`, the image in bands of 64 rows: its PNG is open, as a
     // partial file, while the plugin runs.
     Finished render(int signal = 0, const std::string& marker = {}, bool banded = false) const {
-        std::vector<std::string> args = {FACET_RENDER_EXE, scene.string(), "-o", image.string()};
+        // In this process, with no probe frame in another first.
+        std::vector<std::string> args = {FACET_RENDER_EXE, scene.string(), "-o", image.string(),
+                                         "--no-probe"};
         if (banded) args.insert(args.end(), {"--band-rows", "64"});
         return run(args, log, signal, marker);
     }
@@ -126,7 +130,7 @@ TEST_CASE("a C++ exception out of plugin code is caught at the SDK's boundary an
         const fs::path image = folder.path / "out.png";
         setenv("FACET_TEST_THROW", where.c_str(), 1);
         const Finished f = run({FACET_RENDER_EXE, (folder.path / "scene.yaml").string(), "-o",
-                                image.string(), "--band-rows", "64"},
+                                image.string(), "--band-rows", "64", "--no-probe"},
                                folder.path / "log.txt");
         unsetenv("FACET_TEST_THROW");
         INFO(f.log);
@@ -157,6 +161,179 @@ TEST_CASE("exit() in plugin code is named and ends the render with status 70",
     CHECK_FALSE(fs::exists(s.image));
     CHECK(partial_files(s.folder.path) == 0);
 }
+
+TEST_CASE("a plugin call that never returns is named, and facet-render exits with status 70",
+          "[reliability][plugin][watchdog]") {
+    struct Case {
+        const char* flags;
+        const char* where;
+    };
+    for (const Case& c : {Case{"-DLOOP_AT_LOAD", "stalled while loading (its static constructors)"},
+                          Case{"-DLOOP_IN_ENTRY", "stalled in its entry point (facet_plugin_entry)"},
+                          Case{"-DLOOP_IN_VERTEX", "stalled in its vertex function"},
+                          Case{"-DLOOP_IN_FRAGMENT", "stalled in its fragment function"},
+                          Case{"-DWAIT_IN_FRAGMENT", "stalled in its fragment function"}}) {
+        INFO(c.flags);
+        const ProbeScene s(c.flags);
+        const auto start = std::chrono::steady_clock::now();
+        const Finished f = run({FACET_RENDER_EXE, s.scene.string(), "-o", s.image.string(),
+                                "--band-rows", "64", "--plugin-timeout", "0.5", "--no-probe"},
+                               s.log);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        INFO(f.log);
+        REQUIRE(WIFEXITED(f.status));
+        CHECK(WEXITSTATUS(f.status) == 70);
+        CHECK(seconds < 10.0);  // the limit, a tick, and the program's start under a sanitizer
+        const bool named = std::string(c.flags) != "-DLOOP_AT_LOAD" &&
+                           std::string(c.flags) != "-DLOOP_IN_ENTRY";
+        const std::string who = named ? "facet: shader plugin 'probe' (" + s.plugin.string() + ") "
+                                      : "facet: shader plugin " + s.plugin.string() + " ";
+        CHECK_THAT(f.log, Contains(who + c.where +
+                                   ": no return within 0.5 s; the process ends with status 70"));
+        CHECK_FALSE(fs::exists(s.image));
+        CHECK(partial_files(s.folder.path) == 0);
+        CHECK_FALSE(private_copies_of(f.pid));
+    }
+}
+
+TEST_CASE("a new plugin that fails its probe frame is refused before it runs in facet-render",
+          "[reliability][plugin][watchdog]") {
+    struct Case {
+        const char* flags;
+        const char* said;
+    };
+    const std::string failed = "plugin failed to load: its probe frame (a sphere it draws "
+                               "alone, in another process) failed: ";
+    for (const Case& c :
+         {Case{"-DFAULT_IN_FRAGMENT", "crashed in its fragment function: SIGSEGV"},
+          Case{"-DEXIT_IN_FRAGMENT", "called exit() in its fragment function"},
+          Case{"-DQUICK_EXIT_IN_FRAGMENT", "it exited with status 0 before giving a result"},
+          Case{"-DLOOP_IN_FRAGMENT", "stalled in its fragment function: no return within 3 s"},
+          Case{"-DLOOP_AT_LOAD", "stalled while loading (its static constructors)"},
+          Case{"-DLOOP_IN_VERTEX", "stalled in its vertex function"}}) {
+        INFO(c.flags);
+        const ProbeScene s(c.flags);
+        // 4 s: the sandbox's start under a sanitizer fits in it.
+        const Finished f = run({FACET_RENDER_EXE, s.scene.string(), "-o", s.image.string(),
+                                "--plugin-timeout", "4"},
+                               s.log);
+        INFO(f.log);
+        REQUIRE(WIFEXITED(f.status));
+        CHECK(WEXITSTATUS(f.status) == 1);
+        CHECK_THAT(f.log, Contains(s.plugin.string() + ": " + failed) && Contains(c.said));
+        CHECK_THAT(f.log, !Contains("probe: shading"));  // not run here
+        CHECK_FALSE(fs::exists(s.image));
+        CHECK(partial_files(s.folder.path) == 0);
+    }
+    // One that draws its probe frame is loaded, and draws the image.
+    const ProbeScene good("");
+    const Finished f = run({FACET_RENDER_EXE, good.scene.string(), "-o", good.image.string(), "-v"},
+                           good.log);
+    INFO(f.log);
+    CHECK(WIFEXITED(f.status));
+    CHECK(WEXITSTATUS(f.status) == 0);
+    CHECK_THAT(f.log, Contains("shader 'probe' drew its probe frame in"));
+    CHECK(fs::exists(good.image));
+}
+
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)  // no cap there
+TEST_CASE("under a budget, a plugin's runaway allocation stops at the address space cap",
+          "[reliability][plugin][memory]") {
+    const ProbeScene s("-DALLOC_IN_FRAGMENT");
+    // Run here, it crashes at the cap (malloc gives NULL), and is named.
+    const Finished f = run({FACET_RENDER_EXE, s.scene.string(), "-o", s.image.string(),
+                            "--no-probe", "--max-memory", "256M"},
+                           s.log);
+    INFO(f.log);
+    REQUIRE(WIFSIGNALED(f.status));
+    CHECK(WTERMSIG(f.status) == SIGSEGV);
+    CHECK_THAT(f.log, Contains("crashed in its fragment function: SIGSEGV, invalid memory "
+                               "access; the process was at its address space cap (--max-memory)"));
+    CHECK_FALSE(fs::exists(s.image));
+    // Probed first, it is refused, and never runs here.
+    const Finished p = run({FACET_RENDER_EXE, s.scene.string(), "-o", s.image.string(),
+                            "--max-memory", "256M"},
+                           s.log);
+    INFO(p.log);
+    REQUIRE(WIFEXITED(p.status));
+    CHECK(WEXITSTATUS(p.status) == 1);
+    CHECK_THAT(p.log, Contains("its probe frame (a sphere it draws alone, in another process) "
+                               "failed") &&
+                          Contains("at its address space cap"));
+    CHECK_FALSE(fs::exists(s.image));
+}
+#endif
+
+TEST_CASE("a stalled vertex, fragment or post call is given up, and the next frame renders",
+          "[reliability][plugin][watchdog]") {
+    // In a process of its own (the watchdog is the process's): this test
+    // program runs the hidden test below, which exits 0 when all is well.
+    struct Case {
+        const char* flags;  // the probe's; "" for the throwing plugins
+        const char* stall;  // FACET_TEST_STALL, for the throwing plugins
+        const char* said;
+        int status;
+    };
+    for (const Case& c :
+         {Case{"-DLOOP_IN_VERTEX", "", "shader 'probe' (", 0},
+          Case{"-DLOOP_IN_FRAGMENT", "", "shader 'probe' (", 0},
+          Case{"", "fragment", "shader 'throwing' (", 0},
+          Case{"", "post", "screen pass 'throwing_post' (", 0},
+          Case{"-DWAIT_IN_FRAGMENT", "", "stalled in its fragment function: no return within "
+                                         "0.3 s; the process ends with status 70", 70}}) {
+        INFO(c.flags << c.stall);
+        const ProbeScene s(*c.flags ? c.flags : "");
+        std::string scene = s.scene.string();
+        if (!*c.flags) {
+            s.folder.write("throwing.yaml", std::string("render: {size: [64, 64]}\nplugin_paths: [") +
+                                                FACET_TEST_PLUGIN_DIR + "]\nobjects:\n  - {mesh: "
+                                                "quad.obj, material: {shader: throwing}}\npost:\n"
+                                                "  - {pass: throwing_post}\n");
+            scene = (s.folder.path / "throwing.yaml").string();
+        }
+        setenv("FACET_TEST_WATCHDOG_SCENE", scene.c_str(), 1);
+        setenv("FACET_TEST_STALL", c.stall, 1);
+        const Finished f = run({"/proc/self/exe", "[watchdog-child]"}, s.log);
+        unsetenv("FACET_TEST_WATCHDOG_SCENE");
+        unsetenv("FACET_TEST_STALL");
+        INFO(f.log);
+        REQUIRE(WIFEXITED(f.status));
+        CHECK(WEXITSTATUS(f.status) == c.status);
+        CHECK_THAT(f.log, Contains(c.said));
+    }
+}
+
+#endif  // FACET_RENDER_EXE
+
+// Run by the test above, in a process of its own.
+TEST_CASE("watchdog child: a stalled frame is abandoned, and the next renders",
+          "[.][watchdog-child]") {
+    const char* scene_file = std::getenv("FACET_TEST_WATCHDOG_SCENE");
+    REQUIRE(scene_file);
+    watch_plugin_calls({300ms, PluginWatchdog::OnStall::abandon_frame});
+    PluginRegistry registry;
+    Renderer renderer(2);
+    Framebuffer target;
+    const Scene stalling = load_scene(scene_file, registry);
+    const auto start = std::chrono::steady_clock::now();
+    try {
+        renderer.render(stalling, target);
+        FAIL("the frame rendered");
+    } catch (const Error& e) {
+        std::printf("%s\n", e.what());
+        CHECK(e.code() == ErrorCode::plugin_stalled);
+        CHECK_THAT(e.what(), Contains("did not return from its") &&
+                                 Contains("function within 0.3 s; the frame was abandoned"));
+    }
+    CHECK(std::chrono::steady_clock::now() - start < 3s);
+    // The same renderer, its threads back, renders a shader that returns.
+    const Scene good = load_scene(fs::path(FACET_SOURCE_DIR) / "configs/default.yaml", registry);
+    const FrameStats stats = renderer.render(good, target);
+    CHECK(stats.fragments_shaded > 0);
+}
+
+#ifdef FACET_RENDER_EXE
 
 TEST_CASE("SIGINT, SIGTERM and SIGHUP stop a render within a second, leaving no file",
           "[reliability][signal]") {
@@ -361,6 +538,59 @@ TEST_CASE("targets, frames, textures and meshes over the memory budget are refus
     }
 }
 
+namespace {
+
+// A PNG of zeros, `width` x `height`, RGBA of 16 bits a channel, Adam7
+// interlaced: a few kilobytes that decode to 8 bytes a texel.
+std::string interlaced_png16(uint32_t width, uint32_t height) {
+    std::string raw;  // each pass's rows, each with its filter byte
+    const uint32_t passes[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                   {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
+    for (const auto& [x0, y0, dx, dy] : passes) {
+        const uint32_t w = (width - x0 + dx - 1) / dx, h = (height - y0 + dy - 1) / dy;
+        if (w && h) raw.append(size_t(h) * (1 + size_t(w) * 8), '\0');
+    }
+    std::string packed(compressBound(uLong(raw.size())), '\0');
+    uLongf packed_size = uLongf(packed.size());
+    compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size,
+              reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()), 9);
+    packed.resize(packed_size);
+    const auto be32 = [](uint32_t v) {
+        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    const auto chunk = [&](const std::string& type, const std::string& data) {
+        const std::string body = type + data;
+        const uLong crc = crc32(0, reinterpret_cast<const Bytef*>(body.data()), uInt(body.size()));
+        return be32(uint32_t(data.size())) + body + be32(uint32_t(crc));
+    };
+    const std::string header = be32(width) + be32(height) + std::string{16, 6, 0, 0, 1};
+    return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", header) + chunk("IDAT", packed) +
+           chunk("IEND", "");
+}
+
+}  // namespace
+
+TEST_CASE("a texture's budget counts what its decoder holds at its peak", "[reliability][memory]") {
+    // 2048 x 2048: the texture with its mipmaps and the sampler's copy is
+    // 90 MiB; decoding it, stb_image holds the inflated rows (32 MiB) and
+    // the image in 16 bits three times over (96 MiB) at once.
+    const std::string png = interlaced_png16(2048, 2048);
+    CHECK(png.size() < 100000);
+    {
+        const Budget budget(uint64_t(110) << 20);
+        try {
+            decode_texture(png, true, "bomb.png");
+            FAIL("decoded");
+        } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::over_budget);
+            CHECK_THAT(e.what(), Contains("bomb.png: over the memory budget: a 2048x2048 texture "
+                                          "needs 128."));
+        }
+    }
+    const Budget budget(uint64_t(130) << 20);
+    CHECK(decode_texture(png, true, "bomb.png")->width == 2048);
+}
+
 TEST_CASE("an OFF file whose header declares more than the file holds is refused at once",
           "[reliability][memory]") {
     const test::TempDir dir("off");
@@ -425,6 +655,38 @@ TEST_CASE("facet-render names the options that ask for too much memory", "[relia
                                dir.path / "log.txt");
     INFO(small.log);
     CHECK(WEXITSTATUS(small.status) == 0);
+    // Shadow maps, all of them together: a point light's cube of 8192-texel
+    // faces needs 1.1 GiB; with 4096-texel faces, it renders.
+    for (const int size : {8192, 4096}) {
+        INFO(size);
+        test::write(dir.path / "shadows.yaml",
+                    "render: {size: [64, 64]}\nlights:\n  - {type: point, position: [0, 2, 2], "
+                    "casts_shadow: true, shadow_map_size: " + std::to_string(size) + "}\n"
+                    "objects:\n  - {mesh: quad.obj, material: {shader: phong}}\n");
+        const Finished shadows = run({FACET_RENDER_EXE, (dir.path / "shadows.yaml").string(),
+                                      "--max-memory", "1G", "-o", (dir.path / "x.png").string()},
+                                     dir.path / "log.txt");
+        INFO(shadows.log);
+        CHECK(WEXITSTATUS(shadows.status) == (size == 8192 ? 1 : 0));
+        if (size == 8192)
+            CHECK_THAT(shadows.log,
+                       Contains("shadows.yaml: over the memory budget: shadow mapping (6 maps, "
+                                "the largest 8192 texels a side) needs 1.1 GiB; the budget is "
+                                "1.0 GiB"));
+    }
+    // A scene's YAML, whose parse holds some 500 bytes a value: 200,000
+    // numbers (400 kB) need 98 MiB, refused under 64M before parsing.
+    std::string numbers = "render: {size: [64, 64]}\nobjects: [";
+    for (int i = 0; i < 200000; ++i) numbers += "1,";
+    test::write(dir.path / "numbers.yaml", numbers + "]\n");
+    const Finished yaml = run({FACET_RENDER_EXE, (dir.path / "numbers.yaml").string(),
+                               "--max-memory", "64M", "-o", (dir.path / "x.png").string()},
+                              dir.path / "log.txt");
+    INFO(yaml.log);
+    CHECK(WEXITSTATUS(yaml.status) == 1);
+    CHECK_THAT(yaml.log, Contains("numbers.yaml: over the memory budget: parsing 400037 bytes of "
+                                  "YAML (yaml-cpp holds about 500 bytes a value; keep large data "
+                                  "such as meshes and long animations in mesh files) needs 98."));
     const Finished bad = run({FACET_RENDER_EXE, "--max-memory", "lots"}, dir.path / "log.txt");
     CHECK(WEXITSTATUS(bad.status) == 2);
     CHECK_THAT(bad.log, Contains("--max-memory: expected a size such as 8G"));

@@ -4,6 +4,7 @@
 //     mpirun -np N facet-render-mpi SCENE.yaml --frames A..B|all [--fps F] [--resume] -o out_%04d.png
 //     mpirun -np N facet-render-mpi SCENE.yaml --size 32768x32768 --band-rows 256 -o poster.png
 //          [--time T] [--msaa N] [--threads N] [--max-memory SIZE] [--plugin-path DIR]...
+//          [--plugin-timeout SECONDS] [--no-probe]
 //
 // Every rank loads the scene itself (assets on shared storage). Rank 0
 // hands out the work one item at a time, as ranks ask for it, so a slow
@@ -66,6 +67,8 @@ struct Options {
     double fps = 0.0;
     bool resume = false;
     int band_rows = 0;
+    facet::PluginGuards plugin_guards;
+    std::chrono::milliseconds probe_time{0};  // of a new plugin (PluginRegistry)
 };
 
 constexpr int kTagReport = 1;  // worker to rank 0: a result, and a request for work
@@ -223,6 +226,7 @@ public:
         : job_(job), next_(job.first()), progress_(job.what(), job.end() - job.first()),
           per_rank_(size_t(ranks)) {
         if (!job.frames) {
+            facet::remove_abandoned_partials(job.opt.output);  // what a killed run left
             png_.emplace(job.opt.output, job.scene.settings.width, job.scene.settings.height);
             window_ = 2 * ranks;
         }
@@ -499,6 +503,7 @@ void prepare(Job& job, facet::PluginRegistry& registry) {
 int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
     if (!facet::apply_max_memory(job.opt.max_memory)) return 2;
     facet::PluginRegistry registry;
+    registry.probe_first_loads(job.opt.probe_time);
     // Every rank reads the scene; rank 0 alone says what it thinks of it.
     if (rank != 0) spdlog::set_level(spdlog::level::err);
     std::string problem;
@@ -551,13 +556,16 @@ int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Before MPI starts its threads, which would otherwise take SIGTERM
+    // (mpirun's, when its job is stopped) with the default action: killed
+    // at once, leaving its partial file.
+    const facet::Interrupts interrupts("facet-render-mpi");
     int provided = 0;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
     int rank = 0, ranks = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     for (int s : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) std::signal(s, on_fault);
-    const facet::Interrupts interrupts("facet-render-mpi");
     facet::report_plugin_faults();  // runs first, then on_fault
 
     Job job;
@@ -591,6 +599,7 @@ int main(int argc, char** argv) {
                    "rows per band of one image (rounded up to a multiple of 64; default 256)")
         ->check(CLI::Range(1, facet::Framebuffer::kMaxSize))
         ->excludes(frames);
+    facet::add_plugin_guard_options(app, opt.plugin_guards);
     facet::Verbosity verbosity;
     facet::add_common_options(app, verbosity);
     int status = 0;
@@ -599,6 +608,9 @@ int main(int argc, char** argv) {
         status = *parsed;
     } else {
         facet::start_logging(verbosity);
+        // A stalled rank ends, and mpirun ends the job: the others would wait on it.
+        opt.probe_time = facet::start_plugin_guards(
+            opt.plugin_guards, facet::PluginWatchdog::OnStall::end_process);
         if (const std::string bad = facet::check_finite_times(opt.time, opt.fps); !bad.empty()) {
             if (rank == 0) spdlog::error("{}", bad);
             status = 2;
@@ -613,6 +625,10 @@ int main(int argc, char** argv) {
                 status = run(job, interrupts, rank, ranks);
             } catch (const facet::Error& e) {
                 spdlog::error("rank {}: {}", rank, e.what());
+                status = 1;
+                abort = true;
+            } catch (const std::bad_alloc&) {
+                spdlog::error("rank {}: {}", rank, facet::out_of_memory_text());
                 status = 1;
                 abort = true;
             } catch (const std::exception& e) {

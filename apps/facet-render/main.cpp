@@ -3,7 +3,8 @@
 //     facet-render [SCENE.yaml] [-o out.png] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]]
 //                  [--msaa N] [--threads N] [--max-memory SIZE] [--wireframe]
 //                  [--time T | --frames A..B|all [--fps N] [--resume]] [--band-rows N]
-//                  [--plugin-path DIR]... [--watch [--rebuild]] [-v|-q] [--version]
+//                  [--plugin-path DIR]... [--plugin-timeout SECONDS] [--no-probe]
+//                  [--watch [--rebuild]] [-v|-q] [--version]
 //
 // With no scene, renders the default scene (configs/default.yaml), posed at
 // its animation's start (or --time T). --frames renders frames A..B of its
@@ -21,7 +22,11 @@
 // SIGHUP stops it within a second, writing no image and leaving no partial
 // file: exit status 130, 143 or 129. An image that cannot be written (a
 // full disk, a closed pipe) is an error with its cause, exit status 1, and
-// a file that was there stays as it was.
+// a file that was there stays as it was. A shader plugin from outside
+// facet's own folders first draws a probe frame in another process, and is
+// refused if that fails (--no-probe skips it). A plugin that crashes, calls
+// exit(), or stays in one call past --plugin-timeout (10 s) is named, and
+// the program exits with status 70.
 #include <facet/command_line.hpp>
 #include <facet/error.hpp>
 #include <facet/frame_report.hpp>
@@ -63,6 +68,8 @@ struct Options {
     std::optional<double> time;
     std::string frames;
     double fps = 0.0;  // 0: the scene's
+    facet::PluginGuards plugin_guards;
+    std::chrono::milliseconds probe_time{0};  // of a new plugin (PluginRegistry)
     bool resume = false;
     int band_rows = 0;
 };
@@ -199,6 +206,7 @@ void render(const Options& opt, facet::Scene& scene, std::optional<glm::ivec2> s
                  renderer.threads());
     if (!opt.frames.empty()) return render_sequence(opt, scene, renderer, interrupts);
     if (opt.time) scene.pose(*opt.time);
+    facet::remove_abandoned_partials(opt.output);  // what a killed run left of this image
     if (banded) return render_bands(opt, scene, renderer);
     facet::Framebuffer framebuffer;
     const facet::FrameStats stats = renderer.render(scene, framebuffer);
@@ -246,6 +254,7 @@ int run(const Options& opt, const facet::Interrupts& interrupts) {
     }
     facet::PluginRegistry registry;
     for (const std::string& dir : opt.plugin_paths) registry.add_scene_path(dir);
+    registry.probe_first_loads(opt.probe_time);
     const std::string path =
         opt.scene.empty() ? facet::default_scene_path().string() : opt.scene;
     facet::Scene scene = facet::load_scene(path, registry);
@@ -309,10 +318,13 @@ int main(int argc, char** argv) {
                  "and projects whose build folder is a plugin folder)")
         ->needs("--watch");
     frames->excludes("--watch");
+    facet::add_plugin_guard_options(app, opt.plugin_guards);
     facet::Verbosity verbosity;
     facet::add_common_options(app, verbosity);
     if (const std::optional<int> status = facet::parse_command_line(app, argc, argv)) return *status;
     facet::start_logging(verbosity);
+    opt.probe_time =
+        facet::start_plugin_guards(opt.plugin_guards, facet::PluginWatchdog::OnStall::end_process);
     if (const std::string bad = facet::check_finite_times(opt.time, opt.fps); !bad.empty()) {
         spdlog::error("{}", bad);
         return 2;
@@ -335,8 +347,7 @@ int main(int argc, char** argv) {
         }
         spdlog::error("{}", e.what());
     } catch (const std::bad_alloc&) {
-        spdlog::error("out of memory; --max-memory (or FACET_MAX_MEMORY) sets the budget that "
-                      "facet checks sizes against");
+        spdlog::error("{}", facet::out_of_memory_text());
     } catch (const std::exception& e) {
         spdlog::error("unexpected error: {}", e.what());
     }

@@ -2,6 +2,7 @@
 //
 //     facet-view [SCENE.yaml] [--size WxH] [--camera X,Y,Z,TX,TY,TZ[,FOV]] [--msaa N]
 //                [--max-memory SIZE] [--threads N] [--plugin-path DIR]... [--rebuild]
+//                [--plugin-timeout SECONDS] [--no-probe]
 //                [--frames N [--screenshot out.png] [--window-screenshot win.png]]
 //                [--screenshot-dir DIR] [--no-editor] [--select NAME] [-v|-q] [--version]
 //
@@ -73,6 +74,8 @@ int main(int argc, char** argv) {
                    "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");
     app.add_option("--msaa", options.msaa, "samples per pixel, overriding the scene's")
         ->check(CLI::IsMember({1, 2, 4, 8}));
+    facet::PluginGuards plugin_guards;
+    facet::add_plugin_guard_options(app, plugin_guards);
     std::string max_memory;
     app.add_option("--max-memory", max_memory,
                    "memory budget for a target, texture or mesh, e.g. 8G (default: half of RAM, "
@@ -100,6 +103,9 @@ int main(int argc, char** argv) {
     facet::add_common_options(app, verbosity);
     if (const std::optional<int> status = facet::parse_command_line(app, argc, argv)) return *status;
     facet::start_logging(verbosity);
+    // A stalled call gives up its frame: the viewer keeps its last good one.
+    options.probe_time =
+        facet::start_plugin_guards(plugin_guards, facet::PluginWatchdog::OnStall::abandon_frame);
     if (!facet::apply_max_memory(max_memory)) return 2;
     if (!size.empty() && !(options.size = facet::parse_size(size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
@@ -113,6 +119,8 @@ int main(int argc, char** argv) {
         if (e.code() == facet::ErrorCode::interrupted || interrupts.stopped())
             return interrupts.exit_code();
         spdlog::error("{}", e.what());
+    } catch (const std::bad_alloc&) {
+        spdlog::error("{}", facet::out_of_memory_text());
     } catch (const std::exception& e) {
         spdlog::error("unexpected error: {}", e.what());
     }

@@ -114,6 +114,7 @@ Viewer::Viewer(Options options)
     : options_(std::move(options)), renderer_(options_.threads), outline_(options_.threads) {
     renderer_.pipeline().stop_when(options_.stop);
     for (const std::string& dir : options_.plugin_paths) registry_.add_scene_path(dir);
+    registry_.probe_first_loads(options_.probe_time);
     if (options_.materials.empty()) options_.materials = default_scene_path().parent_path() / "materials";
     std::string error;
     adopt_scene(load_or_default(options_, registry_, error));
@@ -252,6 +253,7 @@ void Viewer::apply_reload() {
     }
     if (updated) {
         scene_dirty_ = true;
+        stalled_ = false;  // a new shader version, or a new scene
         // A reloaded scene file keeps the viewer's camera unless the file's
         // camera itself changed.
         if (!same_camera(scene_.camera_rest, before)) controller_.reset(scene_.camera);
@@ -309,7 +311,7 @@ bool Viewer::frame() {
     const bool render_now = scene_dirty_,
                present_now = scene_dirty_ || overlay_dirty_ || editor_->wants_frame();
     scene_dirty_ = overlay_dirty_ = false;  // present() may ask again
-    if (render_now) render();
+    if (render_now && !stalled_) render();
     if (present_now) present();
     return render_now;
 }
@@ -323,7 +325,16 @@ void Viewer::render() {
         // Render with the viewer's camera and settings; the scene keeps
         // the file's, which hot reload compares against.
         const ViewOf view(scene_, controller_.camera(), settings_);
-        info_.stats = renderer_.render(scene_, framebuffer_);
+        try {
+            info_.stats = renderer_.render(scene_, framebuffer_);
+        } catch (const Error& e) {  // the last good frame stays on screen
+            stalled_ = e.code() == ErrorCode::plugin_stalled;
+            message(std::string(e.what()) +
+                        (stalled_ ? "; frames wait for a change to the scene or its shaders"
+                                  : "; showing the last good frame"),
+                    true);
+            return;
+        }
     }
     renderer_.pipeline().resolve_srgb8(framebuffer_, image_);  // a copy: the target is 8-bit sRGB
     if (editor_->visible() && !scene_.objects.empty()) {
@@ -414,7 +425,7 @@ void Viewer::show_editor() {
                         textures_, options_.materials, playback_};
     const int before = selected_;
     const EditorResult r = editor_->show(target);
-    if (r.redraw) scene_dirty_ = true;
+    if (r.redraw) scene_dirty_ = true, stalled_ = false;  // an edit may cure a stalled shader
     if (r.time_changed) pose_due_ = true;
     if (r.materials_changed) reload_->rewatch();
     if (r.selection_changed || selected_ != before) {

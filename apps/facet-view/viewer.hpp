@@ -55,6 +55,9 @@ struct Options {
     std::chrono::milliseconds message_time{5000};  // how long overlay messages show
     bool editor = true;                    // the editor panel shows at start (E toggles it)
     std::string select;                    // the object selected at start, by name
+    // How long a new plugin's probe frame may take (PluginRegistry::
+    // probe_first_loads); 0: no probe.
+    std::chrono::milliseconds probe_time{0};
     // While true, frames stop (Pipeline::stop_when) and pump() returns
     // false: SIGINT and SIGTERM (facet/interrupts.hpp). Null: never.
     const std::atomic<bool>* stop = nullptr;
@@ -193,6 +196,7 @@ private:
     bool show_overlay_ = true;
     bool show_help_ = false;
     bool scene_dirty_ = true;
+    bool stalled_ = false;  // a shader stalled: no frames until the scene or a shader changes
     bool overlay_dirty_ = true;
     uint64_t frames_ = 0;
     uint64_t idle_wakeups_ = 0;

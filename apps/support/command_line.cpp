@@ -82,7 +82,20 @@ bool apply_max_memory(std::string_view text) {
         return false;
     }
     set_memory_budget(*bytes);
+    // What the budget does not see (a plugin's allocations) stops at the cap.
+    if (const uint64_t cap = cap_address_space())
+        spdlog::debug("address space capped at {} (the budget, {}, and what the program maps)",
+                      memory_text(cap), memory_text(*bytes));
     return true;
+}
+
+std::string out_of_memory_text() {
+    if (const uint64_t cap = address_space_cap())
+        return "out of memory: the address space is capped at " + memory_text(cap) +
+               " (the memory budget, " + memory_text(memory_budget()) +
+               ", and what the program maps; --max-memory or FACET_MAX_MEMORY sets it)";
+    return "out of memory; --max-memory (or FACET_MAX_MEMORY) sets the budget that facet "
+           "checks sizes against";
 }
 
 }  // namespace facet

@@ -5,6 +5,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <string_view>
 
@@ -34,6 +35,26 @@ void add_common_options(CLI::App& app, Verbosity& verbosity) {
     app.add_flag("-q,--quiet", verbosity.quiet, "log warnings and errors only")->excludes(verbose);
     app.footer("Environment: FACET_LOG_LEVEL (trace, debug, info, warn, error, off) sets the "
                "log level when neither -v nor -q is given.");
+}
+
+void add_plugin_guard_options(CLI::App& app, PluginGuards& guards) {
+    app.add_option("--plugin-timeout", guards.timeout,
+                   "seconds a call into a shader plugin (or its probe frame) may take before it "
+                   "is named as stalled; 0: no limit, and no probe frames")
+        ->check(CLI::Range(0.0, 1e6))
+        ->capture_default_str();
+    app.add_flag("!--no-probe", guards.probe,
+                 "load new plugins without first drawing a probe frame with each in another "
+                 "process");
+}
+
+std::chrono::milliseconds start_plugin_guards(const PluginGuards& guards,
+                                              PluginWatchdog::OnStall on_stall) {
+    PluginWatchdog watchdog;
+    watchdog.limit = std::chrono::milliseconds(std::llround(guards.timeout * 1000.0));
+    watchdog.on_stall = on_stall;
+    watch_plugin_calls(watchdog);
+    return guards.probe ? watchdog.limit : std::chrono::milliseconds(0);
 }
 
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {

@@ -5,6 +5,11 @@
 //
 //   facet-sandbox import MEMORY FILE
 //       imports a mesh file (load_mesh's isolated import)
+//   facet-sandbox probe MEMORY PLUGIN WIDTH MILLISECONDS
+//       loads the plugin file PLUGIN and draws a frame WIDTH pixels wide
+//       with it alone (probe_frame.hpp: the trial of a plugin's first load);
+//       a call into it that takes three quarters of MILLISECONDS is named
+//       (the caller stops waiting at MILLISECONDS)
 //   facet-sandbox trial MEMORY SCENE SHADER WIDTH [PLUGIN_FOLDER]...
 //       loads shader SHADER, then the scene file with those plugin folders,
 //       and renders it WIDTH pixels wide on one thread (hot reload's trial
@@ -14,6 +19,7 @@
 // maps when it starts (0: no limit).
 #include "assets/mesh_import.hpp"
 #include "base/isolated.hpp"
+#include "probe_frame.hpp"
 
 #include <facet/framebuffer.hpp>
 #include <facet/plugin.hpp>
@@ -60,8 +66,9 @@ int main(int argc, char** argv) {
         return 0;
     }
     const bool import = args.size() == 3 && args[0] == "import";
+    const bool probe = args.size() == 5 && args[0] == "probe";
     const bool trial_job = args.size() >= 5 && args[0] == "trial";
-    if (!import && !trial_job) {
+    if (!import && !probe && !trial_job) {
         std::fprintf(stderr, "facet-sandbox: run by facet (core/src/base/isolated.hpp), not by hand\n");
         return 2;
     }
@@ -71,6 +78,15 @@ int main(int argc, char** argv) {
     int status = 0;
     if (import) {
         status = facet::serve_sandboxed([&] { return facet::import_mesh_bytes(args[2]); }, memory);
+    } else if (probe) {
+        facet::watch_plugin_calls({std::chrono::milliseconds(std::stoll(args[4]) * 3 / 4),
+                                   facet::PluginWatchdog::OnStall::end_process});
+        status = facet::serve_sandboxed(
+            [&] {
+                facet::probe_frame(args[2], std::stoi(args[3]));
+                return std::string();
+            },
+            memory);
     } else {
         const std::vector<fs::path> folders(args.begin() + 5, args.end());
         status = facet::serve_sandboxed(

@@ -16,13 +16,19 @@
  *                   an invalid memory access there
  *   ABORT_IN_FRAGMENT  abort() in the fragment function
  *   EXIT_IN_FRAGMENT   exit(0) in the fragment function
+ *   QUICK_EXIT_IN_FRAGMENT  _exit(0) there: no atexit handler runs
+ *   ALLOC_IN_FRAGMENT  a fragment function that allocates and fills 64 MiB
+ *                      after 64 MiB, without end (nor a check for NULL)
  *   LOOP_IN_FRAGMENT   a fragment function that never returns
+ *   LOOP_AT_LOAD, LOOP_IN_ENTRY, LOOP_IN_VERTEX  code there that never returns
+ *   WAIT_IN_FRAGMENT   a fragment function that waits in a system call forever
  *   SLOW_FRAGMENT      a fragment function that spins ~20 us per call
  *   TIME_AND_ROW       green is facet_draw.time, blue the pixel's window y / 1024
  * The last two write "probe: shading" to stderr at their first call. */
 #include <facet/shader_abi.h>
 
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 /* An invalid write the compiler must keep. */
@@ -30,6 +36,15 @@ __attribute__((unused)) static void fault(void) { *(volatile int*)(uintptr_t)16 
 
 #ifdef FAULT_AT_LOAD
 __attribute__((constructor)) static void at_load(void) { fault(); }
+#endif
+
+/* A loop the compiler must keep. */
+__attribute__((unused)) static void forever(void) {
+    for (volatile int spin = 1; spin;) {}
+}
+
+#ifdef LOOP_AT_LOAD
+__attribute__((constructor)) static void at_load(void) { forever(); }
 #endif
 
 #ifdef MISSING_SYMBOL
@@ -43,6 +58,9 @@ extern float facet_test_symbol_nobody_defines(void);
 static void vertex(const facet_draw* draw, const facet_vertex_batch* b) {
 #ifdef FAULT_IN_VERTEX
     fault();
+#endif
+#ifdef LOOP_IN_VERTEX
+    forever();
 #endif
     const float* m = draw->model_view_projection;
     for (uint32_t i = 0; i < b->count; ++i) {
@@ -81,6 +99,12 @@ static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
 #ifdef EXIT_IN_FRAGMENT
     exit(0);
 #endif
+#ifdef QUICK_EXIT_IN_FRAGMENT
+    _exit(0);
+#endif
+#ifdef ALLOC_IN_FRAGMENT
+    for (;;) memset(malloc(64 << 20), 1, 64 << 20);
+#endif
 #if defined(LOOP_IN_FRAGMENT) || defined(SLOW_FRAGMENT)
     static volatile int said = 0; /* a benign race: it may be said twice */
     if (!said) {
@@ -90,7 +114,10 @@ static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
     }
 #endif
 #ifdef LOOP_IN_FRAGMENT
-    for (volatile int forever = 1; forever;) {}
+    forever();
+#endif
+#ifdef WAIT_IN_FRAGMENT
+    for (;;) pause();
 #endif
 #ifdef SLOW_FRAGMENT
     for (volatile int spin = 0; spin < 20000; ++spin) {}
@@ -163,6 +190,9 @@ FACET_EXPORT const facet_plugin_desc* some_other_symbol(void) { return &desc; }
 FACET_EXPORT const facet_plugin_desc* facet_plugin_entry(void) {
 #ifdef FAULT_IN_ENTRY
     fault();
+#endif
+#ifdef LOOP_IN_ENTRY
+    forever();
 #endif
     return &desc;
 }

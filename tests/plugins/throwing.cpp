@@ -1,7 +1,8 @@
 // A shader (a screen pass with -DTHROWING_POST) whose code throws a C++
 // exception from the function FACET_TEST_THROW names ("vertex",
 // "fragment" or "post"), for the test of the SDK's boundary
-// (test_reliability.cpp, plugins/include/facet/boundary.hpp).
+// (test_reliability.cpp, plugins/include/facet/boundary.hpp), and never
+// returns from the one FACET_TEST_STALL names, for the watchdog's.
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -14,10 +15,17 @@
 
 namespace {
 
+bool named(const char* variable, const char* function) {
+    const char* which = std::getenv(variable);
+    return which && std::strcmp(which, function) == 0;
+}
+
 void throw_in(const char* function) {
-    const char* which = std::getenv("FACET_TEST_THROW");
-    if (which && std::strcmp(which, function) == 0)
+    if (named("FACET_TEST_THROW", function))
         throw std::runtime_error(std::string("thrown in ") + function + " on purpose");
+    if (named("FACET_TEST_STALL", function))
+        for (volatile int spin = 1; spin;) {
+        }
 }
 
 #ifdef THROWING_POST

@@ -37,7 +37,8 @@ namespace facet {
     X(display_failed, "could not open a window")                             \
     X(isa_unavailable, "instruction set not available on this CPU")          \
     X(interrupted, "interrupted")                                            \
-    X(over_budget, "over the memory budget")
+    X(over_budget, "over the memory budget")                                 \
+    X(plugin_stalled, "a plugin call did not return")
 
 enum class ErrorCode {
 #define FACET_ERROR_ENUM(id, text) id,

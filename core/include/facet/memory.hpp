@@ -20,6 +20,20 @@ namespace facet {
 uint64_t memory_budget();
 void set_memory_budget(uint64_t bytes);
 
+// Caps this process's address space (RLIMIT_AS, its soft limit) at what it
+// maps now, plus the budget, plus room for what a program maps later that
+// is not memory it uses: 256 MiB for libraries (plugins, drivers) and
+// 80 MiB for each of (hardware threads + 4) threads (a stack, and the
+// malloc arena glibc reserves for a thread). Any allocation past the cap
+// fails, a plugin's included: std::bad_alloc in C++, NULL from malloc.
+// Programs call it when the budget is set (--max-memory, FACET_MAX_MEMORY;
+// apply_max_memory). Returns the cap; 0 in a build with AddressSanitizer or
+// ThreadSanitizer, whose shadow memory a cap would break, where nothing is
+// capped.
+uint64_t cap_address_space();
+// The cap cap_address_space() set (or facet-sandbox's own); 0 if none.
+uint64_t address_space_cap();
+
 // "8G", "8GB", "8GiB", "512M", "1000000", "1000000B": bytes. K, M, G and T
 // (either case) are powers of 1024, with or without "B" or "iB" after them.
 // Nothing for anything else (a zero, a sign, a fraction, a space, a number

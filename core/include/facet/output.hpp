@@ -21,4 +21,9 @@ struct AbandonedPartial {
 };
 std::vector<AbandonedPartial> abandoned_partials(const std::filesystem::path& folder);
 
+// Removes the partial files of `image` that writers no longer running left
+// (abandoned_partials), saying so in the log; returns how many. Programs
+// call it before they write one image (a sequence's frames: --resume).
+size_t remove_abandoned_partials(const std::filesystem::path& image);
+
 }  // namespace facet

@@ -20,6 +20,7 @@
 
 #include <facet/shader_abi.h>
 
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -76,6 +77,9 @@ public:
     // Index (0-based, in declaration order) of each TEXTURE parameter: its slot.
     int texture_slot(const facet_param_desc& param) const;
     int texture_count() const { return texture_count_; }
+    // Whether `pc` is in the plugin's own code (its executable segments);
+    // false for a plugin made from a descriptor. Async-signal-safe.
+    bool runs_code_at(uintptr_t pc) const { return pc >= code_begin_ && pc < code_end_; }
     // "base_color (color4), base_texture (texture)", for error messages.
     std::string describe_params() const;
 
@@ -85,6 +89,7 @@ private:
     void adopt_fragments();
 
     void* handle_ = nullptr;
+    uintptr_t code_begin_ = 0, code_end_ = 0;  // its executable segments, once loaded
     std::filesystem::path private_copy_;
     facet_plugin_desc desc_{};
     facet_shader_desc shader_{};
@@ -145,6 +150,30 @@ void remove_private_plugin_copies();
 // take its host's signals.
 void report_plugin_faults();
 
+// A watchdog for plugin calls. A call into a plugin (loading it, its entry
+// point, its vertex, fragment or post function, unloading it) that has not
+// returned within `limit` is named on stderr: which plugin, which function,
+// and the limit. Then:
+//   end_process    the process ends with status 70 (facet-render, and each
+//                  rank of facet-render-mpi, whose job then ends);
+//   abandon_frame  the stalled vertex, fragment or post call is returned
+//                  from (by a signal to its thread, SIGRTMIN + 2, once the
+//                  thread runs the plugin's own code), the frame's other
+//                  plugin calls are skipped, and Renderer::render throws
+//                  ErrorCode::plugin_stalled (the viewer keeps its last
+//                  good frame). The plugin's own stack is left as it was:
+//                  what it allocated there leaks. A stall while loading or
+//                  unloading, and a call that cannot be returned from
+//                  within 2 s more (it waits in a system call, say), end
+//                  the process as above.
+// For programs, once, early in main(); later calls change nothing. A limit
+// of 0 starts no watchdog.
+struct PluginWatchdog {
+    std::chrono::milliseconds limit{10000};
+    enum class OnStall { end_process, abandon_frame } on_stall = OnStall::end_process;
+};
+void watch_plugin_calls(const PluginWatchdog& watchdog);
+
 class PluginRegistry {
 public:
     // Starts with the built-in plugins' folders (facet/paths.hpp), then
@@ -174,12 +203,24 @@ public:
     // the cache: the caller checks it, then commits it with add().
     std::shared_ptr<ShaderPlugin> load_fresh(const std::string& name);
 
+    // From now on, get() first draws a probe frame with each plugin it has
+    // not loaded before, in facet-sandbox (../libexec beside the program),
+    // within `time_limit` and the memory budget: a sphere (or, for a screen
+    // pass, a cleared frame) in its default parameters. A plugin that
+    // crashes there, calls exit() or _exit(), loops, or allocates without
+    // bound is refused (Error(plugin_load_failed) naming what happened)
+    // before it runs in this process. Plugins in facet's own folders
+    // (facet/paths.hpp) are not probed. 0 ms: no probe (the default).
+    void probe_first_loads(std::chrono::milliseconds time_limit);
+
     // Registers a plugin under its name, replacing any loaded before (tests,
     // embedders, and hot reload committing a load_fresh()).
     void add(std::shared_ptr<ShaderPlugin> plugin);
     bool is_loaded(const std::string& name) const { return loaded_.count(name) != 0; }
 
 private:
+    static constexpr int kProbeWidth = 64;
+    void probe(const std::string& name) const;
     std::filesystem::path next_private_copy(const std::string& name);
     // Every <name>.so on the search path, in search order.
     std::vector<std::filesystem::path> files_named(const std::string& name) const;
@@ -190,6 +231,7 @@ private:
     std::map<std::string, std::shared_ptr<ShaderPlugin>, std::less<>> loaded_;
     std::filesystem::path private_dir_;  // created on first load
     unsigned generation_ = 0;
+    std::chrono::milliseconds probe_time_{0};
 };
 
 }  // namespace facet

@@ -4,6 +4,7 @@
 #include "facet/texture.hpp"
 
 #include "facet/error.hpp"
+#include "facet/memory.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -16,8 +17,16 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A cube texture of six n x n faces, level 0 zeroed, named `source`.
+// A cube texture of six n x n faces, level 0 zeroed, named `source`: within
+// the budget with its mipmaps (a third more) and the sampler's copy of them
+// (tiles of 4 x 4 texels that hold 20; 8 bytes a texel for colour, 4 for
+// data).
 std::shared_ptr<Texture> empty_cube(int n, bool srgb, const std::string& source) {
+    const uint64_t texels = uint64_t(6) * uint64_t(n) * uint64_t(n);
+    require_within_budget(texels * 4 * 4 / 3 + texels * 20 / 16 * 4 / 3 * (srgb ? 8 : 4),
+                          "a cube map of six " + std::to_string(n) + "x" + std::to_string(n) +
+                              " faces",
+                          source);
     auto cube = std::make_shared<Texture>();
     cube->source = source;
     cube->width = cube->height = n;

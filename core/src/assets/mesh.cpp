@@ -415,6 +415,8 @@ Mesh import_isolated(const std::filesystem::path& path) {
     const IsolatedResult r = run_sandboxed("import", {file}, limits);
     switch (r.end) {
         case IsolatedResult::End::finished: {
+            // Its bytes and the arrays made of them, at once.
+            require_within_budget(2 * uint64_t(r.output.size()), "the imported mesh", file);
             Mesh mesh;
             mesh.source = file;
             try {

@@ -8,6 +8,7 @@
 #include "facet/error.hpp"
 #include "facet/color.hpp"
 #include "facet/memory.hpp"
+#include "assets/decoder_peak.hpp"
 #include "assets/png_check.hpp"
 #include "base/files.hpp"
 
@@ -177,11 +178,13 @@ glm::vec4 decode_texel(Texel8 t, bool srgb) {
 
 namespace {
 
-// Its size from the header, against the budget, before decoding: the
-// decoded image, the texture with its mipmaps (a third more), and the
-// sampler's copy of them (TexelLevels: 8 bytes a texel for colour, 4 for
-// data, in tiles that hold a fifth more).
-void require_decodable(int header_width, int header_height, bool srgb, const std::string& source) {
+// Its size from the header, against the budget, before decoding: the file,
+// and the most of what the decoder holds at its peak (decoder_peak.hpp)
+// and of what the texture holds: the decoded image, the texture with its
+// mipmaps (a third more), and the sampler's copy of them (TexelLevels: 8
+// bytes a texel for colour, 4 for data, in tiles that hold a fifth more).
+void require_decodable(std::string_view bytes, int header_width, int header_height, bool srgb,
+                       const std::string& source) {
     // stb_image gives a top-down BMP's height as the file has it: negative.
     const int64_t width = std::abs(int64_t(header_width)), height = std::abs(int64_t(header_height));
     if (width == 0 || height == 0) return;
@@ -194,8 +197,9 @@ void require_decodable(int header_width, int header_height, bool srgb, const std
                     "a " + std::to_string(width) + "x" + std::to_string(height) +
                         " texture: more texels than the sampler addresses (2^30)",
                     source);
-    require_within_budget(texels * 4 + texels * sizeof(Texel8) * 4 / 3 +
-                              sampled * (srgb ? 8 : 4),
+    const uint64_t texture = texels * 4 + texels * sizeof(Texel8) * 4 / 3 + sampled * (srgb ? 8 : 4);
+    const uint64_t decoding = decoder_peak_bytes(bytes, uint64_t(width), uint64_t(height));
+    require_within_budget(bytes.size() + std::max(texture, decoding),
                           "a " + std::to_string(width) + "x" + std::to_string(height) + " texture",
                           source);
 }
@@ -253,7 +257,7 @@ std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
     const int size = int(bytes.size());
     int width = 0, height = 0, channels = 0;
     if (stbi_info_from_memory(data, size, &width, &height, &channels))
-        require_decodable(width, height, srgb, source);
+        require_decodable(bytes, width, height, srgb, source);
     stbi_uc* pixels = stbi_load_from_memory(data, size, &width, &height, &channels, 4);
     if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), source);
     return adopt_pixels(pixels, width, height, channels, srgb, source);

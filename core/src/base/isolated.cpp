@@ -1,5 +1,6 @@
 #include "base/isolated.hpp"
 
+#include "facet/memory.hpp"
 #include "facet/paths.hpp"
 
 #include <fcntl.h>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <csignal>
@@ -151,11 +153,21 @@ std::optional<std::filesystem::path> sandbox_program() {
     return program;
 }
 
-void limit_address_space(uint64_t memory) {
+namespace {
+std::atomic<uint64_t> g_address_space_cap{0};  // address_space_cap()
+}  // namespace
+
+uint64_t address_space_cap() { return g_address_space_cap.load(std::memory_order_relaxed); }
+
+uint64_t limit_address_space(uint64_t memory) {
     rlimit limit{};
     getrlimit(RLIMIT_AS, &limit);
-    limit.rlim_cur = std::min<rlim_t>(rlim_t(mapped_bytes() + memory), limit.rlim_max);
-    setrlimit(RLIMIT_AS, &limit);
+    const uint64_t mapped = mapped_bytes();
+    const uint64_t wanted = memory > ~uint64_t(0) - mapped ? ~uint64_t(0) : mapped + memory;
+    limit.rlim_cur = std::min<rlim_t>(rlim_t(wanted), limit.rlim_max);
+    const uint64_t cap = setrlimit(RLIMIT_AS, &limit) == 0 ? uint64_t(limit.rlim_cur) : 0;
+    g_address_space_cap.store(cap, std::memory_order_relaxed);
+    return cap;
 }
 
 int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory) {

@@ -67,7 +67,8 @@ bool in_sandbox();
 // runtime starting in a process this one spawns sets limits of its own, and
 // fails on a hard one) to what it maps now plus `memory` bytes. An
 // allocation past it fails, as std::bad_alloc or a sanitizer's report.
-void limit_address_space(uint64_t memory);
+// Returns the limit in bytes, or 0 if it could not be set.
+uint64_t limit_address_space(uint64_t memory);
 
 // In facet-sandbox: limits this process's address space to what it maps
 // now plus `memory` (0: no limit), runs `work`, and writes the account

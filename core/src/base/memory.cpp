@@ -1,12 +1,15 @@
 #include "facet/memory.hpp"
 
 #include "facet/error.hpp"
+#include "base/isolated.hpp"
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 namespace facet {
 
@@ -82,6 +85,31 @@ void require_within_budget(uint64_t bytes, const std::string& what, const std::s
                 what + " needs " + memory_text(bytes) + "; the budget is " + memory_text(limit) +
                     " (--max-memory or FACET_MAX_MEMORY)",
                 file);
+}
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+}  // namespace
+
+uint64_t cap_address_space() {
+    if (kSanitized) return 0;
+    const uint64_t threads = uint64_t(std::max(1u, std::thread::hardware_concurrency())) + 4;
+    const uint64_t room = (uint64_t(256) << 20) + threads * (uint64_t(80) << 20);
+    const uint64_t budget = memory_budget();
+    return limit_address_space(budget > ~uint64_t(0) - room ? budget : budget + room);
 }
 
 }  // namespace facet

@@ -3,6 +3,8 @@
 #include "facet/error.hpp"
 #include "facet/output.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -86,6 +88,18 @@ std::vector<AbandonedPartial> abandoned_partials(const fs::path& folder) {
         out.push_back({folder / e.path().filename(), folder / parsed->first});
     }
     return out;
+}
+
+size_t remove_abandoned_partials(const fs::path& image) {
+    if (image == "-" || image.filename().empty()) return 0;
+    size_t removed = 0;
+    for (const AbandonedPartial& a : abandoned_partials(image.parent_path())) {
+        std::error_code ec;
+        if (a.image.filename() != image.filename() || !fs::remove(a.file, ec)) continue;
+        spdlog::info("removed {}, which a stopped run left unfinished", a.file.string());
+        ++removed;
+    }
+    return removed;
 }
 
 void remove_partial_outputs() noexcept {

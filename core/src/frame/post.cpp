@@ -32,10 +32,7 @@ void PostChain::run(const std::vector<PostPass>& passes, Framebuffer& frame, Fra
         f.depth = frame.depth();
         f.reversed_z = settings.reversed_z ? 1u : 0u;
         f.time = time;
-        {
-            const InPlugin in_post(pass.plugin.get(), PluginEntry::post);
-            pass.plugin->pass()(&f);
-        }
+        call_plugin(pass.plugin.get(), PluginEntry::post, pass.plugin->pass(), &f);
         if (i < size_t(FrameStats::kPostTimings)) stats.ms_post_pass[i] = elapsed_ms(start);
         ++stats.post_passes;
     }

@@ -6,6 +6,7 @@
 #include "frame/ao.hpp"
 #include "frame/post.hpp"
 #include "pipeline/clip.hpp"
+#include "plugin/plugin_calls.hpp"
 #include "frame/shadow.hpp"
 #include "base/timing.hpp"
 
@@ -119,7 +120,8 @@ FrameStats Renderer::render_rows(const Scene& scene, int first_row, int rows,
     try {
         return draw_frame(scene, first_row, rows, target);
     } catch (...) {
-        pipeline_.cancel();    // nothing of the frame waits for the next one
+        take_abandoned_call();  // the next frame calls plugins again
+        pipeline_.cancel();     // nothing of the frame waits for the next one
         forget_shadow_maps();  // a map cut short must not be kept as if complete
         throw;
     }
@@ -197,6 +199,10 @@ FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
     if (post && !pipeline_.stopped())
         passes_->post.run(scene.post, frame, target, s, float(scene.time), pipeline_, stats);
     stats.ms_post += elapsed_ms(post_start);
+    if (std::string stalled = take_abandoned_call(); !stalled.empty()) {
+        forget_shadow_maps();  // drawn by calls that may have been given up
+        throw Error(ErrorCode::plugin_stalled, std::move(stalled), scene.source.string());
+    }
     if (pipeline_.stopped()) {
         forget_shadow_maps();  // maps cut short must not be kept as if complete
         throw Error(ErrorCode::interrupted, "the frame was stopped before it was complete");

@@ -7,6 +7,7 @@
 #include "pipeline/shadow_rows.hpp"
 
 #include "facet/math.hpp"
+#include "facet/memory.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -259,10 +260,47 @@ void cube_face(const Light& light, const std::vector<glm::vec3>& casters, int fa
     drawn = perspective(wider, 1.0f, sm.near_plane, sm.far_plane, false);
 }
 
+// A light's map size: its own or the scene's, rounded up to a multiple of
+// 16 (whole tiles of planes, FACET_SHADOW_TILE, and depth rows of whole
+// vectors, Framebuffer::stride()).
+int map_size(const Scene& scene, const Light& light) {
+    return ((light.shadow_map_size ? light.shadow_map_size : scene.settings.shadow_map_size) +
+            15) & ~15;
+}
+
+// What the scene's shadow maps hold, together: each map's distances and
+// planes, and the one depth target they are drawn into in turn.
+void require_shadow_maps_within_budget(const Scene& scene) {
+    uint64_t bytes = 0, largest_drawn = 0, maps = 0;
+    int largest = 0;
+    for (const Light& light : scene.lights) {
+        if (!light.casts_shadow) continue;
+        const int size = map_size(scene, light);
+        const bool cube = light.type == LightType::point;
+        const uint64_t faces = cube ? 6 : 1;
+        const uint64_t drawn = uint64_t(size) + (cube ? 2 * FACET_SHADOW_BORDER : 0);
+        const uint64_t distances =
+            uint64_t(distance_stride(size)) * uint64_t(size + 2 * FACET_SHADOW_BORDER) * 2;
+        const uint64_t planes = uint64_t(size / FACET_SHADOW_TILE) *
+                                uint64_t(size / FACET_SHADOW_TILE) * 4 * sizeof(float);
+        bytes += faces * (distances + planes);
+        largest_drawn = std::max(largest_drawn, drawn);
+        largest = std::max(largest, size);
+        maps += faces;
+    }
+    bytes += largest_drawn * largest_drawn * sizeof(float);
+    if (bytes <= memory_budget()) return;  // no message made: a steady frame allocates nothing
+    require_within_budget(bytes,
+                          "shadow mapping (" + std::to_string(maps) + " maps, the largest " +
+                              std::to_string(largest) + " texels a side)",
+                          scene.source.string());
+}
+
 }  // namespace
 
 void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters,
                         Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats) {
+    require_shadow_maps_within_budget(scene);
     caster_corners(casters, maps.corners);
     const float aspect = float(scene.settings.width) / float(scene.settings.height);
     maps.faces.clear();
@@ -275,19 +313,20 @@ void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters
     const auto draw_slot = [&](facet_shadow_map& sm, const glm::mat4& view,
                                const glm::mat4& drawn_proj, int drawn_size, bool with_border) {
         const size_t k = slot++;
-        if (maps.depth.size() <= k) maps.depth.resize(k + 1);
+        if (maps.drawn_size.size() <= k) maps.drawn_size.resize(k + 1, 0);
         if (maps.distance_texels.size() <= k) maps.distance_texels.resize(k + 1);
         if (maps.plane_tiles.size() <= k) maps.plane_tiles.resize(k + 1);
         if (maps.key.size() <= k) maps.key.resize(k + 1);  // empty: nothing drawn yet
-        Framebuffer& depth = maps.depth[k];
+        Framebuffer& depth = maps.depth;
         const uint64_t culled = make_key(casters, drawn_proj * view, drawn_size,
                                         float(scene.time), maps.next);
-        if (maps.next == maps.key[k] && depth.width() == drawn_size) {
+        if (maps.next == maps.key[k] && maps.drawn_size[k] == drawn_size) {
             ++stats.shadow_maps_reused;
             if (maps.plane_tiles[k].empty())
                 make_planes(sm, maps.distance_texels[k], pipeline, maps.plane_tiles[k]);
         } else {
             std::swap(maps.key[k], maps.next);
+            maps.drawn_size[k] = drawn_size;
             if (depth.width() != drawn_size)
                 depth.resize(drawn_size, drawn_size, ColorFormat::none);
             pipeline.clear(depth, glm::vec4(0.0f), 1.0f);
@@ -308,11 +347,7 @@ void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Light& light = scene.lights[i];
         if (!light.casts_shadow) continue;
-        // A multiple of 16: whole tiles of planes (FACET_SHADOW_TILE), and
-        // depth rows of whole vectors (Framebuffer::stride()).
-        const int size =
-            ((light.shadow_map_size ? light.shadow_map_size : scene.settings.shadow_map_size) +
-             15) & ~15;
+        const int size = map_size(scene, light);
         glm::mat4 view, proj;
         maps.first_face[i] = maps.faces.size();
         if (light.type == LightType::point) {

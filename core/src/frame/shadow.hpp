@@ -62,7 +62,8 @@ struct ShadowMaps {
     std::vector<facet_shadow_map> faces;  // the maps, a cube's six together
     std::vector<facet_shadow> by_light;   // [lights]: each light's maps in `faces`
     std::vector<size_t> first_face;       // [lights]: where they start there
-    std::vector<Framebuffer> depth;
+    Framebuffer depth;             // scratch: the map being drawn, before its distances
+    std::vector<int> drawn_size;   // [slots]: the texels a side each was drawn at
     std::vector<std::vector<uint16_t>> distance_texels;
     std::vector<std::vector<float>> plane_tiles;
     std::vector<ShadowMapKey> key;
@@ -76,7 +77,8 @@ struct ShadowMaps {
 // projection can see, and is drawn again only when its key changed:
 // stats.shadow_passes counts the maps drawn, shadow_maps_reused those kept
 // from an earlier frame, and shadow_casters_culled the casters a drawn map
-// left out.
+// left out. Throws Error(over_budget), drawing nothing, when the maps
+// need more memory than the budget (facet/memory.hpp).
 void render_shadow_maps(const Scene& scene, const std::vector<DrawItem>& casters,
                         Pipeline& pipeline, ShadowMaps& maps, FrameStats& stats);
 

@@ -468,10 +468,7 @@ void PackedBatch::flush(FrameStats& stats) {
     batch.texels = dc.sample_textures ? texels : nullptr;
     batch.ao = dc.needs_ao ? ao : nullptr;
     batch.color = color;
-    {
-        const InPlugin in_fragment(dc.shader, PluginEntry::fragment);
-        dc.fragment(dc.abi, &batch);
-    }
+    call_plugin(dc.shader, PluginEntry::fragment, dc.fragment, dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += uint64_t(count_);
     // Opaque colours, in the order the fragments came (a pixel may come twice).
@@ -668,10 +665,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     batch.texels = dc.sample_textures ? texels : nullptr;
     batch.ao = dc.needs_ao ? ao : nullptr;
     batch.color = color;
-    {
-        const InPlugin in_fragment(dc.shader, PluginEntry::fragment);
-        dc.fragment(dc.abi, &batch);
-    }
+    call_plugin(dc.shader, PluginEntry::fragment, dc.fragment, dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += simd::popcount(mask);
     if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);

@@ -81,10 +81,10 @@ void host_parallel_for(const facet_pass_frame* frame, uint32_t count,
         for (uint32_t i = 0; i < count; ++i) task(context, i, 0);
         return;
     }
+    const InHostCode waiting;  // the tasks are the plugin calls timed, not this wait
     pc->pool->parallel_for(int(count), [&](int i, int worker) {
-        const InPlugin in_task(pc->plugin, PluginEntry::post);
         t_in_post_task = true;
-        task(context, uint32_t(i), uint32_t(worker));
+        call_plugin(pc->plugin, PluginEntry::post, task, context, uint32_t(i), uint32_t(worker));
         t_in_post_task = false;
     });
 }

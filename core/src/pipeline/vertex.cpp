@@ -70,10 +70,7 @@ void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_cou
             glm::value_ptr(d.clip[first]),
             d.varyings.data() + first * floats,
             floats};
-        {
-            const InPlugin in_vertex(&shader, PluginEntry::vertex);
-            shader.shader_desc().vertex(&d.abi, &batch);
-        }
+        call_plugin(&shader, PluginEntry::vertex, shader.shader_desc().vertex, &d.abi, &batch);
         project_vertices(d, first, batch.count, viewport);
     });
 }

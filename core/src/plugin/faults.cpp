@@ -4,18 +4,18 @@
 // as it would have.
 #include "facet/plugin.hpp"
 
+#include "facet/memory.hpp"
 #include "facet/output.hpp"
 #include "base/signal_stack.hpp"
 #include "plugin/plugin_calls.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <csignal>
 #include <cstdlib>
 
 namespace facet {
-
-thread_local PluginCall t_plugin_call;
 
 namespace {
 
@@ -45,11 +45,12 @@ const char* signal_text(int sig) {
     }
 }
 
+}  // namespace
+
 // Only async-signal-safe calls from here on: write(), unlink(), sigaction(),
 // raise(), _exit().
 
-// "facet: shader plugin 'NAME' (FILE) <event> <where>: <detail>" on stderr.
-void report_call(const PluginCall& call, const char* event, const char* detail) {
+void report_plugin_call(const PluginCall& call, const char* event, const char* detail) {
     char text[1024];
     size_t used = 0;
     auto add = [&](const char* s) {
@@ -79,9 +80,40 @@ void report_call(const PluginCall& call, const char* event, const char* detail) 
     }
 }
 
+namespace {
+
+long g_page_size = 4096;  // sysconf() is not async-signal-safe: read at install
+
+// Whether this process maps within 64 MiB of its address space cap
+// (cap_address_space), where an allocation that failed is the likely cause
+// of a crash. From /proc/self/statm, with open() and read().
+bool near_address_space_cap() {
+    const uint64_t cap = address_space_cap();
+    if (cap == 0) return false;
+    const int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    char text[64];
+    const ssize_t n = read(fd, text, sizeof text - 1);
+    close(fd);
+    uint64_t pages = 0;
+    for (ssize_t i = 0; i < n && text[i] >= '0' && text[i] <= '9'; ++i)
+        pages = pages * 10 + uint64_t(text[i] - '0');
+    return pages * uint64_t(g_page_size) + (uint64_t(64) << 20) >= cap;
+}
+
 void on_fault(int sig, siginfo_t* info, void*) {
-    const PluginCall call = t_plugin_call;
-    if (call.plugin) report_call(call, "crashed", signal_text(sig));
+    const PluginCall call = t_call_slot ? t_call_slot->read() : PluginCall{};
+    if (call.plugin) {
+        char detail[256] = {};
+        size_t used = 0;
+        for (const char* part : {signal_text(sig), near_address_space_cap()
+                                                       ? "; the process was at its address "
+                                                         "space cap (--max-memory), where "
+                                                         "allocations fail"
+                                                       : ""})
+            for (; *part && used + 1 < sizeof detail; ++part) detail[used++] = *part;
+        report_plugin_call(call, "crashed", detail);
+    }
     remove_partial_outputs();  // the images this process will not finish
     // The earlier handler takes it from here: a fault repeats when its
     // instruction runs again; a signal sent by a call (abort, raise, kill)
@@ -95,9 +127,9 @@ void on_fault(int sig, siginfo_t* info, void*) {
 // not with the plugin's status, which could claim success with no image.
 // Not a signal handler: it may remove the private plugin copies too.
 void on_exit_in_plugin() {
-    const PluginCall call = t_plugin_call;
+    const PluginCall call = t_call_slot ? t_call_slot->read() : PluginCall{};
     if (!call.plugin) return;
-    report_call(call, "called exit()", "the process ends with status 70");
+    report_plugin_call(call, "called exit()", "the process ends with status 70");
     remove_partial_outputs();
     remove_private_plugin_copies();
     _exit(70);
@@ -109,6 +141,7 @@ void report_plugin_faults() {
     // A stack of its own for this thread (the pool's workers make theirs),
     // so that a stack overflow in a plugin can still be reported.
     static const SignalStack stack;
+    g_page_size = sysconf(_SC_PAGESIZE);
     struct sigaction action {};
     action.sa_sigaction = on_fault;
     action.sa_flags = SA_SIGINFO | SA_ONSTACK;

@@ -11,8 +11,11 @@
 #include <spdlog/spdlog.h>
 
 #include <dlfcn.h>
+#include <link.h>
 
+#include <algorithm>
 #include <cstring>
+#include <tuple>
 #include <optional>
 
 namespace facet {
@@ -23,6 +26,34 @@ namespace {
 
 [[noreturn]] void refuse(ErrorCode code, const std::string& origin, const std::string& why) {
     throw Error(code, why, origin);
+}
+
+// Where a loaded library's executable segments are: from its first to the
+// end of its last ({0, 0} if not found). The watchdog returns a stalled
+// call only from there (watchdog.cpp).
+std::pair<uintptr_t, uintptr_t> code_range(void* handle) {
+    struct Search {
+        const link_map* library = nullptr;
+        uintptr_t begin = 0, end = 0;
+    } search;
+    if (dlinfo(handle, RTLD_DI_LINKMAP, &search.library) != 0 || !search.library) return {0, 0};
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, size_t, void* data) {
+            auto& s = *static_cast<Search*>(data);
+            if (info->dlpi_addr != s.library->l_addr ||
+                std::strcmp(info->dlpi_name, s.library->l_name) != 0)
+                return 0;
+            for (int i = 0; i < info->dlpi_phnum; ++i) {
+                const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+                if (ph.p_type != PT_LOAD || !(ph.p_flags & PF_X)) continue;
+                const uintptr_t begin = info->dlpi_addr + ph.p_vaddr;
+                s.begin = s.begin ? std::min(s.begin, begin) : begin;
+                s.end = std::max(s.end, uintptr_t(begin + ph.p_memsz));
+            }
+            return 1;
+        },
+        &search);
+    return {search.begin, search.end};
 }
 
 // dlopen() maps a library's segments straight from the file; a segment
@@ -88,6 +119,7 @@ std::shared_ptr<ShaderPlugin> ShaderPlugin::load(const fs::path& path,
     }
     if (!plugin->handle_) refuse(ErrorCode::plugin_load_failed, origin, dlerror());
     void* handle = plugin->handle_;
+    std::tie(plugin->code_begin_, plugin->code_end_) = code_range(handle);
     auto entry =
         reinterpret_cast<facet_plugin_entry_fn>(dlsym(handle, FACET_PLUGIN_ENTRY_SYMBOL));
     if (!entry) refuse_without_entry(*plugin, handle, origin);

@@ -3,7 +3,9 @@
 #include "facet/plugin.hpp"
 
 #include "facet/error.hpp"
+#include "facet/memory.hpp"
 #include "facet/paths.hpp"
+#include "base/isolated.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -13,6 +15,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -175,8 +178,46 @@ std::shared_ptr<ShaderPlugin> PluginRegistry::load_fresh(const std::string& name
     return ShaderPlugin::load(file, name, next_private_copy(name));
 }
 
+void PluginRegistry::probe_first_loads(std::chrono::milliseconds time_limit) {
+    probe_time_ = time_limit;
+}
+
+// The probe frame of `name`'s file, in facet-sandbox, before its first
+// load; throws why it failed.
+void PluginRegistry::probe(const std::string& name) const {
+    if (probe_time_.count() <= 0 || in_sandbox()) return;
+    const fs::path file = locate(name);
+    if (file.empty()) return;  // get() says what was searched
+    std::error_code ec;
+    for (const fs::path& own : built_in_plugin_dirs())
+        if (fs::equivalent(file.parent_path(), own, ec)) return;  // tested with facet
+    if (!sandbox_program()) {
+        spdlog::warn("shader '{}' is loaded without a probe frame: facet-sandbox is not "
+                     "installed beside this program", name);
+        return;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const IsolatedResult r =
+        run_sandboxed("probe",
+                      {file.string(), std::to_string(kProbeWidth),
+                       std::to_string(probe_time_.count())},
+                      {memory_budget(), probe_time_});
+    if (r.end == IsolatedResult::End::finished) {
+        spdlog::debug("shader '{}' drew its probe frame in {:.0f} ms", name,
+                      std::chrono::duration<double, std::milli>(
+                          std::chrono::steady_clock::now() - start).count());
+        return;
+    }
+    if (r.end == IsolatedResult::End::error) throw *r.error;
+    throw Error(ErrorCode::plugin_load_failed,
+                "its probe frame (a sphere it draws alone, in another process) failed: " +
+                    r.output,
+                file.string());
+}
+
 std::shared_ptr<ShaderPlugin> PluginRegistry::get(const std::string& name) {
     if (auto it = loaded_.find(name); it != loaded_.end()) return it->second;
+    probe(name);
     std::shared_ptr<ShaderPlugin> plugin = load_fresh(name);
     for (const fs::path& hidden : shadowed(name))
         spdlog::warn("shader '{}': {} is used; {}, of the same name and later on the search "

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace facet {
@@ -22,8 +23,13 @@ std::optional<glm::ivec2> parse_size(std::string_view text);
 std::optional<Camera> parse_camera(std::string_view text, const Camera& base);
 
 // --max-memory: sets the memory budget (facet/memory.hpp) from `text`, or
-// when it is empty from FACET_MAX_MEMORY, if set. False, having logged
-// which of the two is wrong and what was expected, when it is no size.
+// when it is empty from FACET_MAX_MEMORY, if set, and caps the address
+// space to match (cap_address_space). False, having logged which of the two
+// is wrong and what was expected, when it is no size.
 bool apply_max_memory(std::string_view text);
+
+// What to say when an allocation failed (std::bad_alloc): the address
+// space cap, if one is set, else how to set the budget.
+std::string out_of_memory_text();
 
 }  // namespace facet

@@ -11,6 +11,8 @@
 // to stderr and exits with status 2, as POSIX tools do.
 #pragma once
 
+#include "facet/plugin.hpp"
+
 #include <CLI/CLI.hpp>
 #include <spdlog/common.h>
 
@@ -29,6 +31,21 @@ const char* version();
 
 // Adds --version, -v and -q to `app`, whose name is the program's.
 void add_common_options(CLI::App& app, Verbosity& verbosity);
+
+// How a program guards itself against its plugins (facet/plugin.hpp).
+struct PluginGuards {
+    double timeout = 10.0;  // seconds a plugin call may take; 0: no limit
+    bool probe = true;      // a probe frame of each new plugin, in facet-sandbox
+};
+
+// Adds --plugin-timeout SECONDS and --no-probe to `app`.
+void add_plugin_guard_options(CLI::App& app, PluginGuards& guards);
+
+// Starts the plugin watchdog with the timeout, and returns how long a new
+// plugin's probe frame may take (PluginRegistry::probe_first_loads): the
+// timeout, or 0 with --no-probe or no timeout.
+std::chrono::milliseconds start_plugin_guards(const PluginGuards& guards,
+                                              PluginWatchdog::OnStall on_stall);
 
 // Parses the command line: nothing when the program should go on, else the
 // status to exit with (0 after --help or --version, 2 for a usage error).
