@@ -367,6 +367,44 @@ TEST_CASE("a recompiled shader appears in the running viewer", "[viewer][reload]
     CHECK(has_message(v, "reloaded shader 'hot'", false));
 }
 
+TEST_CASE("a shader that stalls gives up its frame, and the last good frame stays",
+          "[viewer][reload]") {
+    // As facet-view sets it, with a short limit (the test program's own).
+    watch_plugin_calls({1000ms, PluginWatchdog::OnStall::abandon_frame});
+    const test::TempDir folder("view-stall");
+    const fs::path& dir = folder.path;
+    fs::create_directories(dir / "plugins");
+    REQUIRE(test::compile_plugin(dir / "plugins/stall.so", "stall",
+                                 "-DWITH_GAIN -DLOOP_ABOVE_GAIN"));
+    write(dir / "quad.obj", test::kQuadObj);
+    write(dir / "material.yaml", "shader: stall\nparams: {gain: 0.5}\n");
+    write(dir / "scene.yaml", "camera: {position: [0, 0, 3], target: [0, 0, 0]}\n"
+                              "plugin_paths: [plugins]\n"
+                              "objects:\n  - {mesh: quad.obj, material: material.yaml}\n");
+    Options o = small((dir / "scene.yaml").string());
+    o.editor = false;  // the picture alone, as shown
+    Viewer v(o);
+    key(SDLK_o);  // and no overlay over it
+    v.pump();
+    const size_t centre = (45 * 160 + 80) * 4;
+    const uint8_t good = v.shown().at(centre);  // red 0.5, sRGB-encoded
+    REQUIRE(good == linear_to_srgb8(0.5f));
+    // A gain over 5 makes the shader loop: the frame is given up.
+    write(dir / "material.yaml", "shader: stall\nparams: {gain: 6.0}\n");
+    REQUIRE(pump_until(v, [&] {
+        return has_message(v, "shader 'stall' (", true) &&
+               has_message(v, "did not return from its fragment function within 1 s; the frame "
+                              "was abandoned; frames wait for a change", true);
+    }, 20s));
+    const uint64_t frames = v.frames_rendered();
+    for (int i = 0; i < 5; ++i) v.pump();
+    CHECK(v.shown().at(centre) == good);  // the last good frame
+    CHECK(v.frames_rendered() == frames);  // nothing drawn while it stalls
+    // A change to the material draws again.
+    write(dir / "material.yaml", "shader: stall\nparams: {gain: 0.75}\n");
+    REQUIRE(pump_until(v, [&] { return v.shown().at(centre) == linear_to_srgb8(0.75f); }));
+}
+
 TEST_CASE("a scripted run's screenshot matches facet-render's image of the same view",
           "[viewer][script]") {
     const test::TempDir folder("view-script");

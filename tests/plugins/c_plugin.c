@@ -22,6 +22,7 @@
  *   LOOP_IN_FRAGMENT   a fragment function that never returns
  *   LOOP_AT_LOAD, LOOP_IN_ENTRY, LOOP_IN_VERTEX  code there that never returns
  *   WAIT_IN_FRAGMENT   a fragment function that waits in a system call forever
+ *   LOOP_ABOVE_GAIN    with WITH_GAIN: never returns when gain is over 5
  *   SLOW_FRAGMENT      a fragment function that spins ~20 us per call
  *   TIME_AND_ROW       green is facet_draw.time, blue the pixel's window y / 1024
  * The last two write "probe: shading" to stderr at their first call. */
@@ -118,6 +119,9 @@ static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
 #endif
 #ifdef WAIT_IN_FRAGMENT
     for (;;) pause();
+#endif
+#ifdef LOOP_ABOVE_GAIN
+    if (GAIN > 5.0f) forever();
 #endif
 #ifdef SLOW_FRAGMENT
     for (volatile int spin = 0; spin < 20000; ++spin) {}
