@@ -209,14 +209,13 @@ TEST_CASE("a new plugin that fails its probe frame is refused before it runs in 
          {Case{"-DFAULT_IN_FRAGMENT", "crashed in its fragment function: SIGSEGV"},
           Case{"-DEXIT_IN_FRAGMENT", "called exit() in its fragment function"},
           Case{"-DQUICK_EXIT_IN_FRAGMENT", "it exited with status 0 before giving a result"},
-          Case{"-DLOOP_IN_FRAGMENT", "stalled in its fragment function: no return within 3 s"},
+          Case{"-DLOOP_IN_FRAGMENT", "stalled in its fragment function: no return within 2 s"},
           Case{"-DLOOP_AT_LOAD", "stalled while loading (its static constructors)"},
           Case{"-DLOOP_IN_VERTEX", "stalled in its vertex function"}}) {
         INFO(c.flags);
         const ProbeScene s(c.flags);
-        // 4 s: the sandbox's start under a sanitizer fits in it.
         const Finished f = run({FACET_RENDER_EXE, s.scene.string(), "-o", s.image.string(),
-                                "--plugin-timeout", "4"},
+                                "--plugin-timeout", "2"},
                                s.log);
         INFO(f.log);
         REQUIRE(WIFEXITED(f.status));

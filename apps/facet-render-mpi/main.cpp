@@ -501,7 +501,7 @@ void prepare(Job& job, facet::PluginRegistry& registry) {
 }
 
 int run(Job& job, const facet::Interrupts& interrupts, int rank, int ranks) {
-    if (!facet::apply_max_memory(job.opt.max_memory)) return 2;
+    if (!facet::apply_max_memory(job.opt.max_memory, job.opt.threads)) return 2;
     facet::PluginRegistry registry;
     registry.probe_first_loads(job.opt.probe_time);
     // Every rank reads the scene; rank 0 alone says what it thinks of it.

@@ -34,6 +34,7 @@
 #include <facet/hot_reload.hpp>
 #include <facet/interrupts.hpp>
 #include <facet/isa.hpp>
+#include <facet/memory.hpp>
 #include <facet/plugin.hpp>
 #include <facet/output.hpp>
 #include <facet/rebuild.hpp>
@@ -49,6 +50,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <thread>
 
 namespace {
@@ -240,7 +242,7 @@ void watch(const Options& opt, facet::PluginRegistry& registry, facet::Scene& sc
 }
 
 int run(const Options& opt, const facet::Interrupts& interrupts) {
-    if (!facet::apply_max_memory(opt.max_memory)) return 2;
+    if (!facet::apply_max_memory(opt.max_memory, opt.threads)) return 2;
     std::optional<glm::ivec2> size;
     if (!opt.size.empty() && !(size = facet::parse_size(opt.size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
@@ -348,6 +350,12 @@ int main(int argc, char** argv) {
         spdlog::error("{}", e.what());
     } catch (const std::bad_alloc&) {
         spdlog::error("{}", facet::out_of_memory_text());
+    } catch (const std::system_error& e) {  // a thread or a mapping refused at the cap
+        if (facet::address_space_cap() && (e.code() == std::errc::resource_unavailable_try_again ||
+                                           e.code() == std::errc::not_enough_memory))
+            spdlog::error("{}: {}", e.what(), facet::out_of_memory_text());
+        else
+            spdlog::error("unexpected error: {}", e.what());
     } catch (const std::exception& e) {
         spdlog::error("unexpected error: {}", e.what());
     }

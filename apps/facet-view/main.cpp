@@ -49,6 +49,7 @@ int run(facet::view::Options options, const Script& script) {
         viewer.save_window(script.window_screenshot);
         spdlog::info("wrote {}", script.window_screenshot);
     }
+    if (viewer.frame_error()) throw *viewer.frame_error();  // a scripted run that did not render
     return 0;
 }
 
@@ -106,7 +107,7 @@ int main(int argc, char** argv) {
     // A stalled call gives up its frame: the viewer keeps its last good one.
     options.probe_time =
         facet::start_plugin_guards(plugin_guards, facet::PluginWatchdog::OnStall::abandon_frame);
-    if (!facet::apply_max_memory(max_memory)) return 2;
+    if (!facet::apply_max_memory(max_memory, options.threads)) return 2;
     if (!size.empty() && !(options.size = facet::parse_size(size))) {
         spdlog::error("--size: expected WxH with each side 1..{}, got '{}'",
                       facet::Framebuffer::kMaxSize, size);

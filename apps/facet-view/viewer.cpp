@@ -327,7 +327,9 @@ void Viewer::render() {
         const ViewOf view(scene_, controller_.camera(), settings_);
         try {
             info_.stats = renderer_.render(scene_, framebuffer_);
+            frame_error_.reset();
         } catch (const Error& e) {  // the last good frame stays on screen
+            frame_error_ = e;       // the target holds what the failed frame left
             stalled_ = e.code() == ErrorCode::plugin_stalled;
             message(std::string(e.what()) +
                         (stalled_ ? "; frames wait for a change to the scene or its shaders"
@@ -466,6 +468,10 @@ void Viewer::resize_texture() {
 }
 
 void Viewer::save_screenshot(const std::filesystem::path& path) const {
+    if (frame_error_)
+        throw Error(frame_error_->code(),
+                    "no screenshot: the last frame failed: " + frame_error_->detail(),
+                    path.string());
     framebuffer_.write_png(path);
 }
 

@@ -21,6 +21,7 @@
 #include "overlay.hpp"
 #include "playback.hpp"
 
+#include <facet/error.hpp>
 #include <facet/framebuffer.hpp>
 #include <facet/hot_reload.hpp>
 #include <facet/plugin.hpp>
@@ -109,6 +110,8 @@ public:
     const OverlayInfo& overlay() const { return info_; }
     int selected() const { return selected_; }
     uint64_t frames_rendered() const { return frames_; }
+    // Why the last frame failed (its Error); none if it rendered.
+    const std::optional<Error>& frame_error() const { return frame_error_; }
     uint64_t frames_presented() const { return presents_; }
     bool overlay_visible() const { return show_overlay_; }
     Editor& editor() { return *editor_; }
@@ -197,6 +200,7 @@ private:
     bool show_help_ = false;
     bool scene_dirty_ = true;
     bool stalled_ = false;  // a shader stalled: no frames until the scene or a shader changes
+    std::optional<Error> frame_error_;  // why the last frame failed; none if it rendered
     bool overlay_dirty_ = true;
     uint64_t frames_ = 0;
     uint64_t idle_wakeups_ = 0;

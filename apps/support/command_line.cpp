@@ -70,7 +70,7 @@ std::optional<Camera> parse_camera(std::string_view text, const Camera& base) {
     return c;
 }
 
-bool apply_max_memory(std::string_view text) {
+bool apply_max_memory(std::string_view text, int threads) {
     const char* env = std::getenv("FACET_MAX_MEMORY");
     const bool from_env = text.empty() && env && *env;
     if (from_env) text = env;
@@ -83,7 +83,7 @@ bool apply_max_memory(std::string_view text) {
     }
     set_memory_budget(*bytes);
     // What the budget does not see (a plugin's allocations) stops at the cap.
-    if (const uint64_t cap = cap_address_space())
+    if (const uint64_t cap = cap_address_space(threads))
         spdlog::debug("address space capped at {} (the budget, {}, and what the program maps)",
                       memory_text(cap), memory_text(*bytes));
     return true;

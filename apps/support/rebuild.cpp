@@ -52,7 +52,9 @@ Result run(const std::string& command) {
     posix_spawnattr_setsigmask(&attributes, &none);
     posix_spawnattr_setsigdefault(&attributes, &defaults);
     posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-    const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+    // Nor does the build inherit the address space cap (cap_address_space).
+    const std::string uncapped = "ulimit -S -v \"$(ulimit -H -v)\" 2>/dev/null; " + command;
+    const char* argv[] = {"/bin/sh", "-c", uncapped.c_str(), nullptr};
     pid_t pid = 0;
     const int failed = posix_spawn(&pid, "/bin/sh", &files, &attributes,
                                    const_cast<char* const*>(argv), environ);

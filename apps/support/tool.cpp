@@ -41,7 +41,18 @@ void add_plugin_guard_options(CLI::App& app, PluginGuards& guards) {
     app.add_option("--plugin-timeout", guards.timeout,
                    "seconds a call into a shader plugin (or its probe frame) may take before it "
                    "is named as stalled; 0: no limit, and no probe frames")
-        ->check(CLI::Range(0.0, 1e6))
+        ->check(CLI::Validator(
+            [](const std::string& text) -> std::string {
+                double seconds = -1.0;
+                try {
+                    seconds = std::stod(text);
+                } catch (const std::exception&) {
+                }
+                if (seconds == 0.0 || (seconds >= 0.01 && seconds <= 1e6)) return {};
+                return "expected 0 (no limit) or seconds from 0.01 to 1000000, got '" + text +
+                       "'";
+            },
+            "SECONDS"))
         ->capture_default_str();
     app.add_flag("!--no-probe", guards.probe,
                  "load new plugins without first drawing a probe frame with each in another "

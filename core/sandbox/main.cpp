@@ -8,8 +8,8 @@
 //   facet-sandbox probe MEMORY PLUGIN WIDTH MILLISECONDS
 //       loads the plugin file PLUGIN and draws a frame WIDTH pixels wide
 //       with it alone (probe_frame.hpp: the trial of a plugin's first load);
-//       a call into it that takes three quarters of MILLISECONDS is named
-//       (the caller stops waiting at MILLISECONDS)
+//       a call into it that takes MILLISECONDS is named (the caller waits
+//       that and the sandbox's start)
 //   facet-sandbox trial MEMORY SCENE SHADER WIDTH [PLUGIN_FOLDER]...
 //       loads shader SHADER, then the scene file with those plugin folders,
 //       and renders it WIDTH pixels wide on one thread (hot reload's trial
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
     if (import) {
         status = facet::serve_sandboxed([&] { return facet::import_mesh_bytes(args[2]); }, memory);
     } else if (probe) {
-        facet::watch_plugin_calls({std::chrono::milliseconds(std::stoll(args[4]) * 3 / 4),
+        facet::watch_plugin_calls({std::chrono::milliseconds(std::stoll(args[4])),
                                    facet::PluginWatchdog::OnStall::end_process});
         status = facet::serve_sandboxed(
             [&] {

@@ -17,8 +17,9 @@
  *   ABORT_IN_FRAGMENT  abort() in the fragment function
  *   EXIT_IN_FRAGMENT   exit(0) in the fragment function
  *   QUICK_EXIT_IN_FRAGMENT  _exit(0) there: no atexit handler runs
- *   ALLOC_IN_FRAGMENT  a fragment function that allocates and fills 64 MiB
- *                      after 64 MiB, without end (nor a check for NULL)
+ *   ALLOC_IN_FRAGMENT  a fragment function that allocates 64 MiB after 64 MiB,
+ *                      writing a byte of each, without end (nor a check for
+ *                      NULL): address space, not memory, runs out
  *   LOOP_IN_FRAGMENT   a fragment function that never returns
  *   LOOP_AT_LOAD, LOOP_IN_ENTRY, LOOP_IN_VERTEX  code there that never returns
  *   WAIT_IN_FRAGMENT   a fragment function that waits in a system call forever
@@ -29,7 +30,6 @@
 #include <facet/shader_abi.h>
 
 #include <stdlib.h>
-#include <string.h>
 #include <unistd.h>
 
 /* An invalid write the compiler must keep. */
@@ -104,7 +104,7 @@ static void fragment(const facet_draw* draw, facet_fragment_batch* b) {
     _exit(0);
 #endif
 #ifdef ALLOC_IN_FRAGMENT
-    for (;;) memset(malloc(64 << 20), 1, 64 << 20);
+    for (;;) *(volatile char*)malloc(64 << 20) = 1;
 #endif
 #if defined(LOOP_IN_FRAGMENT) || defined(SLOW_FRAGMENT)
     static volatile int said = 0; /* a benign race: it may be said twice */

@@ -22,15 +22,18 @@ void set_memory_budget(uint64_t bytes);
 
 // Caps this process's address space (RLIMIT_AS, its soft limit) at what it
 // maps now, plus the budget, plus room for what a program maps later that
-// is not memory it uses: 256 MiB for libraries (plugins, drivers) and
-// 80 MiB for each of (hardware threads + 4) threads (a stack, and the
-// malloc arena glibc reserves for a thread). Any allocation past the cap
-// fails, a plugin's included: std::bad_alloc in C++, NULL from malloc.
-// Programs call it when the budget is set (--max-memory, FACET_MAX_MEMORY;
-// apply_max_memory). Returns the cap; 0 in a build with AddressSanitizer or
-// ThreadSanitizer, whose shadow memory a cap would break, where nothing is
-// capped.
-uint64_t cap_address_space();
+// is not memory it uses: 256 MiB for libraries (plugins, drivers), and
+// 80 MiB (a stack, and the malloc arena glibc reserves for a thread) for
+// each of 2 x `threads` + 8 threads (two renderers' pools, and the
+// threads of facet, MPI and the window system), `threads` being the most
+// of the render threads asked for and the hardware threads. Any allocation
+// past the cap fails, a plugin's included: std::bad_alloc in C++, NULL
+// from malloc. Processes it starts inherit the cap (a build facet runs
+// lifts it). Programs call it when the budget is set (--max-memory,
+// FACET_MAX_MEMORY; apply_max_memory). Returns the cap; 0 in a build with
+// AddressSanitizer or ThreadSanitizer, whose shadow memory a cap would
+// break, where nothing is capped.
+uint64_t cap_address_space(int threads);
 // The cap cap_address_space() set (or facet-sandbox's own); 0 if none.
 uint64_t address_space_cap();
 

@@ -205,7 +205,8 @@ public:
 
     // From now on, get() first draws a probe frame with each plugin it has
     // not loaded before, in facet-sandbox (../libexec beside the program),
-    // within `time_limit` and the memory budget: a sphere (or, for a screen
+    // with `time_limit` for each call into the plugin (the watchdog's, in
+    // the sandbox) and the memory budget: a sphere (or, for a screen
     // pass, a cleared frame) in its default parameters. A plugin that
     // crashes there, calls exit() or _exit(), loops, or allocates without
     // bound is refused (Error(plugin_load_failed) naming what happened)
@@ -220,6 +221,7 @@ public:
 
 private:
     static constexpr int kProbeWidth = 64;
+    static constexpr std::chrono::seconds kProbeStart{5};  // the sandbox's start, at most
     void probe(const std::string& name) const;
     std::filesystem::path next_private_copy(const std::string& name);
     // Every <name>.so on the search path, in search order.

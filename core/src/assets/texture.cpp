@@ -259,6 +259,14 @@ std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
     if (stbi_info_from_memory(data, size, &width, &height, &channels))
         require_decodable(bytes, width, height, srgb, source);
     stbi_uc* pixels = stbi_load_from_memory(data, size, &width, &height, &channels, 4);
+    if (!pixels && std::string_view(stbi_failure_reason()) == "outofmem")
+        throw Error(ErrorCode::over_budget,
+                    "the decoder ran out of memory" +
+                        std::string(address_space_cap() ? " at the address space cap (the "
+                                                          "memory budget, --max-memory, and "
+                                                          "what the program maps)"
+                                                        : ""),
+                    source);
     if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), source);
     return adopt_pixels(pixels, width, height, channels, srgb, source);
 }

@@ -80,7 +80,7 @@ namespace {
 // nodes are counted, from above, as the characters that can start one.
 uint64_t parsed_bytes(std::string_view text) {
     const uint64_t nodes = uint64_t(std::count_if(text.begin(), text.end(), [](char c) {
-        return c == ',' || c == '\n' || c == ':' || c == '[' || c == '{' || c == '-';
+        return c == ',' || c == '\n' || c == ':' || c == '[' || c == '{' || c == '-' || c == '?';
     }));
     return text.size() + (nodes + 1) * 512;
 }

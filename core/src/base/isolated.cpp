@@ -176,7 +176,14 @@ int serve_sandboxed(const std::function<std::string()>& work, uint64_t memory) {
     // logger, a plugin) goes to stderr.
     const int account_fd = dup(STDOUT_FILENO);
     dup2(STDERR_FILENO, STDOUT_FILENO);
-    if (memory) limit_address_space(memory);
+    if (memory) {
+        limit_address_space(memory);
+        // The hard limit too: plugin code in here cannot lift it.
+        rlimit limit{};
+        getrlimit(RLIMIT_AS, &limit);
+        limit.rlim_max = limit.rlim_cur;
+        setrlimit(RLIMIT_AS, &limit);
+    }
     g_in_sandbox = true;
     std::string account;
     try {
@@ -217,7 +224,9 @@ pid_t spawn_sandbox(std::vector<char*>& argv, int& result_fd, int& stderr_fd) {
     posix_spawn_file_actions_adddup2(&files, result_pipe[1], STDOUT_FILENO);
     posix_spawn_file_actions_adddup2(&files, stderr_pipe[1], STDERR_FILENO);
     // The signals a program's interrupt handling blocks (facet::Interrupts)
-    // act again, by default: Ctrl-C ends the sandbox with its parent.
+    // act again, by default. The sandbox leads a process group of its own,
+    // so that what it forks (plugin code may) is killed with it; it ends
+    // with its parent all the same (PR_SET_PDEATHSIG).
     posix_spawnattr_t attributes;
     posix_spawnattr_init(&attributes);
     sigset_t none, defaults;
@@ -226,7 +235,9 @@ pid_t spawn_sandbox(std::vector<char*>& argv, int& result_fd, int& stderr_fd) {
     for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ}) sigaddset(&defaults, sig);
     posix_spawnattr_setsigmask(&attributes, &none);
     posix_spawnattr_setsigdefault(&attributes, &defaults);
-    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    posix_spawnattr_setpgroup(&attributes, 0);
+    posix_spawnattr_setflags(&attributes,
+                             POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
     pid_t child = -1;
     const int spawned =
         posix_spawn(&child, argv[0], &files, &attributes, argv.data(), environ);
@@ -251,21 +262,30 @@ int left_ms(bool timed, Clock::time_point deadline) {
     return int(std::clamp<int64_t>(left.count(), 0, 1 << 30));
 }
 
-// Reads both pipes until the child closes them (it exits) or time is up,
-// and closes them; true when time ran out.
-bool read_pipes(int result_fd, int stderr_fd, bool timed, Clock::time_point deadline,
-                std::string& account, std::string& said) {
+// Whether `child` has exited (not reaped yet).
+bool exited(pid_t child) {
+    siginfo_t info{};
+    return waitid(P_PID, id_t(child), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+           info.si_pid == child;
+}
+
+// Reads both pipes until the child closes them or exits (a process it
+// forked may hold them open), or time is up, and closes them; true when
+// time ran out.
+bool read_pipes(pid_t child, int result_fd, int stderr_fd, bool timed,
+                Clock::time_point deadline, std::string& account, std::string& said) {
     pollfd fds[2] = {{result_fd, POLLIN, 0}, {stderr_fd, POLLIN, 0}};
-    bool out_of_time = false;
+    bool out_of_time = false, gone = false;
     while (fds[0].fd >= 0 || fds[1].fd >= 0) {
-        const int wait = left_ms(timed, deadline);
-        if (timed && wait == 0) {
+        const int left = left_ms(timed, deadline);
+        if (timed && left == 0) {
             out_of_time = true;
             break;
         }
-        const int ready = poll(fds, 2, wait);
+        gone = gone || exited(child);
+        const int ready = poll(fds, 2, gone ? 0 : left < 0 ? 100 : std::min(left, 100));
         if (ready < 0 && errno == EINTR) continue;
-        if (ready < 0) break;
+        if (ready < 0 || (ready == 0 && gone)) break;  // exited, and all it wrote is read
         for (pollfd& p : fds) {
             if (p.fd < 0 || !(p.revents & (POLLIN | POLLHUP | POLLERR))) continue;
             char buffer[65536];
@@ -345,8 +365,9 @@ IsolatedResult run_sandboxed(const std::string& job, const std::vector<std::stri
     const bool timed = limits.time.count() > 0;
     const Clock::time_point deadline = Clock::now() + limits.time;
     std::string account, said;
-    bool out_of_time = read_pipes(result_fd, stderr_fd, timed, deadline, account, said);
+    bool out_of_time = read_pipes(child, result_fd, stderr_fd, timed, deadline, account, said);
     const int status = reap(child, timed, deadline, out_of_time);
+    kill(-child, SIGKILL);  // what it forked, if anything still runs
 
     IsolatedResult result;
     if (out_of_time) {

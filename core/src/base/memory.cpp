@@ -104,10 +104,11 @@ constexpr bool kSanitized = false;
 
 }  // namespace
 
-uint64_t cap_address_space() {
+uint64_t cap_address_space(int threads) {
     if (kSanitized) return 0;
-    const uint64_t threads = uint64_t(std::max(1u, std::thread::hardware_concurrency())) + 4;
-    const uint64_t room = (uint64_t(256) << 20) + threads * (uint64_t(80) << 20);
+    const uint64_t most = std::max<uint64_t>(uint64_t(std::max(threads, 1)),
+                                             std::max(1u, std::thread::hardware_concurrency()));
+    const uint64_t room = (uint64_t(256) << 20) + (2 * most + 8) * (uint64_t(80) << 20);
     const uint64_t budget = memory_budget();
     return limit_address_space(budget > ~uint64_t(0) - room ? budget : budget + room);
 }

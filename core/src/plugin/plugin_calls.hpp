@@ -37,6 +37,9 @@ struct CallSlot {
     std::atomic<PluginEntry> entry{PluginEntry::none};
     std::atomic<uint32_t> changes{0};     // +1 whenever a call starts or ends
     std::atomic<void*> landing{nullptr};  // a sigjmp_buf: where a stalled call may return
+    // `changes` as the watchdog saw it when it gave the call up: the
+    // signal returns that call only, never a later one it arrives in.
+    std::atomic<uint32_t> given_up{~0u};
 
     PluginCall read() const {
         return {plugin.load(std::memory_order_relaxed), entry.load(std::memory_order_relaxed)};

@@ -2,12 +2,13 @@
 // reads every thread's CallSlot (plugin_calls.hpp) a few times a second. A
 // slot whose call has not changed within the limit is a stalled call: it is
 // named, and the process ends, or (when calls are abandonable) the stalled
-// thread is sent kAbandonSignal, whose handler returns the call to the
-// landing call_abandonable() made for it, provided the thread is running the
-// plugin's own code. Core or C library code the thread runs for the plugin
-// is never skipped (it may hold a lock): the signal is sent again until the
-// thread is back in the plugin's code, or, after a grace period, the
-// process ends.
+// thread is sent abandon_signal(), whose handler returns that call (and no
+// later one) to the landing call_abandonable() made for it, provided the
+// thread is running the plugin's own code. Core or C library code the
+// thread runs for the plugin is never skipped (it may hold a lock): the
+// signal is sent again until the thread is back in the plugin's code, or,
+// after a grace period, the process ends. Only a call that did land marks
+// the frame abandoned (take_abandoned_call).
 #include "facet/plugin.hpp"
 
 #include "facet/output.hpp"
@@ -18,12 +19,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cfenv>
 #include <csetjmp>
 #include <csignal>
 #include <cstdio>
 #include <mutex>
 #include <thread>
 #include <ucontext.h>
+#if defined(__x86_64__) || defined(__i386__)
+#include <xmmintrin.h>
+#endif
 
 namespace facet {
 
@@ -35,28 +40,34 @@ namespace {
 struct Slot {
     CallSlot call;
     std::atomic<bool> used{false};
-    pthread_t thread{};
+    pthread_t thread{};      // under g_slots_mutex
+    std::string given_up;    // why the watchdog gave its call up; under g_slots_mutex
 };
 
 constexpr size_t kSlots = 1024;
 std::array<Slot, kSlots> g_slots;
-// Held while a slot is freed and while the watchdog signals a thread, so
-// that the thread it signals has not gone.
+// Held while a slot is taken or freed, and while the watchdog signals a
+// thread, so that the thread it signals has not gone.
 std::mutex g_slots_mutex;
+
+thread_local CallSlot t_unwatched;  // past kSlots threads at once, and at thread exit
 
 // A thread's slot, freed when the thread ends.
 struct SlotOwner {
     Slot* slot = nullptr;
     ~SlotOwner() {
         if (!slot) return;
+        // exit() runs this before its atexit handlers, one of which reads
+        // the call exit() was made in (faults.cpp): it stays readable.
+        t_unwatched.write(slot->call.read());
+        t_call_slot = &t_unwatched;
         const std::lock_guard lock(g_slots_mutex);
         slot->used.store(false, std::memory_order_release);
     }
 };
 thread_local SlotOwner t_owner;
-thread_local CallSlot t_unwatched;  // past kSlots threads at once
 
-// Abandoning: set by the watchdog, cleared by take_abandoned_call().
+// Abandoning: set by a call that landed, cleared by take_abandoned_call().
 std::atomic<bool> g_abandoning{false};
 std::mutex g_abandon_mutex;
 std::string g_abandoned;
@@ -83,7 +94,11 @@ void on_abandon(int, siginfo_t*, void* context) {
     if (!slot) return;
     void* landing = slot->landing.load(std::memory_order_relaxed);
     const PluginCall call = slot->read();
-    if (!landing || !call.plugin || !call.plugin->runs_code_at(interrupted_pc(context))) return;
+    if (!landing || !call.plugin ||
+        slot->changes.load(std::memory_order_relaxed) !=
+            slot->given_up.load(std::memory_order_acquire) ||
+        !call.plugin->runs_code_at(interrupted_pc(context)))
+        return;
     siglongjmp(*static_cast<sigjmp_buf*>(landing), 1);
 }
 
@@ -120,9 +135,15 @@ public:
     [[noreturn]] void run() {
         const auto tick = std::clamp(options_.limit / 20, std::chrono::milliseconds(10),
                                      std::chrono::milliseconds(250));
+        auto last = std::chrono::steady_clock::now();
         for (;;) {
             std::this_thread::sleep_for(tick);
             const auto now = std::chrono::steady_clock::now();
+            // Woken late: the process was stopped (Ctrl-Z, a debugger), and
+            // its calls with it; their clocks start again.
+            if (now - last > 4 * tick)
+                for (Seen& seen : seen_) seen.since = now;
+            last = now;
             for (size_t i = 0; i < kSlots; ++i) check(i, now);
         }
     }
@@ -142,25 +163,25 @@ private:
         const bool abandon = options_.on_stall == PluginWatchdog::OnStall::abandon_frame &&
                              abandonable(call.entry);
         if (!abandon || stalled >= options_.limit + kGrace) end_process(call, options_.limit);
-        if (!seen.signalled) record_abandoned(call);
-        seen.signalled = true;
         const std::lock_guard lock(g_slots_mutex);
-        if (s.used.load(std::memory_order_acquire)) pthread_kill(s.thread, abandon_signal());
+        if (!s.used.load(std::memory_order_acquire)) return;
+        if (!seen.signalled) {
+            s.given_up = given_up_text(call);
+            s.call.given_up.store(changes, std::memory_order_release);
+            seen.signalled = true;
+        }
+        pthread_kill(s.thread, abandon_signal());
     }
 
-    void record_abandoned(const PluginCall& call) {
+    std::string given_up_text(const PluginCall& call) const {
         char seconds[32];
-        const std::string text =
-            (call.plugin->is_post() ? "screen pass '" : "shader '") + call.plugin->name() +
-            "' (" + call.plugin->origin() + ") did not return from its " +
-            (call.entry == PluginEntry::vertex     ? "vertex"
-             : call.entry == PluginEntry::fragment ? "fragment"
-                                                   : "post") +
-            " function within " + seconds_text(options_.limit, seconds) +
-            "; the frame was abandoned";
-        const std::lock_guard lock(g_abandon_mutex);
-        if (g_abandoned.empty()) g_abandoned = text;
-        g_abandoning.store(true, std::memory_order_relaxed);
+        return (call.plugin->is_post() ? "screen pass '" : "shader '") + call.plugin->name() +
+               "' (" + call.plugin->origin() + ") did not return from its " +
+               (call.entry == PluginEntry::vertex     ? "vertex"
+                : call.entry == PluginEntry::fragment ? "fragment"
+                                                      : "post") +
+               " function within " + seconds_text(options_.limit, seconds) +
+               "; the frame was abandoned";
     }
 
     static constexpr std::chrono::seconds kGrace{2};
@@ -171,13 +192,13 @@ private:
 }  // namespace
 
 CallSlot& register_call_slot() {
+    const std::lock_guard lock(g_slots_mutex);
     for (Slot& s : g_slots) {
-        bool expected = false;
-        if (s.used.load(std::memory_order_relaxed) ||
-            !s.used.compare_exchange_strong(expected, true, std::memory_order_acq_rel))
-            continue;
+        if (s.used.load(std::memory_order_relaxed)) continue;
         s.thread = pthread_self();
+        s.given_up.clear();
         s.call.write({});
+        s.used.store(true, std::memory_order_release);
         t_owner.slot = &s;
         t_call_slot = &s.call;
         return s.call;
@@ -186,12 +207,45 @@ CallSlot& register_call_slot() {
     return t_unwatched;
 }
 
+namespace {
+
+// The floating-point control a call may leave changed when it is given up
+// (rounding, flush to zero), restored after the jump.
+struct FloatControl {
+#if defined(__x86_64__) || defined(__i386__)
+    unsigned mxcsr = _mm_getcsr();
+    void restore() const { _mm_setcsr(mxcsr); }
+#else
+    fenv_t env;
+    FloatControl() { fegetenv(&env); }
+    void restore() const { fesetenv(&env); }
+#endif
+};
+
+// On the thread whose call the watchdog gave up, back from the jump: the
+// frame is abandoned, for the reason the watchdog gave.
+void record_abandoned() {
+    std::string why;
+    {
+        const std::lock_guard lock(g_slots_mutex);
+        if (t_owner.slot) why = t_owner.slot->given_up;
+    }
+    const std::lock_guard lock(g_abandon_mutex);
+    if (g_abandoned.empty()) g_abandoned = std::move(why);
+    g_abandoning.store(true, std::memory_order_relaxed);
+}
+
+}  // namespace
+
 void call_abandonable(CallSlot& slot, void (*call)(void*), void* context) {
     if (g_abandoning.load(std::memory_order_relaxed)) return;  // the frame is given up
     sigjmp_buf landing;
+    const FloatControl control;
     void* const outer = slot.landing.load(std::memory_order_relaxed);
     if (sigsetjmp(landing, 0) != 0) {  // from on_abandon: the call was given up
         slot.landing.store(outer, std::memory_order_relaxed);
+        control.restore();
+        record_abandoned();
         return;
     }
     slot.landing.store(&landing, std::memory_order_relaxed);
@@ -217,7 +271,7 @@ void watch_plugin_calls(const PluginWatchdog& options) {
         if (options.on_stall == PluginWatchdog::OnStall::abandon_frame) {
             struct sigaction action {};
             action.sa_sigaction = on_abandon;
-            action.sa_flags = SA_SIGINFO | SA_NODEFER;  // not blocked after the jump out
+            action.sa_flags = SA_SIGINFO | SA_NODEFER | SA_RESTART;  // not blocked after the jump
             sigemptyset(&action.sa_mask);
             sigaction(abandon_signal(), &action, nullptr);
             g_calls_abandonable.store(true, std::memory_order_relaxed);

@@ -24,9 +24,10 @@ std::optional<Camera> parse_camera(std::string_view text, const Camera& base);
 
 // --max-memory: sets the memory budget (facet/memory.hpp) from `text`, or
 // when it is empty from FACET_MAX_MEMORY, if set, and caps the address
-// space to match (cap_address_space). False, having logged which of the two
-// is wrong and what was expected, when it is no size.
-bool apply_max_memory(std::string_view text);
+// space to match (cap_address_space, with room for `threads` render
+// threads; 0: one per hardware thread). False, having logged which of the
+// two is wrong and what was expected, when it is no size.
+bool apply_max_memory(std::string_view text, int threads);
 
 // What to say when an allocation failed (std::bad_alloc): the address
 // space cap, if one is set, else how to set the budget.
