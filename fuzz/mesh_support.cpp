@@ -60,6 +60,8 @@ void check_geometry(const Mesh& m) {
 // oom finding even from a fork. Half the limit leaves room for this
 // process to repeat an import that fitted.
 constexpr uint64_t kForkMemory = uint64_t(1) << 30;
+// And the time it may take: under libFuzzer's 10 s per input.
+constexpr int kForkSeconds = 8;
 
 // True if importing `file` in this process would end it. Tried in a fork,
 // limited to kForkMemory, with the fuzzer's and the sanitizers' crash
@@ -86,8 +88,22 @@ bool import_crashes(const std::filesystem::path& file) {
         }
         _exit(0);
     }
+    // At most kForkSeconds, as facet-sandbox has a time limit: an import
+    // still running then is ended, and counts as one that fails. (The
+    // 2026-11-29 hour of gltf met a 36-byte file whose fork outlived
+    // libFuzzer's 10 s once, on a loaded machine; replayed, it takes 1 s.)
     int status = 0;
-    while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    for (int waited_ms = 0;; ++waited_ms) {
+        const pid_t done = waitpid(child, &status, WNOHANG);
+        if (done == child) break;
+        if (done < 0 && errno != EINTR) return true;
+        if (waited_ms == kForkSeconds * 1000) {
+            kill(child, SIGKILL);
+            while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+            }
+            return true;
+        }
+        usleep(1000);
     }
     return !(WIFEXITED(status) && WEXITSTATUS(status) == 0);
 }
