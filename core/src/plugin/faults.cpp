@@ -128,14 +128,17 @@ void on_fault(int sig, siginfo_t* info, void*) {
 // Not a signal handler: it may remove the private plugin copies too.
 void on_exit_in_plugin() {
     const PluginCall call = t_call_slot ? t_call_slot->read() : PluginCall{};
-    if (!call.plugin) return;
-    report_plugin_call(call, "called exit()", "the process ends with status 70");
+    if (call.plugin) end_process_for(call, "called exit()", "the process ends with status 70");
+}
+
+}  // namespace
+
+void end_process_for(const PluginCall& call, const char* event, const char* detail) {
+    report_plugin_call(call, event, detail);
     remove_partial_outputs();
     remove_private_plugin_copies();
     _exit(70);
 }
-
-}  // namespace
 
 void report_plugin_faults() {
     // A stack of its own for this thread (the pool's workers make theirs),

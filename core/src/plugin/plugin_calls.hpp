@@ -82,6 +82,10 @@ private:
 // stderr, where is the call's function ("in its fragment function").
 // Async-signal-safe. faults.cpp.
 void report_plugin_call(const PluginCall& call, const char* event, const char* detail);
+// Reports the call so, removes the partial outputs and the private plugin
+// copies, and ends the process with status 70 (EX_SOFTWARE): exit() in
+// plugin code, or a stall. Not for signal handlers. faults.cpp.
+[[noreturn]] void end_process_for(const PluginCall& call, const char* event, const char* detail);
 
 // True when the watchdog abandons stalled calls rather than ending the
 // process (watch_plugin_calls, facet/plugin.hpp).

@@ -11,7 +11,6 @@
 // the frame abandoned (take_abandoned_call).
 #include "facet/plugin.hpp"
 
-#include "facet/output.hpp"
 #include "plugin/plugin_calls.hpp"
 
 #include <pthread.h>
@@ -111,10 +110,7 @@ const char* seconds_text(std::chrono::milliseconds limit, char (&text)[32]) {
     char seconds[32];
     std::string detail = std::string("no return within ") + seconds_text(limit, seconds) +
                          "; the process ends with status 70";
-    report_plugin_call(call, "stalled", detail.c_str());
-    remove_partial_outputs();
-    remove_private_plugin_copies();
-    _exit(70);
+    end_process_for(call, "stalled", detail.c_str());
 }
 
 bool abandonable(PluginEntry e) {
