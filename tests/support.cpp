@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <stdexcept>
 
 #include <spdlog/sinks/ostream_sink.h>
@@ -65,10 +66,11 @@ bool same_image(const Framebuffer& a, const Framebuffer& b) {
            std::memcmp(a.depth(), b.depth(), n * sizeof(float)) == 0;
 }
 
-const char* const kDemoScenes[8] = {"default.yaml",      "scenes/lit.yaml",
-                                    "scenes/phong.yaml",  "scenes/toon.yaml",
-                                    "scenes/shadow.yaml", "scenes/ao.yaml",
-                                    "scenes/showcase.yaml", "scenes/gallery.yaml"};
+const char* const kDemoScenes[9] = {"default.yaml",         "scenes/lit.yaml",
+                                    "scenes/phong.yaml",     "scenes/toon.yaml",
+                                    "scenes/shadow.yaml",    "scenes/ao.yaml",
+                                    "scenes/showcase.yaml",  "scenes/gallery.yaml",
+                                    "scenes/environment.yaml"};
 
 Scene SceneDir::load(const std::string& yaml) {
     write(dir / "scene.yaml", yaml);
@@ -92,6 +94,13 @@ Scene small_demo_scene(PluginRegistry& registry, const std::string& name) {
     // the scene's own size, through the same code at a 64th of the work
     // (the tests under the sanitizers draw hundreds of them).
     s.settings.shadow_map_size = 256;
+    // A demo's environment, prefiltered once: held here, so that each later
+    // load of the scene finds it in the process's cache (load_environment).
+    static std::mutex holding;
+    static std::vector<std::shared_ptr<const EnvironmentMaps>> held;
+    const std::lock_guard lock(holding);
+    if (s.environment.maps && std::find(held.begin(), held.end(), s.environment.maps) == held.end())
+        held.push_back(s.environment.maps);
     return s;
 }
 

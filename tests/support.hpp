@@ -2,6 +2,7 @@
 // code, and a one-call way to draw them.
 #pragma once
 
+#include <facet/memory.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 #include <facet/shader.hpp>
@@ -83,7 +84,7 @@ glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height);
 bool same_image(const Framebuffer& a, const Framebuffer& b);
 
 // The demo scenes in configs/, each as small_demo_scene() loads it.
-extern const char* const kDemoScenes[8];
+extern const char* const kDemoScenes[9];
 // configs/<name>, at 197 x 111 (several tiles, and no multiple of the tile
 // or block size), with shadow maps 256 texels a side (unless a light asks
 // for its own size).
@@ -119,6 +120,14 @@ public:
     std::filesystem::path write(const std::string& name, const std::string& text) const;
 
     const std::filesystem::path path;
+};
+
+// Sets the memory budget (facet/memory.hpp) for one test; the one before
+// comes back after it.
+struct Budget {
+    const uint64_t before = memory_budget();
+    explicit Budget(uint64_t bytes) { set_memory_budget(bytes); }
+    ~Budget() { set_memory_budget(before); }
 };
 
 // A folder for a test's scene file and the files it names, with a

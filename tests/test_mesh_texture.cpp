@@ -595,3 +595,24 @@ TEST_CASE("damaged and cut-short PNGs are named as such", "[texture]") {
     CHECK_THAT(error_of("no-end.png", good.substr(0, good.size() - 12)),
                Contains("before its IEND chunk: it is cut short"));
 }
+
+TEST_CASE("a 16-bit PNM is refused, named, before the decoder reads past its buffer",
+          "[texture][errors]") {
+    // stb_image (libstb 2022-09-08) converts a 16-bit PNM's channels in a
+    // buffer sized for 8 bits (tests/fuzz_regressions/texture_decode/).
+    for (const std::string header : {"P6 2 2 65535\n", "P5\n# a comment\n2 2\n1000\n"}) {
+        INFO(header);
+        const std::string bytes = header + std::string(24, '\x7f');
+        try {
+            decode_texture(bytes, false, "deep.ppm");
+            FAIL("decoded");
+        } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::texture_load_failed);
+            CHECK(e.file() == "deep.ppm");
+            CHECK_THAT(e.what(), Catch::Contains("16 bits"));
+        }
+    }
+    // 8 bits a sample still decode.
+    const auto eight = decode_texture("P6 1 1 255\n\x10\x20\x30", false, "ok.ppm");
+    CHECK(eight->texels[0] == Texel8{0x10, 0x20, 0x30, 255});
+}

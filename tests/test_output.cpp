@@ -8,6 +8,7 @@
 #include "support.hpp"
 
 #include <facet/error.hpp>
+#include <facet/output.hpp>
 #include <facet/png.hpp>
 #include <facet/texture.hpp>
 
@@ -19,6 +20,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <fstream>
 #include <iterator>
@@ -206,3 +208,22 @@ TEST_CASE("resuming a sequence removes the partial files of a run that was kille
 }
 
 #endif  // FACET_RENDER_EXE
+
+TEST_CASE("a partial file whose process has exited but is not reaped is abandoned", "[output]") {
+    // A zombie: it exists until its parent waits for it (in a container
+    // whose first process reaps no one, for good), yet can finish nothing.
+    const test::TempDir dir("output-zombie");
+    const pid_t zombie = fork();
+    if (zombie == 0) _exit(0);
+    for (int i = 0; i < 200 && kill(zombie, 0) == 0; ++i) {  // until it has exited
+        std::ifstream stat("/proc/" + std::to_string(zombie) + "/stat");
+        std::string line;
+        std::getline(stat, line);
+        if (line.find(") Z") != std::string::npos) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    const fs::path left = dir.write("out.png." + std::to_string(zombie) + "-0.part", "half");
+    CHECK(remove_abandoned_partials(dir.path / "out.png") == 1);
+    CHECK_FALSE(fs::exists(left));
+    waitpid(zombie, nullptr, 0);
+}

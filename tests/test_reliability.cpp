@@ -455,16 +455,7 @@ TEST_CASE("a path that names no regular file is refused, saying what it is",
 
 // ---- the memory budget ----------------------------------------------------------
 
-namespace {
-
-// Sets the budget for one test; the one before comes back after it.
-struct Budget {
-    const uint64_t before = memory_budget();
-    explicit Budget(uint64_t bytes) { set_memory_budget(bytes); }
-    ~Budget() { set_memory_budget(before); }
-};
-
-}  // namespace
+using test::Budget;
 
 TEST_CASE("memory sizes parse strictly", "[reliability][memory]") {
     CHECK(parse_memory_size("1000000") == 1000000u);

@@ -5,7 +5,8 @@
 //     colour = albedo.rgb * E,  alpha = albedo.a
 //
 // With alpha_cutoff above 0, a fragment whose albedo.a is below it is
-// discarded (a cutout).
+// discarded (a cutout). In a scene with an environment, ambient is its
+// irradiance / pi at the interpolated normal (<facet/environment.hpp>).
 //
 // `radiance` is what a light delivers at the point: color * intensity *
 // attenuation * spot factor (facet::sdk::incident_light). With per_pixel (the
@@ -19,6 +20,7 @@
 // per fragment even without per_pixel; with ambient_occlusion above 0 the
 // ambient term is times AO to that power, per fragment too
 // (facet::sdk::Receiving).
+#include <facet/environment.hpp>
 #include <facet/lighting.hpp>
 
 namespace {
@@ -104,6 +106,7 @@ struct Lit {
         const Vec4 albedo = p.base_color * f.texture(p.base_texture);
         cut_out(f, albedo.w, p.alpha_cutoff);
         Vec3 e(p.ambient);
+        if (const Environment env = environment_of(f)) e = env.irradiance(normalize(v.normal));
         if constexpr (Receives) e = e * ambient_visibility(f, p.receive);
         if (p.per_pixel) {
             Vec3 n = normalize(v.normal);

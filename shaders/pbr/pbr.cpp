@@ -12,7 +12,8 @@
 //     V = 0.5 / (n.L sqrt((n.v)^2 (1 - a^2) + a^2)
 //              + n.v sqrt((n.L)^2 (1 - a^2) + a^2))          (Smith, height-correlated)
 //     colour = emissive * emissive_texture
-//            + ambient * (c_diff + f0 * A + B) * occlusion
+//            + ambient * (c_diff + f0 * A + B) * occlusion       (no environment)
+//            + (c_diff E(n) + S(r, roughness) (f0 A + B)) * occlusion  (an environment)
 //            + sum over lights of radiance * n.L * ((1 - F) c_diff + pi F D V)
 //
 // The lights' term is pi times the BRDF's, so that a light's intensity
@@ -20,6 +21,9 @@
 // light of intensity 1 is 1. `ambient` is light arriving equally from
 // everywhere; its specular share uses A, B, the split-sum environment BRDF
 // fitted by Karis (2014), so rough and smooth surfaces keep their energy.
+// A scene with an environment lights by it instead (<facet/environment.hpp>):
+// E(n) its irradiance / pi, S its radiance prefiltered for the roughness
+// around the reflected view r, A and B from the split-sum table.
 // occlusion = 1 + occlusion_strength * (occlusion_texture.r - 1), times
 // AO^ambient_occlusion when the host runs AO. n is the interpolated normal,
 // or with a normal_texture the normal it gives (normal_scale scales its X
@@ -28,6 +32,7 @@
 // With alpha_cutoff above 0, fragments whose base alpha is below it are
 // discarded; the output alpha is base alpha, or 1 with opaque_alpha (glTF's
 // OPAQUE and MASK modes). glTF materials map to it (docs/MATERIALS.md).
+#include <facet/environment.hpp>
 #include <facet/lighting.hpp>
 
 namespace {
@@ -137,8 +142,17 @@ struct Pbr {
         s.a2 = a * a;
         Float occlusion = 1.0f + p.occlusion_strength * (f.texture(p.occlusion_texture).x - 1.0f);
         if constexpr (Receives) occlusion = occlusion * ambient_visibility(f, p.receive);
-        Vec3 c = p.emissive * rgb(f.texture(p.emissive_texture)) +
-                 p.ambient * ambient_share(s, roughness) * occlusion;
+        Vec3 c = p.emissive * rgb(f.texture(p.emissive_texture));
+        if (const Environment env = environment_of(f)) {
+            const Vec2 ab = env.brdf(s.n_v, roughness);
+            // The lobe's peak leans from the mirror direction towards n as it
+            // widens (the dominant direction: Lagarde and de Rousiers 2014).
+            const Vec3 towards = mix(reflect(-s.v, n), n, a);
+            const Vec3 specular = env.specular(towards, roughness) * (s.f0 * ab.x + ab.y);
+            c += (s.c_diff * env.irradiance(n) + specular) * occlusion;
+        } else {
+            c += p.ambient * ambient_share(s, roughness) * occlusion;
+        }
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);

@@ -12,10 +12,13 @@
 // n is the interpolated normal, normalised per fragment, or with a
 // normal_texture the normal it gives (facet::sdk::normal_mapped); v points
 // from the fragment to the camera. `radiance` is color * intensity * attenuation *
-// spot factor (facet::sdk::incident_light). All colours are linear. With
-// receive_shadows (the default) each light's term is times the share of it
-// its shadow map lets through, if it casts shadows; with ambient_occlusion
-// above 0, ambient is times AO to that power (facet::sdk::Receiving).
+// spot factor (facet::sdk::incident_light). All colours are linear. In a
+// scene with an environment, ambient is kd times its irradiance / pi at n
+// (<facet/environment.hpp>). With receive_shadows (the default) each
+// light's term is times the share of it its shadow map lets through, if it
+// casts shadows; with ambient_occlusion above 0, ambient is times AO to
+// that power (facet::sdk::Receiving).
+#include <facet/environment.hpp>
 #include <facet/lighting.hpp>
 
 namespace {
@@ -80,8 +83,10 @@ struct Phong {
         const Vec4 base = f.texture(p.base_texture);
         cut_out(f, base.w, p.alpha_cutoff);
         const Vec3 kd = p.diffuse * rgb(base);
-        Vec3 c(p.emission + p.ambient);
-        if constexpr (Receives) c = p.emission + p.ambient * ambient_visibility(f, p.receive);
+        Vec3 ambient(p.ambient);
+        if (const Environment env = environment_of(f)) ambient = kd * env.irradiance(n);
+        Vec3 c = p.emission + ambient;
+        if constexpr (Receives) c = p.emission + ambient * ambient_visibility(f, p.receive);
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);

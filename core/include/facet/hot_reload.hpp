@@ -23,8 +23,9 @@
 // A plugin that appears in a plugin folder is available by name at once;
 // if the scene had failed to load, it is tried again.
 //
-// The scene's meshes and textures are watched too. A changed texture is
-// read again and swapped into every material that uses it; a changed mesh
+// The scene's meshes, textures and environment are watched too. A changed
+// texture is read again and swapped into every material that uses it; a
+// changed environment image is read and prefiltered again; a changed mesh
 // reads the scene again, whole (its parts and its own materials may have
 // changed). A file that will not load is refused, and the last good
 // version stays.
@@ -131,6 +132,7 @@ private:
     bool reload_scene(const std::filesystem::path& cause = {});
     bool reload_asset(const std::filesystem::path& path);
     bool reload_texture(const std::filesystem::path& path);
+    bool reload_environment(const std::filesystem::path& path);
     std::string trial_frame(const std::string& name);
     void report(ReloadEvent::Kind kind, std::string subject, std::string message);
 

@@ -41,6 +41,7 @@ class ThreadPool;  // core/src/base/thread_pool.hpp
 struct Kernels;    // core/src/pipeline/kernels.hpp
 struct DrawQueue;  // core/src/pipeline/draw_queue.hpp
 struct AoFrame;    // core/src/pipeline/kernels.hpp
+struct SkyRows;    // core/src/pipeline/sky.hpp
 
 // What a frame did and what it skipped. Triangle counts are per input
 // triangle: each ends in exactly one of culled_frustum, culled_backface,
@@ -139,6 +140,9 @@ struct DrawCall {
     const float* ao = nullptr;
     const AoFrame* ao_grid = nullptr;
     float time = 0.0f;
+    // The scene's environment as shaders light by it ("facet.environment"),
+    // or null; it must outlive the draw.
+    const facet_environment* environment = nullptr;
     // A band of a taller image: the target holds rows [first_row, first_row
     // + its height) of an image image_height rows tall (and as wide as the
     // target). Positions snap on the whole image's grid before moving up by
@@ -219,6 +223,9 @@ public:
     void cancel();
     // Framebuffer::resolve() on all the pipeline's threads.
     void resolve(Framebuffer& target);
+    // The sky pass (core/src/pipeline/sky.hpp) into `sky.target`, whose
+    // draws must be flushed, on all the pipeline's threads.
+    void sky(const SkyRows& sky);
     // Framebuffer::resolve_srgb8() on all the pipeline's threads: the 8-bit
     // sRGB image of a float target, for a PNG or a window, at the cost of a
     // clear (from an srgb8 target it is a copy).

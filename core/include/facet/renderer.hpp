@@ -118,6 +118,8 @@ private:
                      Framebuffer& frame, FrameStats& stats);
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
                         bool prepassed, FrameStats& stats);
+    // The environment behind the opaque draws (core/src/pipeline/sky.hpp).
+    void draw_sky(const Scene& scene, const DrawCall& call, Framebuffer& target);
 
     struct BlendedItem {
         DrawItem item;
@@ -125,6 +127,7 @@ private:
     };
     struct Scratch {
         std::vector<facet_light> lights;
+        facet_environment environment{};     // the scene's, as draws and the sky read it
         std::vector<DrawItem> items;         // every drawable part
         std::vector<BlendedItem> blended;
         std::vector<DrawItem> casters;       // every drawable part, for shadow maps

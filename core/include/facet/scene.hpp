@@ -12,6 +12,9 @@
 //         # also spot (spot_inner, spot_outer), range, attenuation; a light that
 //         # casts shadows gets a map (a cube of six for a point light) of its own
 //         # shadow_map_size, or the scene's
+//     environment: {file: sky.hdr, rotation: 90, intensity: 1, use: both}
+//                                         # an image all around the scene, behind it
+//                                         # and lighting it (facet/environment_map.hpp)
 //     post:                               # screen passes, in order (post.hpp in the SDK)
 //       - {pass: bloom, threshold: 1, intensity: 0.08}
 //       - {pass: tonemap, operator: aces, exposure: 0.5}
@@ -35,6 +38,7 @@
 #pragma once
 
 #include "facet/animation.hpp"
+#include "facet/environment_map.hpp"
 #include "facet/framebuffer.hpp"
 #include "facet/material.hpp"
 #include "facet/math.hpp"
@@ -178,6 +182,7 @@ struct Scene {
     std::vector<Light> lights;
     std::vector<Object> objects;
     std::vector<PostPass> post;  // run in order on the finished frame
+    Environment environment;     // none unless the scene has `environment:`
     RenderSettings settings;
     std::vector<std::filesystem::path> plugin_paths;  // absolute
     // The material files the objects use, by canonical path; objects naming

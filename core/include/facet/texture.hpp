@@ -148,6 +148,11 @@ void generate_mipmaps(Texture& texture);
 std::shared_ptr<const Texture> load_cube(const std::vector<std::filesystem::path>& faces,
                                          bool srgb);
 
+// An image file's bytes: a regular file of at most 2 GiB, within the
+// memory budget. Throws Error(file_not_found | not_a_file |
+// texture_load_failed | over_budget).
+std::string read_image_file(const std::filesystem::path& path);
+
 // Throws Error(file_not_found | not_a_file | texture_load_failed), or
 // Error(over_budget) when its header gives a size over the memory budget.
 std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb);
@@ -204,6 +209,9 @@ glm::vec4 sample_cube(const TextureBinding& binding, glm::vec3 dir, float lod);
 // The face of direction d (+X, -X, +Y, -Y, +Z, -Z: 0 to 5) and where d
 // meets it, (u, v) in 0..1, as the cube sampler reads them.
 int cube_face(glm::vec3 d, glm::vec2& uv);
+// The inverse: the direction (not unit) through point (x + 1/2, y + 1/2),
+// in texels, of face f of n x n texels; x and y may lie past the face.
+glm::dvec3 cube_texel_direction(int f, double x, double y, int n);
 
 // Sample `count` coordinates at level 0; writes rgba[c * count + i].
 void sample_many(const TextureBinding& binding, const float* u, const float* v, int count,

@@ -53,27 +53,13 @@ glm::vec4 equirect_texel(const Texture& image, double u, double v) {
     return glm::vec4(glm::mix(top, bottom, fy));
 }
 
-// The direction through the centre of texel (i, j) of face f of an n x n
-// cube: the inverse of cube_face().
-glm::dvec3 face_direction(int f, int i, int j, int n) {
-    const double sc = 2.0 * (i + 0.5) / n - 1.0, tc = 2.0 * (j + 0.5) / n - 1.0;
-    switch (f) {
-        case 0: return {1.0, -tc, -sc};
-        case 1: return {-1.0, -tc, sc};
-        case 2: return {sc, 1.0, tc};
-        case 3: return {sc, -1.0, -tc};
-        case 4: return {sc, -tc, 1.0};
-        default: return {-sc, -tc, -1.0};
-    }
-}
-
 std::shared_ptr<Texture> cube_from_equirect(const Texture& image) {
     const int n = std::max(1, image.height / 2);
     auto cube = empty_cube(n, image.srgb, image.source);
     for (int f = 0; f < 6; ++f)
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
-                const glm::dvec3 d = glm::normalize(face_direction(f, i, j, n));
+                const glm::dvec3 d = glm::normalize(cube_texel_direction(f, i, j, n));
                 const double u = (0.5 + std::atan2(d.x, -d.z) / (2.0 * kPi)) * image.width;
                 const double v = std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi * image.height;
                 cube->texels[(size_t(f) * size_t(n) + size_t(j)) * size_t(n) + size_t(i)] =
@@ -100,6 +86,18 @@ std::shared_ptr<Texture> cube_from_faces(const std::vector<std::filesystem::path
 }
 
 }  // namespace
+
+glm::dvec3 cube_texel_direction(int f, double x, double y, int n) {
+    const double sc = 2.0 * (x + 0.5) / n - 1.0, tc = 2.0 * (y + 0.5) / n - 1.0;
+    switch (f) {
+        case 0: return {1.0, -tc, -sc};
+        case 1: return {-1.0, -tc, sc};
+        case 2: return {sc, 1.0, tc};
+        case 3: return {sc, -1.0, -tc};
+        case 4: return {sc, -tc, 1.0};
+        default: return {-sc, -tc, -1.0};
+    }
+}
 
 std::shared_ptr<const Texture> load_cube(const std::vector<std::filesystem::path>& faces,
                                          bool srgb) {

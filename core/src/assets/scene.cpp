@@ -7,6 +7,7 @@
 #include "facet/memory.hpp"
 #include "facet/paths.hpp"
 #include "assets/material_yaml.hpp"
+#include "assets/scene_environment.hpp"
 #include "assets/yaml_util.hpp"
 
 #include <spdlog/spdlog.h>
@@ -59,16 +60,8 @@ std::vector<Material*> Scene::materials() const {
 namespace {
 
 // Throws Error(code, detail) at `at` unless `ok`.
-void ensure(bool ok, const yaml::Context& ctx, const YAML::Node& at, ErrorCode code,
-            const std::string& detail) {
-    if (!ok) throw yaml::error(ctx, at, code, detail);
-}
-
-// map[key] if present, else the map: where to report a value's problem.
-YAML::Node where(const YAML::Node& map, const std::string& key) {
-    const YAML::Node value = map[key];
-    return value ? value : map;
-}
+using yaml::ensure;
+using yaml::where;
 
 bool all_at_least(const glm::vec3& v, float lo) { return v.x >= lo && v.y >= lo && v.z >= lo; }
 
@@ -710,7 +703,8 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     const yaml::Context& ctx = loader.ctx;
     const YAML::Node root = yaml::load_file(path);
     yaml::check_map(ctx, root, "scene",
-                    {"camera", "render", "plugin_paths", "lights", "objects", "post", "animation"});
+                    {"camera", "render", "plugin_paths", "lights", "objects", "post", "animation",
+                     "environment"});
     Scene scene;
     scene.source = path;
     if (const YAML::Node camera = root["camera"]) scene.camera = read_camera(ctx, camera);
@@ -727,6 +721,8 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     for_each_item(ctx, root, "post", [&](const YAML::Node& item, size_t) {
         scene.post.push_back(loader.post_pass(item));
     });
+    if (const YAML::Node environment = root["environment"])
+        scene.environment = read_environment(ctx, environment, path.parent_path());
     for (const auto& [file, material] : loader.materials()) scene.material_files[file] = material;
     read_animation(ctx, root, scene);
     spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),

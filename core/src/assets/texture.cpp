@@ -9,11 +9,11 @@
 #include "facet/color.hpp"
 #include "facet/memory.hpp"
 #include "assets/decoder_peak.hpp"
+#include "assets/image_decoder.hpp"
 #include "assets/png_check.hpp"
 #include "base/files.hpp"
 
 #include <spdlog/spdlog.h>
-#include <stb/stb_image.h>
 
 #include <algorithm>
 #include <array>
@@ -204,16 +204,15 @@ void require_decodable(std::string_view bytes, int header_width, int header_heig
                           source);
 }
 
-// A texture of stb_image's decoded RGBA `pixels`, which it frees.
-std::shared_ptr<const Texture> adopt_pixels(stbi_uc* pixels, int width, int height, int channels,
-                                            bool srgb, const std::string& source) {
-    if (width <= 0 || height <= 0) {  // a header that says so (HDR's "+X 0")
-        stbi_image_free(pixels);
+// A texture of the decoded RGBA `pixels`.
+std::shared_ptr<const Texture> adopt_pixels(const Pixels8& pixels, bool srgb,
+                                            const std::string& source) {
+    const int width = pixels.width, height = pixels.height, channels = pixels.file_channels;
+    if (width <= 0 || height <= 0)  // a header that says so (HDR's "+X 0")
         throw Error(ErrorCode::texture_load_failed,
                     "an image of " + std::to_string(width) + "x" + std::to_string(height) +
                         " pixels: it has none",
                     source);
-    }
     auto texture = std::make_shared<Texture>();
     texture->source = source;
     texture->width = width;
@@ -221,8 +220,7 @@ std::shared_ptr<const Texture> adopt_pixels(stbi_uc* pixels, int width, int heig
     texture->srgb = srgb;
     texture->texels.resize(size_t(width) * height);
     static_assert(sizeof(Texel8) == 4);
-    std::memcpy(texture->texels.data(), pixels, texture->texels.size() * sizeof(Texel8));
-    stbi_image_free(pixels);
+    std::memcpy(texture->texels.data(), pixels.data.get(), texture->texels.size() * sizeof(Texel8));
     generate_mipmaps(*texture);
     texture->sampled();  // the sampler's levels now, not in the first frame
     spdlog::debug("texture {}: {}x{}, {} channels{}, {} levels", texture->source, width, height,
@@ -232,9 +230,8 @@ std::shared_ptr<const Texture> adopt_pixels(stbi_uc* pixels, int width, int heig
 
 }  // namespace
 
-std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
+std::string read_image_file(const std::filesystem::path& path) {
     require_regular_file(path);
-    // The file's bytes, then as decode_texture: one way in for every image.
     std::error_code ec;
     const uintmax_t size = std::filesystem::file_size(path, ec);
     if (ec) throw Error(ErrorCode::texture_load_failed, ec.message(), path.string());
@@ -245,7 +242,12 @@ std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, b
     std::ifstream in(path, std::ios::binary);
     if (!in.read(bytes.data(), std::streamsize(size)))
         throw Error(ErrorCode::texture_load_failed, "cannot read the file", path.string());
-    return decode_texture(bytes, srgb, path.string());
+    return bytes;
+}
+
+std::shared_ptr<const Texture> load_texture(const std::filesystem::path& path, bool srgb) {
+    // The file's bytes, then as decode_texture: one way in for every image.
+    return decode_texture(read_image_file(path), srgb, path.string());
 }
 
 std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
@@ -253,22 +255,9 @@ std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
         throw Error(ErrorCode::texture_load_failed, "an image over 2 GiB", source);
     if (looks_like_png(bytes)) check_png(bytes, source);
-    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-    const int size = int(bytes.size());
-    int width = 0, height = 0, channels = 0;
-    if (stbi_info_from_memory(data, size, &width, &height, &channels))
-        require_decodable(bytes, width, height, srgb, source);
-    stbi_uc* pixels = stbi_load_from_memory(data, size, &width, &height, &channels, 4);
-    if (!pixels && std::string_view(stbi_failure_reason()) == "outofmem")
-        throw Error(ErrorCode::over_budget,
-                    "the decoder ran out of memory" +
-                        std::string(address_space_cap() ? " at the address space cap (the "
-                                                          "memory budget, --max-memory, and "
-                                                          "what the program maps)"
-                                                        : ""),
-                    source);
-    if (!pixels) throw Error(ErrorCode::texture_load_failed, stbi_failure_reason(), source);
-    return adopt_pixels(pixels, width, height, channels, srgb, source);
+    if (const std::optional<ImageInfo> info = image_info(bytes))
+        require_decodable(bytes, info->width, info->height, srgb, source);
+    return adopt_pixels(decode_8bit(bytes, 4, source), srgb, source);
 }
 
 namespace {

@@ -49,6 +49,18 @@ void check_map(const Context& ctx, const YAML::Node& node, std::string_view what
 void check_map(const Context& ctx, const YAML::Node& node, std::string_view what,
                std::initializer_list<std::string_view> allowed);
 
+// Throws error(ctx, at, code, detail) unless `ok`.
+inline void ensure(bool ok, const Context& ctx, const YAML::Node& at, ErrorCode code,
+                   const std::string& detail) {
+    if (!ok) throw error(ctx, at, code, detail);
+}
+
+// map[key] if present, else the map: where to report a value's problem.
+inline YAML::Node where(const YAML::Node& map, const std::string& key) {
+    const YAML::Node value = map[key];
+    return value ? value : map;
+}
+
 // Checks that `node` is a sequence; throws Error(wrong_type) if not.
 void check_sequence(const Context& ctx, const YAML::Node& node, std::string_view what);
 

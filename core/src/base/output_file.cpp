@@ -15,6 +15,7 @@
 #include <cerrno>
 #include <climits>
 #include <cstring>
+#include <fstream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -73,6 +74,19 @@ std::optional<std::pair<std::string, long>> parse_partial(const std::string& nam
     return std::make_pair(stem.substr(0, dot), std::stol(std::string(pid)));
 }
 
+// Whether process `pid` has ended: it does not exist, or it has exited and
+// waits only to be reaped (a zombie, which in a container whose first
+// process reaps no one stays so), so that it can never finish a file.
+bool process_ended(long pid) {
+    if (::kill(pid_t(pid), 0) != 0) return errno == ESRCH;
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    if (!std::getline(stat, line)) return false;
+    const size_t close = line.rfind(')');  // the name may hold spaces and parentheses
+    return close != std::string::npos && close + 2 < line.size() &&
+           (line[close + 2] == 'Z' || line[close + 2] == 'X');
+}
+
 }  // namespace
 
 std::vector<AbandonedPartial> abandoned_partials(const fs::path& folder) {
@@ -81,8 +95,7 @@ std::vector<AbandonedPartial> abandoned_partials(const fs::path& folder) {
     for (const fs::directory_entry& e : fs::directory_iterator(folder.empty() ? "." : folder, ec)) {
         const auto parsed = parse_partial(e.path().filename().string());
         // A process that runs (this one included) may still finish its file.
-        if (!parsed || parsed->second == long(getpid()) ||
-            !(::kill(pid_t(parsed->second), 0) != 0 && errno == ESRCH))
+        if (!parsed || parsed->second == long(getpid()) || !process_ended(parsed->second))
             continue;
         // Named as `folder` names them: "out.png" for the working folder.
         out.push_back({folder / e.path().filename(), folder / parsed->first});

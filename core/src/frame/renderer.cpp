@@ -6,6 +6,7 @@
 #include "frame/ao.hpp"
 #include "frame/post.hpp"
 #include "pipeline/clip.hpp"
+#include "pipeline/sky.hpp"
 #include "plugin/plugin_calls.hpp"
 #include "frame/shadow.hpp"
 #include "base/timing.hpp"
@@ -185,6 +186,9 @@ FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
     for (const Light& l : scene.lights) scratch_.lights.push_back(to_abi(l));
     call.lights = scratch_.lights.data();
     call.light_count = uint32_t(scratch_.lights.size());
+    scratch_.environment = scene.environment.record();
+    if (scene.environment && scene.environment.settings.lights())
+        call.environment = &scratch_.environment;
 
     FrameStats stats;
     const FramePlan plan = plan_frame(scene, call, stats);
@@ -342,6 +346,10 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         if (item_call(scene, call, d, Role::main, prepassed)) scratch_.opaque_calls.push_back(call);
     if (!prepassed || !pipeline_.redraw(scratch_.opaque_calls, target, stats))
         for (const DrawCall& c : scratch_.opaque_calls) pipeline_.queue(c, target, stats);
+    if (scene.environment && scene.environment.settings.shows()) {
+        pipeline_.flush(stats);  // the opaque draws: the sky goes where they left the far depth
+        draw_sky(scene, call, target);
+    }
     for (BlendedItem& b : scratch_.blended) b.depth = view_depth(b.item, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
               [](const BlendedItem& a, const BlendedItem& b) {
@@ -351,6 +359,19 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         queue_item(scene, call, b.item, Role::main, prepassed, target, stats);
     pipeline_.flush(stats);
     stats.ms_main += elapsed_ms(start);
+}
+
+void Renderer::draw_sky(const Scene& scene, const DrawCall& call, Framebuffer& target) {
+    const RenderSettings& s = scene.settings;
+    SkyRows sky;
+    sky.target = &target;
+    sky.environment = &scratch_.environment;
+    sky.blur = scene.environment.settings.blur;
+    sky.first_row = call.first_row;
+    sky.far_depth = s.far_depth();
+    sky_directions(sky, call.view, call.projection, call.camera_position,
+                   scene.camera.orthographic, s.width, s.height);
+    pipeline_.sky(sky);
 }
 
 }  // namespace facet

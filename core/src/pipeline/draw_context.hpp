@@ -37,6 +37,7 @@ struct DrawContext {
     const float* ao = nullptr;                 // target-sized, if the shader needs AO
     const AoFrame* ao_grid = nullptr;          // or half-size, upsampled by tiles
     bool needs_ao = false;                     // the shader asks for AO (all ones without a pass)
+    const facet_environment* environment = nullptr;  // "facet.environment"'s answer
     PipelineState state;
     Framebuffer* target = nullptr;
     int first_row = 0;  // the target's first row in the image (DrawCall::first_row)

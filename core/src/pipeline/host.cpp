@@ -1,7 +1,8 @@
 // The host's side of the plugin ABI: the facet_draw a plugin sees of a draw
 // call, and the services it may call back: log, and by extension
-// "facet.textures" (sampling anywhere) and, for screen passes, "facet.pass"
-// (threads and scratch memory).
+// "facet.textures" (sampling anywhere), "facet.environment" (image-based
+// lighting) and, for screen passes, "facet.pass" (threads and scratch
+// memory).
 #include "pipeline/draw_context.hpp"
 
 #include "pipeline/kernels.hpp"
@@ -120,9 +121,17 @@ void* host_scratch(const facet_pass_frame* frame, uint32_t slot, size_t bytes) {
 }
 
 // The services a plugin finds by id and version (facet_host.extension).
+// ---- "facet.environment": the scene's environment, prefiltered
+
+const facet_environment* environment_lighting(const facet_draw* draw) {
+    return static_cast<const DrawContext*>(draw->host_data)->environment;
+}
+
 const void* host_extension(const char* id, uint32_t version) {
     static const facet_textures_service textures = {sizeof(facet_textures_service),
                                                     &textures_info, &textures_sample};
+    static const facet_environment_service environment = {sizeof(facet_environment_service),
+                                                          &environment_lighting};
     static const facet_pass_service pass = {sizeof(facet_pass_service), &host_parallel_for,
                                             &host_scratch};
     if (!id || version == 0) return nullptr;
@@ -130,6 +139,8 @@ const void* host_extension(const char* id, uint32_t version) {
         return &textures;
     if (std::strcmp(id, FACET_PASS_EXTENSION) == 0 && version <= FACET_PASS_VERSION)
         return &pass;
+    if (std::strcmp(id, FACET_ENVIRONMENT_EXTENSION) == 0 && version <= FACET_ENVIRONMENT_VERSION)
+        return &environment;
     return nullptr;
 }
 

@@ -17,6 +17,7 @@ void ao_occlusion_rows(const AoFrame& f, int first, int count, int x_first,
 void ao_blur_rows(const AoFrame& f, int first, int count);
 void shadow_distance_rows(const ShadowDistanceRows& rows, int first, int count);  // shadow_kernels.cpp
 void shadow_plane_rows(const ShadowPlaneRows& rows, int first, int count);
+void sky_rows(const SkyRows& sky, int first, int count);  // sky_kernels.cpp
 
 namespace {
 
@@ -83,4 +84,5 @@ extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     &facet::FACET_KERNEL_NS::shadow_plane_rows,
     &facet::FACET_KERNEL_NS::sample_block,
     &facet::FACET_KERNEL_NS::sample_lanes,
+    &facet::FACET_KERNEL_NS::sky_rows,
 };

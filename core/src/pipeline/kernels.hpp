@@ -1,7 +1,7 @@
 // The hot loops, once per instruction-set path (facet/isa.hpp).
 //
-// rasterize.cpp, fragment.cpp, pixels.cpp, ao_kernels.cpp, shadow_kernels.cpp
-// and kernels.cpp are compiled once for each path, with that path's compiler flags and in a
+// rasterize.cpp, fragment.cpp, pixels.cpp, ao_kernels.cpp, shadow_kernels.cpp,
+// sky_kernels.cpp and kernels.cpp are compiled once for each path, with that path's compiler flags and in a
 // namespace of its own (FACET_KERNEL_NS: isa_portable, isa_avx2,
 // isa_avx512), and each compilation exports one table of function
 // pointers, facet_kernels_<path>.
@@ -36,6 +36,7 @@ struct DrawQueue;
 struct TriangleSetup;
 
 struct AoFrame;
+struct SkyRows;
 struct ShadowDistanceRows;
 struct ShadowPlaneRows;
 
@@ -94,6 +95,10 @@ struct Kernels {
                          uint32_t mask, float* rgba);
     void (*sample_lanes)(const TextureBinding& binding, const float* coords, const float* lod,
                          uint32_t count, uint32_t mask, float* rgba);
+    // The environment behind everything, target rows [first, first +
+    // count): every pixel (or sample) still at the far depth takes its
+    // radiance (sky.hpp).
+    void (*sky_rows)(const SkyRows& sky, int first, int count);
 };
 
 // The kernels of a supported path; throws Error(isa_unavailable) otherwise.

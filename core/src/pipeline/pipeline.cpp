@@ -12,6 +12,7 @@
 #include "pipeline/assembly.hpp"
 #include "pipeline/draw_queue.hpp"
 #include "pipeline/kernels.hpp"
+#include "pipeline/sky.hpp"
 #include "base/thread_pool.hpp"
 #include "pipeline/vertex.hpp"
 
@@ -63,6 +64,7 @@ void set_context(QueuedDraw& d, const DrawCall& call, Framebuffer& target, Isa i
     // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
     // reads as full visibility: nothing is gathered or packed for it.
     if (!d.dc.ao && !d.dc.ao_grid && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
+    d.dc.environment = call.environment;
     d.dc.first_row = call.image_height > 0 ? call.first_row : 0;
     d.abi = make_abi_draw(call, target.width(),
                           call.image_height > 0 ? call.image_height : target.height(), d.dc);
@@ -380,6 +382,14 @@ void Pipeline::resolve(Framebuffer& target) {
     const Kernels& k = *kernels_;
     for_row_bands(*pool_, target.height(),
                   [&](int first, int rows) { k.resolve_rows(target, first, rows); });
+}
+
+void Pipeline::sky(const SkyRows& sky) {
+    require_flushed(*sky.target, "Pipeline::sky");
+    complete_clears(*queue_, *pool_, *kernels_);
+    const Kernels& k = *kernels_;
+    for_row_bands(*pool_, sky.target->height(),
+                  [&](int first, int rows) { k.sky_rows(sky, first, rows); });
 }
 
 void Pipeline::resolve_srgb8(const Framebuffer& target, std::vector<uint8_t>& out) {

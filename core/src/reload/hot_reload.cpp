@@ -3,7 +3,7 @@
 #include "facet/error.hpp"
 #include "facet/memory.hpp"
 #include "base/isolated.hpp"
-#include "reload/file_digest.hpp"
+#include "base/file_digest.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -33,8 +33,9 @@ std::vector<Material*> materials_of(const Scene& scene) {
     return out;
 }
 
-// The files of the scene's meshes and of its materials' textures (not
-// those a mesh file embeds, nor cube maps' faces), by canonical path.
+// The files of the scene's meshes, of its materials' textures (not those a
+// mesh file embeds, nor cube maps' faces) and of its environment, by
+// canonical path.
 std::set<fs::path> asset_files(const Scene& scene) {
     std::set<fs::path> out;
     const auto add = [&](const std::string& source) {
@@ -46,6 +47,7 @@ std::set<fs::path> asset_files(const Scene& scene) {
     for (const Material* m : materials_of(scene))
         for (const TextureBinding& b : m->textures)
             if (b.texture && b.texture->faces == 1) add(b.texture->source);
+    for (const fs::path& file : scene.environment.settings.files) add(file.string());
     return out;
 }
 
@@ -284,7 +286,24 @@ bool HotReload::reload_material(const fs::path& file) {
 bool HotReload::reload_asset(const fs::path& path) {
     for (const Object& o : scene_.objects)
         if (o.mesh && canonical_or_same(o.mesh->source) == path) return reload_scene(path);
+    for (const fs::path& file : scene_.environment.settings.files)
+        if (canonical_or_same(file) == path) return reload_environment(path);
     return reload_texture(path);
+}
+
+bool HotReload::reload_environment(const fs::path& path) {
+    std::shared_ptr<const EnvironmentMaps> fresh;
+    try {
+        fresh = load_environment(scene_.environment.settings);
+    } catch (const Error& e) {
+        report(ReloadEvent::Kind::config_refused, path.string(),
+               std::string(e.what()) + " (keeping the previous environment)");
+        return false;
+    }
+    scene_.environment.maps = std::move(fresh);
+    report(ReloadEvent::Kind::config_reloaded, path.string(),
+           "reloaded environment " + path.string());
+    return true;
 }
 
 bool HotReload::reload_texture(const fs::path& path) {

@@ -112,19 +112,31 @@ using TextureSlots = std::array<int8_t, FACET_MAX_PARAMS_SIZE / 4>;
 }  // namespace detail
 
 namespace detail {
-// What the calls of one batch share: the host's textures service, looked
-// up at the first sample, and whether the batch is a 4x4 block.
+// What the calls of one batch share: the host's textures service and the
+// environment it lights by, each looked up at the first use, and whether
+// the batch is a 4x4 block.
 struct Batch {
     const facet_draw* draw;
     bool block;
     bool looked_up = false;
+    bool environment_looked_up = false;
     const facet_textures_service* textures = nullptr;
+    const facet_environment* lighting = nullptr;
     const facet_textures_service* service() {
         if (!looked_up)
             textures = static_cast<const facet_textures_service*>(
                 draw->host->extension(FACET_TEXTURES_EXTENSION, FACET_TEXTURES_VERSION));
         looked_up = true;
         return textures;
+    }
+    const facet_environment* environment() {
+        if (!environment_looked_up) {
+            const auto* e = static_cast<const facet_environment_service*>(
+                draw->host->extension(FACET_ENVIRONMENT_EXTENSION, FACET_ENVIRONMENT_VERSION));
+            lighting = e && e->struct_size >= sizeof *e ? e->lighting(draw) : nullptr;
+        }
+        environment_looked_up = true;
+        return lighting;
     }
 };
 }  // namespace detail

@@ -505,6 +505,64 @@ typedef struct facet_textures_service {
                    const float* lod, uint32_t count, uint32_t mask, float* rgba);
 } facet_textures_service;
 
+/* "facet.environment", version 1: the light arriving from the scene's
+ * environment (an image all around it, `environment:` in a scene),
+ * prefiltered by the host at load, for a shader to light by.
+ *
+ * The maps hold radiance in their own frame; a world direction d is looked
+ * up at to_environment * d. Linear RGB, times `intensity`:
+ *   - Diffuse: irradiance / pi (the radiance of a uniform environment that
+ *     would give as much) at unit normal n, in the maps' frame, intensity
+ *     included: c[0] + c[1] y + c[2] z + c[3] x + c[4] x y + c[5] y z
+ *     + c[6] (3 z^2 - 1) + c[7] x z + c[8] (x^2 - y^2), c = irradiance[k]
+ *     (RGB, and a 0). The nine spherical harmonics of the radiance, each
+ *     convolved with the cosine lobe (Ramamoorthi and Hanrahan 2001); where
+ *     a bright source makes it ring below 0, read 0.
+ *   - Specular: level l of `levels` holds the radiance convolved with the
+ *     GGX lobe of perceptual roughness l / (levels - 1) (alpha its square)
+ *     around each direction, as the split sum takes it (normal = view =
+ *     reflection; Karis 2013); level 0 is the environment itself. A level
+ *     is six square faces, +X, -X, +Y, -Y, +Z, -Z (as cube maps lie,
+ *     facet_textures_service), each size[l] texels a side with a border of
+ *     one texel all round that holds the texels of the directions just past
+ *     its edges: texel (x, y) of face f, for -1 <= x, y <= size[l], is
+ *     texels + 4 * (offset[l] + f * (size[l] + 2)^2 + (y + 1) * (size[l] + 2)
+ *     + x + 1), RGBA float with A = 1. A face's texel (x, y) is centred on
+ *     ((x + 0.5) / size, (y + 0.5) / size) of the face's 0..1 square, so
+ *     bilinear filtering needs no clamp and shows no seam.
+ *   - The split-sum BRDF: the specular light reflected is the level's
+ *     radiance times f0 A + B (Schlick's Fresnel, GGX, Smith's
+ *     height-correlated visibility). brdf holds brdf_size^2 cells, cell
+ *     (i, j) at n.v = i / (brdf_size - 1) and perceptual roughness
+ *     j / (brdf_size - 1): floats brdf + 4 (j brdf_size + i) are A and B of
+ *     that cell and of cell (i + 1, j) (for the last i, the same again), so
+ *     that one 16-byte read gives both cells a bilinear tap takes from a row.
+ */
+#define FACET_ENVIRONMENT_EXTENSION "facet.environment"
+#define FACET_ENVIRONMENT_VERSION 1u
+#define FACET_ENVIRONMENT_MAX_LEVELS 16
+
+typedef struct facet_environment {
+    uint32_t struct_size;
+    uint32_t levels;                                /* 1..FACET_ENVIRONMENT_MAX_LEVELS */
+    float to_environment[9];                        /* a rotation, 3x3 column-major    */
+    float intensity;                                /* of the specular levels          */
+    float irradiance[9][4];
+    uint32_t size[FACET_ENVIRONMENT_MAX_LEVELS];    /* texels a side of level l's faces */
+    uint32_t offset[FACET_ENVIRONMENT_MAX_LEVELS];  /* in texels: face 0's (-1, -1)    */
+    const float* texels;
+    uint32_t brdf_size;                             /* at least 2                      */
+    const float* brdf;
+} facet_environment;
+
+typedef struct facet_environment_service {
+    uint32_t struct_size;
+    /* The environment lighting `draw`, or NULL when its scene has none or
+     * shows it only as a background. Thread-safe; it stays valid for the
+     * draw. */
+    const facet_environment* (*lighting)(const facet_draw* draw);
+} facet_environment_service;
+
 /* "facet.pass", version 1: threads and memory for a screen pass. Call them
  * only from the pass's function, never from one of its tasks. */
 #define FACET_PASS_EXTENSION "facet.pass"

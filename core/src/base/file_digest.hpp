@@ -9,9 +9,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string_view>
 
 namespace facet {
 
 std::optional<uint64_t> file_digest(const std::filesystem::path& path);
+// The same of bytes in memory: a file's digest is that of its bytes.
+uint64_t bytes_digest(std::string_view bytes);
 
 }  // namespace facet
