@@ -80,18 +80,19 @@ FloatImage decode_image(const std::string& bytes, const std::string& source) {
 
 // Bilinear in an equirectangular image at unit direction d: columns wrap
 // around, rows clamp at the poles (load_cube's mapping).
-glm::vec3 equirect_radiance(const FloatImage& image, glm::dvec3 d) {
-    const double u = (0.5 + std::atan2(d.x, -d.z) / (2.0 * kEnvironmentPi)) * image.width - 0.5;
-    const double v = std::clamp(std::acos(std::clamp(d.y, -1.0, 1.0)) / kEnvironmentPi * image.height - 0.5,
-                                0.0, double(image.height - 1));
-    const int x0 = int(std::floor(u)), y0 = int(v);
-    const float fx = float(u - x0), fy = float(v - y0);
-    const auto at = [&](int x, int y) {
-        x = ((x % image.width) + image.width) % image.width;
-        return image.at(x, std::min(y, image.height - 1));
-    };
-    return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx),
-                    glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
+glm::vec3 equirect_radiance(const FloatImage& image, glm::dvec3 direction) {
+    const glm::vec3 d(direction);  // in float: a texel is far coarser than its rounding
+    constexpr float pi = float(kEnvironmentPi);
+    const float u = (0.5f + std::atan2(d.x, -d.z) / (2.0f * pi)) * float(image.width) - 0.5f;
+    const float v = std::clamp(std::acos(std::clamp(d.y, -1.0f, 1.0f)) / pi * float(image.height) - 0.5f,
+                               0.0f, float(image.height - 1));
+    const int w = image.width, left = int(std::floor(u)), y0 = int(v);
+    const float fx = u - float(left), fy = v - float(y0);
+    // u lies in [-0.5, w - 0.5]: the columns either side, wrapped
+    const int x0 = left < 0 ? left + w : left, x1 = left + 1 >= w ? left + 1 - w : left + 1;
+    const int y1 = std::min(y0 + 1, image.height - 1);
+    return glm::mix(glm::mix(image.at(x0, y0), image.at(x1, y0), fx),
+                    glm::mix(image.at(x0, y1), image.at(x1, y1), fx), fy);
 }
 
 // Bilinear in six square faces at direction d, each clamped to its edges.
@@ -119,9 +120,8 @@ PrefilterInput prefilter_input(const EnvironmentSettings& settings,
     const int natural = equirect ? images->front().height / 2 : images->front().width;
     in.size = settings.size > 0 ? settings.size : std::clamp(floor_power_of_two(natural), 8, 1024);
     // Level 0's texels each the mean of as many directions as the image has
-    // texels there (up to 4 x 4), at least 2 x 2 for an equirectangular
-    // image, whose rows crowd towards the poles.
-    in.supersample = std::clamp((natural + in.size - 1) / in.size, equirect ? 2 : 1, 4);
+    // texels a side there (up to 4 x 4): one, at the image's own size.
+    in.supersample = std::clamp((natural + in.size - 1) / in.size, 1, 4);
     if (equirect)
         in.radiance = [images](glm::dvec3 d) { return equirect_radiance(images->front(), d); };
     else

@@ -11,6 +11,8 @@
 // sample's pdf D (n.h) / (4 v.h) divided out).
 #include "assets/environment_prefilter.hpp"
 
+#include "facet/pipeline.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -50,10 +52,12 @@ const BrdfTable& brdf_table() {
         BrdfTable t;
         t.size = kTableSize;
         std::vector<glm::vec2> cell(size_t(kTableSize) * kTableSize);
-        for (int j = 0; j < kTableSize; ++j)
+        ThreadPool pool(default_threads());
+        pool.parallel_for(kTableSize, [&](int j, int) {
             for (int i = 0; i < kTableSize; ++i)
                 cell[size_t(j) * kTableSize + size_t(i)] = glm::vec2(split_sum_brdf(
                     double(i) / (kTableSize - 1), double(j) / (kTableSize - 1), kTableSamples));
+        });
         t.cells.resize(cell.size() * 4);
         for (int j = 0; j < kTableSize; ++j)
             for (int i = 0; i < kTableSize; ++i) {

@@ -24,8 +24,18 @@ struct CubeLevel {
     }
     glm::vec3& at(int f, int x, int y) { return texels[index(f, x, y)]; }
     const glm::vec3& at(int f, int x, int y) const { return texels[index(f, x, y)]; }
+    // bilinear_bordered, with the four texels addressed once.
     glm::vec3 bilinear(glm::vec3 d) const {
-        return bilinear_bordered(n, d, [this](int f, int x, int y) { return at(f, x, y); });
+        glm::vec2 uv;
+        const int face = cube_face(d, uv);
+        const float s = float(n);
+        const float x = std::clamp(uv.x * s - 0.5f, -0.5f, s - 0.5f);
+        const float y = std::clamp(uv.y * s - 0.5f, -0.5f, s - 0.5f);
+        const float x0 = std::floor(x), y0 = std::floor(y);
+        const float fx = x - x0, fy = y - y0;
+        const size_t row = size_t(n) + 2;
+        const glm::vec3* t = &texels[index(face, int(x0), int(y0))];
+        return glm::mix(glm::mix(t[0], t[1], fx), glm::mix(t[row], t[row + 1], fx), fy);
     }
 };
 
@@ -69,11 +79,12 @@ CubeLevel half_of(const CubeLevel& finer, ThreadPool& pool) {
 
 // A sample of the GGX lobe around the normal, for N = V = R: the direction
 // in the normal's frame (z along it), its weight (n.l) and the chain level
-// it reads.
+// it reads (the nearest: a second, blended, would double the work for a
+// difference the lobe's average hides).
 struct LobeSample {
     glm::vec3 l;
     float weight;
-    float lod;
+    int level;  // of the chain: the nearest to the sample's level of detail
 };
 
 std::vector<LobeSample> lobe_samples(double roughness, int count, int size0, int chain_levels) {
@@ -91,7 +102,7 @@ std::vector<LobeSample> lobe_samples(double roughness, int count, int size0, int
         const double solid_angle = 1.0 / (double(count) * pdf);
         const double lod = std::clamp(0.5 * std::log2(solid_angle / texel) + 1.0, 0.0,
                                       double(chain_levels - 1));
-        samples.push_back({glm::vec3(l), float(l.z), float(lod)});
+        samples.push_back({glm::vec3(l), float(l.z), int(std::lround(lod))});
     }
     return samples;
 }
@@ -108,10 +119,7 @@ glm::vec3 convolve(const std::vector<CubeLevel>& chain, const std::vector<LobeSa
     float weights = 0.0f;
     for (const LobeSample& s : lobe) {
         const glm::vec3 l = t * s.l.x + bt * s.l.y + nf * s.l.z;
-        const int l0 = int(s.lod);
-        const int l1 = std::min(l0 + 1, int(chain.size()) - 1);
-        const glm::vec3 c = glm::mix(chain[size_t(l0)].bilinear(l), chain[size_t(l1)].bilinear(l),
-                                     s.lod - float(l0));
+        const glm::vec3 c = chain[size_t(s.level)].bilinear(l);
         sum += c * s.weight;
         weights += s.weight;
     }
@@ -150,19 +158,31 @@ std::array<glm::vec3, 9> irradiance_of(const CubeLevel& level) {
     return out;
 }
 
-// The maps' RGBA texels of `levels`, at the ABI's offsets.
-void store_levels(EnvironmentMaps& maps, const std::vector<CubeLevel>& levels) {
+// The maps' RGBA texels of `levels`, at the ABI's offsets, a face's row
+// a task.
+void store_levels(EnvironmentMaps& maps, const std::vector<const CubeLevel*>& levels,
+                  ThreadPool& pool) {
     size_t texels = 0;
     for (size_t l = 0; l < levels.size(); ++l) {
-        maps.size[l] = uint32_t(levels[l].n);
+        maps.size[l] = uint32_t(levels[l]->n);
         maps.offset[l] = uint32_t(texels);
-        texels += levels[l].texels.size();
+        texels += levels[l]->texels.size();
     }
     maps.levels = int(levels.size());
-    maps.texels.assign(texels * 4, 1.0f);
+    maps.texels.resize(texels * 4);
+    std::vector<std::pair<size_t, size_t>> rows;  // (level, first texel of a row)
     for (size_t l = 0; l < levels.size(); ++l)
-        for (size_t i = 0; i < levels[l].texels.size(); ++i)
-            std::memcpy(&maps.texels[(maps.offset[l] + i) * 4], &levels[l].texels[i], 12);
+        for (size_t i = 0; i < levels[l]->texels.size(); i += size_t(levels[l]->n) + 2)
+            rows.emplace_back(l, i);
+    pool.parallel_for(int(rows.size()), [&](int r, int) {
+        const auto [l, first] = rows[size_t(r)];
+        const CubeLevel& level = *levels[l];
+        float* out = &maps.texels[(maps.offset[l] + first) * 4];
+        for (size_t i = first; i < first + size_t(level.n) + 2; ++i, out += 4) {
+            std::memcpy(out, &level.texels[i], 12);
+            out[3] = 1.0f;
+        }
+    });
 }
 
 }  // namespace
@@ -196,8 +216,8 @@ EnvironmentMaps prefilter_environment(const PrefilterInput& in, ThreadPool& pool
     });
     while (chain.back().n > 1) chain.push_back(half_of(chain.back(), pool));
 
-    std::vector<CubeLevel> out;
-    out.push_back(chain[0]);
+    std::vector<CubeLevel> out;  // levels 1 on; level 0 is the chain's
+    out.reserve(size_t(levels));
     for (int l = 1; l < levels; ++l) {
         const double roughness = double(l) / double(levels - 1);
         const auto lobe = lobe_samples(roughness, in.samples, in.size, int(chain.size()));
@@ -215,7 +235,9 @@ EnvironmentMaps prefilter_environment(const PrefilterInput& in, ThreadPool& pool
     size_t coarse = 0;
     while (chain[coarse].n > 64) ++coarse;
     maps.irradiance = irradiance_of(chain[coarse]);
-    store_levels(maps, out);
+    std::vector<const CubeLevel*> stored = {&chain[0]};
+    for (const CubeLevel& level : out) stored.push_back(&level);
+    store_levels(maps, stored, pool);
     return maps;
 }
 

@@ -14,9 +14,10 @@ namespace facet::FACET_KERNEL_NS {
 
 namespace {
 
-// Bit i: lane i's pixel of row y from x has a sample (its only one, or
-// sample s) still at the far depth.
+// Bit i: the pixel `first` + i has its sample s (of `samples`) still at the
+// far depth; with one sample, a vector compare.
 uint32_t far_lanes(const float* depth, size_t first, int samples, int s, float far) {
+    if (samples == 1) return simd::bits(simd::load<Float>(depth + first) == far);
     uint32_t bits = 0;
     for (int i = 0; i < kWidth; ++i)
         bits |= uint32_t(depth[(first + size_t(i)) * size_t(samples) + size_t(s)] == far) << i;
@@ -47,6 +48,10 @@ void sky_rows(const SkyRows& sky, int first, int count) {
             const sdk::Vec3 d(row.x + px * sky.dx.x, row.y + px * sky.dx.y, row.z + px * sky.dx.z);
             const sdk::Vec3 c =
                 sky.blur > 0.0f ? env.specular(d, sdk::splat(sky.blur)) : env.radiance(d, 0);
+            if (samples == 1 && far[0] == (1u << kWidth) - 1u) {  // all sky: stored as packed
+                pack(fb.format(), {c.x, c.y, c.z, Float{} + 1.0f}, color + pixel * bpp);
+                continue;
+            }
             Packed packed;
             pack(fb.format(), {c.x, c.y, c.z, Float{} + 1.0f}, packed.bytes);
             for (int s = 0; s < samples; ++s)

@@ -47,17 +47,17 @@ public:
         const Float below = floor(level);
         const Mask l0 = __builtin_convertvector(below, Mask);
         const Mask l1 = min_index(l0 + 1, Mask{} + int32_t(e_->levels - 1));
-        const Vec3 d = to_environment(r);
-        const Vec3 a = level_texel(d, l0), b = level_texel(d, l1);
-        return mix(a, b, level - below) * e_->intensity;
+        const CubePoint p = cube_point(to_environment(r));
+        return mix(at_level(p, l0), at_level(p, l1), level - below) * e_->intensity;
     }
 
     // Level `level` alone (0: the environment itself) around directions r
     // (world space, any length), bilinear.
     Vec3 radiance(const Vec3& r, int level) const {
         const int top = int(e_->levels) - 1;
-        const int l = level < 0 ? 0 : level > top ? top : level;
-        return level_texel(to_environment(r), Mask{} + l) * e_->intensity;
+        const uint32_t l = uint32_t(level < 0 ? 0 : level > top ? top : level);
+        return bilinear(cube_point(to_environment(r)), Mask{} + int32_t(e_->size[l]),
+                        Mask{} + int32_t(e_->offset[l])) * e_->intensity;
     }
 
     // The split-sum scale (x) and bias (y) at n.v and perceptual roughness,
@@ -92,10 +92,13 @@ private:
                 m[2] * v.x + m[5] * v.y + m[8] * v.z};
     }
 
-    // Level l (per lane) in direction d, bilinear: the face of d's largest
-    // component (x before y before z), then four texels of the bordered
-    // face.
-    Vec3 level_texel(const Vec3& d, const Mask& l) const {
+    // Where a direction meets the cube: the face of its largest component
+    // (x before y before z), and (u, v) 0..1 across it.
+    struct CubePoint {
+        Mask face;
+        Float u, v;
+    };
+    static CubePoint cube_point(const Vec3& d) {
         const Float ax = abs(d.x), ay = abs(d.y), az = abs(d.z);
         const Mask x_major = ax >= ay && ax >= az, y_major = !x_major && ay >= az;
         const Float major = select(x_major, ax, select(y_major, ay, az));
@@ -107,30 +110,42 @@ private:
         const Float tc = select(y_major, select(positive, d.z, -d.z), -d.y);
         const Mask valid = major > 0.0f;  // no direction (0 or NaN): the face's middle
         const Float inv = 0.5f / select(valid, major, splat(1.0f));
-        const Float u = select(valid, sc * inv + 0.5f, splat(0.5f));
-        const Float v = select(valid, tc * inv + 0.5f, splat(0.5f));
+        return {face, select(valid, sc * inv + 0.5f, splat(0.5f)),
+                select(valid, tc * inv + 0.5f, splat(0.5f))};
+    }
+
+    // Level l (per lane) at p: one read of the level's numbers where every
+    // lane is at one level (a material of one roughness), else a gather.
+    Vec3 at_level(const CubePoint& p, const Mask& l) const {
+        if (all(l == l[0]))
+            return bilinear(p, Mask{} + int32_t(e_->size[l[0]]), Mask{} + int32_t(e_->offset[l[0]]));
         const Mask size = std::bit_cast<Mask>(
             gather(reinterpret_cast<const float*>(e_->size), l, Mask{} - 1, 0.0f));
         const Mask offset = std::bit_cast<Mask>(
             gather(reinterpret_cast<const float*>(e_->offset), l, Mask{} - 1, 0.0f));
+        return bilinear(p, size, offset);
+    }
+
+    // The four texels around p of the bordered faces `size` a side from
+    // texel `offset`, mixed.
+    Vec3 bilinear(const CubePoint& p, const Mask& size, const Mask& offset) const {
         const Float s = __builtin_convertvector(size, Float);
-        const Float x = clamp(u * s - 0.5f, splat(-0.5f), s - 0.5f);
-        const Float y = clamp(v * s - 0.5f, splat(-0.5f), s - 0.5f);
+        const Float x = clamp(p.u * s - 0.5f, splat(-0.5f), s - 0.5f);
+        const Float y = clamp(p.v * s - 0.5f, splat(-0.5f), s - 0.5f);
         const Float x0 = floor(x), y0 = floor(y);
         const Float fx = x - x0, fy = y - y0;
         const Mask row = size + 2;
-        const Mask texel = offset + face * row * row + (__builtin_convertvector(y0, Mask) + 1) * row +
+        const Mask texel = offset + p.face * row * row +
+                           (__builtin_convertvector(y0, Mask) + 1) * row +
                            __builtin_convertvector(x0, Mask) + 1;
         Float t00[4], t10[4], t01[4], t11[4];
         gather4(e_->texels, texel * 4, t00);
         gather4(e_->texels, texel * 4 + 4, t10);
         gather4(e_->texels, (texel + row) * 4, t01);
         gather4(e_->texels, (texel + row) * 4 + 4, t11);
-        Vec3 c;
-        Float* out[3] = {&c.x, &c.y, &c.z};
-        for (int k = 0; k < 3; ++k)
-            *out[k] = mix(mix(t00[k], t10[k], fx), mix(t01[k], t11[k], fx), fy);
-        return c;
+        return {mix(mix(t00[0], t10[0], fx), mix(t01[0], t11[0], fx), fy),
+                mix(mix(t00[1], t10[1], fx), mix(t01[1], t11[1], fx), fy),
+                mix(mix(t00[2], t10[2], fx), mix(t01[2], t11[2], fx), fy)};
     }
 };
 
