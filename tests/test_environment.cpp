@@ -22,6 +22,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <thread>
 #include <string>
 #include <vector>
@@ -201,6 +202,15 @@ TEST_CASE("the SDK's lookup reads the maps as the scalar one does", "[environmen
     const sdk::Vec3 none{sdk::splat(0.0f), sdk::splat(0.0f), sdk::splat(0.0f)};
     CHECK(std::isfinite(lookup.radiance(nan, 0).x[0]));
     CHECK(std::isfinite(lookup.specular(none, sdk::splat(NAN)).x[0]));
+    // A NaN beside a finite major component, an infinite one, a subnormal:
+    // read somewhere on the maps, never outside them.
+    const float inf = std::numeric_limits<float>::infinity();
+    for (const glm::vec3 d : {glm::vec3(NAN, 1, 0), glm::vec3(inf, 0, 0), glm::vec3(inf, inf, 0),
+                              glm::vec3(1e-39f, 0, 0), glm::vec3(-inf, 1, NAN)}) {
+        const sdk::Vec3 lanes{sdk::splat(d.x), sdk::splat(d.y), sdk::splat(d.z)};
+        CHECK(std::isfinite(lookup.radiance(lanes, 0).x[0]));
+        CHECK(std::isfinite(lookup.specular(lanes, sdk::splat(0.5f)).y[0]));
+    }
 }
 
 TEST_CASE("bad environment files are clear errors naming the file", "[environment][errors]") {
@@ -223,6 +233,14 @@ TEST_CASE("bad environment files are clear errors naming the file", "[environmen
     refused("cut.hdr", bytes.substr(0, bytes.size() / 2), "ends");
     refused("text.hdr", "sky: blue\n", "not an image");
     refused("header.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8\n", "resolution");
+    // Cut inside the resolution line: no pixel data at all.
+    refused("no-data.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 512 +X 10", "ends");
+    // Sizes that wrap 32 bits (stb_image would read 0 x 0).
+    refused("wrap.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4294967296 +X 4294967296\n", "pixels");
+    {  // within any machine's budget: the header's size is what is refused
+        const test::Budget budget(uint64_t(64) << 30);
+        refused("tall.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 20000000 +X 8\n", "2^24");
+    }
     // A header of 900 million pixels: refused before anything that size is held.
     {
         const test::Budget budget(uint64_t(1) << 30);
@@ -302,6 +320,23 @@ TEST_CASE("the sky fills what nothing covers, each sample on its own", "[environ
         CHECK(sky > 1000);
         CHECK(covered > 500);
     }
+}
+
+TEST_CASE("an opaque part that writes no depth is drawn over the sky", "[environment][sky]") {
+    test::SceneDir s("env_no_depth");
+    hdr(s.folder, "sky.hdr", 32, 16, [](glm::dvec3) { return glm::vec3(0.0f, 0.0f, 1.0f); });
+    std::filesystem::copy_file(std::string(FACET_SOURCE_DIR) + "/assets/sphere/sphere.obj",
+                               s.dir / "sphere.obj");
+    const Scene scene = s.load(
+        "camera: {position: [0, 0, 3], target: [0, 0, 0], fov_y: 50}\n"
+        "render: {size: [32, 32], color_format: rgba32f}\n"
+        "objects: [{mesh: sphere.obj, material: {shader: unlit, depth_write: false,\n"
+        "                                        params: {base_color: [1, 0, 0, 1]}}}]\n"
+        "environment: {file: sky.hdr, size: 8, samples: 4}\n");
+    Framebuffer fb;
+    Renderer(2).render(scene, fb);
+    CHECK(fb.pixel(16, 16) == glm::vec4(1, 0, 0, 1));  // the sphere, not the sky
+    CHECK(fb.pixel(0, 0).b > 0.9f);                    // the sky around it
 }
 
 TEST_CASE("a changed environment file is prefiltered again; a bad one keeps the last good",

@@ -600,7 +600,8 @@ TEST_CASE("a 16-bit PNM is refused, named, before the decoder reads past its buf
           "[texture][errors]") {
     // stb_image (libstb 2022-09-08) converts a 16-bit PNM's channels in a
     // buffer sized for 8 bits (tests/fuzz_regressions/texture_decode/).
-    for (const std::string header : {"P6 2 2 65535\n", "P5\n# a comment\n2 2\n1000\n"}) {
+    for (const std::string header :
+         {"P6 2 2 65535\n", "P5\n# a comment\n2 2\n1000\n", "P5 1000000 1 65535\n"}) {
         INFO(header);
         const std::string bytes = header + std::string(24, '\x7f');
         try {

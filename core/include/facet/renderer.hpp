@@ -133,6 +133,7 @@ private:
         std::vector<DrawItem> casters;       // every drawable part, for shadow maps
         std::vector<DrawItem> opaque;        // visible opaque parts, for the pre-passes
         std::vector<DrawCall> opaque_calls;  // the main pass's, drawn again on the pre-pass's triangles or queued
+        std::vector<DrawCall> after_sky;     // opaque ones that write no depth, drawn over the sky
     };
     struct Passes;  // shadow maps and AO buffers, kept between frames
 

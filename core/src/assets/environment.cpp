@@ -55,6 +55,11 @@ FloatImage decode_image(const std::string& bytes, const std::string& source) {
                     "not an image facet reads: " + image_failure_reason(), source);
     }
     image.width = info->width, image.height = info->height;
+    if (image.width <= 0 || image.height <= 0)
+        throw Error(ErrorCode::texture_load_failed,
+                    "an image of " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + " pixels: it has none",
+                    source);
     const uint64_t pixels = uint64_t(image.width) * uint64_t(image.height);
     // the decoder's floats, then ours; or its 8-bit pixels and its peak
     require_within_budget(
@@ -65,6 +70,8 @@ FloatImage decode_image(const std::string& bytes, const std::string& source) {
     if (info->hdr) {
         check_hdr(bytes, source);
         image.rgb = decode_float_rgb(bytes, source, image.width, image.height);
+        if (image.width <= 0 || image.height <= 0)
+            throw Error(ErrorCode::texture_load_failed, "an image of no pixels", source);
     } else {
         const Pixels8 p = decode_8bit(bytes, 3, source);
         image.rgb.resize(pixels * 3);
@@ -180,6 +187,7 @@ std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSetting
             return held;
         }
     }
+    brdf_table();  // made at the first load, not in the first frame
     const auto images = read_images(settings, bytes);
     bytes.clear();
     const PrefilterInput in = prefilter_input(settings, images);

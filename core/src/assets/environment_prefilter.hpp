@@ -32,7 +32,7 @@ template <class At>
 glm::vec3 bilinear_bordered(int n, glm::vec3 d, const At& at) {
     glm::vec2 uv;
     const int face = cube_face(d, uv);
-    const float u = uv.x, v = uv.y;
+    const float u = uv.x == uv.x ? uv.x : 0.5f, v = uv.y == uv.y ? uv.y : 0.5f;  // a NaN minor component
     const float s = float(n);
     const float x = std::clamp(u * s - 0.5f, -0.5f, s - 0.5f);
     const float y = std::clamp(v * s - 0.5f, -0.5f, s - 0.5f);

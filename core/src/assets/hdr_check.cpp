@@ -27,7 +27,7 @@ bool next_line(std::string_view bytes, size_t& at, std::string_view& line) {
     const size_t end = bytes.find('\n', at);
     const size_t stop = end == std::string_view::npos ? bytes.size() : end;
     line = bytes.substr(at, stop - at);
-    at = stop + 1;
+    at = end == std::string_view::npos ? bytes.size() : end + 1;
     return true;
 }
 
@@ -40,8 +40,8 @@ bool rle_scanline(std::string_view bytes, size_t& at, long width) {
         for (long count = 0; count < width;) {
             if (at >= bytes.size()) return false;
             const unsigned c = static_cast<unsigned char>(bytes[at++]);
-            const long n = c > 128 ? long(c - 128) : long(c);
-            if (n == 0 || count + n > width) return false;
+            const long n = c > 128 ? long(c - 128) : long(c);  // a 0 is a literal of none
+            if (count + n > width) return false;
             const size_t take = c > 128 ? 1 : size_t(n);
             if (at + take > bytes.size()) return false;
             at += take;
@@ -65,11 +65,14 @@ void check_hdr(std::string_view bytes, const std::string& source) {
     if (!next_line(bytes, at, line)) refuse("with no resolution line", source);
     long height = 0, width = 0;
     const std::string resolution(line);
-    char tail = 0;
-    if (std::sscanf(resolution.c_str(), "-Y %ld +X %ld%c", &height, &width, &tail) != 2 ||
-        height <= 0 || width <= 0)
+    if (std::sscanf(resolution.c_str(), "-Y %ld +X %ld", &height, &width) != 2 || height <= 0 ||
+        width <= 0)
         refuse("whose resolution line is not \"-Y height +X width\" (\"" + resolution.substr(0, 40) +
                    "\")",
+               source);
+    if (height > (1L << 24) || width > (1L << 24))  // stb_image's limit a side
+        refuse("of " + std::to_string(width) + "x" + std::to_string(height) +
+                   " pixels: more than 2^24 a side",
                source);
     const auto u = [&](size_t i) { return static_cast<unsigned char>(bytes[i]); };
     const bool rle = width >= 8 && width < 32768 && at + 4 <= bytes.size() && u(at) == 2 &&

@@ -5,6 +5,7 @@
 #include "facet/error.hpp"
 #include "facet/memory.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <climits>
 #include <cstdlib>
@@ -41,8 +42,8 @@ void check_pnm(std::string_view bytes, const std::string& source) {
             else
                 ++at;
         }
-        while (at < bytes.size() && std::isdigit(static_cast<unsigned char>(bytes[at])) && v <= 65535)
-            v = v * 10 + (bytes[at++] - '0');
+        for (; at < bytes.size() && std::isdigit(static_cast<unsigned char>(bytes[at])); ++at)
+            v = std::min(v * 10 + (bytes[at] - '0'), 1L << 30);  // every digit, saturated
     }
     if (values[2] > 255)
         throw Error(ErrorCode::texture_load_failed,

@@ -341,14 +341,22 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
     // each is drawn in both and the pre-pass kept them (it did not fill the
     // queue), they are drawn again with the main pass's state, without a
     // second vertex stage, setup and binning. Otherwise they are queued.
+    // With a sky, an opaque part that writes no depth would leave the far
+    // depth the sky fills: it is drawn after the sky, over it.
+    const bool sky = scene.environment && scene.environment.settings.shows();
     scratch_.opaque_calls.clear();
-    for (const DrawItem& d : scratch_.opaque)
-        if (item_call(scene, call, d, Role::main, prepassed)) scratch_.opaque_calls.push_back(call);
+    scratch_.after_sky.clear();
+    for (const DrawItem& d : scratch_.opaque) {
+        if (!item_call(scene, call, d, Role::main, prepassed)) continue;
+        const bool writes_depth = pipeline_state(*d.material, scene.settings).depth_write;
+        (sky && !writes_depth ? scratch_.after_sky : scratch_.opaque_calls).push_back(call);
+    }
     if (!prepassed || !pipeline_.redraw(scratch_.opaque_calls, target, stats))
         for (const DrawCall& c : scratch_.opaque_calls) pipeline_.queue(c, target, stats);
-    if (scene.environment && scene.environment.settings.shows()) {
+    if (sky) {
         pipeline_.flush(stats);  // the opaque draws: the sky goes where they left the far depth
         draw_sky(scene, call, target);
+        for (const DrawCall& c : scratch_.after_sky) pipeline_.queue(c, target, stats);
     }
     for (BlendedItem& b : scratch_.blended) b.depth = view_depth(b.item, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),

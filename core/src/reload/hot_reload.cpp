@@ -286,9 +286,13 @@ bool HotReload::reload_material(const fs::path& file) {
 bool HotReload::reload_asset(const fs::path& path) {
     for (const Object& o : scene_.objects)
         if (o.mesh && canonical_or_same(o.mesh->source) == path) return reload_scene(path);
+    bool environment = false;  // a file may be the environment and a texture too
     for (const fs::path& file : scene_.environment.settings.files)
-        if (canonical_or_same(file) == path) return reload_environment(path);
-    return reload_texture(path);
+        if (canonical_or_same(file) == path) {
+            environment = reload_environment(path);
+            break;
+        }
+    return reload_texture(path) || environment;
 }
 
 bool HotReload::reload_environment(const fs::path& path) {

@@ -108,10 +108,12 @@ private:
         const Float sc = select(x_major, select(positive, -d.z, d.z),
                                 select(y_major, d.x, select(positive, d.x, -d.x)));
         const Float tc = select(y_major, select(positive, d.z, -d.z), -d.y);
-        const Mask valid = major > 0.0f;  // no direction (0 or NaN): the face's middle
+        // No direction (0, subnormal, infinite or NaN): the face's middle;
+        // and a NaN left in a coordinate (a NaN minor component) too.
+        const Mask valid = major > 1e-30f && major < 3.0e38f;
         const Float inv = 0.5f / select(valid, major, splat(1.0f));
-        return {face, select(valid, sc * inv + 0.5f, splat(0.5f)),
-                select(valid, tc * inv + 0.5f, splat(0.5f))};
+        const Float u = sc * inv + 0.5f, v = tc * inv + 0.5f;
+        return {face, select(valid && u == u, u, splat(0.5f)), select(valid && v == v, v, splat(0.5f))};
     }
 
     // Level l (per lane) at p: one read of the level's numbers where every
