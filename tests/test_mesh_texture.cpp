@@ -617,3 +617,30 @@ TEST_CASE("a 16-bit PNM is refused, named, before the decoder reads past its buf
     const auto eight = decode_texture("P6 1 1 255\n\x10\x20\x30", false, "ok.ppm");
     CHECK(eight->texels[0] == Texel8{0x10, 0x20, 0x30, 255});
 }
+
+TEST_CASE("a JPEG Huffman table of more than 256 codes is refused, named", "[texture][errors]") {
+    // stb_image writes a table's code lengths past its 257 entries
+    // (tests/fuzz_regressions/texture_decode/, found once facet's own copy
+    // of stb_image ran under the sanitizers).
+    const std::string file = facet::test::read_file(
+        fs::path(FACET_SOURCE_DIR) / "tests" / "fuzz_regressions" / "texture_decode" /
+        "jpeg-huffman-table-over-256-codes.jpg");
+    try {
+        decode_texture(std::string_view(file).substr(1), false, "huff.jpg");  // past the flags byte
+        FAIL("decoded");
+    } catch (const Error& e) {
+        CHECK(e.code() == ErrorCode::texture_load_failed);
+        CHECK(e.file() == "huff.jpg");
+        CHECK_THAT(e.what(), Catch::Contains("Huffman table"));
+    }
+    // The JPEG seeds (real files, their tables within bounds) still decode.
+    const fs::path seeds = fs::path(FACET_SOURCE_DIR) / "fuzz" / "seeds" / "texture_decode";
+    int jpegs = 0;
+    for (const auto& entry : fs::directory_iterator(seeds))
+        if (entry.path().filename().string().starts_with("jpeg")) {
+            const std::string bytes = facet::test::read_file(entry.path());
+            CHECK(decode_texture(std::string_view(bytes).substr(1), true, "seed")->width == 5);
+            ++jpegs;
+        }
+    CHECK(jpegs >= 2);
+}

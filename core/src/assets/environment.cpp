@@ -48,7 +48,7 @@ struct FloatImage {
 FloatImage decode_image(const std::string& bytes, const std::string& source) {
     FloatImage image;
     image.source = source;
-    const std::optional<ImageInfo> info = image_info(bytes);
+    const std::optional<ImageInfo> info = image_info(bytes, source);
     if (!info) {
         if (looks_like_hdr(bytes)) check_hdr(bytes, source);  // says what is wrong with its header
         throw Error(ErrorCode::texture_load_failed,

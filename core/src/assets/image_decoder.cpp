@@ -30,7 +30,9 @@ int size_of(std::string_view bytes, const std::string& source) {
 
 // A binary PNM (P5 or P6) of more than 8 bits a sample: stb_image reads its
 // 16-bit samples into a buffer sized for 8 bits when it converts them to
-// another channel count (libstb 2022-09-08), so it is refused here.
+// another channel count (libstb 2022-09-08), so it is refused here; and
+// one whose width or height has more digits than an int holds, which
+// stb_image's parse of them overflows.
 void check_pnm(std::string_view bytes, const std::string& source) {
     if (bytes.size() < 3 || bytes[0] != 'P' || (bytes[1] != '5' && bytes[1] != '6')) return;
     size_t at = 2;
@@ -45,11 +47,53 @@ void check_pnm(std::string_view bytes, const std::string& source) {
         for (; at < bytes.size() && std::isdigit(static_cast<unsigned char>(bytes[at])); ++at)
             v = std::min(v * 10 + (bytes[at] - '0'), 1L << 30);  // every digit, saturated
     }
+    if (values[0] > (1L << 24) || values[1] > (1L << 24))  // and stb_image's int parse overflows
+        throw Error(ErrorCode::texture_load_failed,
+                    "a PNM image of " + std::to_string(values[0]) + "x" + std::to_string(values[1]) +
+                        " pixels: more than 2^24 a side",
+                    source);
     if (values[2] > 255)
         throw Error(ErrorCode::texture_load_failed,
                     "a PNM image of 16 bits a sample (maximum value " + std::to_string(values[2]) +
                         "): facet reads 8-bit PNM only; convert it to PNG",
                     source);
+}
+
+// A JPEG's Huffman tables (DHT segments, before and between scans): stb_image
+// writes each table's code lengths into 257 entries without checking that
+// its sixteen counts add up to at most 256 (libstb 2022-09-08), so a table
+// of more codes is refused here. Entropy-coded data is skipped to the next
+// marker; what does not parse is left to stb_image to refuse.
+void check_jpeg(std::string_view bytes, const std::string& source) {
+    const auto u = [&](size_t i) { return static_cast<unsigned char>(bytes[i]); };
+    if (bytes.size() < 4 || u(0) != 0xFF || u(1) != 0xD8) return;
+    size_t at = 2;
+    while (at + 4 <= bytes.size()) {
+        if (u(at) != 0xFF) {  // entropy-coded data: on to the next marker
+            ++at;
+            continue;
+        }
+        const unsigned marker = u(at + 1);
+        if (marker == 0x00 || marker == 0xFF || marker == 0x01 || marker == 0xD8 ||
+            (marker >= 0xD0 && marker <= 0xD7)) {  // stuffing, fill, or no length
+            at += marker == 0xFF ? 1 : 2;
+            continue;
+        }
+        if (marker == 0xD9) return;  // the end of the image
+        const size_t end = at + 2 + ((size_t(u(at + 2)) << 8) | u(at + 3));
+        if (marker == 0xC4)
+            for (size_t p = at + 4; p < std::min(end, bytes.size());) {
+                size_t codes = 0;  // stb_image reads past the end as zeros
+                for (size_t i = 1; i <= 16 && p + i < bytes.size(); ++i) codes += u(p + i);
+                if (codes > 256)
+                    throw Error(ErrorCode::texture_load_failed,
+                                "a JPEG Huffman table of " + std::to_string(codes) +
+                                    " codes (at most 256)",
+                                source);
+                p += 17 + codes;
+            }
+        at = end;
+    }
 }
 
 [[noreturn]] void failed(const std::string& source) {
@@ -67,8 +111,10 @@ void check_pnm(std::string_view bytes, const std::string& source) {
 
 }  // namespace
 
-std::optional<ImageInfo> image_info(std::string_view bytes) {
+std::optional<ImageInfo> image_info(std::string_view bytes, const std::string& source) {
     if (bytes.size() > size_t(INT_MAX)) return std::nullopt;
+    check_pnm(bytes, source);
+    check_jpeg(bytes, source);
     ImageInfo info;
     if (!stbi_info_from_memory(data_of(bytes), int(bytes.size()), &info.width, &info.height,
                                &info.channels))
@@ -84,6 +130,7 @@ std::string image_failure_reason() {
 Pixels8 decode_8bit(std::string_view bytes, int channels, const std::string& source) {
     const int size = size_of(bytes, source);
     check_pnm(bytes, source);
+    check_jpeg(bytes, source);
     Pixels8 p;
     stbi_uc* data = stbi_load_from_memory(data_of(bytes), size, &p.width, &p.height,
                                           &p.file_channels, channels);

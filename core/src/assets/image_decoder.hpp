@@ -11,8 +11,8 @@
 // went to whichever library the program found first: an older copy, in
 // every program but the viewer. Compiled here from the libstb-dev header
 // (STB_IMAGE_STATIC), facet decodes with the version the build saw, the
-// one its preflights (png_check, hdr_check, decoder_peak and the PNM check
-// in image_decoder.cpp) were written against.
+// one its preflights (png_check, hdr_check, decoder_peak, and the PNM and
+// JPEG checks in image_decoder.cpp) were written against.
 #pragma once
 
 #include <cstdint>
@@ -30,8 +30,10 @@ struct ImageInfo {
 };
 
 // The header's size and channels, or nothing where it is not an image
-// (failure_reason then says why).
-std::optional<ImageInfo> image_info(std::string_view bytes);
+// (image_failure_reason() then says why). Throws
+// Error(texture_load_failed) naming `source` for a file the preflights
+// refuse before stb_image reads it.
+std::optional<ImageInfo> image_info(std::string_view bytes, const std::string& source);
 // Why the last call on this thread failed, in stb_image's words.
 std::string image_failure_reason();
 

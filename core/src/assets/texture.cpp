@@ -255,7 +255,7 @@ std::shared_ptr<const Texture> decode_texture(std::string_view bytes, bool srgb,
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
         throw Error(ErrorCode::texture_load_failed, "an image over 2 GiB", source);
     if (looks_like_png(bytes)) check_png(bytes, source);
-    if (const std::optional<ImageInfo> info = image_info(bytes))
+    if (const std::optional<ImageInfo> info = image_info(bytes, source))
         require_decodable(bytes, info->width, info->height, srgb, source);
     return adopt_pixels(decode_8bit(bytes, 4, source), srgb, source);
 }
