@@ -162,10 +162,6 @@ struct CacheKey {
 std::mutex cache_mutex;
 std::map<CacheKey, std::weak_ptr<const EnvironmentMaps>> cache;
 
-uint64_t digest_of(const std::string& bytes) {
-    return bytes_digest(std::string_view(bytes));
-}
-
 }  // namespace
 
 std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSettings& settings,
@@ -178,11 +174,12 @@ std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSetting
     CacheKey key{{}, settings.size, settings.samples};
     for (const auto& file : settings.files) {
         bytes.push_back(read_image_file(file));
-        key.digests.push_back(digest_of(bytes.back()));
+        key.digests.push_back(bytes_digest(bytes.back()));
     }
     {
         const std::lock_guard lock(cache_mutex);
-        if (auto held = cache[key].lock()) {
+        const auto found = cache.find(key);  // a lookup inserts nothing
+        if (auto held = found == cache.end() ? nullptr : found->second.lock()) {
             spdlog::debug("environment {}: prefiltered already", held->source);
             return held;
         }
