@@ -159,7 +159,7 @@ TEST_CASE("wide floor and ceil as std::floor and std::ceil, gather as indexing",
 // wide_paths.cpp, built for each path (tests/CMakeLists.txt).
 extern "C" {
 using WideLoads = int(const float*, const uint16_t*, const int32_t*, int, float*, float*,
-                      uint64_t*);
+                      uint64_t*, const float*, const float*, int, float*);
 WideLoads facet_wide_loads_portable;
 #if FACET_WIDE_LOADS_avx2
 WideLoads facet_wide_loads_avx2;
@@ -169,7 +169,7 @@ WideLoads facet_wide_loads_avx512;
 #endif
 }
 
-TEST_CASE("wide loads as plain indexing on every path: gather4, gather and gather_quads",
+TEST_CASE("wide loads as plain indexing on every path: gather4, gather, gather_quads, bilinear4",
           "[wide][isa]") {
     std::mt19937 rng(11);
     std::vector<float> table(256);
@@ -181,6 +181,14 @@ TEST_CASE("wide loads as plain indexing on every path: gather4, gather and gathe
     const int n = 64;
     std::vector<int32_t> index(n);
     for (int32_t& i : index) i = int32_t(rng() % 253);  // each and the three after it inside
+    // bilinear4's fractions: 0, 1, and between, at random.
+    std::vector<float> fx(n), fy(n);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (int i = 0; i < n; ++i) {
+        fx[size_t(i)] = i % 7 == 0 ? 0.0f : i % 11 == 0 ? 1.0f : unit(rng);
+        fy[size_t(i)] = i % 5 == 0 ? 0.0f : i % 13 == 0 ? 1.0f : unit(rng);
+    }
+    const int row = 24;  // records 229 + 24 + 7 < 256: inside
     for (facet::Isa isa : facet::supported_isas()) {
         INFO("path " << facet::isa_name(isa));
         WideLoads* loads = nullptr;
@@ -197,8 +205,9 @@ TEST_CASE("wide loads as plain indexing on every path: gather4, gather and gathe
         }
         std::vector<float> records(4 * n, std::nanf("")), gathered(n, std::nanf(""));
         std::vector<uint64_t> quads(n / 2, 0);
+        std::vector<float> mixed(4 * n, std::nanf(""));
         CHECK(loads(table.data(), texels.data(), index.data(), n, records.data(), gathered.data(),
-                    quads.data()) == lanes);
+                    quads.data(), fx.data(), fy.data(), row, mixed.data()) == lanes);
         for (int i = 0; i < n; ++i) {
             INFO("lane " << i);
             for (int k = 0; k < 4; ++k)
@@ -209,6 +218,15 @@ TEST_CASE("wide loads as plain indexing on every path: gather4, gather and gathe
                 for (int k = 0; k < 4; ++k)
                     want |= uint64_t(texels[size_t(index[i] + k)]) << (16 * k);
                 REQUIRE(quads[size_t(i / 2)] == want);
+            }
+            // bilinear4: mix(mix(a, b, fx), mix(c, d, fx), fy), rounded as in lanes.
+            const size_t top = size_t(index[size_t(i)] % 229), bottom = top + size_t(row);
+            const float x = fx[size_t(i)], y = fy[size_t(i)];
+            for (size_t k = 0; k < 4; ++k) {
+                const float a = table[top + k], b = table[top + 4 + k];
+                const float c = table[bottom + k], d = table[bottom + 4 + k];
+                const float upper = a + (b - a) * x, lower = c + (d - c) * x;
+                REQUIRE(mixed[k * size_t(n) + size_t(i)] == upper + (lower - upper) * y);
             }
         }
     }

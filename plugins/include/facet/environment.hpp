@@ -39,7 +39,7 @@ public:
 
     // The prefiltered radiance around directions r (world space, any
     // length) at perceptual roughness 0..1: the two levels around it,
-    // each bilinear, mixed.
+    // each bilinear, mixed (trilinear).
     Vec3 specular(const Vec3& r, const Float& roughness) const {
         const float top = float(e_->levels - 1);
         const Float level = clamp(select(roughness == roughness, roughness, splat(0.0f)), 0.0f,
@@ -48,7 +48,12 @@ public:
         const Mask l0 = __builtin_convertvector(below, Mask);
         const Mask l1 = min_index(l0 + 1, Mask{} + int32_t(e_->levels - 1));
         const CubePoint p = cube_point(to_environment(r));
-        return mix(at_level(p, l0), at_level(p, l1), level - below) * e_->intensity;
+        const Float t = level - below;
+        const Vec3 lower = at_level(p, l0);
+        // mix(a, b, 0) is a: one level where every lane is on one (the
+        // roughest, or a roughness that falls on a level).
+        if (all(l1 == l0 || t == 0.0f)) return lower * e_->intensity;
+        return mix(lower, at_level(p, l1), t) * e_->intensity;
     }
 
     // Level `level` alone (0: the environment itself) around directions r
@@ -140,14 +145,9 @@ private:
         const Mask texel = offset + p.face * row * row +
                            (__builtin_convertvector(y0, Mask) + 1) * row +
                            __builtin_convertvector(x0, Mask) + 1;
-        Float t00[4], t10[4], t01[4], t11[4];
-        gather4(e_->texels, texel * 4, t00);
-        gather4(e_->texels, texel * 4 + 4, t10);
-        gather4(e_->texels, (texel + row) * 4, t01);
-        gather4(e_->texels, (texel + row) * 4 + 4, t11);
-        return {mix(mix(t00[0], t10[0], fx), mix(t01[0], t11[0], fx), fy),
-                mix(mix(t00[1], t10[1], fx), mix(t01[1], t11[1], fx), fy),
-                mix(mix(t00[2], t10[2], fx), mix(t01[2], t11[2], fx), fy)};
+        Float t[4];
+        bilinear4(e_->texels, texel * 4, (texel + row) * 4, fx, fy, t);
+        return {t[0], t[1], t[2]};
     }
 };
 

@@ -210,54 +210,108 @@ inline Float gather(const float* base, const Mask& index, const Mask& m, float o
 #endif
 }
 
-// The four floats base[index[i]] .. base[index[i] + 3] of every lane i:
-// out[k][i] = base[index[i] + k], for records of four floats (every index
-// and the three after it must be inside the array). One 16-byte load per
-// lane and a 4x4 transpose in each 128-bit part, where four gathers would
-// fetch each float on its own.
-inline void gather4(const float* base, const Mask& index, Float out[4]) {
+#if FACET_WIDE_SSE2  // the x86 paths (AVX and AVX-512 builds have SSE2 too)
+namespace impl {
+// Lane i's record of four floats in r[i], turned into the four
+// components' lanes: out[k][i] = r[i][k] (a 4x4 transpose in each 128-bit
+// part).
+inline void transpose_records(const __m128 (&r)[kLanes], Float out[4]) {
 #if FACET_WIDE_AVX512
-    __m512 r[4];  // part j of r[k]: lane 4j + k's record
+    __m512 q[4];  // part j of q[k]: lane 4j + k's record
     for (int k = 0; k < 4; ++k) {
-        const auto part = [&](int j) { return _mm_loadu_ps(base + index[4 * j + k]); };
-        r[k] = _mm512_insertf32x4(_mm512_castps128_ps512(part(0)), part(1), 1);
-        r[k] = _mm512_insertf32x4(r[k], part(2), 2);
-        r[k] = _mm512_insertf32x4(r[k], part(3), 3);
+        q[k] = _mm512_insertf32x4(_mm512_castps128_ps512(r[k]), r[k + 4], 1);
+        q[k] = _mm512_insertf32x4(q[k], r[k + 8], 2);
+        q[k] = _mm512_insertf32x4(q[k], r[k + 12], 3);
     }
     // Masked unpacks: GCC 12 warns that the plain ones' source is undefined.
     const auto lo = [](__m512 a, __m512 b) { return _mm512_mask_unpacklo_ps(a, 0xFFFF, a, b); };
     const auto hi = [](__m512 a, __m512 b) { return _mm512_mask_unpackhi_ps(a, 0xFFFF, a, b); };
-    const __m512 t0 = lo(r[0], r[1]), t1 = hi(r[0], r[1]), t2 = lo(r[2], r[3]), t3 = hi(r[2], r[3]);
+    const __m512 t0 = lo(q[0], q[1]), t1 = hi(q[0], q[1]), t2 = lo(q[2], q[3]), t3 = hi(q[2], q[3]);
     out[0] = std::bit_cast<Float>(_mm512_shuffle_ps(t0, t2, 0x44));
     out[1] = std::bit_cast<Float>(_mm512_shuffle_ps(t0, t2, 0xEE));
     out[2] = std::bit_cast<Float>(_mm512_shuffle_ps(t1, t3, 0x44));
     out[3] = std::bit_cast<Float>(_mm512_shuffle_ps(t1, t3, 0xEE));
 #elif FACET_WIDE_AVX
-    __m256 r[4];  // r[k]: lane k's record, then lane k + 4's
+    __m256 q[4];  // q[k]: lane k's record, then lane k + 4's
     for (int k = 0; k < 4; ++k)
-        r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(base + index[k])),
-                                    _mm_loadu_ps(base + index[k + 4]), 1);
-    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
-    const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+        q[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(r[k]), r[k + 4], 1);
+    const __m256 t0 = _mm256_unpacklo_ps(q[0], q[1]), t1 = _mm256_unpackhi_ps(q[0], q[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(q[2], q[3]), t3 = _mm256_unpackhi_ps(q[2], q[3]);
     out[0] = std::bit_cast<Float>(_mm256_shuffle_ps(t0, t2, 0x44));
     out[1] = std::bit_cast<Float>(_mm256_shuffle_ps(t0, t2, 0xEE));
     out[2] = std::bit_cast<Float>(_mm256_shuffle_ps(t1, t3, 0x44));
     out[3] = std::bit_cast<Float>(_mm256_shuffle_ps(t1, t3, 0xEE));
-#elif FACET_WIDE_SSE2
-    __m128 r[4];
-    for (int k = 0; k < 4; ++k) r[k] = _mm_loadu_ps(base + index[k]);
+#else
     const __m128 t0 = _mm_unpacklo_ps(r[0], r[1]), t1 = _mm_unpackhi_ps(r[0], r[1]);
     const __m128 t2 = _mm_unpacklo_ps(r[2], r[3]), t3 = _mm_unpackhi_ps(r[2], r[3]);
     out[0] = std::bit_cast<Float>(_mm_movelh_ps(t0, t2));
     out[1] = std::bit_cast<Float>(_mm_movehl_ps(t2, t0));
     out[2] = std::bit_cast<Float>(_mm_movelh_ps(t1, t3));
     out[3] = std::bit_cast<Float>(_mm_movehl_ps(t3, t1));
-#else
+#endif
+}
+
+// a + (b - a) t in each of four floats: mix, with t one number.
+inline __m128 mix4(__m128 a, __m128 b, float t) {
+    return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), _mm_set1_ps(t)));
+}
+}  // namespace impl
+#endif
+
+// The four floats base[index[i]] .. base[index[i] + 3] of every lane i:
+// out[k][i] = base[index[i] + k], for records of four floats (every index
+// and the three after it must be inside the array). One 16-byte load per
+// lane and a transpose, where four gathers would fetch each float on its
+// own.
+inline void gather4(const float* base, const Mask& index, Float out[4]) {
+#if !FACET_WIDE_SSE2
     for (int k = 0; k < 4; ++k) {
         Float v{};
         for (int i = 0; i < kLanes; ++i) v[i] = base[index[i] + k];
         out[k] = v;
     }
+#else
+    __m128 r[kLanes];
+    for (int i = 0; i < kLanes; ++i) r[i] = _mm_loadu_ps(base + index[i]);
+    impl::transpose_records(r, out);
+#endif
+}
+
+// A bilinear lookup in records of four floats (RGBA texels): for each lane
+// i, the records at base + top[i] and the one after it, and at base +
+// bottom[i] and the one after it, mixed across by fx and then down by fy:
+// out[k] = mix(mix(a, b, fx), mix(c, d, fx), fy) for component k, with the
+// same roundings as that in lanes. Each lane's four records are mixed where
+// they lie (two 32-byte loads with AVX) and transposed once, where four
+// gather4 calls would transpose each.
+inline void bilinear4(const float* base, const Mask& top, const Mask& bottom, const Float& fx,
+                      const Float& fy, Float out[4]) {
+#if !FACET_WIDE_SSE2
+    for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < kLanes; ++i) {
+            const float* a = base + top[i] + k;
+            const float* c = base + bottom[i] + k;
+            const float upper = a[0] + (a[4] - a[0]) * fx[i], lower = c[0] + (c[4] - c[0]) * fx[i];
+            out[k][i] = upper + (lower - upper) * fy[i];
+        }
+#else
+    __m128 r[kLanes];
+    for (int i = 0; i < kLanes; ++i) {
+#if FACET_WIDE_AVX
+        const __m256 a = _mm256_loadu_ps(base + top[i]), c = _mm256_loadu_ps(base + bottom[i]);
+        const __m256 left = _mm256_permute2f128_ps(a, c, 0x20);   // upper left, lower left
+        const __m256 right = _mm256_permute2f128_ps(a, c, 0x31);  // upper right, lower right
+        const __m256 across = _mm256_add_ps(
+            left, _mm256_mul_ps(_mm256_sub_ps(right, left), _mm256_set1_ps(fx[i])));
+        r[i] = impl::mix4(_mm256_castps256_ps128(across), _mm256_extractf128_ps(across, 1), fy[i]);
+#else
+        const float *a = base + top[i], *c = base + bottom[i];
+        const __m128 upper = impl::mix4(_mm_loadu_ps(a), _mm_loadu_ps(a + 4), fx[i]);
+        const __m128 lower = impl::mix4(_mm_loadu_ps(c), _mm_loadu_ps(c + 4), fx[i]);
+        r[i] = impl::mix4(upper, lower, fy[i]);
+#endif
+    }
+    impl::transpose_records(r, out);
 #endif
 }
 
