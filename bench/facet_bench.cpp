@@ -723,7 +723,9 @@ void add_options(CLI::App& app, Options& o) {
     app.add_option("--plot", o.po.plot, "--pareto: PNG plot of the sweep")->capture_default_str();
     app.add_option("--scene", o.scenes,
                    "small, medium, dragon, large, fill, subpixel, huge, the textured town, "
-                   "gallery and spot, or a scene file (NAME.yaml, drawn with its own materials)");
+                   "gallery and spot, or a scene file (NAME.yaml, drawn with its own materials); "
+                   "with --pareto, the studies to run (default, lit, phong, toon, shadow, ao, "
+                   "gallery, environment)");
     app.add_option("--mesh", o.meshes,
                    "a mesh file of your own (OBJ, PLY, glTF, ...), framed in view by its bounds "
                    "and lit by one directional light, as a scene of its own (alone unless "
@@ -803,6 +805,7 @@ int run_pareto(const CLI::App& app, Options& o, const Interrupts& interrupts) {
     if (app.count("--threads")) o.po.threads = o.threads.front();
     if (app.count("--runs")) o.po.runs = std::max(1, o.runs);
     if (app.count("--csv")) o.po.csv = o.csv;
+    if (app.count("--scene")) o.po.scenes = o.scenes;
     o.po.stop = &interrupts.stop();
     const int status = bench::run_pareto(o.po);
     return interrupts.stopped() ? interrupts.exit_code() : status;

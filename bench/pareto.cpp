@@ -1,9 +1,11 @@
 #include "pareto.hpp"
 #include "progress.hpp"
 
+#include "reference/environment.hpp"
 #include "reference/metrics.hpp"
 #include "reference/render.hpp"
 
+#include <facet/environment_map.hpp>
 #include <facet/error.hpp>
 #include <facet/material.hpp>
 #include <facet/paths.hpp>
@@ -15,6 +17,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -40,13 +43,16 @@ struct Setting {
     double ao_radius = -1.0;
     int ao_half = -1;    // render: ao_resolution half (1) or full (0)
     int per_pixel = -1;  // lit's per_pixel: 1, or 0 (lit per vertex)
+    int environment_size = -1;     // the environment's level 0, texels a side
+    int environment_samples = -1;  // its prefilter's GGX samples a texel
 };
 
 struct Point {
     std::string scene;
     Setting setting;
     double median_ms = 0.0;
-    double pass_ms = 0.0;  // of it, the shadow maps' or the AO pre-pass and pass's
+    double pass_ms = 0.0;  // of it, the shadow maps' or the AO pre-pass and pass's; or
+                           // (environment) the prefilter's, once at load
     reference::ImageError error;
     bool front = false;
 };
@@ -93,6 +99,11 @@ Scene with(const Scene& base, const Setting& s) {
     if (s.ao_half >= 0) scene.settings.ao_half_resolution = s.ao_half == 1;
     if (s.ao_samples > 0) scene.settings.ao_samples = s.ao_samples;
     if (s.ao_radius > 0) scene.settings.ao_radius = float(s.ao_radius);
+    if (s.environment_size > 0) {
+        scene.environment.settings.size = s.environment_size;
+        scene.environment.settings.samples = s.environment_samples;
+        scene.environment.maps = load_environment(scene.environment.settings);
+    }
     edit_materials(scene, [&](Material& m) {
         if (s.filter >= 0)
             for (TextureBinding& t : m.textures) t.filter = Filter(s.filter);
@@ -169,6 +180,14 @@ std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
                 s.pcf_kernel = pcf;
                 out.push_back(s);
             }
+    } else if (scene == "environment") {
+        for (int size : {32, 64, 128, 256})
+            for (int samples : {16, 64, 256}) {
+                Setting s;
+                s.environment_size = size;
+                s.environment_samples = samples;
+                out.push_back(s);
+            }
     } else if (scene == "ao") {
         const double radius = base.settings.ao_radius;
         for (double scale : {0.5, 1.0, 2.0})
@@ -189,7 +208,8 @@ std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
 // are known, empty before (a run stopped part way).
 void csv_header(std::ostream& out) {
     out << "scene,msaa,filter,subpixel_bits,shadow_map_size,pcf_kernel,ao_samples,ao_radius,"
-           "ao_resolution,per_pixel,threads,median_ms,pass_ms,rmse,max_error,dssim,pareto\n";
+           "ao_resolution,per_pixel,environment_size,environment_samples,threads,median_ms,pass_ms,"
+           "rmse,max_error,dssim,pareto\n";
 }
 
 void csv_row(std::ostream& out, const Point& p, int threads, bool fronts_known) {
@@ -198,7 +218,7 @@ void csv_row(std::ostream& out, const Point& p, int threads, bool fronts_known) 
         << s.subpixel_bits << ',' << s.shadow_map_size << ',' << s.pcf_kernel << ','
         << s.ao_samples << ',' << s.ao_radius << ','
         << (s.ao_half < 0 ? "" : s.ao_half ? "half" : "full") << ',' << s.per_pixel << ','
-        << threads << ',' << p.median_ms << ',' << p.pass_ms << ',' << p.error.rmse << ','
+        << s.environment_size << ',' << s.environment_samples << ',' << threads << ',' << p.median_ms << ',' << p.pass_ms << ',' << p.error.rmse << ','
         << p.error.max << ',' << p.error.dssim << ','
         << (fronts_known ? (p.front ? "1" : "0") : "") << '\n';
 }
@@ -226,7 +246,31 @@ std::string label(const Setting& s) {
     }
     if (s.ao_half >= 0) add(s.ao_half ? "half" : "full");
     if (s.per_pixel >= 0) add(s.per_pixel ? "per-pixel" : "per-vertex");
+    if (s.environment_size > 0) add("size=" + std::to_string(s.environment_size));
+    if (s.environment_samples > 0) add("ggx=" + std::to_string(s.environment_samples));
     return l;
+}
+
+// The environment scene as its Monte Carlo reference sees it: no post
+// chain, its tonemap's exposure moved into the environment's intensity (so
+// that the comparison's sRGB values are the picture's, before the curve).
+void lit_by_environment_alone(Scene& scene) {
+    for (const PostPass& p : scene.post)
+        if (p.name == "tonemap")
+            for (const MaterialParam& m : p.params)
+                if (m.name == "exposure" && !m.numbers.empty())
+                    scene.environment.settings.intensity *= float(std::exp2(m.numbers[0]));
+    scene.settings.post = false;
+}
+
+// The environment scene's truth, as an image: the Monte Carlo reference of
+// reference/environment.hpp (its pixels see pbr surfaces or the sky).
+std::vector<glm::dvec4> environment_truth(const Scene& scene, int rays, int threads) {
+    const reference::EnvironmentImage image(scene.environment.settings.files.at(0));
+    const reference::EnvironmentTruth t = reference::environment_truth(scene, image, rays, threads);
+    std::vector<glm::dvec4> out(t.color.size());
+    for (size_t i = 0; i < out.size(); ++i) out[i] = glm::dvec4(t.color[i], 1.0);
+    return out;
 }
 
 // One scene of the sweep: its reference settings and the quality
@@ -244,8 +288,14 @@ struct Study {
 // each scene's reference and its settings).
 std::vector<Study> load_studies(const ParetoOptions& o, PluginRegistry& registry, int threads,
                                 int& total) {
+    const std::vector<std::string> all = {"default", "lit",     "phong",      "toon",
+                                          "shadow",  "ao",      "gallery",    "environment"};
+    for (const std::string& name : o.scenes)
+        if (std::find(all.begin(), all.end(), name) == all.end())
+            throw std::runtime_error("--pareto has no study '" + name + "' (it has default, lit, "
+                                     "phong, toon, shadow, ao, gallery and environment)");
     std::vector<Study> studies;
-    for (const std::string name : {"default", "lit", "phong", "toon", "shadow", "ao", "gallery"}) {
+    for (const std::string& name : o.scenes.empty() ? all : o.scenes) {
         Study st{name, data_dir() / "configs" / (name == "default" ? "default.yaml" : "scenes/" + name + ".yaml"),
                  {}, {}, {}, 0.0};
         st.base = load_scene(st.file, registry);
@@ -265,6 +315,10 @@ std::vector<Study> load_studies(const ParetoOptions& o, PluginRegistry& registry
         st.ro.ao_rays = o.ao_rays;
         st.ro.threads = threads;
         st.samples = double(o.width) * o.height * st.ro.grid * st.ro.grid * (name == "ao" ? o.ao_rays : 1);
+        if (name == "environment") {
+            lit_by_environment_alone(st.base);
+            st.samples = double(o.width) * o.height * o.environment_rays;
+        }
         st.settings = sweep(name, st.base);
         total += 1 + int(st.settings.size());
         studies.push_back(std::move(st));
@@ -323,7 +377,9 @@ int run_pareto(const ParetoOptions& o) {
         Study& st = studies[k];
         progress.begin(st.name + ": reference image", seconds_left(k, true));
         const auto start = std::chrono::steady_clock::now();
-        const std::vector<glm::dvec4> truth = reference::render(st.base, st.ro);
+        const std::vector<glm::dvec4> truth =
+            st.name == "environment" ? environment_truth(st.base, o.environment_rays, threads)
+                                     : reference::render(st.base, st.ro);
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         reference_seconds += seconds;
@@ -341,9 +397,13 @@ int run_pareto(const ParetoOptions& o) {
             progress.begin(st.name + ": " + label(s), left);
             const auto setting_start = std::chrono::steady_clock::now();
             const Scene scene = with(st.base, s);
+            const double prefilter_ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                          setting_start).count();
             Point p{st.name, s, 0.0, 0.0, {}, false};
             try {
                 time_frames(scene, renderer, o.runs, fb, p);
+                if (s.environment_size > 0) p.pass_ms = prefilter_ms;
             } catch (const Error& e) {
                 if (e.code() != ErrorCode::interrupted) throw;
                 progress.clear();

@@ -11,6 +11,10 @@
 //   shadow  shadow-map size 512..4096 x PCF kernel 1/3/5/7, at 4x MSAA
 //   ao      AO samples 4..32 x AO radius 0.5/1/2 x the material's x AO at full
 //           or half resolution, at 4x MSAA
+//   environment  the environment's level-0 size 32..256 x its prefilter's GGX
+//           samples 16/64/256 (image-based lighting; the reference is the
+//           Monte Carlo one of tests/reference/environment.hpp, and the pass
+//           time is the prefilter's, once at load)
 // Each setting is rendered `runs` times, each frame drawing its shadow maps
 // (median frame time, and the median time of the shadow or AO passes within
 // it), and compared
@@ -22,6 +26,7 @@
 
 #include <atomic>
 #include <string>
+#include <vector>
 
 namespace facet::bench {
 
@@ -32,6 +37,8 @@ struct ParetoOptions {
     int grid = 16;          // reference samples per pixel side
     int ao_grid = 8;        // ... for the AO scene, which traces ao_rays per sample
     int ao_rays = 32;
+    int environment_rays = 512;  // the environment scene's Monte Carlo directions a pixel
+    std::vector<std::string> scenes;  // the studies to run (names above); empty: all
     std::string csv = "pareto.csv";
     std::string plot = "pareto.png";
     // While true, the sweep stops at the next tile (Pipeline::stop_when),

@@ -22,6 +22,7 @@ SCENES = [
     ("shadow", "shadow-map size, PCF kernel", "shadow_map_size"),
     ("ao", "AO samples, radius, resolution", "ao_samples"),
     ("gallery", "pbr and normal maps: MSAA, filter, bits", "msaa"),
+    ("environment", "environment size, prefilter samples", "environment_size"),
 ]
 
 
@@ -33,6 +34,8 @@ def label(row, scene):
         return f"{row['msaa']}x {row['subpixel_bits']}b"
     if scene == "shadow":
         return f"{row['shadow_map_size']} pcf{row['pcf_kernel']}"
+    if scene == "environment":
+        return f"{row['environment_size']} ggx{row['environment_samples']}"
     return f"{row['ao_samples']} r{float(row['ao_radius']):.2g} {row['ao_resolution']}"
 
 

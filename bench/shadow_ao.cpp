@@ -13,9 +13,12 @@
 // showcase scene's three lights (directional, spot, and a point light's cube
 // map) are measured the same way through a diffuse-only `phong`, the
 // visibility every lit shader receives (facet::sdk::Receiving), and its AO
-// through phong's ambient term. Errors
+// through phong's ambient term. Image-based lighting: the environment
+// demo's pbr spheres and sky against the Monte Carlo reference of
+// reference/environment.hpp, its error relative to the radiance. Errors
 // are over pixels where both see the same object. Single thread; times are
 // medians over --runs frames, each drawing every shadow map it needs.
+#include "reference/environment.hpp"
 #include "reference/raycast.hpp"
 
 #include <facet/command_line.hpp>
@@ -31,6 +34,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <thread>
 
 using namespace facet;
 
@@ -167,6 +171,30 @@ void shadow_rows(const Scene& scene, const std::string& label, int runs) {
 
 }  // namespace
 
+// Image-based lighting: the environment demo (pbr spheres lit by nothing
+// but its HDR sky, and the sky behind them), post chain off, against the
+// Monte Carlo reference (reference/environment.hpp, `rays` directions a
+// pixel, on every hardware thread). Errors are relative to the reference's
+// radiance (RMSE over pixels of the per-pixel RMS over RGB); the time is
+// the whole frame's.
+void environment_rows(const std::string& configs, PluginRegistry& registry, int width,
+                      int height, int runs, int rays) {
+    Scene scene = load_scene(configs + "environment.yaml", registry);
+    scene.settings.width = width;
+    scene.settings.height = height;
+    scene.settings.color_format = ColorFormat::rgba32f;
+    scene.settings.post = false;
+    const Timed t = render(scene, runs);
+    const reference::EnvironmentImage image(scene.environment.settings.files.at(0));
+    const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    const reference::EnvironmentTruth truth =
+        reference::environment_truth(scene, image, rays, threads);
+    const reference::EnvironmentError e = reference::environment_error(t.image, truth, 0.0);
+    row("image-based lighting: pbr spheres (relative)", t.total,
+        {e.surface_relative, e.surface_max, e.surface_pixels});
+    row("image-based lighting: the sky (relative)", 0.0, {e.sky_relative, e.sky_max, e.sky_pixels});
+}
+
 int main(int argc, char** argv) {
     int runs = 5, rays = 256;
     std::string size = "320x180";
@@ -176,7 +204,7 @@ int main(int argc, char** argv) {
     app.add_option("--runs", runs, "frames per timing (median)")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    app.add_option("--rays", rays, "reference AO rays per pixel")
+    app.add_option("--rays", rays, "reference AO rays, and environment directions, per pixel")
         ->check(CLI::Range(1, 65536))
         ->capture_default_str();
     Verbosity verbosity;
@@ -247,5 +275,6 @@ int main(int argc, char** argv) {
         row(name, t.ao, e);
         row(std::string("main pass (ao scene") + resolution + ")", t.main, {});
     }
+    environment_rows(configs, registry, width, height, runs, rays);
     return 0;
 }

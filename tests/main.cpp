@@ -3,6 +3,7 @@
 // CTest reports as skipped (tests/CMakeLists.txt runs the raster, pipeline
 // and shader tests once per path). With FACET_TEST_SKIP_BEST set too, the
 // CPU's best path is skipped the same way: the main run drew on it.
+// FACET_CACHE_DIR is off unless set (no prefiltered environment is kept).
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 
@@ -14,6 +15,9 @@
 #include <string>
 
 int main(int argc, char** argv) {
+    // Prefiltered environments are not kept between runs unless a test
+    // says where (test_environment.cpp): each test starts from the files.
+    setenv("FACET_CACHE_DIR", "off", 0);
     try {
         const facet::Isa isa = facet::default_isa();
         if (std::getenv("FACET_TEST_SKIP_BEST") && isa == facet::best_isa()) {

@@ -14,6 +14,7 @@
 #include <facet/renderer.hpp>
 
 #include <catch2/catch.hpp>
+#include <spdlog/spdlog.h>
 
 #include <stb/stb_image_write.h>
 
@@ -368,4 +369,89 @@ TEST_CASE("a changed environment file is prefiltered again; a bad one keeps the 
     test::write(file, bytes.substr(0, bytes.size() - 40));
     CHECK_THAT(wait_for(true), Catch::Contains("keeping the previous environment"));
     CHECK(irradiance() == Approx(3.0f).epsilon(1e-3));
+}
+
+namespace {
+
+// FACET_CACHE_DIR set to `dir` while it lives (tests/main.cpp turns the
+// cache off for every other test).
+struct CacheDir {
+    explicit CacheDir(const std::filesystem::path& dir) {
+        setenv("FACET_CACHE_DIR", dir.c_str(), 1);
+    }
+    ~CacheDir() { setenv("FACET_CACHE_DIR", "off", 1); }
+    CacheDir(const CacheDir&) = delete;
+    CacheDir& operator=(const CacheDir&) = delete;
+};
+
+// The files in `folder` (none when it does not exist).
+std::vector<std::filesystem::path> files_in(const std::filesystem::path& folder) {
+    std::vector<std::filesystem::path> out;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(folder, ec)) out.push_back(e.path());
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("prefiltered maps are kept on disk and read back the same; a bad file is made again",
+          "[environment][cache]") {
+    const TempDir dir("env_cache");
+    const CacheDir cache(dir.path / "cache");
+    const auto file = hdr(dir, "sky.hdr", 64, 32, [](glm::dvec3 d) {
+        return glm::vec3(1.0 + d.y, 0.5 + 0.25 * d.x, 2.0 - d.z);
+    });
+    auto first = maps_of(file, 16, 16);
+    const EnvironmentMaps want = *first;
+    const auto kept = files_in(dir.path / "cache" / "environments");
+    REQUIRE(kept.size() == 1);  // the file, and no part of one left over
+    CHECK(kept[0].extension() == ".env");
+    const auto same = [&](const EnvironmentMaps& got) {
+        CHECK(got.levels == want.levels);
+        CHECK(got.size == want.size);
+        CHECK(got.offset == want.offset);
+        CHECK(got.irradiance == want.irradiance);
+        CHECK(got.texels == want.texels);
+        CHECK(got.source == want.source);
+    };
+    // Held by a scene: the process's own, the same object.
+    CHECK(maps_of(file, 16, 16) == first);
+
+    // Held by none: read from the file, as the debug log says.
+    first.reset();
+    const auto level = spdlog::get_level();
+    spdlog::set_level(spdlog::level::debug);
+    {
+        test::LogCapture log;
+        same(*maps_of(file, 16, 16));
+        CHECK(log.text().find("read from " + kept[0].string()) != std::string::npos);
+    }
+    spdlog::set_level(level);
+
+    // Cut short, or one byte changed: named, made again, and kept whole.
+    const auto size = std::filesystem::file_size(kept[0]);
+    for (const char* harm : {"cut short", "its digest does not match"}) {
+        INFO(harm);
+        std::string bytes = test::read_file(kept[0]);
+        if (std::string(harm) == "cut short")
+            bytes.resize(bytes.size() / 2);
+        else
+            bytes[bytes.size() / 2] ^= 0x40;
+        test::write(kept[0], bytes);
+        test::LogCapture log;
+        same(*maps_of(file, 16, 16));
+        CHECK(log.text().find(kept[0].string() + ": " + harm) != std::string::npos);
+        CHECK(std::filesystem::file_size(kept[0]) == size);
+    }
+
+    // A folder that cannot be made: said once, and the maps are made.
+    test::write(dir.path / "a file", "not a folder");
+    const CacheDir blocked(dir.path / "a file" / "cache");
+    test::LogCapture log;
+    same(*maps_of(file, 16, 16));
+    same(*maps_of(file, 16, 16));
+    const std::string text = log.text();
+    const size_t said = text.find("cannot keep prefiltered environments in");
+    CHECK(said != std::string::npos);
+    CHECK(text.find("cannot keep prefiltered environments in", said + 1) == std::string::npos);
 }

@@ -77,8 +77,11 @@ struct EnvironmentMaps {
 // Loads the files of `settings` and prefilters them on `threads` threads
 // (0: default_threads()), or takes them from the process's cache when
 // the same bytes were prefiltered with the same size and samples and some
-// scene still holds the result. Throws Error(file_not_found | not_a_file |
-// texture_load_failed | over_budget | config_invalid) naming the file.
+// scene still holds the result, or else from the maps an earlier run kept
+// on disk (in $FACET_CACHE_DIR, else $XDG_CACHE_HOME/facet, else
+// ~/.cache/facet; FACET_CACHE_DIR=off keeps none). Throws
+// Error(file_not_found | not_a_file | texture_load_failed | over_budget |
+// config_invalid) naming the file.
 std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSettings& settings,
                                                          int threads = 0);
 

@@ -4,6 +4,7 @@
 #include "facet/environment_map.hpp"
 
 #include "assets/decoder_peak.hpp"
+#include "assets/environment_cache.hpp"
 #include "assets/environment_prefilter.hpp"
 #include "assets/hdr_check.hpp"
 #include "assets/image_decoder.hpp"
@@ -162,6 +163,26 @@ struct CacheKey {
 std::mutex cache_mutex;
 std::map<CacheKey, std::weak_ptr<const EnvironmentMaps>> cache;
 
+// The maps of the images in `bytes`, decoded and prefiltered on `threads`.
+std::shared_ptr<const EnvironmentMaps> prefiltered(const EnvironmentSettings& settings,
+                                                   std::vector<std::string>& bytes, int threads) {
+    const auto images = read_images(settings, bytes);
+    bytes.clear();
+    const PrefilterInput in = prefilter_input(settings, images);
+    require_within_budget(prefilter_bytes(in.size),
+                          "prefiltering an environment of " + std::to_string(in.size) +
+                              " texels a side",
+                          in.source);
+    ThreadPool pool(threads > 0 ? threads : default_threads());
+    const auto start = std::chrono::steady_clock::now();
+    auto maps = std::make_shared<const EnvironmentMaps>(prefilter_environment(in, pool));
+    spdlog::info("environment {}: {} levels from {} texels a side, {} samples, in {:.0f} ms",
+                 in.source, maps->levels, in.size, in.samples,
+                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                     .count());
+    return maps;
+}
+
 }  // namespace
 
 std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSettings& settings,
@@ -185,20 +206,15 @@ std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSetting
         }
     }
     brdf_table();  // made at the first load, not in the first frame
-    const auto images = read_images(settings, bytes);
-    bytes.clear();
-    const PrefilterInput in = prefilter_input(settings, images);
-    require_within_budget(prefilter_bytes(in.size),
-                          "prefiltering an environment of " + std::to_string(in.size) +
-                              " texels a side",
-                          in.source);
-    ThreadPool pool(threads > 0 ? threads : default_threads());
-    const auto start = std::chrono::steady_clock::now();
-    auto maps = std::make_shared<const EnvironmentMaps>(prefilter_environment(in, pool));
-    spdlog::info("environment {}: {} levels from {} texels a side, {} samples, in {:.0f} ms",
-                 in.source, maps->levels, in.size, in.samples,
-                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                     .count());
+    const auto kept = environment_cache_file({key.digests, settings.size, settings.samples});
+    std::shared_ptr<const EnvironmentMaps> maps =
+        kept ? read_environment_cache(*kept, settings.files.front().string()) : nullptr;
+    if (maps) {
+        spdlog::debug("environment {}: prefiltered maps read from {}", maps->source, kept->string());
+    } else {
+        maps = prefiltered(settings, bytes, threads);
+        if (kept) write_environment_cache(*kept, *maps);
+    }
     const std::lock_guard lock(cache_mutex);
     std::erase_if(cache, [](const auto& entry) { return entry.second.expired(); });
     cache[key] = maps;

@@ -9,6 +9,7 @@
 //     W = V(n.l, n.v) n.l 4 (v.h) / (n.h)
 // (V the height-correlated Smith visibility pbr shades with, and the
 // sample's pdf D (n.h) / (4 v.h) divided out).
+#include "assets/environment_cache.hpp"
 #include "assets/environment_prefilter.hpp"
 
 #include "facet/pipeline.hpp"
@@ -47,25 +48,44 @@ glm::dvec2 split_sum_brdf(double n_v, double roughness, int samples) {
     return sum / double(samples);
 }
 
+namespace {
+
+// The table's cells, computed: A and B of each, then those of the next
+// cell along n.v (the ABI's record of four floats).
+std::vector<float> computed_table() {
+    std::vector<glm::vec2> cell(size_t(kTableSize) * kTableSize);
+    ThreadPool pool(default_threads());
+    pool.parallel_for(kTableSize, [&](int j, int) {
+        for (int i = 0; i < kTableSize; ++i)
+            cell[size_t(j) * kTableSize + size_t(i)] = glm::vec2(split_sum_brdf(
+                double(i) / (kTableSize - 1), double(j) / (kTableSize - 1), kTableSamples));
+    });
+    std::vector<float> cells(cell.size() * 4);
+    for (int j = 0; j < kTableSize; ++j)
+        for (int i = 0; i < kTableSize; ++i) {
+            const size_t k = size_t(j) * kTableSize + size_t(i);
+            const size_t next = size_t(j) * kTableSize + size_t(std::min(i + 1, kTableSize - 1));
+            const float record[4] = {cell[k].x, cell[k].y, cell[next].x, cell[next].y};
+            std::memcpy(&cells[k * 4], record, sizeof record);
+        }
+    return cells;
+}
+
+}  // namespace
+
+// Made once a process, or read from where an earlier run kept it.
 const BrdfTable& brdf_table() {
     static const BrdfTable table = [] {
         BrdfTable t;
         t.size = kTableSize;
-        std::vector<glm::vec2> cell(size_t(kTableSize) * kTableSize);
-        ThreadPool pool(default_threads());
-        pool.parallel_for(kTableSize, [&](int j, int) {
-            for (int i = 0; i < kTableSize; ++i)
-                cell[size_t(j) * kTableSize + size_t(i)] = glm::vec2(split_sum_brdf(
-                    double(i) / (kTableSize - 1), double(j) / (kTableSize - 1), kTableSamples));
-        });
-        t.cells.resize(cell.size() * 4);
-        for (int j = 0; j < kTableSize; ++j)
-            for (int i = 0; i < kTableSize; ++i) {
-                const size_t k = size_t(j) * kTableSize + size_t(i);
-                const size_t next = size_t(j) * kTableSize + size_t(std::min(i + 1, kTableSize - 1));
-                const float record[4] = {cell[k].x, cell[k].y, cell[next].x, cell[next].y};
-                std::memcpy(&t.cells[k * 4], record, sizeof record);
+        const auto kept = brdf_cache_file(kTableSize, kTableSamples);
+        if (kept)
+            if (auto cells = read_brdf_cache(*kept, size_t(kTableSize) * kTableSize * 4)) {
+                t.cells = std::move(*cells);
+                return t;
             }
+        t.cells = computed_table();
+        if (kept) write_brdf_cache(*kept, t.cells);
         return t;
     }();
     return table;

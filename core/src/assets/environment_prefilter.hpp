@@ -25,6 +25,11 @@ namespace facet {
 
 constexpr double kEnvironmentPi = 3.14159265358979323846;
 
+// What prefilter_environment() computes, as a number: change it with any
+// change to its output (or to what a setting means), so that maps kept on
+// disk from before (environment_cache.hpp) are made again.
+constexpr uint32_t kPrefilterVersion = 1;
+
 // Bilinear in a bordered cube level of n x n faces whose texel (x, y) of
 // face f (-1 <= x, y <= n) is at(f, x, y), in direction d (any length; no
 // direction reads the face's middle).
