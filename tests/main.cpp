@@ -17,7 +17,7 @@
 int main(int argc, char** argv) {
     // Prefiltered environments are not kept between runs unless a test
     // says where (test_environment.cpp): each test starts from the files.
-    setenv("FACET_CACHE_DIR", "off", 0);
+    setenv("FACET_CACHE_DIR", "off", 1);
     try {
         const facet::Isa isa = facet::default_isa();
         if (std::getenv("FACET_TEST_SKIP_BEST") && isa == facet::best_isa()) {

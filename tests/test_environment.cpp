@@ -21,6 +21,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -373,22 +374,28 @@ TEST_CASE("a changed environment file is prefiltered again; a bad one keeps the 
 
 namespace {
 
-// FACET_CACHE_DIR set to `dir` while it lives (tests/main.cpp turns the
-// cache off for every other test).
+// FACET_CACHE_DIR set to `dir` while it lives, and as it was after.
 struct CacheDir {
     explicit CacheDir(const std::filesystem::path& dir) {
+        if (const char* was = std::getenv("FACET_CACHE_DIR")) before = was;
         setenv("FACET_CACHE_DIR", dir.c_str(), 1);
     }
-    ~CacheDir() { setenv("FACET_CACHE_DIR", "off", 1); }
+    ~CacheDir() { setenv("FACET_CACHE_DIR", before.c_str(), 1); }
     CacheDir(const CacheDir&) = delete;
     CacheDir& operator=(const CacheDir&) = delete;
+    std::string before = "off";
 };
 
-// The files in `folder` (none when it does not exist).
-std::vector<std::filesystem::path> files_in(const std::filesystem::path& folder) {
+// The files in `folder` whose name ends in `ending` (none when it does
+// not exist).
+std::vector<std::filesystem::path> files_in(const std::filesystem::path& folder,
+                                            const std::string& ending) {
     std::vector<std::filesystem::path> out;
     std::error_code ec;
-    for (const auto& e : std::filesystem::directory_iterator(folder, ec)) out.push_back(e.path());
+    for (const auto& e : std::filesystem::directory_iterator(folder, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.size() >= ending.size() && name.ends_with(ending)) out.push_back(e.path());
+    }
     return out;
 }
 
@@ -403,9 +410,14 @@ TEST_CASE("prefiltered maps are kept on disk and read back the same; a bad file 
     });
     auto first = maps_of(file, 16, 16);
     const EnvironmentMaps want = *first;
-    const auto kept = files_in(dir.path / "cache" / "environments");
-    REQUIRE(kept.size() == 1);  // the file, and no part of one left over
-    CHECK(kept[0].extension() == ".env");
+    const std::filesystem::path folder = dir.path / "cache" / "environments";
+    const auto kept = files_in(folder, ".env");
+    REQUIRE(kept.size() == 1);
+    CHECK(files_in(folder, ".part").empty());  // no part of one left over
+    // Other settings or other bytes: another file.
+    maps_of(file, 32, 16);
+    maps_of(file, 16, 8);
+    CHECK(files_in(folder, ".env").size() == 3);
     const auto same = [&](const EnvironmentMaps& got) {
         CHECK(got.levels == want.levels);
         CHECK(got.size == want.size);

@@ -12,7 +12,7 @@ using namespace facet::sdk::wide;
 // records[k * n + i], gather4's float k of lane i; gathered[i], gather's
 // base[index[i]] for even i and -1 for odd i; quads[i / 2], gather_quads'
 // 64 bits at texels + index[i] for even i; mixed[k * n + i], bilinear4's
-// component k of lane i for the 2x2 records at index[i] % 229 and `row`
+// component k of lane i for the 2x2 records at index[i] % 225 and `row`
 // floats on, at fractions fx[i], fy[i]. Returns the path's lane count.
 extern "C" int FACET_WIDE_LOADS(const float* base, const uint16_t* texels, const int32_t* index,
                                 int n, float* records, float* gathered, uint64_t* quads,
@@ -22,7 +22,7 @@ extern "C" int FACET_WIDE_LOADS(const float* base, const uint16_t* texels, const
         Float x, y;
         HalfIndex half;
         for (int i = 0; i < kLanes; ++i) {
-            at[i] = index[first + i], even[i] = i % 2 ? 0 : -1, top[i] = at[i] % 229;
+            at[i] = index[first + i], even[i] = i % 2 ? 0 : -1, top[i] = at[i] % 225;
             x[i] = fx[first + i], y[i] = fy[first + i];
         }
         for (int i = 0; i < kLanes / 2; ++i) half[i] = index[first + 2 * i];

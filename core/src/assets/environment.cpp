@@ -1,6 +1,7 @@
 // Environments (facet/environment_map.hpp): the image files read into linear
 // light, their radiance in any direction, the prefilter's settings, the
-// process's cache of results, and the record a frame hands shaders.
+// process's cache of results (and the one on disk: environment_cache.hpp),
+// and the record a frame hands shaders.
 #include "facet/environment_map.hpp"
 
 #include "assets/decoder_peak.hpp"
@@ -46,6 +47,8 @@ struct FloatImage {
 };
 
 // An HDR file's radiance as it is; an 8-bit image's decoded from sRGB.
+// (A change to what this, the radiance functions below or prefilter_input
+// give changes kept maps: kPrefilterVersion, environment_prefilter.hpp.)
 FloatImage decode_image(const std::string& bytes, const std::string& source) {
     FloatImage image;
     image.source = source;

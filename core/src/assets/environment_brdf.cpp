@@ -27,6 +27,8 @@ constexpr int kTableSamples = 4096;
 
 }  // namespace
 
+// (A change to what this or the table holds changes kept tables:
+// kBrdfVersion, environment_prefilter.hpp.)
 glm::dvec2 split_sum_brdf(double n_v, double roughness, int samples) {
     n_v = std::max(n_v, 1e-4);  // as pbr holds it
     const double a = roughness * roughness, a2 = a * a;

@@ -2,18 +2,20 @@
 
 #include "assets/environment_prefilter.hpp"
 #include "base/file_digest.hpp"
+#include "base/output_file.hpp"
 
+#include "facet/error.hpp"
 #include "facet/memory.hpp"
 
 #include <spdlog/spdlog.h>
 
-#include <unistd.h>
-
 #include <atomic>
 #include <bit>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <system_error>
 
 namespace facet {
@@ -22,13 +24,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A kept file, in the host's byte order: a magic, the version (kFormat
-// and kPrefilterVersion), the payload's size and the payload, and the
-// digest of every byte before it. An environment's payload is a Header and its texels' floats; the
-// split-sum table's, its floats.
+// A kept file, in the host's byte order: a head (a magic, the version, four
+// bytes of 0, the payload's size), the payload, and the digest of every
+// byte before it. An environment's payload is a Header and its texels'
+// floats; the split-sum table's, its floats. Every part is a whole number
+// of 8-byte words, as BytesDigest takes them.
 constexpr char kEnvironmentMagic[8] = {'f', 'a', 'c', 'e', 't', 'e', 'n', 'v'};
 constexpr char kBrdfMagic[8] = {'f', 'a', 'c', 'e', 't', 'b', 'r', 'd'};
 constexpr uint32_t kFormat = 1;
+
+struct Head {
+    char magic[8];
+    uint32_t version, zero;
+    uint64_t payload;
+};
+static_assert(sizeof(Head) == 24);
 
 struct Header {
     int32_t levels;
@@ -36,9 +46,9 @@ struct Header {
     float irradiance[9][3];
     uint64_t floats;
 };
-static_assert(sizeof(Header) % sizeof(float) == 0, "the texels follow it in place");
+static_assert(sizeof(Header) % 8 == 0, "the texels follow it, whole words");
 
-uint32_t version() { return kFormat << 16 | kPrefilterVersion; }
+uint32_t version() { return kFormat << 24 | kBrdfVersion << 16 | kPrefilterVersion; }
 
 std::optional<fs::path> cache_folder() {
     if (const char* dir = std::getenv("FACET_CACHE_DIR"); dir && *dir) {
@@ -53,10 +63,10 @@ std::optional<fs::path> cache_folder() {
 }
 
 // Whether `h` lays levels out as the prefilter does: halving sizes from a
-// power of two, each level's six bordered faces after the last.
+// power of two up to 2048, each level's six bordered faces after the last.
 bool consistent(const Header& h) {
     if (h.levels < 1 || h.levels > FACET_ENVIRONMENT_MAX_LEVELS) return false;
-    if (!std::has_single_bit(h.size[0]) || h.size[0] > 4096) return false;
+    if (!std::has_single_bit(h.size[0]) || h.size[0] > 2048) return false;
     uint64_t texels = 0;
     for (int l = 0; l < h.levels; ++l) {
         if (h.size[l] != h.size[0] >> l || h.size[l] == 0 || h.offset[l] != texels) return false;
@@ -73,127 +83,135 @@ void warn_once_unwritable(const fs::path& folder, const std::string& why) {
                  folder.string(), why);
 }
 
+// A kept file being read: its head and `prefix` bytes of its payload
+// checked before anything large is made, then the rest.
+class Reader {
+public:
+    Reader(const fs::path& file, const char (&magic)[8], std::string instead)
+        : file_(file), instead_(std::move(instead)), in_(file, std::ios::binary) {
+        std::error_code ec;
+        length_ = fs::file_size(file, ec);
+        exists_ = !ec && in_;
+        if (exists_) check_head(magic);
+    }
+    bool ok() const { return ok_; }
+
+    // Refuses the file (a warning naming it); false.
+    bool refuse(const std::string& why) {
+        if (ok_) spdlog::warn("{}: {}; {}", file_.string(), why, instead_);
+        ok_ = false;
+        return false;
+    }
+    // The next n bytes into `to`, into the digest.
+    bool read(void* to, size_t n) {
+        if (!ok_) return false;
+        if (!in_.read(static_cast<char*>(to), std::streamsize(n))) return refuse("cannot be read");
+        digest_.add(to, n);
+        return true;
+    }
+    uint64_t payload() const { return head_.payload; }
+    // After the payload: whether the digest matches.
+    bool finish() {
+        uint64_t digest;
+        if (!ok_ || !in_.read(reinterpret_cast<char*>(&digest), sizeof digest))
+            return refuse("cut short");
+        return digest == digest_.value() || refuse("its digest does not match its contents");
+    }
+
+private:
+    void check_head(const char (&magic)[8]) {
+        ok_ = true;
+        if (length_ < sizeof head_ + sizeof(uint64_t)) return void(refuse("cut short"));
+        if (!read(&head_, sizeof head_)) return;
+        if (std::memcmp(head_.magic, magic, sizeof magic) != 0)
+            return void(refuse("not a file facet kept"));
+        if (head_.version != version()) return void(refuse("kept by another version of facet"));
+        const uint64_t room = length_ - sizeof head_ - sizeof(uint64_t);
+        if (head_.payload != room)
+            refuse(head_.payload > room ? "cut short" : "longer than it says");
+    }
+
+    fs::path file_;
+    std::string instead_;
+    std::ifstream in_;
+    uintmax_t length_ = 0;
+    bool exists_ = false, ok_ = false;
+    Head head_{};
+    BytesDigest digest_;
+};
+
+// Keeps `parts` in `file` under `magic` (OutputFile: under another name,
+// renamed into place). A failure is a warning (once), never an error.
+void write_kept(const fs::path& file, const char (&magic)[8],
+                std::initializer_list<std::pair<const void*, size_t>> parts) {
+    const fs::path folder = file.parent_path();
+    try {
+        std::error_code ec;
+        fs::create_directories(folder, ec);
+        if (ec) return warn_once_unwritable(folder, ec.message());
+        Head head{};
+        std::memcpy(head.magic, magic, sizeof magic);
+        head.version = version();
+        for (const auto& [data, n] : parts) head.payload += n;
+        BytesDigest digest;
+        OutputFile out(file);
+        const auto put = [&](const void* data, size_t n) {
+            digest.add(data, n);
+            out.write(data, n);
+        };
+        put(&head, sizeof head);
+        for (const auto& [data, n] : parts) put(data, n);
+        const uint64_t value = digest.value();
+        out.write(&value, sizeof value);
+        out.commit();
+        spdlog::debug("kept {}", file.string());
+    } catch (const std::exception& e) {
+        warn_once_unwritable(folder, e.what());
+    }
+}
+
+bool finite(const float* v, size_t n, bool non_negative) {
+    for (size_t i = 0; i < n; ++i)
+        if (!std::isfinite(v[i]) || (non_negative && v[i] < 0.0f)) return false;
+    return true;
+}
+
 }  // namespace
 
 std::optional<fs::path> environment_cache_file(const EnvironmentCacheKey& key) {
     const std::optional<fs::path> folder = cache_folder();
     if (!folder) return std::nullopt;
-    std::string bytes;
-    const auto put = [&](const void* p, size_t n) { bytes.append(static_cast<const char*>(p), n); };
-    const uint32_t v = version();
-    put(&v, sizeof v);
-    put(&key.size, sizeof key.size);
-    put(&key.samples, sizeof key.samples);
-    for (const uint64_t d : key.digests) put(&d, sizeof d);
+    BytesDigest d;
+    const uint32_t head[4] = {version(), uint32_t(key.size), uint32_t(key.samples), 0};
+    d.add(head, sizeof head);
+    for (const uint64_t digest : key.digests) d.add(&digest, sizeof digest);
     char name[32];
-    std::snprintf(name, sizeof name, "%016llx.env",
-                  static_cast<unsigned long long>(bytes_digest(bytes)));
+    std::snprintf(name, sizeof name, "%016llx.env", static_cast<unsigned long long>(d.value()));
     return *folder / name;
 }
 
-namespace {
-
-// Every byte before a payload: the magic, the version, four bytes of 0 and
-// the payload's size (a whole number of floats, so that a payload of floats
-// can be read in place).
-constexpr size_t kHead = 8 + 4 + 4 + 8;
-
-// The file kept in `file` under `magic` and this version, as floats whose
-// bytes are the file's (its payload from float kHead / 4 on, its digest
-// last), or nothing (with a warning naming `file` and what happens
-// `instead`, unless there is no file). One buffer: in a virtual machine,
-// the first touch of a page costs more than the read.
-std::optional<std::vector<float>> read_kept(const fs::path& file, const char (&magic)[8],
-                                            const std::string& instead) {
-    std::error_code ec;
-    const uintmax_t length = fs::file_size(file, ec);
-    if (ec) return std::nullopt;  // not kept yet
-    const auto refuse = [&](const std::string& why) -> std::optional<std::vector<float>> {
-        spdlog::warn("{}: {}; {}", file.string(), why, instead);
-        return std::nullopt;
-    };
-    if (length < kHead + sizeof(uint64_t)) return refuse("cut short");
-    require_within_budget(length, "a file of prefiltered maps", file.string());
-    std::vector<float> words(size_t(length + 3) / 4);
-    char* bytes = reinterpret_cast<char*>(words.data());
-    std::ifstream in(file, std::ios::binary);
-    if (!in.read(bytes, std::streamsize(length))) return refuse("cannot be read");
-    if (std::memcmp(bytes, magic, sizeof magic) != 0) return refuse("not a file facet kept");
-    uint32_t v;
-    uint64_t size, digest;
-    std::memcpy(&v, bytes + 8, sizeof v);
-    std::memcpy(&size, bytes + 16, sizeof size);
-    if (v != version()) return refuse("kept by another version of facet");
-    const uint64_t room = length - kHead - sizeof digest;
-    if (size != room) return refuse(size > room ? "cut short" : "longer than it says");
-    std::memcpy(&digest, bytes + length - sizeof digest, sizeof digest);
-    if (digest != bytes_digest(std::string_view(bytes, size_t(length) - sizeof digest)))
-        return refuse("its digest does not match its contents");
-    return words;
-}
-
-// Keeps `payload` in `file` under `magic`; a failure is a warning (once).
-void write_kept(const fs::path& file, const char (&magic)[8], std::string_view payload) {
-    const fs::path folder = file.parent_path();
-    std::error_code ec;
-    fs::create_directories(folder, ec);
-    if (ec) return warn_once_unwritable(folder, ec.message());
-    std::string bytes(magic, sizeof magic);
-    const uint32_t v[2] = {version(), 0};
-    bytes.append(reinterpret_cast<const char*>(v), sizeof v);
-    const uint64_t size = payload.size();
-    bytes.append(reinterpret_cast<const char*>(&size), sizeof size);
-    bytes.append(payload);
-    const uint64_t digest = bytes_digest(bytes);
-    bytes.append(reinterpret_cast<const char*>(&digest), sizeof digest);
-    // Another process may write the same file: each its own temporary.
-    const fs::path part = file.string() + ".part" + std::to_string(::getpid());
-    {
-        std::ofstream out(part, std::ios::binary | std::ios::trunc);
-        if (!out.write(bytes.data(), std::streamsize(bytes.size())) || !out.flush()) {
-            out.close();
-            fs::remove(part, ec);
-            return warn_once_unwritable(folder, "writing " + part.filename().string() + " failed");
-        }
-    }
-    fs::rename(part, file, ec);
-    if (ec) {
-        const std::string why = ec.message();
-        fs::remove(part, ec);
-        return warn_once_unwritable(folder, why);
-    }
-    spdlog::debug("kept {}", file.string());
-}
-
-}  // namespace
-
 std::shared_ptr<const EnvironmentMaps> read_environment_cache(const fs::path& file,
                                                                const std::string& source) {
-    const std::string instead = "prefiltering " + source + " again";
-    std::optional<std::vector<float>> words = read_kept(file, kEnvironmentMagic, instead);
-    if (!words) return nullptr;
-    const size_t payload = words->size() * sizeof(float) - kHead - sizeof(uint64_t);
+    Reader in(file, kEnvironmentMagic, "prefiltering " + source + " again");
     Header h{};
-    const auto refuse = [&](const char* why) -> std::shared_ptr<const EnvironmentMaps> {
-        spdlog::warn("{}: {}; {}", file.string(), why, instead);
-        return nullptr;
-    };
-    if (payload < sizeof h) return refuse("cut short");
-    std::memcpy(&h, reinterpret_cast<const char*>(words->data()) + kHead, sizeof h);
-    if (!consistent(h)) return refuse("its levels do not add up");
-    if (payload != sizeof h + h.floats * sizeof(float)) return refuse("its levels do not add up");
+    if (!in.ok() || !in.read(&h, sizeof h)) return nullptr;
+    if (!consistent(h) || in.payload() != sizeof h + h.floats * sizeof(float))
+        return in.refuse("its levels do not add up"), nullptr;
+    if (h.floats * sizeof(float) > memory_budget())
+        return in.refuse("over the memory budget"), nullptr;
     auto maps = std::make_shared<EnvironmentMaps>();
+    maps->texels.resize(size_t(h.floats));
+    if (!in.read(maps->texels.data(), maps->texels.size() * sizeof(float)) || !in.finish())
+        return nullptr;
+    if (!finite(maps->texels.data(), maps->texels.size(), true) ||
+        !finite(&h.irradiance[0][0], 27, false))
+        return in.refuse("it holds numbers no prefilter makes"), nullptr;
     maps->source = source;
     maps->levels = h.levels;
     std::memcpy(maps->size.data(), h.size, sizeof h.size);
     std::memcpy(maps->offset.data(), h.offset, sizeof h.offset);
     for (int k = 0; k < 9; ++k)
         maps->irradiance[size_t(k)] = {h.irradiance[k][0], h.irradiance[k][1], h.irradiance[k][2]};
-    // The texels where they were read, moved to the front.
-    const size_t first = (kHead + sizeof h) / sizeof(float);
-    words->erase(words->begin(), words->begin() + std::ptrdiff_t(first));
-    words->resize(size_t(h.floats));
-    maps->texels = std::move(*words);
     return maps;
 }
 
@@ -205,33 +223,31 @@ void write_environment_cache(const fs::path& file, const EnvironmentMaps& maps) 
     for (int k = 0; k < 9; ++k)
         for (int c = 0; c < 3; ++c) h.irradiance[k][c] = maps.irradiance[size_t(k)][c];
     h.floats = maps.texels.size();
-    std::string payload(reinterpret_cast<const char*>(&h), sizeof h);
-    payload.append(reinterpret_cast<const char*>(maps.texels.data()),
-                   maps.texels.size() * sizeof(float));
-    write_kept(file, kEnvironmentMagic, payload);
+    write_kept(file, kEnvironmentMagic,
+               {{&h, sizeof h}, {maps.texels.data(), maps.texels.size() * sizeof(float)}});
 }
 
 std::optional<fs::path> brdf_cache_file(int size, int samples) {
     const std::optional<fs::path> folder = cache_folder();
     if (!folder) return std::nullopt;
-    return *folder / ("split-sum-" + std::to_string(size) + "-" + std::to_string(samples) + ".table");
+    return *folder / ("split-sum-" + std::to_string(size) + "-" + std::to_string(samples) + "-v" +
+                      std::to_string(kFormat) + "." + std::to_string(kBrdfVersion) + ".table");
 }
 
 std::optional<std::vector<float>> read_brdf_cache(const fs::path& file, size_t floats) {
-    std::optional<std::vector<float>> words = read_kept(file, kBrdfMagic, "making the table again");
-    if (!words) return std::nullopt;
-    if (words->size() * sizeof(float) != kHead + floats * sizeof(float) + sizeof(uint64_t)) {
-        spdlog::warn("{}: not a table of {} numbers; making the table again", file.string(), floats);
-        return std::nullopt;
-    }
-    words->erase(words->begin(), words->begin() + kHead / sizeof(float));
-    words->resize(floats);
-    return words;
+    Reader in(file, kBrdfMagic, "making the table again");
+    if (!in.ok()) return std::nullopt;
+    if (in.payload() != floats * sizeof(float))
+        return in.refuse("not a table of " + std::to_string(floats) + " numbers"), std::nullopt;
+    std::vector<float> cells(floats);
+    if (!in.read(cells.data(), floats * sizeof(float)) || !in.finish()) return std::nullopt;
+    if (!finite(cells.data(), cells.size(), true))
+        return in.refuse("it holds numbers no table has"), std::nullopt;
+    return cells;
 }
 
 void write_brdf_cache(const fs::path& file, const std::vector<float>& cells) {
-    write_kept(file, kBrdfMagic,
-               std::string_view(reinterpret_cast<const char*>(cells.data()), cells.size() * sizeof(float)));
+    write_kept(file, kBrdfMagic, {{cells.data(), cells.size() * sizeof(float)}});
 }
 
 }  // namespace facet

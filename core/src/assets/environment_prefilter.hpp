@@ -25,10 +25,15 @@ namespace facet {
 
 constexpr double kEnvironmentPi = 3.14159265358979323846;
 
-// What prefilter_environment() computes, as a number: change it with any
-// change to its output (or to what a setting means), so that maps kept on
-// disk from before (environment_cache.hpp) are made again.
+// What the maps of an image are, as a number: change it with any change to
+// what they hold for the same bytes and settings - prefilter_environment(),
+// prefilter_input() (the default size, the supersampling), the decoding
+// (environment.cpp: decode_image, equirect_radiance, faces_radiance), or a
+// new stb_image - so that maps kept on disk from before
+// (environment_cache.hpp) are made again. kBrdfVersion is the same for
+// split_sum_brdf() and the table (environment_brdf.cpp).
 constexpr uint32_t kPrefilterVersion = 1;
+constexpr uint32_t kBrdfVersion = 1;
 
 // Bilinear in a bordered cube level of n x n faces whose texel (x, y) of
 // face f (-1 <= x, y <= n) is at(f, x, y), in direction d (any length; no

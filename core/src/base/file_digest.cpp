@@ -17,33 +17,32 @@ uint64_t mix(uint64_t state, uint64_t word) {
     return std::rotl((state ^ word) * k1, 29) * k2;
 }
 
-// Chunks of a whole number of words, then the tail: the digest of their bytes.
-struct Digest {
-    uint64_t state = 0x243F6A8885A308D3u, length = 0;
-    void add(const char* data, size_t n) {
-        length += n;
-        size_t i = 0;
-        for (; i + 8 <= n; i += 8) {
-            uint64_t word;
-            std::memcpy(&word, data + i, 8);
-            state = mix(state, word);
-        }
-        if (i < n) {  // the tail (only the last chunk has one: chunks are whole words)
-            uint64_t word = 0;
-            std::memcpy(&word, data + i, n - i);
-            state = mix(state, word ^ (uint64_t(n - i) << 56));
-        }
-    }
-    uint64_t value() const { return mix(state, length); }
-};
-
 }  // namespace
+
+// Chunks of a whole number of words, then the tail.
+void BytesDigest::add(const void* p, size_t n) {
+    const char* data = static_cast<const char*>(p);
+    length_ += n;
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        uint64_t word;
+        std::memcpy(&word, data + i, 8);
+        state_ = mix(state_, word);
+    }
+    if (i < n) {  // the tail (only the last chunk has one: chunks are whole words)
+        uint64_t word = 0;
+        std::memcpy(&word, data + i, n - i);
+        state_ = mix(state_, word ^ (uint64_t(n - i) << 56));
+    }
+}
+
+uint64_t BytesDigest::value() const { return mix(state_, length_); }
 
 std::optional<uint64_t> file_digest(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return std::nullopt;
     std::vector<char> chunk(size_t(1) << 20);
-    Digest digest;
+    BytesDigest digest;
     while (in) {
         in.read(chunk.data(), std::streamsize(chunk.size()));
         digest.add(chunk.data(), size_t(in.gcount()));
@@ -53,7 +52,7 @@ std::optional<uint64_t> file_digest(const std::filesystem::path& path) {
 }
 
 uint64_t bytes_digest(std::string_view bytes) {
-    Digest digest;
+    BytesDigest digest;
     digest.add(bytes.data(), bytes.size());
     return digest.value();
 }

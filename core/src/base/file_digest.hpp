@@ -17,4 +17,15 @@ std::optional<uint64_t> file_digest(const std::filesystem::path& path);
 // The same of bytes in memory: a file's digest is that of its bytes.
 uint64_t bytes_digest(std::string_view bytes);
 
+// The same of bytes that come in parts: each part but the last a whole
+// number of 8-byte words. The parts' digest is that of their bytes joined.
+class BytesDigest {
+public:
+    void add(const void* data, size_t n);
+    uint64_t value() const;
+
+private:
+    uint64_t state_ = 0x243F6A8885A308D3u, length_ = 0;
+};
+
 }  // namespace facet
