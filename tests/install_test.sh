@@ -10,7 +10,9 @@
 #     none is a symbolic link, and no program or plugin has a run path;
 #   - pkg-config finds facet, and docs/embedding builds against the prefix
 #     (find_package(facet)) and renders; so does a static link through
-#     pkg-config alone.
+#     pkg-config alone; and the C example (docs/embedding/render.c), built
+#     with cc through pkg-config --static, writes the default scene with
+#     facet-render's pixels.
 set -euo pipefail
 source_dir=$(readlink -f "$1")
 build_dir=$(readlink -f "$2")
@@ -82,4 +84,44 @@ step "docs/embedding, linked statically through pkg-config alone"
        $(pkg-config --cflags --libs --static facet) ||
   fail "a static link with pkg-config --static failed"
 "$work/embed-pc" > /dev/null || fail "embed (pkg-config build) failed"
+
+step "docs/embedding/render.c, in C99 with cc through pkg-config --static"
+[ -f "$(pkg-config --variable=includedir facet)/facet/facet.h" ] || fail "facet/facet.h is not installed"
+cc -std=c99 -O1 -Wall -Werror -o "$work/render-c" "$source_dir/docs/embedding/render.c" \
+   -DFACET_PREFIX_DIR="\"$(pkg-config --variable=prefix facet)\"" \
+   $(pkg-config --cflags --libs --static facet) || fail "building render.c with cc failed"
+"$work/render-c" "" c.png 2> /dev/null && fail "render.c took an empty scene path"
+"$work/render-c" "$prefix/share/facet/configs/default.yaml" c.png > /dev/null ||
+  fail "render.c failed"
+"$prefix/bin/facet-render" -o cli.png 2> /dev/null || fail "facet-render (default scene) failed"
+python3 - c.png cli.png <<'PY' || fail "render.c's pixels differ from facet-render's"
+import struct, sys, zlib
+def pixels(path):  # a PNG's filtered scanlines, unfiltered: RGBA8 rows
+    data = open(path, "rb").read()
+    pos, idat, size = 8, b"", None
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR": size = struct.unpack(">II", body[:8])
+        if kind == b"IDAT": idat += body
+        pos += 12 + n
+    w, h = size
+    raw, rows, prev = zlib.decompress(idat), [], bytearray(w * 4)
+    for y in range(h):
+        f, line = raw[y * (w * 4 + 1)], bytearray(raw[y * (w * 4 + 1) + 1:(y + 1) * (w * 4 + 1)])
+        for i in range(w * 4):
+            a = line[i - 4] if i >= 4 else 0
+            b, c = prev[i], prev[i - 4] if i >= 4 else 0
+            p = a + b - c
+            pred = [0, a, b, (a + b) // 2,
+                    a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c)
+                    else b if abs(p - b) <= abs(p - c) else c][f]
+            line[i] = (line[i] + pred) & 255
+        rows.append(bytes(line))
+        prev = line
+    return size, rows
+a, b = pixels(sys.argv[1]), pixels(sys.argv[2])
+print("render.c:", a[0], "facet-render:", b[0])
+sys.exit(0 if a == b else 1)
+PY
 echo "install ok"

@@ -215,6 +215,11 @@ struct Scene {
 // its shaders through `registry` (after adding the scene's plugin_paths).
 // Throws Error naming file:line:column.
 Scene load_scene(const std::filesystem::path& path, PluginRegistry& registry);
+// The same from YAML text, read as if it were the file `origin` (whose
+// folder resolves the files it names, and which errors name; it need not
+// exist).
+Scene load_scene_text(const std::string& yaml, const std::filesystem::path& origin,
+                      PluginRegistry& registry);
 
 // Reads `yaml`, a render map as a scene file writes it ("{shadows: false,
 // msaa: 4}"), over `settings`: the keys it names replace their values, the

@@ -698,10 +698,13 @@ void require_frame_within_budget(const RenderSettings& s) {
                                      " frame" + samples);
 }
 
-Scene load_scene(const fs::path& path, PluginRegistry& registry) {
+namespace {
+
+// The scene `root` holds, read as from `path` (its folder resolves the
+// files it names, and errors name it).
+Scene scene_from(const YAML::Node& root, const fs::path& path, PluginRegistry& registry) {
     Loader loader(path, registry);
     const yaml::Context& ctx = loader.ctx;
-    const YAML::Node root = yaml::load_file(path);
     yaml::check_map(ctx, root, "scene",
                     {"camera", "render", "plugin_paths", "lights", "objects", "post", "animation",
                      "environment"});
@@ -728,6 +731,16 @@ Scene load_scene(const fs::path& path, PluginRegistry& registry) {
     spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),
                  scene.lights.size(), scene.settings.width, scene.settings.height);
     return scene;
+}
+
+}  // namespace
+
+Scene load_scene(const fs::path& path, PluginRegistry& registry) {
+    return scene_from(yaml::load_file(path), path, registry);
+}
+
+Scene load_scene_text(const std::string& yaml, const fs::path& origin, PluginRegistry& registry) {
+    return scene_from(yaml::load_text(yaml, origin.string()), origin, registry);
 }
 
 void apply_render_settings(RenderSettings& settings, const std::string& yaml,

@@ -97,18 +97,21 @@ YAML::Node load_file(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in || !in.read(text.data(), std::streamsize(size)))
         throw Error(ErrorCode::file_not_found, "cannot be read", path.string());
+    return load_text(text, path.string());
+}
+
+YAML::Node load_text(const std::string& text, const std::string& origin) {
     require_within_budget(parsed_bytes(text),
-                          "parsing " + std::to_string(size) +
+                          "parsing " + std::to_string(text.size()) +
                               " bytes of YAML (yaml-cpp holds about 500 bytes a value; keep "
                               "large data such as meshes and long animations in mesh files)",
-                          path.string());
+                          origin);
     try {
         return YAML::Load(text);
     } catch (const YAML::ParserException& e) {
-        throw Error(ErrorCode::yaml_syntax, e.msg, path.string(), e.mark.line + 1,
-                    e.mark.column + 1);
+        throw Error(ErrorCode::yaml_syntax, e.msg, origin, e.mark.line + 1, e.mark.column + 1);
     } catch (const std::bad_alloc&) {
-        throw Error(ErrorCode::over_budget, "out of memory while parsing it", path.string());
+        throw Error(ErrorCode::over_budget, "out of memory while parsing it", origin);
     }
 }
 

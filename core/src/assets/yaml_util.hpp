@@ -40,6 +40,9 @@ Error relocated(const Error& inner, const Context& ctx, const YAML::Node& at);
 // Parses the first document of `path`.
 // Throws Error(file_not_found | yaml_syntax).
 YAML::Node load_file(const std::filesystem::path& path);
+// Parses the first document of `text`; errors name `origin`.
+// Throws Error(yaml_syntax | over_budget).
+YAML::Node load_text(const std::string& text, const std::string& origin);
 
 // Checks that `node` is a map with scalar keys, each once, each with a
 // value. `what` names the map in messages ("camera"). Throws
