@@ -12,7 +12,8 @@
 #     (find_package(facet)) and renders; so does a static link through
 #     pkg-config alone; and the C example (docs/embedding/render.c), built
 #     with cc through pkg-config --static, writes the default scene with
-#     facet-render's pixels.
+#     facet-render's pixels; and so does facet.render() of the Python
+#     module in the prefix, where it was built.
 set -euo pipefail
 source_dir=$(readlink -f "$1")
 build_dir=$(readlink -f "$2")
@@ -94,34 +95,20 @@ cc -std=c99 -O1 -Wall -Werror -o "$work/render-c" "$source_dir/docs/embedding/re
 "$work/render-c" "$prefix/share/facet/configs/default.yaml" c.png > /dev/null ||
   fail "render.c failed"
 "$prefix/bin/facet-render" -o cli.png 2> /dev/null || fail "facet-render (default scene) failed"
-python3 - c.png cli.png <<'PY' || fail "render.c's pixels differ from facet-render's"
-import struct, sys, zlib
-def pixels(path):  # a PNG's filtered scanlines, unfiltered: RGBA8 rows
-    data = open(path, "rb").read()
-    pos, idat, size = 8, b"", None
-    while pos < len(data):
-        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + n]
-        if kind == b"IHDR": size = struct.unpack(">II", body[:8])
-        if kind == b"IDAT": idat += body
-        pos += 12 + n
-    w, h = size
-    raw, rows, prev = zlib.decompress(idat), [], bytearray(w * 4)
-    for y in range(h):
-        f, line = raw[y * (w * 4 + 1)], bytearray(raw[y * (w * 4 + 1) + 1:(y + 1) * (w * 4 + 1)])
-        for i in range(w * 4):
-            a = line[i - 4] if i >= 4 else 0
-            b, c = prev[i], prev[i - 4] if i >= 4 else 0
-            p = a + b - c
-            pred = [0, a, b, (a + b) // 2,
-                    a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c)
-                    else b if abs(p - b) <= abs(p - c) else c][f]
-            line[i] = (line[i] + pred) & 255
-        rows.append(bytes(line))
-        prev = line
-    return size, rows
-a, b = pixels(sys.argv[1]), pixels(sys.argv[2])
-print("render.c:", a[0], "facet-render:", b[0])
-sys.exit(0 if a == b else 1)
-PY
+# The Python module, where it was built: facet.render from the prefix.
+module=$(find "$prefix/lib/python3/dist-packages" -name 'facet*.so' 2> /dev/null | head -1)
+if [ -n "$module" ]; then
+  step "the Python module from the prefix: facet.render(path)"
+  PYTHONPATH=$(dirname "$module") /usr/bin/python3 -c '
+import sys, numpy, facet
+image = facet.render(sys.argv[1])
+assert image.dtype == numpy.uint8 and image.ndim == 3 and image.shape[2] == 4, image.shape
+image.tofile("py.rgba")
+open("py.size", "w").write("%dx%d" % (image.shape[1], image.shape[0]))
+' "$prefix/share/facet/configs/default.yaml" || fail "import facet; facet.render failed"
+fi
+raw=()
+[ -f py.rgba ] && raw=(py.rgba "$(cat py.size)")
+python3 "$source_dir/tests/png_pixels.py" c.png cli.png "${raw[@]}" ||
+  fail "render.c's (or facet.render's) pixels differ from facet-render's"
 echo "install ok"
