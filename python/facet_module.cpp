@@ -106,8 +106,15 @@ public:
                                     int(v.size())));
     }
     int light_count() const { return facet_scene_light_count(scene_.get()); }
-    void set_light(int index, const std::vector<float>& color, float intensity) {
+    void set_light(py::object light, const std::vector<float>& color, float intensity) {
         const auto c = three(color, "color");
+        int index;
+        if (py::isinstance<py::str>(light)) {
+            index = facet_scene_light_index(scene_.get(), light.cast<std::string>().c_str());
+            if (index < 0) raise_last_error();
+        } else {
+            index = light.cast<int>();
+        }
         check(facet_scene_set_light(scene_.get(), index, c.data(), intensity));
     }
     void set_time(double seconds) { check(facet_scene_set_time(scene_.get(), seconds)); }
@@ -189,8 +196,8 @@ PYBIND11_MODULE(facet, m) {
         .def("set_param", &Scene::set_param, py::arg("object"), py::arg("param"), py::arg("value"),
              "sets a material parameter of the object named `object`: a number or 2 to 4")
         .def_property_readonly("light_count", &Scene::light_count)
-        .def("set_light", &Scene::set_light, py::arg("index"), py::arg("color"),
-             py::arg("intensity"))
+        .def("set_light", &Scene::set_light, py::arg("light"), py::arg("color"),
+             py::arg("intensity"), "light `light`: its index, or its name in the file")
         .def("set_time", &Scene::set_time, py::arg("seconds"))
         .def("render", &Scene::render, py::arg("threads") = 0,
              "uint8, shape (H, W, 4), sRGB-encoded RGBA")

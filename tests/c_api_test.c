@@ -27,7 +27,7 @@ static const char* kScene =
     "camera: {position: [0, 0, 3], target: [0, 0, 0], fov_y: 45}\n"
     "render: {size: [32, 24], clear_color: [0.1, 0.2, 0.3, 1]}\n"
     "lights:\n"
-    "  - {type: directional, direction: [-1, -1, -1], color: [1, 1, 1], intensity: 2}\n"
+    "  - {name: sun, type: directional, direction: [-1, -1, -1], color: [1, 1, 1], intensity: 2}\n"
     "objects:\n"
     "  - name: ball\n"
     "    mesh: ../../assets/sphere/sphere.obj\n"
@@ -59,7 +59,8 @@ static void errors(facet_scene* scene, const char* origin) {
     CHECK(facet_scene_set_param(scene, "ball", "shininess", &one, 0) == FACET_FAILED);
     CHECK(facet_scene_set_light(scene, 3, rgb, 1) == FACET_FAILED && said("light 3"));
     CHECK(facet_scene_set_camera(scene, rgb, rgb, 45) == FACET_FAILED);
-    CHECK(facet_scene_set_camera(scene, rgb, elsewhere, 200) == FACET_FAILED && said("field of view"));
+    CHECK(facet_scene_set_camera(scene, rgb, elsewhere, 200) == FACET_FAILED &&
+          said("field of view"));
     CHECK(facet_scene_set_time(scene, NAN) == FACET_FAILED);
     CHECK(facet_scene_set_size(scene, 0, 10) == FACET_FAILED);
     CHECK(facet_scene_set_param(NULL, "ball", "diffuse", rgb, 3) == FACET_FAILED && said("NULL"));
@@ -85,6 +86,8 @@ int main(void) {
     int w = 0, h = 0;
     CHECK(facet_scene_size(scene, &w, &h) == FACET_OK && w == 32 && h == 24);
     CHECK(facet_scene_light_count(scene) == 1);
+    CHECK(facet_scene_light_index(scene, "sun") == 0);
+    CHECK(facet_scene_light_index(scene, "moon") == -1 && said("no light named 'moon'"));
 
     /* 8-bit, rows with room between them that is left alone. */
     const size_t stride = (size_t)w * 4 + 12;

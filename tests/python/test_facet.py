@@ -19,7 +19,7 @@ SPHERE = """
 camera: {position: [0, 0, 3], target: [0, 0, 0], fov_y: 45}
 render: {size: [40, 30], clear_color: [0.1, 0.2, 0.3, 1]}
 lights:
-  - {type: directional, direction: [-1, -1, -1], color: [1, 1, 1], intensity: 2}
+  - {name: sun, type: directional, direction: [-1, -1, -1], color: [1, 1, 1], intensity: 2}
 objects:
   - name: ball
     mesh: ../../assets/sphere/sphere.obj
@@ -59,6 +59,7 @@ def test_a_scene_changes_and_renders():
     assert scene.render().astype(int).sum() < lit.astype(int).sum()
     scene.set_param("ball", "shininess", 8)
     scene.set_light(0, [1, 0, 0], 0.5)
+    scene.set_light("sun", [1, 1, 1], 1)
     scene.set_camera([0, 1, 4], [0, 0, 0], 30)
     scene.set_time(0.5)
     scene.size = (20, 10)
@@ -79,6 +80,8 @@ def test_errors_name_what_is_wrong():
         scene.set_param("ball", "diffuse", [1, 2])
     with pytest.raises(facet.Error, match="texture"):
         scene.set_param("ball", "base_texture", 1)
+    with pytest.raises(facet.Error, match="no light named 'moon'"):
+        scene.set_light("moon", [1, 1, 1], 1)
     with pytest.raises(facet.Error, match="nobody"):
         scene.set_param("nobody", "diffuse", [1, 1, 1])
     with pytest.raises(facet.Error):

@@ -91,9 +91,12 @@ facet_status facet_scene_set_camera(facet_scene* scene, const float position[3],
 facet_status facet_scene_set_param(facet_scene* scene, const char* object, const char* param,
                                    const float* values, int count);
 
-/* The number of lights, and light `index` (in the file's order): its linear
- * RGB colour and its intensity (at least 0). */
+/* The number of lights; the index of the first named `name` (a light's
+ * `name:` in the file), or -1 with an error naming it; and light `index`
+ * (in the file's order): its linear RGB colour and its intensity (at
+ * least 0). */
 int facet_scene_light_count(const facet_scene* scene);
+int facet_scene_light_index(const facet_scene* scene, const char* name);
 facet_status facet_scene_set_light(facet_scene* scene, int index, const float color[3],
                                    float intensity);
 

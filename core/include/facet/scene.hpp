@@ -72,6 +72,7 @@ struct Camera {
 enum class LightType { directional, point, spot };
 
 struct Light {
+    std::string name;  // as the file gives it, or empty: what embedding APIs find it by
     LightType type = LightType::directional;
     glm::vec3 position{0.0f};
     glm::vec3 direction{0.0f, -1.0f, 0.0f};  // normalised by the loader

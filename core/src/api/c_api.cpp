@@ -315,6 +315,17 @@ int facet_scene_light_count(const facet_scene* scene) {
     return guarded(-1, [&] { return int(need(scene, "the scene").scene.lights.size()); });
 }
 
+int facet_scene_light_index(const facet_scene* scene, const char* name) {
+    return guarded(-1, [&] {
+        const facet::Scene& s = need(scene, "the scene").scene;
+        const std::string wanted = need(name, "the light's name");
+        for (size_t i = 0; i < s.lights.size(); ++i)
+            if (s.lights[i].name == wanted) return int(i);
+        throw facet::Error(facet::ErrorCode::config_invalid,
+                           "the scene has no light named '" + wanted + "'", s.source.string());
+    });
+}
+
 facet_status facet_scene_set_light(facet_scene* scene, int index, const float color[3],
                                    float intensity) {
     return guarded(FACET_FAILED, [&] {

@@ -248,9 +248,10 @@ void check_light(const yaml::Context& ctx, const YAML::Node& node, const Light& 
 
 Light read_light(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "light",
-                    {"type", "position", "direction", "color", "intensity", "range", "attenuation",
-                     "spot_inner", "spot_outer", "casts_shadow", "shadow_map_size"});
+                    {"name", "type", "position", "direction", "color", "intensity", "range",
+                     "attenuation", "spot_inner", "spot_outer", "casts_shadow", "shadow_map_size"});
     Light l;
+    yaml::read(ctx, node, "name", l.name);
     if (const YAML::Node type = node["type"])
         l.type = yaml::as_enum<LightType>(ctx, type,
                                           {{"directional", LightType::directional},
