@@ -84,10 +84,11 @@ facet_status facet_scene_set_camera(facet_scene* scene, const float position[3],
 
 /* Sets material parameter `param` of every material the object named
  * `object` is drawn with (the object alone: a material it shares with
- * others is copied for it) to `count` numbers: 1 for a float, int, bool or
- * choice (its index), 2 to 4 for a vector or colour (as many as it has).
- * Fails naming the object or parameter when there is none of that name, or
- * the parameter is of another type (a texture) or size. */
+ * others is copied for it) to `count` numbers: 1 for a float, int or bool,
+ * 2 to 4 for a vector or colour (as many as it has), each checked against
+ * the parameter's range. Fails naming the object or parameter when there is
+ * none of that name, or the parameter is of another type (a texture, or a
+ * choice, which a file names) or size. */
 facet_status facet_scene_set_param(facet_scene* scene, const char* object, const char* param,
                                    const float* values, int count);
 

@@ -155,6 +155,10 @@ void set_param(facet_scene& s, const std::string& object, const char* param, con
     for (facet::Object& o : s.scene.objects) {
         if (o.name != object) continue;
         found = true;
+        if (o.materials().empty())
+            throw facet::Error(facet::ErrorCode::config_invalid,
+                               "object '" + object + "' is drawn with no material to set",
+                               s.scene.source.string());
         std::map<const facet::Material*, std::shared_ptr<facet::Material>> changed;
         const auto change = [&](std::shared_ptr<facet::Material>& slot) {
             if (!slot) return;
