@@ -31,16 +31,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// facet.Error, set at import.
-py::object error_type;
+// facet.Error, made at import and kept for the process (a handle: no
+// reference is dropped after the interpreter has gone).
+py::handle error_type;
+
+// Raises facet.Error with `message`, and the C API's file and line.
+[[noreturn]] void raise_error(const std::string& message, const std::string& file, int line) {
+    py::object e = py::reinterpret_borrow<py::object>(error_type)(message);
+    e.attr("file") = file;
+    e.attr("line") = line;
+    PyErr_SetObject(error_type.ptr(), e.ptr());
+    throw py::error_already_set();
+}
 
 // Raises facet.Error from the C API's last error.
 [[noreturn]] void raise_last_error() {
-    py::object e = error_type(std::string(facet_error_message()));
-    e.attr("file") = std::string(facet_error_file());
-    e.attr("line") = facet_error_line();
-    PyErr_SetObject(error_type.ptr(), e.ptr());
-    throw py::error_already_set();
+    raise_error(facet_error_message(), facet_error_file(), facet_error_line());
 }
 
 void check(facet_status s) {
@@ -83,19 +89,23 @@ public:
     }
 
     std::pair<int, int> size() const {
+        idle();
         int w = 0, h = 0;
         check(facet_scene_size(scene_.get(), &w, &h));
         return {w, h};
     }
     void set_size(std::pair<int, int> wh) {
+        idle();
         check(facet_scene_set_size(scene_.get(), wh.first, wh.second));
     }
     void set_camera(const std::vector<float>& position, const std::vector<float>& target,
                     float fov_y) {
+        idle();
         const auto p = three(position, "position"), t = three(target, "target");
         check(facet_scene_set_camera(scene_.get(), p.data(), t.data(), fov_y));
     }
     void set_param(const std::string& object, const std::string& param, py::object value) {
+        idle();
         std::vector<float> v;
         if (py::isinstance<py::bool_>(value) || py::isinstance<py::int_>(value) ||
             py::isinstance<py::float_>(value))
@@ -105,8 +115,12 @@ public:
         check(facet_scene_set_param(scene_.get(), object.c_str(), param.c_str(), v.data(),
                                     int(v.size())));
     }
-    int light_count() const { return facet_scene_light_count(scene_.get()); }
+    int light_count() const {
+        idle();
+        return facet_scene_light_count(scene_.get());
+    }
     void set_light(py::object light, const std::vector<float>& color, float intensity) {
+        idle();
         const auto c = three(color, "color");
         int index;
         if (py::isinstance<py::str>(light)) {
@@ -117,31 +131,43 @@ public:
         }
         check(facet_scene_set_light(scene_.get(), index, c.data(), intensity));
     }
-    void set_time(double seconds) { check(facet_scene_set_time(scene_.get(), seconds)); }
+    void set_time(double seconds) {
+        idle();
+        check(facet_scene_set_time(scene_.get(), seconds));
+    }
 
     py::array_t<uint8_t> render(int threads) { return rendered<uint8_t>(threads, 4); }
     py::array_t<float> render_float(int threads) { return rendered<float>(threads, 4); }
 
 private:
+    // Raises facet.Error while another thread renders the scene (the GIL is
+    // let go then, and a handle is one thread's at a time).
+    void idle() const {
+        if (busy_) raise_error("the scene is being rendered by another thread", "", 0);
+    }
+
     template <class T>
     py::array_t<T> rendered(int threads, int channels) {
-        facet_renderer* r = renderer(threads);
+        facet_renderer* r = renderer(threads);  // checks idle()
         const auto [w, h] = size();
         py::array_t<T> out({h, w, channels});
         T* pixels = out.mutable_data();
         const size_t stride = size_t(w) * size_t(channels) * sizeof(T);
         facet_status s;
         {
+            busy_ = true;  // set and cleared while the GIL is held
             py::gil_scoped_release unlocked;
             if constexpr (std::is_same_v<T, uint8_t>)
                 s = facet_render_rgba8(r, scene_.get(), pixels, stride);
             else
                 s = facet_render_rgba32f(r, scene_.get(), pixels, stride);
         }
+        busy_ = false;
         check(s);
         return out;
     }
     facet_renderer* renderer(int threads) {
+        idle();
         if (!renderer_ || threads != threads_) {
             renderer_.reset(facet_renderer_new(threads));
             if (!renderer_) raise_last_error();
@@ -153,6 +179,7 @@ private:
     std::unique_ptr<facet_scene, SceneDeleter> scene_;
     std::unique_ptr<facet_renderer, RendererDeleter> renderer_;
     int threads_ = 0;
+    bool busy_ = false;
 };
 
 py::array_t<uint8_t> render(const std::string& path, std::optional<std::pair<int, int>> size,
@@ -166,9 +193,9 @@ py::array_t<uint8_t> render(const std::string& path, std::optional<std::pair<int
 
 PYBIND11_MODULE(facet, m) {
     m.doc() = "facet, a CPU rasterizer whose shaders are plugins: scenes rendered to numpy arrays";
-    error_type = py::reinterpret_borrow<py::object>(
-        PyErr_NewExceptionWithDoc("facet.Error", "an error of facet's, with .file and .line",
-                                  PyExc_RuntimeError, nullptr));
+    error_type = PyErr_NewExceptionWithDoc(
+        "facet.Error", "an error of facet's, with .file and .line", PyExc_RuntimeError, nullptr);
+    if (!error_type) throw py::error_already_set();
     m.attr("Error") = error_type;
     check(facet_set_install_root(install_root().c_str()));
     facet_set_log_level("warn");
@@ -202,5 +229,5 @@ PYBIND11_MODULE(facet, m) {
         .def("render", &Scene::render, py::arg("threads") = 0,
              "uint8, shape (H, W, 4), sRGB-encoded RGBA")
         .def("render_float", &Scene::render_float, py::arg("threads") = 0,
-             "float32, shape (H, W, 4), linear RGBA");
+             "float32, shape (H, W, 4), linear RGBA before the scene's post chain");
 }

@@ -106,22 +106,31 @@ int main(void) {
     CHECK(fabsf(f[3] - 1.0f) < 1e-6f && fabsf(f[0] - 0.1f) < 1e-6f);  /* the clear colour */
     CHECK(facet_render_rgba8(renderer, scene, a, 4) == FACET_FAILED && said("stride"));
 
-    /* What each setter changes. */
-    const float black[3] = {0, 0, 0}, white[3] = {1, 1, 1};
-    const double lit = sum(b, stride * (size_t)h);
+    /* What each setter changes: each image differs from the one before. */
+    const size_t bytes = stride * (size_t)h;
+    const float black[3] = {0, 0, 0}, white[3] = {1, 1, 1}, dim[3] = {0.2f, 0.2f, 0.2f};
+    const double lit = sum(b, bytes);
     CHECK(facet_scene_set_param(scene, "ball", "diffuse", black, 3) == FACET_OK);
     CHECK(facet_render_rgba8(renderer, scene, a, stride) == FACET_OK);
-    CHECK(sum(a, stride * (size_t)h) < lit);
+    CHECK(sum(a, bytes) < lit);
+    CHECK(facet_scene_set_light(scene, 0, dim, 1) == FACET_OK);  /* black: no change to see */
     CHECK(facet_scene_set_param(scene, "ball", "diffuse", white, 3) == FACET_OK);
-    CHECK(facet_scene_set_light(scene, 0, white, 0) == FACET_OK);
     CHECK(facet_render_rgba8(renderer, scene, b, stride) == FACET_OK);
-    CHECK(memcmp(a, b, stride * (size_t)h) != 0);
+    CHECK(sum(b, bytes) > sum(a, bytes));
+    CHECK(facet_scene_set_light(scene, 0, white, 2) == FACET_OK);
+    CHECK(facet_render_rgba8(renderer, scene, a, stride) == FACET_OK);
+    CHECK(sum(a, bytes) > sum(b, bytes));  /* a brighter light */
     const float eye[3] = {0, 0, 30}, at[3] = {0, 0, 0};
     CHECK(facet_scene_set_camera(scene, eye, at, 10) == FACET_OK);
+    CHECK(facet_render_rgba8(renderer, scene, b, stride) == FACET_OK);
+    CHECK(memcmp(a, b, bytes) != 0);  /* farther, narrower: another picture */
     CHECK(facet_scene_set_time(scene, 1.5) == FACET_OK);
     CHECK(facet_scene_set_size(scene, 16, 8) == FACET_OK);
     CHECK(facet_scene_size(scene, &w, &h) == FACET_OK && w == 16 && h == 8);
+    memset(a, 0xAB, bytes);
     CHECK(facet_render_rgba8(renderer, scene, a, stride) == FACET_OK);
+    CHECK(a[8 * stride] == 0xAB && a[16 * 4] == 0xAB);  /* rows and columns past 16x8 untouched */
+    CHECK(a[7 * stride + 15 * 4 + 3] == 255);            /* the last pixel written: opaque */
 
     errors(scene, origin);
     CHECK(facet_write_png("c_api_test.png", w, h, a, stride) == FACET_OK);

@@ -55,12 +55,20 @@ def test_a_scene_changes_and_renders():
     hdr = scene.render_float()
     assert hdr.dtype == np.float32 and hdr.shape == (30, 40, 4)
     assert hdr[0, 0, 0] == pytest.approx(0.1) and hdr[0, 0, 3] == 1.0  # the clear colour
+    # Each setter: an image unlike the one before.
     scene.set_param("ball", "diffuse", [0, 0, 0])
-    assert scene.render().astype(int).sum() < lit.astype(int).sum()
-    scene.set_param("ball", "shininess", 8)
+    dark = scene.render()
+    assert dark.astype(int).sum() < lit.astype(int).sum()
+    scene.set_param("ball", "shininess", 2)
+    broad = scene.render()
+    assert not np.array_equal(broad, dark)
     scene.set_light(0, [1, 0, 0], 0.5)
-    scene.set_light("sun", [1, 1, 1], 1)
+    red = scene.render()
+    assert not np.array_equal(red, broad)
+    scene.set_light("sun", [0, 0, 1], 0.5)
+    assert not np.array_equal(scene.render(), red)
     scene.set_camera([0, 1, 4], [0, 0, 0], 30)
+    assert not np.array_equal(scene.render(), red)
     scene.set_time(0.5)
     scene.size = (20, 10)
     assert scene.render().shape == (10, 20, 4)
@@ -89,6 +97,45 @@ def test_errors_name_what_is_wrong():
     with pytest.raises(facet.Error):
         scene.size = (0, 5)
     assert isinstance(e.value, RuntimeError)
+
+
+def test_a_scene_is_one_threads_while_it_renders():
+    scene = facet.Scene(facet.default_scene())
+    scene.size = (3840, 2160)
+    scene.render(threads=1)
+    started = threading.Event()
+    worker = threading.Thread(target=lambda: (started.set(), scene.render(threads=1)))
+    worker.start()
+    started.wait()
+    time.sleep(0.02)
+    refused = False
+    if worker.is_alive():  # it still renders: a change now is refused, not a race
+        with pytest.raises(facet.Error, match="another thread"):
+            scene.size = (10, 5000)
+        refused = True
+    worker.join()
+    assert refused
+    scene.size = (16, 9)
+    assert scene.render().shape == (9, 16, 4)
+
+
+def srgb8(linear):
+    """Linear RGB in 0..1 as sRGB-encoded 8-bit codes."""
+    x = np.clip(linear, 0.0, 1.0)
+    s = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return np.floor(s * 255 + 0.5).astype(int)
+
+
+def test_float_pixels_are_linear_before_the_post_chain():
+    # No post chain: the floats, encoded, are the 8-bit image (within a code).
+    plain = facet.Scene.from_yaml(SPHERE, origin())
+    assert np.abs(srgb8(plain.render_float()[..., :3]) - plain.render()[..., :3]).max() <= 1
+    # A post chain: the 8-bit image has it, the floats do not.
+    post = facet.Scene(os.path.join(os.path.dirname(facet.default_scene()), "scenes", "post.yaml"))
+    post.size = (64, 36)
+    hdr = post.render_float()
+    assert hdr.dtype == np.float32 and hdr.shape == (36, 64, 4) and np.isfinite(hdr).all()
+    assert np.abs(srgb8(hdr[..., :3]) - post.render()[..., :3]).max() > 8
 
 
 def test_the_gil_is_released_while_rendering():

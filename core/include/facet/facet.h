@@ -4,9 +4,9 @@
  *     facet_scene* scene = facet_scene_load("scene.yaml");
  *     facet_renderer* renderer = facet_renderer_new(0);
  *     int w, h;
- *     facet_scene_size(scene, &w, &h);
+ *     if (!scene || !renderer || facet_scene_size(scene, &w, &h)) { ...facet_error_message()... }
  *     unsigned char* rgba = malloc((size_t)w * h * 4);
- *     if (!scene || !renderer || facet_render_rgba8(renderer, scene, rgba, (size_t)w * 4))
+ *     if (facet_render_rgba8(renderer, scene, rgba, (size_t)w * 4))
  *         fprintf(stderr, "%s\n", facet_error_message());
  *
  * Errors: a function that fails returns NULL or a non-zero facet_status,
@@ -73,7 +73,7 @@ facet_scene* facet_scene_load(const char* path);
 facet_scene* facet_scene_load_yaml(const char* yaml, const char* origin);
 void facet_scene_free(facet_scene* scene);
 
-/* The image size, and a new one (1..16384 a side). */
+/* The image size, and a new one (1..32768 a side). */
 facet_status facet_scene_size(const facet_scene* scene, int* width, int* height);
 facet_status facet_scene_set_size(facet_scene* scene, int width, int height);
 

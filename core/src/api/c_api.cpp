@@ -48,17 +48,26 @@ struct LastError {
 thread_local LastError last_error;
 thread_local std::string default_scene;
 
-void fail(const std::string& message, const std::string& file = {}, int line = 0) {
-    last_error.message = message;
-    last_error.file = file;
-    last_error.line = line;
+// Never throws: out of memory for the message, a fixed one.
+void fail(const char* message, const std::string& file = {}, int line = 0) noexcept {
+    try {
+        last_error.message = message;
+        last_error.file = file;
+        last_error.line = line;
+    } catch (...) {
+        last_error.message.clear();  // keeps its capacity: no allocation
+        last_error.file.clear();
+        last_error.line = 0;
+    }
 }
 
 // Runs `f` with the last error cleared; what it throws becomes the last
 // error, and the call returns `failed`.
 template <class F, class R = decltype(std::declval<F>()())>
-R guarded(R failed, F&& f) {
-    last_error = {};
+R guarded(R failed, F&& f) noexcept {
+    last_error.message.clear();
+    last_error.file.clear();
+    last_error.line = 0;
     try {
         return f();
     } catch (const facet::Error& e) {
@@ -67,6 +76,8 @@ R guarded(R failed, F&& f) {
         fail("out of memory");
     } catch (const std::exception& e) {
         fail(e.what());
+    } catch (...) {
+        fail("an unknown error");
     }
     return failed;
 }
@@ -187,15 +198,24 @@ facet_renderer& rendered(facet_renderer* renderer, facet_scene* scene, const voi
     facet::Scene& s = need(scene, "the scene").scene;
     if (!pixels) throw facet::Error(facet::ErrorCode::config_invalid, "the pixels are NULL");
     check_stride(stride, size_t(s.settings.width) * bytes_per_pixel);
+    // Floats are the frame before any post-processing pass, in linear light.
     const facet::ColorFormat own = s.settings.color_format;
-    if (format != facet::ColorFormat::none) s.settings.color_format = format;
+    const bool post = s.settings.post;
+    if (format != facet::ColorFormat::none) {
+        s.settings.color_format = format;
+        s.settings.post = false;
+    }
+    const auto restore = [&] {
+        s.settings.color_format = own;
+        s.settings.post = post;
+    };
     try {
         r.renderer.render(s, r.target);
     } catch (...) {
-        s.settings.color_format = own;
+        restore();
         throw;
     }
-    s.settings.color_format = own;
+    restore();
     return r;
 }
 
