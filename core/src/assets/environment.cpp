@@ -157,14 +157,10 @@ std::shared_ptr<std::vector<FloatImage>> read_images(const EnvironmentSettings& 
     return images;
 }
 
-// Results by content and settings, while some scene holds them.
-struct CacheKey {
-    std::vector<uint64_t> digests;
-    int size, samples;
-    auto operator<=>(const CacheKey&) const = default;
-};
+// Results by content and settings (the key the disk's files go by too),
+// while some scene holds them.
 std::mutex cache_mutex;
-std::map<CacheKey, std::weak_ptr<const EnvironmentMaps>> cache;
+std::map<EnvironmentCacheKey, std::weak_ptr<const EnvironmentMaps>> cache;
 
 // The maps of the images in `bytes`, decoded and prefiltered on `threads`.
 std::shared_ptr<const EnvironmentMaps> prefiltered(const EnvironmentSettings& settings,
@@ -195,7 +191,7 @@ std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSetting
                     "an environment is one equirectangular image or six cube faces, not " +
                         std::to_string(settings.files.size()) + " files");
     std::vector<std::string> bytes;
-    CacheKey key{{}, settings.size, settings.samples};
+    EnvironmentCacheKey key{{}, settings.size, settings.samples};
     for (const auto& file : settings.files) {
         bytes.push_back(read_image_file(file));
         key.digests.push_back(bytes_digest(bytes.back()));
@@ -209,7 +205,7 @@ std::shared_ptr<const EnvironmentMaps> load_environment(const EnvironmentSetting
         }
     }
     brdf_table();  // made at the first load, not in the first frame
-    const auto kept = environment_cache_file({key.digests, settings.size, settings.samples});
+    const auto kept = environment_cache_file(key);
     std::shared_ptr<const EnvironmentMaps> maps =
         kept ? read_environment_cache(*kept, settings.files.front().string()) : nullptr;
     if (maps) {

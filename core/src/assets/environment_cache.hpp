@@ -16,6 +16,7 @@
 
 #include "facet/environment_map.hpp"
 
+#include <compare>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -28,6 +29,7 @@ namespace facet {
 struct EnvironmentCacheKey {
     std::vector<uint64_t> digests;  // of each file's bytes
     int size = 0, samples = 0;      // EnvironmentSettings' (size 0: the image's own)
+    auto operator<=>(const EnvironmentCacheKey&) const = default;
 };
 
 // The file for `key`, or nothing when the cache is off (FACET_CACHE_DIR=off)
