@@ -16,9 +16,10 @@
 //    documents;
 //  - the mesh keeps mesh.hpp's invariants (check_mesh), and validate_mesh()
 //    agrees: parts tile the triangles, material indices are in range;
-//  - nodes come after their parents, and every part's pose, at times before,
-//    inside and past the animation, is a finite matrix; the animation's end
-//    is finite and not negative;
+//  - nodes come after their parents, and in every clip, at times before,
+//    inside and past its end, every part's pose is a finite matrix and
+//    every deformed part's positions, normals and bounds are finite; each
+//    clip's end is finite and not negative;
 //  - each material the file gives binds to its shader, with its images,
 //    or throws facet::Error; a bound one holds check_bound's rules.
 #include "mesh_support.hpp"
@@ -38,22 +39,42 @@ namespace facet::fuzz {
 
 namespace {
 
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// A posed mesh keeps its vertices, and its positions, normals and bounds
+// are finite (a vertex moved past float's range stays at rest).
+void check_posed(const Mesh& m, const Mesh& posed) {
+    check(posed.positions.size() == m.positions.size() && posed.normals.size() == m.normals.size(),
+          "posing changed the vertex count");
+    for (const glm::vec3& p : posed.positions) check(finite(p), "a posed position is not finite");
+    for (const glm::vec3& n : posed.normals) check(finite(n), "a posed normal is not finite");
+    check(finite(posed.bounds.min) && finite(posed.bounds.max), "a posed mesh's bounds are not finite");
+}
+
 void check_nodes(const Mesh& m) {
     for (size_t i = 0; i < m.nodes.size(); ++i)
         check(m.nodes[i].parent < int(i), "a node comes before its parent");
     for (const MeshPart& p : m.parts)
         check(p.node >= -1 && p.node < int(m.nodes.size()), "a part's node is out of range");
+    check(m.deformations.empty() || m.deformations.size() == m.parts.size(),
+          "deformations are not one a part");
     if (m.nodes.empty()) return;
-    const double end = animation_end(m);
-    check(std::isfinite(end) && end >= 0.0, "the animation's end is not a finite time");
     std::vector<glm::mat4> poses;
-    for (const double t : {-1.0, 0.0, end * 0.37, end, end + 1.0, 1e9}) {
-        pose_parts(m, t, poses);
-        check(poses.size() == m.part_count(), "pose_parts gives no pose for some part");
-        for (const glm::mat4& pose : poses)
-            for (int c = 0; c < 4; ++c)
-                for (int r = 0; r < 4; ++r)
-                    check(std::isfinite(pose[c][r]), "a part's pose is not finite");
+    Mesh posed = m;
+    // Every clip and none (-1), at times before, inside and past its end.
+    for (int clip = -1; clip < int(m.clips.size()); ++clip) {
+        const double end = animation_end(m, clip);
+        check(std::isfinite(end) && end >= 0.0, "a clip's end is not a finite time");
+        for (const double t : {-1.0, 0.0, end * 0.37, end, end + 1.0, 1e9}) {
+            pose_parts(m, clip, t, poses);
+            check(poses.size() == m.part_count(), "pose_parts gives no pose for some part");
+            for (const glm::mat4& pose : poses)
+                for (int c = 0; c < 4; ++c)
+                    for (int r = 0; r < 4; ++r)
+                        check(std::isfinite(pose[c][r]), "a part's pose is not finite");
+            pose_mesh(m, clip, t, {}, posed);
+            check_posed(m, posed);
+        }
     }
 }
 

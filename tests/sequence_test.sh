@@ -70,6 +70,14 @@ for k in 00 01 02 03 04 05; do
   [ -f "check_$k.png" ] || "$render" "$turntable" --size 160x90 --frames "$((10#$k))" -o check_%02d.png -q
   cmp -s "mpi/seq_$k.png" "check_$k.png" || fail "frame $k from two ranks differs from one process's"
 done
+# A skinned and morphing sequence: each rank poses its own frames.
+skinning="$source_dir/configs/scenes/skinning.yaml"
+run_mpi "$skinning" --size 160x90 --frames 0..3 -o mpi/skin_%d.png -q || fail "mpirun skinned frames"
+"$render" "$skinning" --size 160x90 --frames 0..3 -o skin_%d.png -q || fail "the skinned sequence"
+for k in 0 1 2 3; do
+  cmp -s "mpi/skin_$k.png" "skin_$k.png" || fail "skinned frame $k from two ranks differs from one process's"
+done
+cmp -s skin_0.png skin_3.png && fail "the skinned sequence does not move"
 log=$(run_mpi "$shadow" --size 700x530 --msaa 4 --band-rows 64 -o mpi/banded.png 2>&1) ||
   fail "mpirun bands: $log"
 cmp -s mpi/banded.png whole.png || fail "the image from two ranks' bands differs from one process's"

@@ -396,11 +396,15 @@ TEST_CASE("model errors name the file: missing textures, bad indices, names that
         CHECK_THAT(key, Contains("expected a key of materials"));
     }
     {
-        // An OBJ without materials, and no material in the scene.
+        // An OBJ without materials, and no material in the scene: drawn
+        // grey, with a warning that says how to name one.
         test::write(sd.dir / "bare.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-        const std::string e = sd.error("objects: [{name: bare, mesh: bare.obj}]\n");
-        CHECK_THAT(e, Contains("object 'bare'"));
-        CHECK_THAT(e, Contains("has no material in its file"));
+        test::LogCapture log;
+        const Scene bare = sd.load("objects: [{name: bare, mesh: bare.obj}]\n");
+        CHECK_THAT(log.text(), Contains("object 'bare'"));
+        CHECK_THAT(log.text(), Contains("has no material in its file; it is drawn grey"));
+        REQUIRE(bare.objects[0].material_of(0) != nullptr);
+        CHECK(bare.objects[0].material_of(0)->shader == "phong");
     }
     {
         // An embedded image that is no image is an error naming it.

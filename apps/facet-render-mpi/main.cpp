@@ -572,7 +572,7 @@ int main(int argc, char** argv) {
     Options& opt = job.opt;
     CLI::App app{"Renders a facet sequence, or one image in bands, across MPI ranks.",
                  "facet-render-mpi"};
-    app.add_option("scene", opt.scene, "scene file (YAML)")->required();
+    app.add_option("scene", opt.scene, "scene file (YAML), or a model file")->required();
     app.add_option("-o,--output", opt.output,
                    "output: a pattern with %d for the frames (out_%04d.png), or the PNG")
         ->required();

@@ -277,7 +277,7 @@ int main(int argc, char** argv) {
     facet::report_plugin_faults();
     Options opt;
     CLI::App app{"Renders a facet scene headless to a PNG.", "facet-render"};
-    app.add_option("scene", opt.scene, "scene file (YAML); default: the default scene");
+    app.add_option("scene", opt.scene, "scene file (YAML), or a model file to render framed and lit; default: the default scene");
     app.add_option("-o,--output", opt.output,
                    "output PNG; - is standard output, and a device or FIFO is written in place")
         ->capture_default_str();

@@ -248,6 +248,9 @@ size_t Editor::forget_unsaved(const fs::path& file) {
 }
 
 void Editor::edit(const fs::path& file, YamlPath path, std::string value) {
+    // A model opened with no scene file: the change shows, and nothing is
+    // written into the model.
+    if (is_model_file(file)) return;
     std::vector<Edit>& edits = pending_[fs::weakly_canonical(file)];
     std::erase_if(edits, [&](const Edit& e) { return e.path == path; });
     edits.push_back({std::move(path), std::move(value)});
@@ -300,8 +303,12 @@ EditorResult Editor::show(EditorTarget& t) {
         ImGui::EndDisabled();
         ImGui::SameLine();
         if (n) ImGui::Text("%zu unsaved value%s (Ctrl+S)", n, n == 1 ? "" : "s");
+        else if (is_model_file(t.scene.source)) ImGui::TextDisabled("a model, no scene: nothing is saved");
         else ImGui::TextDisabled("nothing to save");
-        if (t.scene.animated() && ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen))
+        const bool clips = std::any_of(t.scene.objects.begin(), t.scene.objects.end(),
+                                       [](const Object& o) { return o.mesh && !o.mesh->clips.empty(); });
+        if ((t.scene.animated() || clips) &&
+            ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen))
             guarded(r, [&] { animation_panel(t, r); });
         if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen))
             guarded(r, [&] { objects_panel(t, r); });
@@ -790,6 +797,38 @@ void Editor::animation_panel(EditorTarget& t, EditorResult& r) {
         r.time_changed = true;
     }
     remember("time");
+    clip_chooser(t, r);
+}
+
+// The selected object's clip, when its mesh file has clips: `none` or one
+// of them, saved as its index.
+void Editor::clip_chooser(EditorTarget& t, EditorResult& r) {
+    if (t.selected < 0 || size_t(t.selected) >= t.scene.objects.size()) return;
+    const size_t i = size_t(t.selected);
+    Object& o = t.scene.objects[i];
+    if (!o.mesh || o.mesh->clips.empty()) return;
+    const auto name = [&](int c) { return c < 0 ? std::string("none") : o.mesh->clips[size_t(c)].name; };
+    if (ImGui::BeginCombo(("clip of " + o.name).c_str(), name(o.clip).c_str())) {
+        for (int c = -1; c < int(o.mesh->clips.size()); ++c) {
+            const std::string label = name(c) + "##clip" + std::to_string(c);
+            if (ImGui::Selectable(label.c_str(), c == o.clip) && c != o.clip) {
+                o.clip = c;
+                moved(o, t.scene.time);
+                // A longer clip plays to its end.
+                Timeline& line = t.scene.timeline;
+                if (animation_end(*o.mesh, c) > line.end) {
+                    line.end = animation_end(*o.mesh, c);
+                    t.playback.retime(line);
+                }
+                edit(t.scene.source, {"objects", i, "animate", "clip"},
+                     c < 0 ? "none" : std::to_string(c));
+                r.redraw = true;
+            }
+            remember(label);
+        }
+        ImGui::EndCombo();
+    }
+    remember("clip");
 }
 
 void Editor::frame_panel() {

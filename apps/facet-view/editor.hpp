@@ -125,6 +125,7 @@ private:
     void render_panel(EditorTarget& t, EditorResult& r);
     void frame_panel();
     void animation_panel(EditorTarget& t, EditorResult& r);
+    void clip_chooser(EditorTarget& t, EditorResult& r);
     // Sets parameter `desc` of `material` to `value` and binds it again;
     // records the edit where the material is written. False (and the old
     // value kept) if the shader refuses it.

@@ -125,6 +125,11 @@ bool Viewer::handle_key(const SDL_KeyboardEvent& key) {
             redraw = false;
             break;
         case SDLK_f: controller_.set_flying(!controller_.flying()); redraw = false; break;
+        case SDLK_g:
+            if (scene_.objects.empty()) break;
+            follow_camera_ = false;
+            controller_.reset(framed_camera(scene_.objects[size_t(selected_)], scene_.camera));
+            break;
         case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS: controller_.faster(); redraw = false; break;
         case SDLK_MINUS: case SDLK_KP_MINUS: controller_.slower(); redraw = false; break;
         case SDLK_TAB: select_next(); redraw = editor_->visible(); break;  // the outline moves
@@ -206,8 +211,8 @@ void Viewer::handle_window(const SDL_WindowEvent& w) {
 
 void Viewer::handle_drop(const char* file) {
     const fs::path path(file ? file : "");
-    if (path.extension() != ".yaml" && path.extension() != ".yml") {
-        message("not a scene file (.yaml): " + path.string(), true);
+    if (path.extension() != ".yaml" && path.extension() != ".yml" && !is_model_file(path)) {
+        message("not a scene file (.yaml) or a model file: " + path.string(), true);
         return;
     }
     open_scene(path);

@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
     Script script;
     std::string size;
     CLI::App app{"An interactive viewer and editor for facet scenes.", "facet-view"};
-    app.add_option("scene", options.scene, "scene file (YAML); default: the default scene");
+    app.add_option("scene", options.scene, "scene file (YAML), or a model file to render framed and lit; default: the default scene");
     app.add_option("--size", size, "window size WxH in points; default: the scene's size");
     app.add_option("--camera", options.camera,
                    "camera X,Y,Z,TX,TY,TZ[,FOV]: position, target, vertical fov in degrees");

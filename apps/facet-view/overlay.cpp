@@ -64,6 +64,7 @@ std::string help_text() {
            "          wheel: zoom\n"
            "F         fly mode: W A S D move, Space up, Shift down, + - speed\n"
            "R         reset the camera to the scene's (and follow its animation)\n"
+           "G         frame the selected object\n"
            "Space     play / pause the animation   Left, Right  a frame   Home  its start\n"
            "Tab       select the next object\n"
            "M, shift+M next / previous material from configs/materials\n"

@@ -251,7 +251,7 @@ void reference_rows(const Scene& scene, const RayCaster& rc, const EnvironmentIm
                 r.object[i] = -2;  // not measured
                 continue;
             }
-            const Mesh& mesh = *o.mesh;
+            const Mesh& mesh = *o.drawn_mesh();
             const uint32_t* t = &mesh.indices[size_t(hit->triangle) * 3];
             const glm::dvec3 local = (1.0 - hit->u - hit->v) * glm::dvec3(mesh.normals[t[0]]) +
                                      hit->u * glm::dvec3(mesh.normals[t[1]]) +

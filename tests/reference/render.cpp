@@ -145,7 +145,7 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o, const Mat
     const RenderSettings& s = scene.settings;
     auto p = std::make_unique<Prepared>();
     p->shader = m.plugin.get();
-    p->mesh = o.mesh.get();
+    p->mesh = o.drawn_mesh().get();
     p->textures = m.textures;
     for (TextureBinding& t : p->textures) t.filter = Filter::bilinear;
     p->shadowed = s.shadows && m.uses_shadows;
@@ -350,7 +350,7 @@ std::vector<glm::dvec4> render(const Scene& scene, const RenderOptions& options)
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
         if (!o.visible || !o.mesh) continue;  // what the ray caster leaves out too
-        for (size_t k = 0; k < o.mesh->part_count(); ++k) {
+        for (size_t k = 0; k < o.drawn_mesh()->part_count(); ++k) {
             const Material* m = o.material_of(k);
             if (!m || !m->plugin)
                 throw std::runtime_error("reference renderer: object '" + o.name +

@@ -15,8 +15,11 @@
 // material unless it names one (scene.hpp).
 //
 // A file with node animation (glTF) keeps the nodes that place its parts
-// (Mesh::nodes) with their tracks; pose_parts() gives each part's motion
-// from where the file puts it at rest, at a time.
+// (Mesh::nodes) and its clips (Mesh::clips, each with tracks for the nodes);
+// pose_parts() gives each part's motion from where the file puts it at
+// rest, at a time. A part that a skin or morph targets deform keeps the
+// file's own vertices and what deforms them (PartDeformation), and
+// pose_mesh() gives its vertices at a time.
 #pragma once
 
 #include "facet/animation.hpp"
@@ -62,12 +65,92 @@ struct MeshPart {
     uint32_t triangle_count() const { return index_count / 3; }
 };
 
-// A node of a mesh file's hierarchy, kept when the file animates nodes.
+// A node of a mesh file's hierarchy, kept when the file animates nodes or
+// deforms a part.
 struct MeshNode {
     std::string name;
     int parent = -1;        // into Mesh::nodes, before this one; -1: a root
     Transform rest;         // its place in its parent, as the file gives it
-    TransformTracks tracks; // the file's animation of it (none: it stays at rest)
+};
+
+// A track of a part's morph-target weights: `targets` weights a key.
+struct WeightsTrack {
+    std::vector<double> times;  // seconds, strictly increasing
+    std::vector<float> values;  // times.size() * targets
+    Interpolation interpolation = Interpolation::linear;
+
+    bool empty() const { return times.empty(); }
+    double end() const { return times.empty() ? 0.0 : times.back(); }
+    // The weights at time t, held before the first key and after the last,
+    // into out[0, targets).
+    void at(double t, size_t targets, float* out) const;
+};
+
+// One of a file's animations.
+struct MeshClip {
+    std::string name;                   // as the file names it, or "clip N"
+    std::vector<TransformTracks> nodes; // one per Mesh::nodes (empty: it stays at rest)
+    std::vector<WeightsTrack> weights;  // one per part (empty: its weights stay)
+
+    double end() const;
+    bool moves_nodes() const;
+};
+
+// A skin: the joints that deform a part, each with its inverse bind matrix
+// (from the part's own space, as the file gives its vertices, to the
+// joint's space at bind).
+struct MeshSkin {
+    std::string name;
+    std::vector<int> joints;               // into Mesh::nodes
+    std::vector<glm::mat4> inverse_binds;  // one per joint
+};
+
+// Up to 8 joints a vertex: indices into its skin's joints, weights summing
+// to 1 in decreasing order; an unused slot has weight 0.
+constexpr int kMaxJointsPerVertex = 8;
+struct JointWeights {
+    uint16_t joint[kMaxJointsPerVertex] = {};
+    float weight[kMaxJointsPerVertex] = {};
+};
+
+// A morph target: offsets for each vertex of its part (normals and
+// tangents are empty when the file gives it none: those stay).
+struct MorphTarget {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<glm::vec3> tangents;
+};
+
+// What deforms a part, and its vertices as the file gives them (in the
+// part's own space, before any skin or morph). The mesh's arrays hold the
+// part as pose_mesh() puts it at rest. A part without a skin is placed by
+// its node's place at each time: so is one whose node's place at rest is
+// singular (a scale of 0), which its motion could not be recovered from.
+struct PartDeformation {
+    int skin = -1;                      // into Mesh::skins; -1: no skin
+    std::vector<glm::vec3> positions;   // one per vertex of the part; empty: it does not deform
+    std::vector<glm::vec3> normals;
+    std::vector<glm::vec4> tangents;    // empty when the mesh has none
+    std::vector<JointWeights> joints;   // with a skin: one per vertex
+    std::vector<MorphTarget> targets;
+    std::vector<float> weights;         // one per target: its weight at rest
+
+    bool deforms() const { return !positions.empty(); }
+};
+
+// A camera a mesh file holds, placed where its node puts it at rest, in
+// the file's space.
+struct MeshCamera {
+    std::string name;
+    glm::vec3 position{0.0f};
+    glm::vec3 forward{0.0f, 0.0f, -1.0f};  // unit
+    glm::vec3 up{0.0f, 1.0f, 0.0f};        // unit
+    bool orthographic = false;
+    float fov_y = 45.0f;         // degrees, perspective
+    float ortho_height = 2.0f;   // orthographic
+    float near = 0.0f;           // 0: none given
+    float far = 0.0f;            // 0: none given (glTF's infinite projection)
 };
 
 struct Mesh {
@@ -89,9 +172,17 @@ struct Mesh {
     // the file "<this mesh file's name>#i" beside it (TextureCache::add_encoded).
     std::vector<std::shared_ptr<const std::string>> images;  // null: raw texels
     Bounds bounds;
-    // Parents first. Empty unless the file animates its nodes; the vertices
-    // are where the nodes put them at rest.
+    // What the import left out of the file or mended, a line each: load_mesh
+    // warns of each.
+    std::string notes;
+    // Parents first. Empty unless the file animates its nodes or deforms a
+    // part; the vertices are where the nodes put them at rest.
     std::vector<MeshNode> nodes;
+    std::vector<MeshClip> clips;      // the file's animations, in its order
+    std::vector<MeshSkin> skins;
+    // One per part, or empty: no part deforms.
+    std::vector<PartDeformation> deformations;
+    std::vector<MeshCamera> cameras;  // the file's, in its order
 
     size_t vertex_count() const { return positions.size(); }
     size_t triangle_count() const { return indices.size() / 3; }
@@ -133,12 +224,29 @@ std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path,
 // Throws Error(mesh_invalid) naming the first problem.
 void validate_mesh(const Mesh& mesh);
 
-// Each part's motion at time t, from its place at rest to where its node's
-// animation puts it (identity for a part no animated node moves), into
-// `poses` (one per part). `mesh` has nodes.
-void pose_parts(const Mesh& mesh, double t, std::vector<glm::mat4>& poses);
-// When the mesh's node animation ends (0: it has none).
-double animation_end(const Mesh& mesh);
+// Each part's motion at time t in clip `clip` (-1: none, every node at
+// rest), from its place at rest to where its node's animation puts it
+// (identity for a part no animated node moves, and for a deformed part,
+// which pose_mesh places), into `poses` (one per part). `mesh` has nodes.
+void pose_parts(const Mesh& mesh, int clip, double t, std::vector<glm::mat4>& poses);
+// When clip `clip` of the mesh ends (0: it has none).
+double animation_end(const Mesh& mesh, int clip);
+// The index of the clip named `name`, or -1.
+int find_clip(const Mesh& mesh, const std::string& name);
+
+// Morph weights a scene sets for a part's targets, over the file's.
+struct WeightOverride {
+    std::string target;  // a target's name
+    float weight = 0.0f;
+};
+
+// The mesh's deformed parts posed at time t in clip `clip` (-1: at rest),
+// with `weights` over the clip's and the file's morph weights: `out`
+// becomes `mesh` with those parts' positions, normals and tangents
+// replaced, and its bounds and their parts' bounds made again. Linear
+// blend skinning, in float, the same on every ISA path and thread count.
+void pose_mesh(const Mesh& mesh, int clip, double t, const std::vector<WeightOverride>& weights,
+               Mesh& out);
 
 // Recomputes bounds from positions.
 Bounds compute_bounds(const std::vector<glm::vec3>& positions);

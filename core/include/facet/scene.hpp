@@ -163,9 +163,19 @@ struct Object {
     TransformTracks animation = {};
     Transform rest = {};
     std::vector<glm::mat4> part_poses = {};
+    // The mesh file's own animation: the clip that plays (into
+    // Mesh::clips; -1: none, the file's nodes stay at rest), and the morph
+    // weights the scene sets over the file's (`animate: {clip, weights}`).
+    int clip = -1;
+    std::vector<WeightOverride> weights = {};
+    // The mesh as posed now, when its file deforms a part (a skin, morph
+    // targets); null: the mesh as loaded is drawn.
+    std::shared_ptr<const Mesh> posed = {};
 
-    // Sets `transform` and `part_poses` to their places at time t.
+    // Sets `transform`, `part_poses` and `posed` to their places at time t.
     void pose(double t);
+    // The mesh that draws: posed, or as loaded.
+    const std::shared_ptr<const Mesh>& drawn_mesh() const { return posed ? posed : mesh; }
     // Where part i is drawn: transform, after the part's own motion.
     glm::mat4 part_matrix(size_t part) const {
         return part_poses.empty() ? transform.matrix() : transform.matrix() * part_poses[part];
@@ -175,6 +185,12 @@ struct Object {
         material = std::move(m);
         part_materials.clear();
     }
+
+    // pose()'s own: two copies of the mesh that it writes in turn, and the
+    // mesh they copy. A pose never writes the copy drawn now, nor one that
+    // something else (a shadow map's key) still holds.
+    std::shared_ptr<Mesh> pose_buffers[2] = {};
+    std::shared_ptr<const Mesh> posed_from = {};
 };
 
 struct Scene {
@@ -214,8 +230,24 @@ struct Scene {
 
 // Parses a scene file, loads its meshes, materials and textures, and finds
 // its shaders through `registry` (after adding the scene's plugin_paths).
-// Throws Error naming file:line:column.
+// Throws Error naming file:line:column. Given a model file instead
+// (is_model_file), renders it as load_model_scene does.
 Scene load_scene(const std::filesystem::path& path, PluginRegistry& registry);
+
+// Whether `path` names a model file: a format the importer reads, not YAML.
+bool is_model_file(const std::filesystem::path& path);
+// A scene of the model alone, with no scene file: the model with its own
+// materials (a grey phong for parts it gives none), its first clip
+// playing, lit by a three-light rig, and seen through the file's first
+// camera, or framed (frame_object) when it has none. Errors name the model.
+Scene load_model_scene(const std::filesystem::path& path, PluginRegistry& registry);
+// A camera like `like` (its field of view and projection) that looks at
+// `o` from in front, a little right and above, so that its bounds, as
+// posed now, fill the view's height; near and far hold them.
+Camera framed_camera(const Object& o, const Camera& like);
+// The scene's camera framed on object `index` (`camera: {frame: NAME}`);
+// its tracks are dropped.
+void frame_object(Scene& scene, size_t index);
 // The same from YAML text, read as if it were the file `origin` (whose
 // folder resolves the files it names, and which errors name; it need not
 // exist).

@@ -25,6 +25,24 @@ glm::quat turn(const glm::vec3& axis, double degrees) {
     return glm::angleAxis(float(glm::radians(std::fmod(degrees, 360.0))), axis);
 }
 
+// What draws of `mesh`: everything but what poses it (its nodes, clips,
+// skins and deformations, which pose_mesh reads from the mesh itself).
+Mesh drawable_copy(const Mesh& mesh) {
+    Mesh m;
+    m.source = mesh.source;
+    m.positions = mesh.positions;
+    m.normals = mesh.normals;
+    m.uvs = mesh.uvs;
+    m.colors = mesh.colors;
+    m.tangents = mesh.tangents;
+    m.indices = mesh.indices;
+    m.parts = mesh.parts;
+    m.materials = mesh.materials;
+    m.images = mesh.images;
+    m.bounds = mesh.bounds;
+    return m;
+}
+
 }  // namespace
 
 template <class T>
@@ -87,7 +105,21 @@ long Timeline::frame_at(double t) const { return long(std::floor(t * fps + kFram
 
 void Object::pose(double t) {
     if (!animation.empty()) transform = animation.at(t, rest);
-    if (mesh && !mesh->nodes.empty()) pose_parts(*mesh, t, part_poses);
+    if (!mesh) return;
+    if (!mesh->nodes.empty()) pose_parts(*mesh, clip, t, part_poses);
+    if (mesh->deformations.empty()) {
+        posed = nullptr;
+        return;
+    }
+    if (posed_from != mesh) {  // a new mesh (a reload): copies of it
+        pose_buffers[0] = pose_buffers[1] = nullptr;
+        posed = nullptr;
+        posed_from = mesh;
+    }
+    std::shared_ptr<Mesh>& into = pose_buffers[0] == posed ? pose_buffers[1] : pose_buffers[0];
+    if (!into || into.use_count() > 1) into = std::make_shared<Mesh>(drawable_copy(*mesh));
+    pose_mesh(*mesh, clip, t, weights, *into);
+    posed = into;
 }
 
 void Scene::pose(double t) {

@@ -2,6 +2,7 @@
 
 #include "facet/error.hpp"
 
+#include <cctype>
 #include <cstdint>
 #include <fstream>
 #include <string>
@@ -66,6 +67,27 @@ void check_glb(const std::filesystem::path& path) {
         in.seekg(std::streamoff(at));
     }
     if (at == 12) glb_fail(path, "no JSON chunk");
+}
+
+void check_gltf_name(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".glb" && ext != ".gltf") return;
+    std::ifstream in(path, std::ios::binary);
+    char head[64] = {};
+    in.read(head, sizeof head);
+    const size_t n = size_t(in.gcount());
+    if (ext == ".glb" && !(n >= 4 && std::string(head, 4) == "glTF") &&
+        !(n > 0 && head[0] == '{'))  // some write a .gltf's JSON under .glb
+        throw Error(ErrorCode::mesh_load_failed,
+                    "it is named .glb but is no GLB file: it does not start with 'glTF'",
+                    path.string());
+    size_t i = n >= 3 && std::string(head, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // a UTF-8 BOM
+    while (i < n && std::isspace(static_cast<unsigned char>(head[i]))) ++i;
+    if (ext == ".gltf" && !(i < n && head[i] == '{') && !(n >= 4 && std::string(head, 4) == "glTF"))
+        throw Error(ErrorCode::mesh_load_failed,
+                    "it is named .gltf but is no glTF file: it does not start with a JSON object",
+                    path.string());
 }
 
 }  // namespace facet

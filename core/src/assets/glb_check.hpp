@@ -20,4 +20,12 @@ bool looks_like_glb(const std::filesystem::path& path);
 
 void check_glb(const std::filesystem::path& path);
 
+// A file named .glb that does not start with the GLB magic (or with a JSON
+// object), or one named .gltf that does not start with a JSON object (or
+// the magic), is Error(mesh_load_failed) before the importer sees it.
+// Why: when its glTF reader declines a file, assimp tries its other
+// readers by content, and the fuzzer found one (OpenGEX's) spinning for
+// seconds on 155 bytes named .glb.
+void check_gltf_name(const std::filesystem::path& path);
+
 }  // namespace facet

@@ -6,10 +6,12 @@
 #include "facet/math.hpp"
 #include "assets/import_files.hpp"
 #include "assets/mesh_animation.hpp"
+#include "assets/mesh_cameras.hpp"
 #include "assets/mesh_import.hpp"
 #include "assets/mesh_materials.hpp"
 #include "assets/tangents.hpp"
 #include "assets/glb_check.hpp"
+#include "assets/gltf_extensions.hpp"
 #include "assets/off_check.hpp"
 #include "assets/ply_check.hpp"
 #include "base/files.hpp"
@@ -23,6 +25,7 @@
 #include <assimp/Importer.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <new>
@@ -141,17 +144,47 @@ struct PartNames {
     }
 };
 
-// One aiMesh placed by a node: a part of its own, with tangents where it
-// has texture coordinates.
-void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, Layout layout,
-                 PartNames& names, Mesh& out, std::vector<const aiNode*>& placed_by) {
+// The vertices and triangles of `src` placed by `model`, with tangents
+// where it has texture coordinates.
+Mesh placed_vertices(const aiMesh& src, const glm::mat4& model, bool flip, Layout layout) {
     Mesh part;
     append_vertices(src, model, layout, part);
-    append_triangles(src, glm::determinant(glm::mat3(model)) < 0.0f, part);
+    append_triangles(src, flip, part);
     if (layout.uvs) {
         if (src.HasTangentsAndBitangents()) file_tangents(src, model, part);
         else generate_tangents(part);
     }
+    return part;
+}
+
+bool deforms(const aiMesh& src) { return src.mNumBones > 0 || src.mNumAnimMeshes > 0; }
+
+// A place whose inverse float cannot hold (a scale of 0, or near it): a
+// part placed so keeps its own vertices, since its motion from rest could
+// not be recovered from the collapsed ones.
+bool singular(const glm::mat4& model) {
+    const glm::dmat4 inverse = glm::inverse(glm::dmat4(model));
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!(std::abs(inverse[c][r]) <= 1e30)) return true;
+    return false;
+}
+
+// The file's nodes, when it animates or deforms anything: parts that a skin
+// or morph targets deform keep what deforms them.
+struct Animated {
+    const NodeIndex* nodes = nullptr;
+};
+
+// One aiMesh placed by a node: a part of its own. A skinned part ignores
+// its node's place (its joints place it); its vertices are posed at rest
+// once the whole file is read.
+void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, Layout layout,
+                 Animated animated, PartNames& names, Mesh& out,
+                 std::vector<const aiNode*>& placed_by) {
+    const bool deformed = animated.nodes && (deforms(src) || singular(model));
+    const bool flip = src.mNumBones == 0 && glm::determinant(glm::mat3(model)) < 0.0f;
+    Mesh part = placed_vertices(src, model, flip, layout);
     MeshPart p;
     p.name = names.make(src, node, out.parts.size());
     p.first_index = uint32_t(out.indices.size());
@@ -168,19 +201,49 @@ void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, 
     for (uint32_t i : part.indices) out.indices.push_back(p.first_vertex + i);
     out.parts.push_back(std::move(p));
     placed_by.push_back(&node);
+    if (animated.nodes)
+        out.deformations.push_back(
+            deformed ? import_deformation(src, placed_vertices(src, glm::mat4(1.0f), flip, layout),
+                                          *animated.nodes, out)
+                     : PartDeformation{});
 }
 
 // Each part's node goes to `placed_by`, in the parts' order.
 void append_node(const aiScene& scene, const aiNode& node, const glm::mat4& parent, Layout layout,
-                 PartNames& names, Mesh& out, std::vector<const aiNode*>& placed_by) {
+                 Animated animated, PartNames& names, Mesh& out,
+                 std::vector<const aiNode*>& placed_by) {
     const glm::mat4 model = parent * to_glm(node.mTransformation);
     for (unsigned i = 0; i < node.mNumMeshes; ++i) {
         const aiMesh& src = *scene.mMeshes[node.mMeshes[i]];
         if (is_triangles(src) && src.mNumFaces > 0)
-            append_part(src, node, model, layout, names, out, placed_by);
+            append_part(src, node, model, layout, animated, names, out, placed_by);
     }
     for (unsigned i = 0; i < node.mNumChildren; ++i)
-        append_node(scene, *node.mChildren[i], model, layout, names, out, placed_by);
+        append_node(scene, *node.mChildren[i], model, layout, animated, names, out, placed_by);
+}
+
+// The nodes, clips and deformations of a file that animates or deforms
+// anything; none of them when nothing moves. The deformed parts are posed
+// at rest.
+void keep_animation(const aiScene& scene, const NodeIndex& nodes,
+                    const std::vector<const aiNode*>& placed_by, Mesh& mesh) {
+    import_clips(scene, placed_by, nodes, mesh);
+    const bool deformed = std::any_of(mesh.deformations.begin(), mesh.deformations.end(),
+                                      [](const PartDeformation& d) { return d.deforms(); });
+    const bool moves = std::any_of(mesh.clips.begin(), mesh.clips.end(), [](const MeshClip& c) {
+        return c.moves_nodes() || !c.weights.empty();
+    });
+    if (!deformed) mesh.deformations.clear();
+    if (!deformed && !moves) {
+        mesh.nodes.clear();
+        mesh.clips.clear();
+        for (MeshPart& p : mesh.parts) p.node = -1;
+        return;
+    }
+    if (deformed) {
+        validate_deformations(mesh);  // before posing reads them
+        pose_mesh(mesh, -1, 0.0, {}, mesh);
+    }
 }
 
 bool is_finite(const glm::vec3& p) {
@@ -243,12 +306,19 @@ Mesh import_mesh(const std::filesystem::path& path) {
     mesh.source = path.string();
     PartNames names;
     std::vector<const aiNode*> placed_by;
-    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), names, mesh,
-                placed_by);
-    import_node_animation(*scene, placed_by, mesh);
+    NodeIndex nodes;
+    Animated animated;
+    if (has_animation(*scene)) {
+        nodes = import_nodes(*scene, mesh);
+        animated.nodes = &nodes;
+    }
+    append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), animated, names,
+                mesh, placed_by);
+    if (animated.nodes) keep_animation(*scene, nodes, placed_by, mesh);
     for (unsigned i = 0; i < scene->mNumMaterials; ++i)
         mesh.materials.push_back(import_material(*scene, i, path));
     mesh.images = embedded_images(*scene);
+    mesh.cameras = import_cameras(*scene, path);
     // assimp gives parts of a file without materials (an OBJ without .mtl)
     // one of its own; glTF's default material is the format's, and kept.
     if (!is_gltf(path))
@@ -316,8 +386,124 @@ void get_track(std::string_view& in, Track<T>& track) {
     get_array(in, track.values);
 }
 
+// A count of items that each take at least a byte.
+uint64_t get_count(std::string_view& in) {
+    const auto n = get_value<uint64_t>(in);
+    if (n > in.size()) throw std::length_error("a truncated mesh");
+    return n;
+}
+
+// A camera's numbers after its name, as one value.
+struct CameraNumbers {
+    glm::vec3 position, forward, up;
+    float fov_y, ortho_height, near, far;
+    uint8_t orthographic;
+};
+
+void put_cameras(std::string& out, const Mesh& m) {
+    put_value(out, uint64_t(m.cameras.size()));
+    for (const MeshCamera& c : m.cameras) {
+        put_string(out, c.name);
+        put_value(out, CameraNumbers{c.position, c.forward, c.up, c.fov_y, c.ortho_height, c.near,
+                                     c.far, uint8_t(c.orthographic)});
+    }
+}
+
+void put_animation(std::string& out, const Mesh& m) {
+    put_value(out, uint64_t(m.clips.size()));
+    for (const MeshClip& c : m.clips) {
+        put_string(out, c.name);
+        put_value(out, uint64_t(c.nodes.size()));
+        for (const TransformTracks& n : c.nodes) {
+            put_track(out, n.position);
+            put_track(out, n.rotation);
+            put_track(out, n.scale);
+        }
+        put_value(out, uint64_t(c.weights.size()));
+        for (const WeightsTrack& w : c.weights) {
+            put_array(out, w.times);
+            put_array(out, w.values);
+        }
+    }
+    put_value(out, uint64_t(m.skins.size()));
+    for (const MeshSkin& skin : m.skins) {
+        put_string(out, skin.name);
+        put_array(out, skin.joints);
+        put_array(out, skin.inverse_binds);
+    }
+    put_value(out, uint64_t(m.deformations.size()));
+    for (const PartDeformation& d : m.deformations) {
+        put_value(out, int32_t(d.skin));
+        put_array(out, d.positions);
+        put_array(out, d.normals);
+        put_array(out, d.tangents);
+        put_array(out, d.joints);
+        put_array(out, d.weights);
+        put_value(out, uint64_t(d.targets.size()));
+        for (const MorphTarget& t : d.targets) {
+            put_string(out, t.name);
+            put_array(out, t.positions);
+            put_array(out, t.normals);
+            put_array(out, t.tangents);
+        }
+    }
+}
+
+// Each of a count's items reads at least a byte (or throws): a count past
+// what the bytes hold fails before it allocates much.
+template <class T, class Read>
+void get_items(std::string_view& in, std::vector<T>& items, Read read) {
+    const uint64_t n = get_count(in);
+    for (uint64_t i = 0; i < n; ++i) read(items.emplace_back());
+}
+
+void get_cameras(std::string_view& in, Mesh& m) {
+    get_items(in, m.cameras, [&](MeshCamera& c) {
+        c.name = get_string(in);
+        const auto n = get_value<CameraNumbers>(in);
+        c.position = n.position, c.forward = n.forward, c.up = n.up;
+        c.fov_y = n.fov_y, c.ortho_height = n.ortho_height, c.near = n.near, c.far = n.far;
+        c.orthographic = n.orthographic != 0;
+    });
+}
+
+void get_animation(std::string_view& in, Mesh& m) {
+    get_items(in, m.clips, [&](MeshClip& c) {
+        c.name = get_string(in);
+        get_items(in, c.nodes, [&](TransformTracks& n) {
+            get_track(in, n.position);
+            get_track(in, n.rotation);
+            get_track(in, n.scale);
+        });
+        get_items(in, c.weights, [&](WeightsTrack& w) {
+            get_array(in, w.times);
+            get_array(in, w.values);
+        });
+    });
+    get_items(in, m.skins, [&](MeshSkin& skin) {
+        skin.name = get_string(in);
+        get_array(in, skin.joints);
+        get_array(in, skin.inverse_binds);
+    });
+    get_items(in, m.deformations, [&](PartDeformation& d) {
+        d.skin = get_value<int32_t>(in);
+        get_array(in, d.positions);
+        get_array(in, d.normals);
+        get_array(in, d.tangents);
+        get_array(in, d.joints);
+        get_array(in, d.weights);
+        get_items(in, d.targets, [&](MorphTarget& t) {
+            t.name = get_string(in);
+            get_array(in, t.positions);
+            get_array(in, t.normals);
+            get_array(in, t.tangents);
+        });
+    });
+}
+
 std::string to_bytes(const Mesh& m) {
     std::string out;
+    put_string(out, m.notes);
     put_array(out, m.positions);
     put_array(out, m.normals);
     put_array(out, m.uvs);
@@ -337,10 +523,9 @@ std::string to_bytes(const Mesh& m) {
         put_string(out, n.name);
         put_value(out, int32_t(n.parent));
         put_value(out, n.rest);
-        put_track(out, n.tracks.position);
-        put_track(out, n.tracks.rotation);
-        put_track(out, n.tracks.scale);
     }
+    put_animation(out, m);
+    put_cameras(out, m);
     put_value(out, uint64_t(m.materials.size()));
     for (const ImportedMaterial& im : m.materials)
         for (const std::string* s : {&im.name, &im.yaml, &im.notes, &im.problem}) put_string(out, *s);
@@ -353,6 +538,7 @@ std::string to_bytes(const Mesh& m) {
 }
 
 void from_bytes(std::string_view in, Mesh& m) {
+    m.notes = get_string(in);
     get_array(in, m.positions);
     get_array(in, m.normals);
     get_array(in, m.uvs);
@@ -376,10 +562,9 @@ void from_bytes(std::string_view in, Mesh& m) {
         n.name = get_string(in);
         n.parent = get_value<int32_t>(in);
         n.rest = get_value<Transform>(in);
-        get_track(in, n.tracks.position);
-        get_track(in, n.tracks.rotation);
-        get_track(in, n.tracks.scale);
     }
+    get_animation(in, m);
+    get_cameras(in, m);
     const auto materials = get_value<uint64_t>(in);
     if (materials > in.size()) throw std::length_error("a truncated mesh");
     for (uint64_t i = 0; i < materials; ++i) {
@@ -444,6 +629,41 @@ Mesh import_isolated(const std::filesystem::path& path) {
     throw Error(ErrorCode::mesh_load_failed, "the importer failed: " + r.output, file);
 }
 
+// What the file animates and deforms (-v), and what the import left out
+// or mended (warnings).
+void log_animation(const Mesh& mesh) {
+    for (size_t i = 0; i < mesh.clips.size(); ++i)
+        spdlog::debug("  clip {} '{}': {:g} s", i, mesh.clips[i].name, mesh.clips[i].end());
+    for (const MeshSkin& skin : mesh.skins)
+        spdlog::debug("  skin '{}': {} joints", skin.name, skin.joints.size());
+    for (size_t p = 0; p < mesh.deformations.size(); ++p)
+        for (const MorphTarget& t : mesh.deformations[p].targets)
+            spdlog::debug("  part '{}': morph target '{}'", mesh.parts[p].name, t.name);
+    size_t start = 0;
+    while (start < mesh.notes.size()) {
+        size_t end = mesh.notes.find('\n', start);
+        if (end == std::string::npos) end = mesh.notes.size();
+        spdlog::warn("{}: {}", mesh.source, mesh.notes.substr(start, end - start));
+        start = end + 1;
+    }
+}
+
+// Each extension the glTF file uses: -v lists it, and one not drawn as the
+// file means is a warning.
+void log_gltf_extensions(const std::filesystem::path& path) {
+    const auto used = gltf_extensions_used(path);
+    if (!used) {
+        spdlog::warn("{}: its JSON could not be read for the extensions it uses (over 64 MiB?); "
+                     "they are not listed", path.string());
+        return;
+    }
+    for (const std::string& name : *used) {
+        const std::string use = gltf_extension_use(name);
+        if (use == "drawn") spdlog::debug("  extension {}: drawn", name);
+        else spdlog::warn("{}: extension {}: {}", path.string(), name, use);
+    }
+}
+
 }  // namespace
 
 std::string import_mesh_bytes(const std::filesystem::path& path) {
@@ -455,6 +675,7 @@ std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImp
     if (looks_like_ply(path)) check_ply(path);  // clear errors for bad PLY, OFF and GLB
     if (looks_like_off(path)) check_off(path);  // headers, without starting the importer
     if (looks_like_glb(path)) check_glb(path);
+    check_gltf_name(path);
     auto mesh = std::make_shared<Mesh>(how == MeshImport::isolated ? import_isolated(path)
                                                                     : import_mesh(path));
     validate_mesh(*mesh);
@@ -469,6 +690,8 @@ std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImp
     for (const MeshPart& p : mesh->parts)
         spdlog::debug("  part '{}': {} triangles, material '{}'", p.name, p.triangle_count(),
                       p.material >= 0 ? mesh->materials[size_t(p.material)].name : "");
+    log_animation(*mesh);
+    if (is_gltf(path)) log_gltf_extensions(path);
     return mesh;
 }
 
@@ -507,6 +730,13 @@ void validate_mesh(const Mesh& mesh) {
                                     std::to_string(mesh.vertex_count()));
     validate_parts(mesh);
     validate_nodes(mesh);
+    for (const MeshCamera& c : mesh.cameras)
+        if (!is_finite(c.position) || !is_finite(c.forward) || !is_finite(c.up) ||
+            !(c.fov_y > 0.0f && c.fov_y < 180.0f) || !(c.ortho_height >= 0.0f) ||
+            !(c.near >= 0.0f) || !(c.far >= 0.0f) || std::isinf(c.ortho_height) ||
+            std::isinf(c.near) || std::isinf(c.far))
+            throw invalid(mesh, "camera '" + c.name + "' is not a camera: a place, field of view "
+                                "or clip distance that is not finite, or out of range");
 }
 
 Bounds compute_bounds(const std::vector<glm::vec3>& positions) {

@@ -7,6 +7,7 @@
 #include "facet/memory.hpp"
 #include "facet/paths.hpp"
 #include "assets/material_yaml.hpp"
+#include "assets/scene_clip.hpp"
 #include "assets/scene_environment.hpp"
 #include "assets/yaml_util.hpp"
 
@@ -105,7 +106,7 @@ void check_camera(const yaml::Context& ctx, const YAML::Node& node, const Camera
 
 Camera read_camera(const yaml::Context& ctx, const YAML::Node& node) {
     yaml::check_map(ctx, node, "camera", {"position", "target", "up", "projection", "fov_y",
-                                          "height", "near", "far", "animate"});
+                                          "height", "near", "far", "animate", "frame"});
     Camera c;
     yaml::read(ctx, node, "position", c.position);
     yaml::read(ctx, node, "target", c.target);
@@ -351,7 +352,8 @@ double read_speed(const yaml::Context& ctx, const YAML::Node& node) {
 }
 
 TransformTracks read_transform_tracks(const yaml::Context& ctx, const YAML::Node& node) {
-    yaml::check_map(ctx, node, "animate", {"position", "rotation", "scale", "spin"});
+    yaml::check_map(ctx, node, "animate",
+                    {"position", "rotation", "scale", "spin", "clip", "weights"});
     TransformTracks a;
     if (const YAML::Node n = node["position"])
         a.position = read_track<glm::vec3>(ctx, n, "position",
@@ -417,7 +419,7 @@ void check_camera_tracks(const yaml::Context& ctx, const YAML::Node& node, const
 }
 
 Timeline read_timeline(const yaml::Context& ctx, const YAML::Node& node, double end) {
-    yaml::check_map(ctx, node, "animation", {"fps", "start", "end"});
+    yaml::check_map(ctx, node, "animation", {"fps", "start", "end", "clip"});
     Timeline t;
     t.end = end;
     if (const YAML::Node fps = node["fps"]) {
@@ -612,6 +614,10 @@ void read_part_materials(Loader& loader, const YAML::Node& map, Object& o) {
     }
 }
 
+// A part's material when neither its file nor the scene gives one.
+constexpr const char* kDefaultMaterial =
+    "{shader: phong, params: {diffuse: [0.7, 0.7, 0.7], specular: [0.2, 0.2, 0.2], shininess: 32}}";
+
 // Each part's material: the scene's for it, or else (without a material
 // for the whole object) the file's. Every part must end with one.
 void resolve_materials(Loader& loader, const YAML::Node& node, Object& o) {
@@ -620,21 +626,29 @@ void resolve_materials(Loader& loader, const YAML::Node& node, Object& o) {
     o.part_materials.assign(mesh.part_count(), {});
     if (const YAML::Node material = node["material"]) o.material = loader.material(material);
     if (const YAML::Node map = node["materials"]) read_part_materials(loader, map, o);
+    std::shared_ptr<Material> grey;  // one for the parts that have none
     for (size_t i = 0; i < mesh.part_count(); ++i) {
         PartMaterial& p = o.part_materials[i];
         if (p.from_scene || o.material) continue;
         const int imported = i < mesh.parts.size() ? mesh.parts[i].material : -1;
-        if (imported < 0)
-            throw yaml::error(ctx, node, ErrorCode::missing_key,
-                              "object '" + o.name + "': part '" + mesh.part(i).name + "' of " +
-                                  mesh.source + " has no material in its file; name one with "
-                                  "material: (for the whole object) or materials: (per part)");
+        if (imported < 0) {
+            spdlog::warn("{}:{}:{}: object '{}': part '{}' of {} has no material in its file; it "
+                         "is drawn grey (name one with material: for the whole object, or "
+                         "materials: per part)",
+                         ctx.file, yaml::line(node), yaml::column(node), o.name, mesh.part(i).name,
+                         mesh.source);
+            if (!grey) grey = loader.material(YAML::Load(kDefaultMaterial));
+            p.material = grey;
+            continue;
+        }
         p.material = relocate_errors(ctx, yaml::require(ctx, node, "mesh"),
                                      [&] { return loader.imported(mesh, imported); });
     }
 }
 
-Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
+// `scene_clip`: the scene's `animation: {clip}`, or a null node.
+Object read_object(Loader& loader, const YAML::Node& node, size_t index,
+                   const YAML::Node& scene_clip) {
     const yaml::Context& ctx = loader.ctx;
     yaml::check_map(ctx, node, "object",
                     {"name", "mesh", "material", "materials", "position", "rotation", "scale",
@@ -652,7 +666,10 @@ Object read_object(Loader& loader, const YAML::Node& node, size_t index) {
     if (const YAML::Node scale = node["scale"]) o.transform.scale = read_scale(ctx, scale);
     yaml::read(ctx, node, "visible", o.visible);
     o.rest = o.transform;
-    if (const YAML::Node animate = node["animate"]) o.animation = read_transform_tracks(ctx, animate);
+    const YAML::Node animate = node["animate"];
+    if (animate) o.animation = read_transform_tracks(ctx, animate);
+    o.clip = choose_clip(ctx, animate, scene_clip, *o.mesh);
+    if (animate && animate["weights"]) o.weights = read_weights(ctx, animate["weights"], *o.mesh);
     if (o.mesh->triangle_count() > 0 && !any_triangle_survives(*o.mesh, o.transform.matrix()))
         spdlog::warn("{}:{}:{}: object '{}': none of its {} triangles survives its transform "
                      "(each is degenerate or overflows a float in world space); check its scale",
@@ -681,7 +698,7 @@ void read_animation(const yaml::Context& ctx, const YAML::Node& root, Scene& sce
     double end = scene.camera_tracks.end();
     for (const Object& o : scene.objects) {
         end = std::max(end, o.animation.end());
-        if (o.mesh) end = std::max(end, animation_end(*o.mesh));
+        if (o.mesh) end = std::max(end, animation_end(*o.mesh, o.clip));
     }
     end = std::min(end, kMaxSeconds);  // a spin of 1e-20 degrees a second ends, in practice
     scene.timeline.end = end;
@@ -701,6 +718,17 @@ void require_frame_within_budget(const RenderSettings& s) {
 
 namespace {
 
+// `camera: {frame: NAME}`: the camera framed on the object of that name.
+void frame_named(const yaml::Context& ctx, const YAML::Node& node, Scene& scene) {
+    const std::string name = yaml::as<std::string>(ctx, node);
+    for (size_t i = 0; i < scene.objects.size(); ++i)
+        if (scene.objects[i].name == name) return frame_object(scene, i);
+    std::vector<std::string> names;
+    for (const Object& o : scene.objects) names.push_back(o.name);
+    throw yaml::error(ctx, node, ErrorCode::config_invalid,
+                      "'" + name + "' names no object; the objects: " + quoted_list(names));
+}
+
 // The scene `root` holds, read as from `path` (its folder resolves the
 // files it names, and errors name it).
 Scene scene_from(const YAML::Node& root, const fs::path& path, PluginRegistry& registry) {
@@ -719,8 +747,12 @@ Scene scene_from(const YAML::Node& root, const fs::path& path, PluginRegistry& r
     for_each_item(ctx, root, "lights", [&](const YAML::Node& item, size_t) {
         scene.lights.push_back(read_light(ctx, item));
     });
+    const YAML::Node animation = root["animation"];
+    const YAML::Node scene_clip = animation && animation.IsMap()
+                                      ? animation["clip"]
+                                      : YAML::Node(YAML::NodeType::Undefined);
     for_each_item(ctx, root, "objects", [&](const YAML::Node& item, size_t i) {
-        scene.objects.push_back(read_object(loader, item, i));
+        scene.objects.push_back(read_object(loader, item, i, scene_clip));
     });
     for_each_item(ctx, root, "post", [&](const YAML::Node& item, size_t) {
         scene.post.push_back(loader.post_pass(item));
@@ -729,6 +761,8 @@ Scene scene_from(const YAML::Node& root, const fs::path& path, PluginRegistry& r
         scene.environment = read_environment(ctx, environment, path.parent_path());
     for (const auto& [file, material] : loader.materials()) scene.material_files[file] = material;
     read_animation(ctx, root, scene);
+    if (const YAML::Node camera = root["camera"]; camera && camera["frame"])
+        frame_named(ctx, camera["frame"], scene);
     spdlog::info("scene {}: {} objects, {} lights, {}x{}", ctx.file, scene.objects.size(),
                  scene.lights.size(), scene.settings.width, scene.settings.height);
     return scene;
@@ -737,6 +771,7 @@ Scene scene_from(const YAML::Node& root, const fs::path& path, PluginRegistry& r
 }  // namespace
 
 Scene load_scene(const fs::path& path, PluginRegistry& registry) {
+    if (is_model_file(path)) return load_model_scene(path, registry);
     return scene_from(yaml::load_file(path), path, registry);
 }
 

@@ -56,7 +56,7 @@ bool in_depth_prepass(const PipelineState& p) {
 
 void add_draw_items(const Object& o, std::vector<DrawItem>& items) {
     if (!o.visible || !o.mesh) return;
-    const Mesh& mesh = *o.mesh;
+    const Mesh& mesh = *o.drawn_mesh();
     for (size_t i = 0; i < mesh.part_count(); ++i) {
         const Material* m = o.material_of(i);
         if (!m || !m->plugin) continue;
@@ -68,7 +68,7 @@ void add_draw_items(const Object& o, std::vector<DrawItem>& items) {
 
 void set_item(DrawCall& call, const DrawItem& d) {
     const Material& m = *d.material;
-    call.mesh = d.object->mesh.get();
+    call.mesh = d.object->drawn_mesh().get();
     call.part = d.part;
     call.model = d.model;
     call.shader = m.plugin.get();
@@ -230,7 +230,7 @@ Renderer::FramePlan Renderer::plan_frame(const Scene& scene, const DrawCall& cal
         ++stats.objects;
         // The whole mesh's bounds hold its parts only where none moves.
         if (o.part_poses.empty() &&
-            outside_frustum(o.mesh->bounds, call.projection * call.view * o.transform.matrix())) {
+            outside_frustum(o.drawn_mesh()->bounds, call.projection * call.view * o.transform.matrix())) {
             ++stats.objects_culled;
             scratch_.casters.insert(scratch_.casters.end(), scratch_.items.begin() + first,
                                     scratch_.items.end());

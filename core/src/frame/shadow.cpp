@@ -125,7 +125,7 @@ uint64_t make_key(const std::vector<DrawItem>& casters, const glm::mat4& view_pr
         const glm::mat4 model = d.model;
         if (outside_frustum(*d.bounds, view_projection * model)) continue;
         const Material& m = *d.material;
-        key.casters.push_back({d.object->mesh, d.part, model, m.discards ? &m : nullptr,
+        key.casters.push_back({d.object->drawn_mesh(), d.part, model, m.discards ? &m : nullptr,
                                m.discards ? m.block : nullptr});
         if (m.discards) key.time = time;
     }
