@@ -66,8 +66,12 @@ void check_pnm(std::string_view bytes, const std::string& source) {
 // marker; what does not parse is left to stb_image to refuse.
 void check_jpeg(std::string_view bytes, const std::string& source) {
     const auto u = [&](size_t i) { return static_cast<unsigned char>(bytes[i]); };
-    if (bytes.size() < 4 || u(0) != 0xFF || u(1) != 0xD8) return;
-    size_t at = 2;
+    // stb_image, as JPEG allows before any marker, skips fill bytes (0xFF)
+    // before the start of the image.
+    size_t at = 0;
+    while (at < bytes.size() && u(at) == 0xFF) ++at;
+    if (at == 0 || at + 3 > bytes.size() || u(at) != 0xD8) return;
+    ++at;
     while (at + 4 <= bytes.size()) {
         if (u(at) != 0xFF) {  // entropy-coded data: on to the next marker
             ++at;
