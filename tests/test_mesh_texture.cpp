@@ -644,3 +644,54 @@ TEST_CASE("a JPEG Huffman table of more than 256 codes is refused, named", "[tex
         }
     CHECK(jpegs >= 2);
 }
+
+namespace {
+// A JPEG without its nth segment of a marker (its first byte, the fuzz
+// seed's flags byte, dropped).
+std::string jpeg_without(const std::string& seed, unsigned char marker, int nth) {
+    std::string bytes = facet::test::read_file(fs::path(FACET_SOURCE_DIR) / "fuzz" / "seeds" /
+                                               "texture_decode" / seed)
+                            .substr(1);
+    for (size_t at = 2; at + 4 <= bytes.size();) {
+        const auto u = [&](size_t i) { return static_cast<unsigned char>(bytes[i]); };
+        if (u(at) != 0xFF || u(at + 1) == 0 || u(at + 1) == 0xFF || (u(at + 1) & 0xF8) == 0xD0) {
+            ++at;
+            continue;
+        }
+        const size_t length = 2 + ((size_t(u(at + 2)) << 8) | u(at + 3));
+        if (u(at + 1) == marker && nth-- == 0) return bytes.erase(at, length);
+        at += length;
+    }
+    FAIL("no such segment");
+    return {};
+}
+}  // namespace
+
+TEST_CASE("a JPEG scan that uses a table never defined is refused, named", "[texture][errors]") {
+    // stb_image allocates its tables without clearing them: a scan that
+    // uses an undefined Huffman table read it at index -16,776,874
+    // (tests/fuzz_regressions/texture_decode/, from `scripts/fuzz 60`).
+    struct Case {
+        const char* seed;
+        unsigned char marker;
+        int nth;
+        const char* says;
+    };
+    for (const Case& c : {Case{"jpeg-progressive.jpg", 0xC4, 2, "AC Huffman table 0"},
+                          Case{"jpeg-progressive.jpg", 0xC4, 0, "DC Huffman table 0"},
+                          Case{"jpeg-baseline.jpg", 0xC4, 3, "AC Huffman table 1"},
+                          Case{"jpeg-baseline.jpg", 0xDB, 1, "quantization table 1"}}) {
+        INFO(c.seed << " without segment " << c.nth << " of marker " << int(c.marker));
+        try {
+            decode_texture(jpeg_without(c.seed, c.marker, c.nth), false, "tables.jpg");
+            FAIL("decoded");
+        } catch (const Error& e) {
+            CHECK(e.code() == ErrorCode::texture_load_failed);
+            CHECK(e.file() == "tables.jpg");
+            CHECK_THAT(e.what(), Catch::Contains(c.says) && Catch::Contains("not defined"));
+        }
+    }
+    // The control: without a segment no scan needs (JFIF's APP0), the
+    // progressive seed, whose AC tables come between its scans, decodes.
+    CHECK(decode_texture(jpeg_without("jpeg-progressive.jpg", 0xE0, 0), false, "ok.jpg")->width == 5);
+}

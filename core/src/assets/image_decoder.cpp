@@ -9,6 +9,8 @@
 #include <cctype>
 #include <climits>
 #include <cstdlib>
+#include <iterator>
+#include <tuple>
 
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
@@ -59,11 +61,85 @@ void check_pnm(std::string_view bytes, const std::string& source) {
                     source);
 }
 
-// A JPEG's Huffman tables (DHT segments, before and between scans): stb_image
-// writes each table's code lengths into 257 entries without checking that
-// its sixteen counts add up to at most 256 (libstb 2022-09-08), so a table
-// of more codes is refused here. Entropy-coded data is skipped to the next
-// marker; what does not parse is left to stb_image to refuse.
+// What a JPEG's markers have defined so far, for the checks stb_image
+// (libstb 2022-09-08) does not make. stb_image allocates its decoder's tables
+// without clearing them, so a scan that uses a table the file never defined
+// decodes with whatever memory held: an out-of-bounds read of a Huffman
+// table, or quantization by garbage.
+struct JpegDefined {
+    std::string_view bytes;
+    const std::string& source;
+    bool huffman[2][4] = {};  // [0 DC, 1 AC][table], from DHT segments
+    bool quant[4] = {};       // from DQT segments
+    int quant_of[256];        // a frame component's table, by component id; -1: none
+    bool progressive = false;
+
+    JpegDefined(std::string_view b, const std::string& s) : bytes(b), source(s) {
+        std::fill(std::begin(quant_of), std::end(quant_of), -1);
+    }
+    // A byte as stb_image reads it: zero past the end.
+    unsigned at(size_t i) const { return i < bytes.size() ? static_cast<unsigned char>(bytes[i]) : 0; }
+
+    [[noreturn]] void refuse(const std::string& why) const {
+        throw Error(ErrorCode::texture_load_failed, "a JPEG " + why, source);
+    }
+
+    // DHT: stb_image writes each table's code lengths into 257 entries
+    // without checking that its sixteen counts add up to at most 256.
+    void huffman_tables(size_t p, size_t end) {
+        while (p < std::min(end, bytes.size())) {
+            size_t codes = 0;
+            for (size_t i = 1; i <= 16; ++i) codes += at(p + i);
+            if (codes > 256) refuse("Huffman table of " + std::to_string(codes) + " codes (at most 256)");
+            const unsigned kind = at(p) >> 4, table = at(p) & 15;
+            if (kind <= 1 && table <= 3) huffman[kind][table] = true;  // stb_image refuses others
+            p += 17 + codes;
+        }
+    }
+    void quant_tables(size_t p, size_t end) {
+        while (p < std::min(end, bytes.size())) {
+            const unsigned precision = at(p) >> 4, table = at(p) & 15;
+            if (precision > 1 || table > 3) return;  // stb_image refuses it
+            quant[table] = true;
+            p += precision ? 129 : 65;
+        }
+    }
+    // SOF0-2: each component's id and quantization table. stb_image matches
+    // a scan's components to the first of an id.
+    void frame(size_t p, unsigned marker) {
+        progressive = marker == 0xC2;
+        std::fill(std::begin(quant_of), std::end(quant_of), -1);
+        const unsigned components = at(p + 5);
+        for (unsigned c = 0; c < components && c < 4; ++c) {
+            const size_t q = p + 6 + 3 * c;
+            if (quant_of[at(q)] < 0) quant_of[at(q)] = int(at(q + 2) & 3);
+        }
+    }
+    // SOS: the tables this scan decodes with must have been defined.
+    void scan(size_t p) const {
+        const unsigned components = std::min(at(p), 4u);
+        const unsigned start = at(p + 1 + 2 * components), refining = at(p + 3 + 2 * components) >> 4;
+        for (unsigned c = 0; c < components; ++c) {
+            const unsigned id = at(p + 1 + 2 * c), dc = at(p + 2 + 2 * c) >> 4, ac = at(p + 2 + 2 * c) & 15;
+            if (quant_of[id] < 0 || dc > 3 || ac > 3) continue;  // stb_image refuses the scan
+            if (!quant[quant_of[id]])
+                refuse("scan of component " + std::to_string(id) + ", whose quantization table " +
+                       std::to_string(quant_of[id]) + " is not defined before it");
+            const bool uses_dc = !progressive || (start == 0 && refining == 0);
+            const bool uses_ac = !progressive || start > 0;
+            for (const auto& [used, kind, table] : {std::tuple{uses_dc, 0, dc}, std::tuple{uses_ac, 1, ac}})
+                if (used && !huffman[kind][table])
+                    refuse(std::string("scan that uses ") + (kind ? "AC" : "DC") + " Huffman table " +
+                           std::to_string(table) +
+                           ", which is not defined before it (Motion-JPEG's implied "
+                           "standard tables are not read)");
+        }
+    }
+};
+
+// A JPEG's markers, checked for what stb_image trusts (JpegDefined).
+// Entropy-coded data is skipped to the next marker; what does not parse is
+// left to stb_image to refuse.
 void check_jpeg(std::string_view bytes, const std::string& source) {
     const auto u = [&](size_t i) { return static_cast<unsigned char>(bytes[i]); };
     // stb_image, as JPEG allows before any marker, skips fill bytes (0xFF)
@@ -72,6 +148,7 @@ void check_jpeg(std::string_view bytes, const std::string& source) {
     while (at < bytes.size() && u(at) == 0xFF) ++at;
     if (at == 0 || at + 3 > bytes.size() || u(at) != 0xD8) return;
     ++at;
+    JpegDefined defined(bytes, source);
     while (at + 4 <= bytes.size()) {
         if (u(at) != 0xFF) {  // entropy-coded data: on to the next marker
             ++at;
@@ -85,17 +162,10 @@ void check_jpeg(std::string_view bytes, const std::string& source) {
         }
         if (marker == 0xD9) return;  // the end of the image
         const size_t end = at + 2 + ((size_t(u(at + 2)) << 8) | u(at + 3));
-        if (marker == 0xC4)
-            for (size_t p = at + 4; p < std::min(end, bytes.size());) {
-                size_t codes = 0;  // stb_image reads past the end as zeros
-                for (size_t i = 1; i <= 16 && p + i < bytes.size(); ++i) codes += u(p + i);
-                if (codes > 256)
-                    throw Error(ErrorCode::texture_load_failed,
-                                "a JPEG Huffman table of " + std::to_string(codes) +
-                                    " codes (at most 256)",
-                                source);
-                p += 17 + codes;
-            }
+        if (marker == 0xC4) defined.huffman_tables(at + 4, end);
+        if (marker == 0xDB) defined.quant_tables(at + 4, end);
+        if (marker >= 0xC0 && marker <= 0xC2) defined.frame(at + 4, marker);
+        if (marker == 0xDA) defined.scan(at + 4);
         at = end;
     }
 }
