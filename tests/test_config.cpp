@@ -195,6 +195,38 @@ TEST_CASE("a material binds defaults, values and textures", "[material]") {
     REQUIRE(m->textures[0].texture->source == (env.dir / "px.tga").string());
 }
 
+TEST_CASE("a texture's transform places it on its UVs, and bad ones are refused", "[material]") {
+    Env env;
+    const auto m = env.material(
+        "shader: test\nparams:\n"
+        "  albedo: {file: px.tga, transform: {offset: [0.5, -1], rotation: 0.25, scale: [2, 3]}}\n");
+    const facet::UvTransform& t = m->textures.at(0).transform;
+    REQUIRE(t.offset == glm::vec2(0.5f, -1.0f));
+    REQUIRE(t.rotation == 0.25f);
+    REQUIRE(t.scale == glm::vec2(2.0f, 3.0f));
+    // Each part is optional.
+    REQUIRE(env.material("shader: test\nparams:\n  albedo: {file: px.tga, transform: {rotation: 1}}\n")
+                ->textures.at(0).transform.scale == glm::vec2(1.0f));
+    struct Bad {
+        const char* transform;
+        int column;
+        const char* says;
+    };
+    for (const Bad& b : {Bad{"{offset: [1e7, 0]}", 47, "offset 1e7 is past 1e6"},
+                         Bad{"{scale: [1, 2, 3]}", 45, "2 numbers"},
+                         Bad{"{rotation: -2e6}", 48, "rotation -2e6 is past 1e6"},
+                         Bad{"{shear: 1}", 38, "'shear'"}}) {
+        INFO(b.transform);
+        const auto e = error_of([&] {
+            env.material(std::string("shader: test\nparams:\n  albedo: {file: px.tga, transform: ") +
+                         b.transform + "}\n");
+        });
+        REQUIRE(e.line() == 3);
+        CHECK(e.column() == b.column);
+        CHECK_THAT(e.what(), Contains(b.says));
+    }
+}
+
 TEST_CASE("a material without params gets the schema defaults", "[material]") {
     Env env;
     const auto m = env.material("shader: test\n");

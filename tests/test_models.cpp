@@ -6,6 +6,7 @@
 #include "support.hpp"
 
 #include <facet/error.hpp>
+#include <facet/png.hpp>
 #include <facet/renderer.hpp>
 #include <facet/scene.hpp>
 
@@ -202,6 +203,90 @@ TEST_CASE("glTF alpha modes, extensions and out-of-range factors map as docs/MAT
                0, 0);
     const Scene flat = sd.load("objects: [{mesh: flat.gltf}]\n");
     CHECK(flat.objects[0].material_of(0)->shader == "unlit");
+}
+
+// An 8x8 PNG of four quadrants: red at the top left, green at the top
+// right, blue at the bottom left, white at the bottom right.
+fs::path quadrant_png(const fs::path& dir) {
+    std::vector<uint8_t> rgba(8 * 8 * 4);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const bool right = x >= 4, bottom = y >= 4;
+            const uint8_t c[4] = {uint8_t(!bottom || right ? 255 : 0), uint8_t(right ? 255 : 0),
+                                  uint8_t(bottom ? 255 : 0), 255};
+            std::memcpy(&rgba[size_t(y * 8 + x) * 4], c, 4);
+        }
+    const fs::path file = dir / "quadrants.png";
+    write_png_rows(file, rgba.data(), 8 * 4, 8, 8, 1);
+    return file;
+}
+
+TEST_CASE("glTF texture transforms, emissive strength, ior, specular and clear coat are drawn",
+          "[model][extensions]") {
+    SceneDir sd;
+    // KHR_texture_transform's own example: the lower left quadrant alone,
+    // turned 90 degrees.
+    const std::string placed =
+        "{\"index\": 0, \"extensions\": {\"KHR_texture_transform\": {\"offset\": [0, 1], "
+        "\"rotation\": 1.57079632679, \"scale\": [0.5, 0.5]}}}";
+    write_gltf(sd.dir / "layers.gltf",
+               "[{\"name\": \"coated\", \"pbrMetallicRoughness\": {\"baseColorTexture\": " + placed +
+                   ", \"metallicFactor\": 0, \"roughnessFactor\": 0.5}, \"emissiveFactor\": [0.1, 0.2, 0.3],"
+                   " \"extensions\": {\"KHR_materials_emissive_strength\": {\"emissiveStrength\": 4},"
+                   " \"KHR_materials_ior\": {\"ior\": 1.8},"
+                   " \"KHR_materials_specular\": {\"specularFactor\": 0.5, \"specularColorFactor\": [1, 0.5, 0.25],"
+                   " \"specularTexture\": {\"index\": 0}},"
+                   " \"KHR_materials_clearcoat\": {\"clearcoatFactor\": 0.75, \"clearcoatRoughnessFactor\": 0.2,"
+                   " \"clearcoatNormalTexture\": {\"index\": 0}}}},"
+                   " {\"name\": \"flat\", \"pbrMetallicRoughness\": {\"baseColorTexture\": " + placed + "},"
+                   " \"extensions\": {\"KHR_materials_unlit\": {}}}],"
+                   " \"extensionsUsed\": [\"KHR_texture_transform\", \"KHR_materials_emissive_strength\","
+                   " \"KHR_materials_ior\", \"KHR_materials_specular\", \"KHR_materials_clearcoat\","
+                   " \"KHR_materials_unlit\"]",
+               0, 1, false, "[{\"uri\": \"" + quadrant_png(sd.dir).string() + "\"}]",
+               "[{\"source\": 0, \"sampler\": 0}], \"samplers\": [{\"magFilter\": 9729, \"minFilter\": 9729,"
+               " \"wrapS\": 33071, \"wrapT\": 33071}]");  // bilinear, as the reference reads, and clamped
+    test::LogCapture log;
+    const Scene s = sd.load(std::string(kCameraAndLight) + "objects: [{mesh: layers.gltf}]\n");
+    const Material& coated = *s.objects[0].material_of(0);
+    CHECK(param(coated, "ior") == Approx(1.8f));
+    CHECK(param(coated, "specular") == Approx(0.5f));
+    CHECK(param(coated, "clearcoat") == Approx(0.75f));
+    CHECK(param(coated, "clearcoat_roughness") == Approx(0.2f));
+    float v[3];
+    std::memcpy(v, coated.block->bytes + coated.plugin->find_param("emissive")->offset, sizeof v);
+    CHECK(glm::vec3(v[0], v[1], v[2]) == glm::vec3(0.4f, 0.8f, 1.2f));  // times the strength
+    std::memcpy(v, coated.block->bytes + coated.plugin->find_param("specular_color")->offset, sizeof v);
+    CHECK(glm::vec3(v[0], v[1], v[2]) == glm::vec3(1.0f, 0.5f, 0.25f));
+    const UvTransform& t = coated.textures.at(0).transform;
+    CHECK(t.offset == glm::vec2(0.0f, 1.0f));
+    CHECK(t.rotation == Approx(1.5707963f));
+    CHECK(t.scale == glm::vec2(0.5f));
+    // What is left out is said.
+    CHECK_THAT(log.text(), Contains("clear coat normal texture") && Contains("specularTexture"));
+    // The unlit triangle (top left) shows the lower left quadrant only: blue.
+    Scene front = s;
+    front.camera.position = {0.0f, 0.0f, 3.0f};
+    front.camera.target = {0.0f, 0.0f, 0.0f};
+    Framebuffer fb;
+    Renderer(1).render(front, fb);
+    for (const glm::vec3 at : {glm::vec3(-0.8f, 0.6f, 0.0f), glm::vec3(-0.2f, 0.8f, 0.0f),
+                               glm::vec3(-0.7f, -0.5f, 0.0f), glm::vec3(0.5f, 0.8f, 0.0f)}) {
+        INFO("at " << at.x << ", " << at.y);
+        const glm::vec4 c = pixel_at(fb, front, at);
+        CHECK(c.r < 0.01f);
+        CHECK(c.g < 0.01f);
+        CHECK(c.b > 0.99f);
+    }
+    // The transformed textures, the coat and all, match the reference
+    // renderer (four samples a pixel: the quad's edges, blue on black, are
+    // most of the error).
+    Scene sampled = s;
+    sampled.settings.msaa = 4;
+    Framebuffer lit;
+    const reference::ImageError e = render_against_reference(sampled, lit);
+    CAPTURE(e.rmse, e.max, e.dssim);
+    CHECK(e.rmse < 0.05);
 }
 
 TEST_CASE("an OBJ whose material library is missing, or lacks its usemtl, is an error",

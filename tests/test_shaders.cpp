@@ -603,6 +603,16 @@ std::optional<dvec3> ref_mapped_normal(const Setup& s, const TextureBinding& map
 
 // ---- pbr -------------------------------------------------------------------------
 
+// A clear coat over a dielectric of another index and a tinted specular.
+Values layered(Values v) {
+    v["ior"] = {1.8};
+    v["specular"] = {0.7};
+    v["specular_color"] = {0.9, 1.0, 0.6};
+    v["clearcoat"] = {0.8};
+    v["clearcoat_roughness"] = {0.2};
+    return v;
+}
+
 Values pbr_values(double metallic, double roughness, bool base_texture, bool normal_map) {
     return receiving({{"base_color", {0.85, 0.6, 0.4, 0.9}},
                       {"base_texture", {double(base_texture)}},
@@ -616,38 +626,69 @@ Values pbr_values(double metallic, double roughness, bool base_texture, bool nor
                       {"emissive", {0.02, 0.01, 0.0}},
                       {"emissive_texture", {0.0}},
                       {"ambient", {0.05, 0.05, 0.06}},
+                      {"ior", {1.5}},
+                      {"specular", {1.0}},
+                      {"specular_color", {1.0, 1.0, 1.0}},
+                      {"clearcoat", {0.0}},
+                      {"clearcoat_roughness", {0.0}},
+                      {"clearcoat_texture", {0.0}},
+                      {"clearcoat_roughness_texture", {0.0}},
                       {"alpha_cutoff", {0.0}},
                       {"opaque_alpha", {0.0}}});
 }
 
-// glTF 2.0's metallic-roughness BRDF (its Appendix B), times pi, in double;
-// the ambient share from Karis's fit, as pbr.cpp documents it.
-dvec3 ref_pbr(const Setup& s, const Values& p, const dvec4& base, const dvec3& pos,
-              const dvec3& n, bool& near_edge) {
-    const double metallic = num(p, "metallic");
-    const double roughness = std::max(num(p, "roughness"), 0.03);
-    const dvec3 v = glm::normalize(dvec3(s.eye) - pos);
-    const double n_v = std::max(glm::dot(n, v), 1e-4);
-    const dvec3 c_diff = dvec3(base) * (1 - metallic);
-    const dvec3 f0 = glm::mix(dvec3(0.04), dvec3(base), metallic);
-    const double a2 = std::pow(roughness, 4);
-    const dvec4 r = roughness * dvec4(-1, -0.0275, -0.572, 0.022) + dvec4(1, 0.0425, 1.04, -0.04);
+// glTF 2.0's metallic-roughness BRDF (its Appendix B), times pi, in double,
+// with KHR_materials_ior, _specular and _clearcoat as their specifications
+// write them; the ambient share from Karis's fit, as pbr.cpp documents it.
+// n is the shading normal, coat_n the clear coat's (the interpolated one).
+struct RefLobe {
+    dvec3 c_diff, f0;
+    double f90, roughness;
+};
+
+// Uniform ambient light reflected by a lobe, at n.v.
+dvec3 ref_ambient(const Values& p, const RefLobe& lobe, double n_v) {
+    const dvec4 r = lobe.roughness * dvec4(-1, -0.0275, -0.572, 0.022) + dvec4(1, 0.0425, 1.04, -0.04);
     const double a = std::min(r.x * r.x, std::exp2(-9.28 * n_v)) * r.x + r.y;
-    dvec3 c = rgb(p, "emissive") + rgb(p, "ambient") * (c_diff + f0 * (-1.04 * a + r.z) + (1.04 * a + r.w));
+    return rgb(p, "ambient") * (lobe.c_diff + lobe.f0 * (-1.04 * a + r.z) + lobe.f90 * (1.04 * a + r.w));
+}
+
+// A lobe lit from unit direction l, times pi and n.l.
+dvec3 ref_lit(const RefLobe& lobe, const dvec3& n, const dvec3& v, const dvec3& l) {
+    const double n_l = std::max(glm::dot(n, l), 0.0), n_v = std::max(glm::dot(n, v), 1e-4);
+    if (n_l == 0) return dvec3(0);
+    const double a2 = std::pow(lobe.roughness, 4);
+    const dvec3 h = glm::normalize(l + v);
+    const double n_h = std::max(glm::dot(n, h), 0.0), v_h = std::max(glm::dot(v, h), 0.0);
+    const dvec3 f = lobe.f0 + (lobe.f90 - lobe.f0) * std::pow(1 - v_h, 5);
+    const double d = a2 / (M_PI * std::pow(n_h * n_h * (a2 - 1) + 1, 2));
+    const double vis = 0.5 / (n_l * std::sqrt(n_v * n_v * (1 - a2) + a2) +
+                              n_v * std::sqrt(n_l * n_l * (1 - a2) + a2));
+    return n_l * ((1.0 - f) * lobe.c_diff + M_PI * f * d * vis);
+}
+
+dvec3 ref_pbr(const Setup& s, const Values& p, const dvec4& base, const dvec3& pos,
+              const dvec3& n, const dvec3& coat_n, bool& near_edge) {
+    const double metallic = num(p, "metallic"), weight = num(p, "specular");
+    const double r0 = std::pow((num(p, "ior") - 1) / (num(p, "ior") + 1), 2);
+    const dvec3 dielectric = glm::min(r0 * rgb(p, "specular_color"), dvec3(1)) * weight;
+    const RefLobe lobe{dvec3(base) * (1 - metallic), glm::mix(dielectric, dvec3(base), metallic),
+                       weight + (1 - weight) * metallic, std::max(num(p, "roughness"), 0.03)};
+    const RefLobe coat{dvec3(0), dvec3(1), 1.0, std::max(num(p, "clearcoat_roughness"), 0.03)};
+    const dvec3 v = glm::normalize(dvec3(s.eye) - pos);
+    // KHR_materials_clearcoat's fresnel_coat: mix(base, layer, clearcoat * Fr(n_c.v)).
+    const double w = num(p, "clearcoat") *
+                     (0.04 + 0.96 * std::pow(1 - std::max(glm::dot(coat_n, v), 1e-4), 5));
+    dvec3 c = (1 - w) * ref_ambient(p, lobe, std::max(glm::dot(n, v), 1e-4)) +
+              w * ref_ambient(p, coat, std::max(glm::dot(coat_n, v), 1e-4));
     for (const facet_light& l : s.lights) {
         const RefLight in = ref_light(l, pos);
         near_edge |= in.near_range;
-        const double n_l = glm::dot(n, in.to_light);
-        if (n_l <= 0) continue;
-        const dvec3 h = glm::normalize(in.to_light + v);
-        const double n_h = std::max(glm::dot(n, h), 0.0), v_h = std::max(glm::dot(v, h), 0.0);
-        const dvec3 f = f0 + (1.0 - f0) * std::pow(1 - v_h, 5);
-        const double d = a2 / (M_PI * std::pow(n_h * n_h * (a2 - 1) + 1, 2));
-        const double vis = 0.5 / (n_l * std::sqrt(n_v * n_v * (1 - a2) + a2) +
-                                  n_v * std::sqrt(n_l * n_l * (1 - a2) + a2));
-        c += in.radiance * n_l * ((1.0 - f) * c_diff + M_PI * f * d * vis);
+        if (glm::dot(n, in.to_light) <= 0) continue;  // the base's side of the light
+        c += in.radiance * ((1 - w) * ref_lit(lobe, n, v, in.to_light) +
+                            w * ref_lit(coat, coat_n, v, in.to_light));
     }
-    return c;
+    return rgb(p, "emissive") + c;
 }
 
 // Whether the quad's front faces the camera at the hit (the pipeline's
@@ -667,6 +708,7 @@ Reference pbr_reference(const Setup& s, const Values& p, const TextureBinding* b
         dvec3 n = glm::normalize(interpolate(h, nrm));
         dvec4 t = interpolate(h, tan);
         if (!quad_front(s, h)) n = -n, t = -t;
+        const dvec3 geometric = n;
         if (normal_map) {
             const std::optional<dvec3> mapped =
                 ref_mapped_normal(s, *normal_map, num(p, "normal_scale"), h, n, t);
@@ -675,7 +717,7 @@ Reference pbr_reference(const Setup& s, const Values& p, const TextureBinding* b
         }
         const dvec4 base = rgba(p, "base_color") * *texel;
         bool near_edge = false;
-        const dvec3 c = ref_pbr(s, p, base, h.world, n, near_edge);
+        const dvec3 c = ref_pbr(s, p, base, h.world, n, geometric, near_edge);
         if (near_edge) return std::nullopt;
         return dvec4(c, num(p, "opaque_alpha") != 0 ? 1.0 : base.a);
     };
@@ -816,6 +858,7 @@ TEST_CASE("fragment_wide matches the shader's own scalar fragment (phong, unlit,
         {"pbr", pbr_values(1.0, 0.25, true, false), true},
         {"pbr", with_ao(pbr_values(0.3, 0.7, true, false)), true},
         {"pbr", cutout(pbr_values(0.0, 0.6, true, false), 0.5), true},
+        {"pbr", layered(pbr_values(0.2, 0.5, true, false)), true},
         // Normal maps.
         {"pbr", pbr_values(0.5, 0.4, true, true), true, 2},
         {"lit", mapped(lit_values(true, true)), true, 1},
@@ -905,12 +948,41 @@ TEST_CASE("pbr.so matches glTF's metallic-roughness BRDF with directional, point
                                                    c.mapped ? &normals : nullptr)),
                       1500);
     }
+    // An index of refraction, a tinted and weakened specular, and clear
+    // coats, over a dielectric and a metal, with and without a normal map
+    // (the coat keeps the interpolated normal).
+    struct Layered {
+        double metallic, ior, specular, clearcoat, coat_roughness;
+        bool mapped;
+    };
+    for (const Layered c : {Layered{0.0, 1.9, 0.6, 0.0, 0.0, false}, Layered{0.0, 1.5, 1.0, 1.0, 0.1, false},
+                            Layered{1.0, 1.5, 1.0, 0.7, 0.5, true}, Layered{0.2, 2.4, 0.8, 0.5, 0.3, true}}) {
+        INFO("metallic " << c.metallic << ", ior " << c.ior << ", specular " << c.specular
+                         << ", clearcoat " << c.clearcoat << " of roughness " << c.coat_roughness
+                         << ", normal map " << c.mapped);
+        Values p = pbr_values(c.metallic, 0.4, false, c.mapped);
+        p["ior"] = {c.ior};
+        p["specular"] = {c.specular};
+        p["specular_color"] = {1.0, 0.7, 0.4};
+        p["clearcoat"] = {c.clearcoat};
+        p["clearcoat_roughness"] = {c.coat_roughness};
+        std::vector<TextureBinding> slots(7);
+        if (c.mapped) slots[2] = normals;
+        const Framebuffer fb = draw(s, *pbr, make_block(*pbr, p), slots.data(), 7);
+        require_match(compare(s, fb, pbr_reference(s, p, nullptr, c.mapped ? &normals : nullptr)), 1500);
+    }
     // Metal and roughness both show.
     auto image = [&](double metallic, double roughness) {
         return draw(s, *pbr, make_block(*pbr, pbr_values(metallic, roughness, false, false)));
     };
     CHECK(max_difference(image(0.0, 0.4), image(1.0, 0.4)) > 10);
     CHECK(max_difference(image(1.0, 0.2), image(1.0, 0.7)) > 10);
+    // So do a coat and a weaker specular.
+    Values coated = pbr_values(0.0, 0.6, false, false), dull = pbr_values(0.0, 0.2, false, false);
+    coated["clearcoat"] = {1.0};
+    dull["specular"] = {0.0};
+    CHECK(max_difference(draw(s, *pbr, make_block(*pbr, coated)), image(0.0, 0.6)) > 10);
+    CHECK(max_difference(draw(s, *pbr, make_block(*pbr, dull)), image(0.0, 0.2)) > 10);
 }
 
 TEST_CASE("lit, phong and toon bend their normal by a normal map in the glTF convention",
@@ -1280,29 +1352,43 @@ TEST_CASE("a shader samples a texture where it wants as the host samples it for 
     generate_mipmaps(*t);
     Setup s = quad_setup();
     for (glm::vec2& uv : s.mesh.uvs) uv *= 4.0f;
-    const TextureBinding binding{t, Filter::trilinear, Wrap::repeat};
+    // And the same placed by a transform (`transform:`, KHR_texture_transform):
+    // an equal scale, whose level of detail the host shifts exactly for a
+    // shader that samples itself.
+    UvTransform placed;
+    placed.offset = {0.3f, -0.2f};
+    placed.rotation = 0.5f;
+    placed.scale = {0.35f, 0.35f};
     const auto presampled = test::plugin<Presampled>(), sampled = test::plugin<SelfSampled>();
     const ParamBlock a = make_block(*presampled, {{"tex", {1.0}}});
     const ParamBlock b = make_block(*sampled, {{"img", {1.0}}});
-    for (const Isa isa : supported_isas()) {
-        INFO("path " << isa_name(isa));
-        const auto render = [&](const ShaderPlugin& shader, const ParamBlock& block) {
-            Framebuffer fb(s.width, s.height);
-            fb.clear(glm::vec4(0.0f), 0.0f);
-            DrawCall call;
-            call.mesh = &s.mesh, call.shader = &shader, call.params = block.bytes;
-            call.textures = &binding, call.texture_count = 1;
-            call.model = s.model, call.view = s.view, call.projection = s.projection;
-            call.state.cull = CullMode::none;
-            FrameStats stats;
-            Pipeline(1, isa).draw(call, fb, stats);
-            return fb;
-        };
-        const Framebuffer host = render(*presampled, a), own = render(*sampled, b);
-        CHECK(max_difference(host, own) <= 1);
-        // The stripes show, blurred where the levels of detail rise.
-        std::set<int> codes;
-        for (const uint8_t c : own.resolve_srgb8()) codes.insert(c);
-        CHECK(codes.size() > 60);
+    const auto render = [&](const ShaderPlugin& shader, const ParamBlock& block,
+                            const TextureBinding& binding, Isa isa) {
+        Framebuffer fb(s.width, s.height);
+        fb.clear(glm::vec4(0.0f), 0.0f);
+        DrawCall call;
+        call.mesh = &s.mesh, call.shader = &shader, call.params = block.bytes;
+        call.textures = &binding, call.texture_count = 1;
+        call.model = s.model, call.view = s.view, call.projection = s.projection;
+        call.state.cull = CullMode::none;
+        FrameStats stats;
+        Pipeline(1, isa).draw(call, fb, stats);
+        return fb;
+    };
+    Framebuffer plain;
+    for (const UvTransform& transform : {UvTransform{}, placed}) {
+        const TextureBinding binding{t, Filter::trilinear, Wrap::repeat, transform};
+        for (const Isa isa : supported_isas()) {
+            INFO("path " << isa_name(isa) << ", transformed " << !transform.identity());
+            const Framebuffer host = render(*presampled, a, binding, isa),
+                              own = render(*sampled, b, binding, isa);
+            CHECK(max_difference(host, own) <= 1);
+            if (transform.identity()) plain = host;
+            else CHECK(max_difference(host, plain) > 50);  // the transform shows
+            // The stripes show, blurred where the levels of detail rise.
+            std::set<int> codes;
+            for (const uint8_t c : own.resolve_srgb8()) codes.insert(c);
+            CHECK(codes.size() > 60);
+        }
     }
 }

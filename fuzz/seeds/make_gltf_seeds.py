@@ -141,13 +141,20 @@ def textured(b):
 def extensions(b):
     doc = base([{"primitives": [primitive(b, 0), primitive(b, 1), primitive(b, 2)]}])
     doc["extensionsUsed"] = ["KHR_materials_unlit", "KHR_texture_transform",
-                             "KHR_materials_emissive_strength", "KHR_materials_pbrSpecularGlossiness"]
+                             "KHR_materials_emissive_strength", "KHR_materials_pbrSpecularGlossiness",
+                             "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat"]
     doc["materials"] = [
         {"name": "flat", "extensions": {"KHR_materials_unlit": {}},
          "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}},
         {"name": "moved", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {
             "KHR_texture_transform": {"offset": [0.5, 0], "scale": [2, 2], "rotation": 0.3}}}},
-         "emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}},
+         "emissiveFactor": [1, 1, 1], "extensions": {
+             "KHR_materials_emissive_strength": {"emissiveStrength": 4},
+             "KHR_materials_ior": {"ior": 1.7},
+             "KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1, 0.5, 0.5]},
+             "KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.2,
+                                         "clearcoatTexture": {"index": 0, "extensions": {
+                                             "KHR_texture_transform": {"scale": [4, 4], "texCoord": 0}}}}}},
         {"name": "old", "extensions": {"KHR_materials_pbrSpecularGlossiness": {
             "diffuseFactor": [0.5, 0.5, 0.5, 1], "glossinessFactor": 0.2}}}]
     doc["textures"] = [{"source": 0}]

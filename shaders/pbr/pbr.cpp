@@ -5,16 +5,25 @@
 //     base      = base_color * base_texture                 (sRGB; alpha too)
 //     metallic  = metallic  * metallic_roughness_texture.b  (linear)
 //     roughness = roughness * metallic_roughness_texture.g, at least 0.03
-//     c_diff = base.rgb * (1 - metallic),  f0 = mix(0.04, base.rgb, metallic)
+//     c_diff = base.rgb * (1 - metallic)
+//     f0  = mix(min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular, base.rgb, metallic)
+//     f90 = mix(specular, 1, metallic)      (KHR_materials_ior and _specular;
+//                                            by default f0 = 0.04, f90 = 1)
 //     a = roughness^2,  h = normalize(L + v)
-//     F = f0 + (1 - f0) (1 - v.h)^5                          (Schlick)
+//     F = f0 + (f90 - f0) (1 - v.h)^5                        (Schlick)
 //     D = a^2 / (pi ((n.h)^2 (a^2 - 1) + 1)^2)               (GGX, Trowbridge-Reitz)
 //     V = 0.5 / (n.L sqrt((n.v)^2 (1 - a^2) + a^2)
 //              + n.v sqrt((n.L)^2 (1 - a^2) + a^2))          (Smith, height-correlated)
 //     colour = emissive * emissive_texture
-//            + ambient * (c_diff + f0 * A + B) * occlusion       (no environment)
-//            + (c_diff E(n) + S(r, roughness) (f0 A + B)) * occlusion  (an environment)
+//            + ambient * (c_diff + f0 * A + f90 * B) * occlusion       (no environment)
+//            + (c_diff E(n) + S(r, roughness) (f0 A + f90 B)) * occlusion  (an environment)
 //            + sum over lights of radiance * n.L * ((1 - F) c_diff + pi F D V)
+//
+// A clear coat (KHR_materials_clearcoat) lies over all but the emission:
+// with w = clearcoat * clearcoat_texture.r * (0.04 + 0.96 (1 - n.v)^5),
+// the base's light is times (1 - w), and w times a GGX lobe of
+// clearcoat_roughness (times clearcoat_roughness_texture.g) with F = 1 is
+// added, lit as the base is. The coat follows the interpolated normal.
 //
 // The lights' term is pi times the BRDF's, so that a light's intensity
 // means what it means to lit and phong: a white Lambertian surface facing a
@@ -71,6 +80,16 @@ struct Pbr {
         (color3, emissive, {0.0f, 0.0f, 0.0f}, "linear RGB the surface emits"),
         (texture, emissive_texture, "uv", srgb, "colour texture (sRGB) multiplying emissive"),
         (color3, ambient, {0.03f, 0.03f, 0.03f}, "light arriving equally from everywhere"),
+        (float1, ior, 1.5f, 1.0f, 10.0f, "a dielectric's index of refraction (glTF KHR_materials_ior)"),
+        (float1, specular, 1.0f, 0.0f, 1.0f,
+         "a dielectric's specular weight (glTF KHR_materials_specular): 0 none"),
+        (color3, specular_color, {1.0f, 1.0f, 1.0f},
+         "tints a dielectric's reflectance at normal incidence (KHR_materials_specular)"),
+        (float1, clearcoat, 0.0f, 0.0f, 1.0f, "a clear coat's strength: 0 none (KHR_materials_clearcoat)"),
+        (float1, clearcoat_roughness, 0.0f, 0.0f, 1.0f, "the clear coat's perceptual roughness"),
+        (texture, clearcoat_texture, "uv", linear, "clear coat strength in R (linear), multiplying clearcoat"),
+        (texture, clearcoat_roughness_texture, "uv", linear,
+         "clear coat roughness in G (linear), multiplying clearcoat_roughness"),
         (cutoff, alpha_cutoff),
         (boolean, opaque_alpha, false,
          "write alpha 1 (glTF's OPAQUE and MASK) rather than the base alpha"),
@@ -84,6 +103,7 @@ struct Pbr {
     struct Surface {
         Vec3 n, v;
         Vec3 c_diff, f0;
+        Float f90;
         Float a2;  // roughness^4: alpha squared
         Float n_v;
     };
@@ -94,7 +114,7 @@ struct Pbr {
         const Float n_h = max(dot(s.n, h), splat(0.0f));
         const Float v_h = max(dot(s.v, h), splat(0.0f));
         const Float q = 1.0f - v_h, q2 = q * q;
-        const Vec3 f = s.f0 + (1.0f - s.f0) * (q2 * q2 * q);
+        const Vec3 f = s.f0 + (s.f90 - s.f0) * (q2 * q2 * q);
         const Float k = n_h * n_h * (s.a2 - 1.0f) + 1.0f;
         const Float d = s.a2 / (k * k);  // times pi: the pi of D cancels
         const Float vis = 0.5f / (n_l * sqrt(s.n_v * s.n_v * (1.0f - s.a2) + s.a2) +
@@ -109,7 +129,37 @@ struct Pbr {
         const Float rz = 1.04f - 0.572f * roughness, rw = 0.022f * roughness - 0.04f;
         const Float a = min(rx * rx, exp2(-9.28f * s.n_v)) * rx + ry;
         const Float scale = -1.04f * a + rz, bias = 1.04f * a + rw;
-        return s.c_diff + s.f0 * scale + bias;
+        return s.c_diff + s.f0 * scale + s.f90 * bias;
+    }
+
+    // A dielectric's reflectance at normal incidence (KHR_materials_ior and
+    // _specular): in double, so that the default index 1.5 gives glTF's 0.04.
+    static glm::vec3 dielectric_f0(const Params& p) {
+        const double r = (double(p.ior) - 1.0) / (double(p.ior) + 1.0);
+        return glm::min(float(r * r) * p.specular_color, glm::vec3(1.0f)) * p.specular;
+    }
+
+    // The clear coat: a surface of its own (F = 1: its Fresnel is in its
+    // weight) and that weight, w; none where p.clearcoat is 0.
+    struct Coat {
+        Surface s;
+        Float roughness, w;
+    };
+    static Coat coat_of(const Params& p, Fragment& f, const Vec3& n, const Vec3& v) {
+        Coat c;
+        c.s.n = n;
+        c.s.v = v;
+        c.s.n_v = max(dot(n, v), splat(1e-4f));
+        c.s.c_diff = Vec3(splat(0.0f));
+        c.s.f0 = Vec3(splat(1.0f));
+        c.s.f90 = splat(1.0f);
+        c.roughness = max(f.texture(p.clearcoat_roughness_texture).y * p.clearcoat_roughness,
+                          splat(kMinRoughness));
+        const Float a = c.roughness * c.roughness;
+        c.s.a2 = a * a;
+        const Float q = 1.0f - c.s.n_v, q2 = q * q;
+        c.w = f.texture(p.clearcoat_texture).x * p.clearcoat * (0.04f + 0.96f * (q2 * q2 * q));
+        return c;
     }
 
     // Two versions: one that receives shadows and AO, and one for draws that
@@ -127,6 +177,7 @@ struct Pbr {
         const Float roughness = max(mr.y * p.roughness, splat(kMinRoughness));
         Vec3 n = normalize(v.normal);
         if (!f.front_facing) n = -n;
+        const Vec3 geometric = n;
         if (p.normal_texture) {  // the tangent is read (and interpolated) only then
             const Vec4 t = f.front_facing ? v.tangent : -v.tangent;
             n = normal_mapped(n, t, f.texture(p.normal_texture), p.normal_scale);
@@ -137,21 +188,20 @@ struct Pbr {
         s.n_v = max(dot(n, s.v), splat(1e-4f));
         const Vec3 albedo = rgb(base);
         s.c_diff = albedo * (1.0f - metallic);
-        s.f0 = mix(Vec3(splat(0.04f)), albedo, metallic);
+        s.f0 = mix(Vec3(dielectric_f0(p)), albedo, metallic);
+        s.f90 = p.specular + (1.0f - p.specular) * metallic;
         const Float a = roughness * roughness;
         s.a2 = a * a;
+        const bool coated = p.clearcoat > 0.0f;
+        const Coat coat = coated ? coat_of(p, f, geometric, s.v) : Coat{};
         Float occlusion = 1.0f + p.occlusion_strength * (f.texture(p.occlusion_texture).x - 1.0f);
         if constexpr (Receives) occlusion = occlusion * ambient_visibility(f, p.receive);
         Vec3 c = p.emissive * rgb(f.texture(p.emissive_texture));
-        if (const Environment env = environment_of(f)) {
-            const Vec2 ab = env.brdf(s.n_v, roughness);
-            // The lobe's peak leans from the mirror direction towards n as it
-            // widens (the dominant direction: Lagarde and de Rousiers 2014).
-            const Vec3 towards = mix(reflect(-s.v, n), n, a);
-            const Vec3 specular = env.specular(towards, roughness) * (s.f0 * ab.x + ab.y);
-            c += (s.c_diff * env.irradiance(n) + specular) * occlusion;
+        if (coated) {
+            c += ambient_light(s, roughness, f, p) * occlusion * (1.0f - coat.w) +
+                 ambient_light(coat.s, coat.roughness, f, p) * (occlusion * coat.w);
         } else {
-            c += p.ambient * ambient_share(s, roughness) * occlusion;
+            c += ambient_light(s, roughness, f, p) * occlusion;
         }
         for (uint32_t i = 0; i < d.light_count(); ++i) {
             const Incident in = incident_light(d.light(i), v.position);
@@ -161,10 +211,27 @@ struct Pbr {
             // Lanes facing away take n.L of 1 here, and their term is dropped below.
             const Float n_l_safe = select(reached, n_l, splat(1.0f));
             Vec3 lit = in.radiance * reflected(s, in.to_light, n_l_safe);
+            if (coated) {
+                const Float coat_l = max(dot(coat.s.n, in.to_light), splat(0.0f));
+                lit = lit * (1.0f - coat.w) + in.radiance * reflected(coat.s, in.to_light, coat_l) * coat.w;
+            }
             if constexpr (Receives) lit = lit * light_visibility(d, i, p.receive, v.position, n_l);
             c += select(reached, lit, Vec3(splat(0.0f)));
         }
         return {c, p.opaque_alpha ? splat(1.0f) : base.w};
+    }
+
+    // Light arriving from all around, reflected towards v: the scene's
+    // environment, or else its uniform ambient.
+    static Vec3 ambient_light(const Surface& s, const Float& roughness, Fragment& f, const Params& p) {
+        const Environment env = environment_of(f);
+        if (!env) return p.ambient * ambient_share(s, roughness);
+        const Vec2 ab = env.brdf(s.n_v, roughness);
+        // The lobe's peak leans from the mirror direction towards n as it
+        // widens (the dominant direction: Lagarde and de Rousiers 2014).
+        const Vec3 towards = mix(reflect(-s.v, s.n), s.n, roughness * roughness);
+        const Vec3 specular = env.specular(towards, roughness) * (s.f0 * ab.x + s.f90 * ab.y);
+        return s.c_diff * env.irradiance(s.n) + specular;
     }
 };
 

@@ -66,15 +66,30 @@ void oracle_info(const facet_draw* draw, uint32_t slot, facet_texture_info* out)
     }
 }
 
+// Where a texture parameter's `transform:` reads it: KHR_texture_transform's
+// matrix, translation * rotation * scale, in double.
+glm::dvec2 oracle_placed(const UvTransform& t, double u, double v) {
+    const double c = std::cos(double(t.rotation)), s = std::sin(double(t.rotation));
+    const glm::dmat3 translation(1, 0, 0, 0, 1, 0, t.offset.x, t.offset.y, 1);  // by columns
+    const glm::dmat3 rotation(c, -s, 0, s, c, 0, 0, 0, 1);
+    const glm::dmat3 scale(t.scale.x, 0, 0, 0, t.scale.y, 0, 0, 0, 1);
+    return glm::dvec2(translation * rotation * scale * glm::dvec3(u, v, 1.0));
+}
+
 void oracle_sample(const facet_draw* draw, uint32_t slot, const float* coords, const float* lod,
                    uint32_t count, uint32_t mask, float* rgba) {
     const TextureBinding* b = oracle_bound(draw, slot);
     for (uint32_t i = 0; i < count; ++i) {
         glm::vec4 c(0.0f);
         if (mask >> i & 1u) {
-            const float l = lod ? lod[i] : 0.0f;
-            const glm::vec3 at(coords[i], coords[count + i],
-                               b && b->texture->faces == 6 ? coords[2 * count + i] : 0.0f);
+            float l = lod ? lod[i] : 0.0f;
+            glm::vec3 at(coords[i], coords[count + i],
+                         b && b->texture->faces == 6 ? coords[2 * count + i] : 0.0f);
+            if (b && b->texture->faces != 6) {  // the level scales with the transform's area
+                at = glm::vec3(oracle_placed(b->transform, at.x, at.y), 0.0f);
+                const double area = std::abs(double(b->transform.scale.x) * b->transform.scale.y);
+                if (area > 0.0) l += float(0.5 * std::log2(area));
+            }
             c = !b                          ? glm::vec4(1.0f)
                 : b->texture->faces == 6    ? sample_cube(*b, at, l)
                                             : sample_lod(*b, glm::vec2(at), l);
@@ -317,7 +332,12 @@ private:
                 continue;
             }
             const float* u = varyings_ + p.shader->texture_uv_float(s) * N;
-            sample_many(*t, u, u + N, N, out);
+            float placed[2 * N];
+            for (int i = 0; i < N; ++i) {
+                const glm::dvec2 uv = oracle_placed(t->transform, u[i], u[N + i]);
+                placed[i] = float(uv.x), placed[N + i] = float(uv.y);
+            }
+            sample_many(*t, placed, placed + N, N, out);
         }
     }
 

@@ -53,6 +53,7 @@ struct MaterialParam {
     std::vector<std::filesystem::path> cube_faces;
     Filter filter = Filter::trilinear;   // texture: nearest | bilinear | trilinear
     Wrap wrap = Wrap::repeat;            // texture
+    UvTransform transform;               // texture: a 2D one's placement on its UVs
     int line = 0;                 // 1-based position in the file
     int column = 0;
 };

@@ -23,6 +23,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace facet {
@@ -184,10 +185,37 @@ private:
     std::map<std::string, std::shared_ptr<const std::string>> encoded_;
 };
 
+// Where a 2D texture lies on its UVs (a texture parameter's `transform:`),
+// as glTF's KHR_texture_transform defines it: the texture is read at
+// uv' = offset + R * S * uv, S scaling u and v, R = [cos r, sin r;
+// -sin r, cos r] (row by row). Its UVs are the mesh's, v down the rows, as
+// glTF's are.
+struct UvTransform {
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f;  // radians
+    glm::vec2 scale{1.0f};
+
+    bool identity() const { return offset == glm::vec2(0.0f) && rotation == 0.0f && scale == glm::vec2(1.0f); }
+    // u' = m[0] u + m[1] v + offset.x, v' = m[2] u + m[3] v + offset.y
+    std::array<float, 4> matrix() const;
+    // Applied to `count` lanes: u[i], v[i] to out_u[i], out_v[i].
+    void apply(const float* u, const float* v, int count, float* out_u, float* out_v) const;
+    // What the transform adds to a level of detail taken from the
+    // untransformed UVs' derivatives: log2 of its mean scale,
+    // sqrt(|scale.x scale.y|) (exact for equal scales, at any rotation).
+    float lod_shift() const;
+};
+
 struct TextureBinding {
+    TextureBinding() = default;
+    TextureBinding(std::shared_ptr<const Texture> t, Filter f = Filter::trilinear,
+                   Wrap w = Wrap::repeat, UvTransform placed = {})
+        : texture(std::move(t)), filter(f), wrap(w), transform(placed) {}
+
     std::shared_ptr<const Texture> texture;
     Filter filter = Filter::trilinear;
     Wrap wrap = Wrap::repeat;
+    UvTransform transform;  // 2D textures only
 };
 
 // The scalar reference sampler: plain per-lane code over the 8-bit levels,

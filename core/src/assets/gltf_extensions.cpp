@@ -16,8 +16,9 @@ namespace {
 // buffers inline in base64 can be hundreds of MiB).
 constexpr uint64_t kMaxJson = 64ull << 20;
 
-// The file's JSON: the .gltf's text, or a GLB's first chunk if it is JSON.
-std::string json_text(const std::filesystem::path& path) {
+}  // namespace
+
+std::string gltf_json_text(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     char header[20] = {};
     if (!in.read(header, sizeof header)) return {};
@@ -37,6 +38,8 @@ std::string json_text(const std::filesystem::path& path) {
     text.resize(size_t(in.gcount()));
     return text;
 }
+
+namespace {
 
 // The strings of the JSON array that follows `"key"` and a colon, or none.
 std::vector<std::string> string_array(std::string_view json, std::string_view key) {
@@ -58,7 +61,10 @@ std::vector<std::string> string_array(std::string_view json, std::string_view ke
     return out;
 }
 
-// What assimp 5.2.5 (Debian 12's) reads of each, and what facet draws of it.
+// What facet draws of each: what assimp 5.2.5 (Debian 12's) reads, and
+// what facet reads itself (gltf_materials.hpp). What a material leaves out
+// of one that is drawn (a clear coat's normal texture, a texture of a
+// second UV set, ...) is said for that material.
 constexpr std::pair<const char*, const char*> kUses[] = {
     {"KHR_materials_unlit", "drawn"},
     {"KHR_draco_mesh_compression", "drawn"},
@@ -66,14 +72,14 @@ constexpr std::pair<const char*, const char*> kUses[] = {
     {"KHR_xmp_json_ld", "drawn"},
     {"KHR_materials_pbrSpecularGlossiness",
      "approximated: as metallic-roughness (its diffuse as the base, roughness 1 - glossiness)"},
-    {"KHR_texture_transform", "left out: each texture is placed by the file's own UVs"},
-    {"KHR_materials_emissive_strength", "left out: emission keeps its factor's strength"},
-    {"KHR_materials_clearcoat", "left out: no clear coat is drawn over the base layer"},
+    {"KHR_texture_transform", "drawn"},
+    {"KHR_materials_emissive_strength", "drawn"},
+    {"KHR_materials_clearcoat", "drawn"},
     {"KHR_materials_sheen", "left out: no sheen is drawn"},
     {"KHR_materials_transmission", "left out: the surface is drawn opaque"},
     {"KHR_materials_volume", "left out: the surface is drawn without its volume"},
-    {"KHR_materials_ior", "left out: every dielectric has an index of 1.5"},
-    {"KHR_materials_specular", "left out: the dielectric's specular keeps its default"},
+    {"KHR_materials_ior", "drawn"},
+    {"KHR_materials_specular", "drawn"},
     {"KHR_materials_iridescence", "left out: no iridescence is drawn"},
     {"KHR_materials_anisotropy", "left out: highlights are isotropic"},
     {"KHR_materials_variants", "left out: the default materials are drawn"},
@@ -87,7 +93,7 @@ constexpr std::pair<const char*, const char*> kUses[] = {
 }  // namespace
 
 std::optional<std::vector<std::string>> gltf_extensions_used(const std::filesystem::path& path) {
-    const std::string json = json_text(path);
+    const std::string json = gltf_json_text(path);
     if (json.empty()) return std::nullopt;
     return string_array(json, "extensionsUsed");
 }

@@ -16,6 +16,11 @@
 
 namespace facet {
 
+// The file's JSON: the .gltf's text, or a GLB's first chunk if it is JSON;
+// "" when it cannot be read or is over 64 MiB (a .gltf with its buffers
+// inline in base64 can be hundreds of MiB).
+std::string gltf_json_text(const std::filesystem::path& path);
+
 // Nothing when its JSON cannot be read, or is over 64 MiB.
 std::optional<std::vector<std::string>> gltf_extensions_used(const std::filesystem::path& path);
 

@@ -17,9 +17,39 @@ namespace {
 
 // ---- parsing -----------------------------------------------------------------
 
-// {file: ...} or, for a cube map, {faces: [six files]}; filter and wrap.
+// A 2D texture's `transform: {offset: [u, v], rotation: radians, scale:
+// [u, v]}` (UvTransform), each part optional; within 1e6 of the UVs' own
+// scale, past which float UVs have no precision left to place a texel.
+UvTransform parse_uv_transform(const yaml::Context& ctx, const YAML::Node& node) {
+    yaml::check_map(ctx, node, "a texture's transform", {"offset", "rotation", "scale"});
+    UvTransform t;
+    const auto within = [&](const YAML::Node& at, float v, const char* what) {
+        yaml::ensure(std::abs(v) <= 1e6f, ctx, at, ErrorCode::out_of_range,
+                     std::string(what) + " " + at.Scalar() + " is past 1e6");
+        return v;
+    };
+    for (const char* key : {"offset", "scale"}) {
+        const YAML::Node pair = node[key];
+        if (!pair) continue;
+        const glm::vec2 v = yaml::as<glm::vec2>(ctx, pair);
+        const YAML::Node u = pair[0], w = pair[1];  // named: a temporary's Scalar() outlived it
+        const glm::vec2 checked(within(u, v.x, key), within(w, v.y, key));
+        (key[0] == 'o' ? t.offset : t.scale) = checked;
+    }
+    if (const YAML::Node r = node["rotation"]) t.rotation = within(r, yaml::as<float>(ctx, r), "rotation");
+    return t;
+}
+
+// {file: ...} or, for a cube map, {faces: [six files]}; filter, wrap and
+// a 2D texture's transform.
 void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, MaterialParam& p) {
-    yaml::check_map(ctx, node, "texture", {"file", "faces", "filter", "wrap"});
+    yaml::check_map(ctx, node, "texture", {"file", "faces", "filter", "wrap", "transform"});
+    if (const YAML::Node transform = node["transform"]) {
+        if (node["faces"])
+            throw yaml::error(ctx, transform, ErrorCode::config_invalid,
+                              "a cube map is read by direction: it has no UVs to transform");
+        p.transform = parse_uv_transform(ctx, transform);
+    }
     if (const YAML::Node faces = node["faces"]) {
         if (node["file"])
             throw yaml::error(ctx, node, ErrorCode::config_invalid,
@@ -268,7 +298,7 @@ TextureBinding load_binding(const std::string& m, const MaterialParam& p,
             return {cache.get_cube(p.cube_faces.empty() ? std::vector{p.texture_file} : p.cube_faces,
                                    srgb),
                     p.filter, p.wrap};
-        return {cache.get(p.texture_file, srgb), p.filter, p.wrap};
+        return {cache.get(p.texture_file, srgb), p.filter, p.wrap, p.transform};
     } catch (const Error& e) {
         throw yaml::relocated(e, m, p.line, p.column);
     }

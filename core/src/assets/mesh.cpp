@@ -8,6 +8,7 @@
 #include "assets/mesh_animation.hpp"
 #include "assets/mesh_cameras.hpp"
 #include "assets/mesh_import.hpp"
+#include "assets/gltf_materials.hpp"
 #include "assets/mesh_materials.hpp"
 #include "assets/tangents.hpp"
 #include "assets/glb_check.hpp"
@@ -315,8 +316,10 @@ Mesh import_mesh(const std::filesystem::path& path) {
     append_node(*scene, *scene->mRootNode, glm::mat4(1.0f), find_layout(*scene), animated, names,
                 mesh, placed_by);
     if (animated.nodes) keep_animation(*scene, nodes, placed_by, mesh);
+    const GltfMaterials extensions = is_gltf(path) ? read_gltf_materials(path) : GltfMaterials{};
+    mesh.notes += extensions.notes;
     for (unsigned i = 0; i < scene->mNumMaterials; ++i)
-        mesh.materials.push_back(import_material(*scene, i, path));
+        mesh.materials.push_back(import_material(*scene, i, path, &extensions));
     mesh.images = embedded_images(*scene);
     mesh.cameras = import_cameras(*scene, path);
     // assimp gives parts of a file without materials (an OBJ without .mtl)

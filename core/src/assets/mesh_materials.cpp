@@ -1,8 +1,9 @@
 // A mesh file's materials as facet materials (mesh_materials.hpp).
 #include "assets/mesh_materials.hpp"
 
+#include "assets/gltf_materials.hpp"
+
 #include <assimp/GltfMaterial.h>
-#include <assimp/material.h>
 #include <assimp/material.h>
 #include <assimp/scene.h>
 #include <assimp/texture.h>
@@ -25,6 +26,7 @@ struct TextureRef {
     std::string file;
     std::string filter = "trilinear";
     std::string wrap = "repeat";
+    UvTransform transform;
 };
 
 std::string lower(std::string s) {
@@ -34,8 +36,9 @@ std::string lower(std::string s) {
 
 class Mapper {
 public:
-    Mapper(const aiScene& scene, const aiMaterial& m, std::string file_name, unsigned index)
-        : scene_(scene), m_(m), file_name_(std::move(file_name)) {
+    Mapper(const aiScene& scene, const aiMaterial& m, std::string file_name, unsigned index,
+           const GltfMaterialExtensions* extensions)
+        : scene_(scene), m_(m), file_name_(std::move(file_name)), extensions_(extensions) {
         aiString name;
         if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out_.name = name.C_Str();
         if (out_.name.empty()) out_.name = "material #" + std::to_string(index);
@@ -52,14 +55,19 @@ public:
         return std::nullopt;
     }
 
-    // The first texture of `type`, or nothing. Notes what cannot be honoured.
-    std::optional<TextureRef> texture(aiTextureType type, const char* what) {
-        if (m_.GetTextureCount(type) == 0) return std::nullopt;
+    // Texture `index` of `type`, or nothing; `key` names its glTF
+    // textureInfo, whose KHR_texture_transform places it. Notes what cannot
+    // be honoured.
+    std::optional<TextureRef> texture(aiTextureType type, const char* what, const char* key = nullptr,
+                                      unsigned index = 0) {
+        if (m_.GetTextureCount(type) <= index) return std::nullopt;
         aiString path;
         aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
         unsigned uv_set = 0;
-        if (m_.GetTexture(type, 0, &path, nullptr, &uv_set, nullptr, nullptr, mode) != AI_SUCCESS)
+        if (m_.GetTexture(type, index, &path, nullptr, &uv_set, nullptr, nullptr, mode) != AI_SUCCESS)
             return std::nullopt;
+        const GltfTextureTransform* placed = transform_of(key);
+        if (placed && placed->tex_coord >= 0) uv_set = unsigned(placed->tex_coord);
         std::string file = path.C_Str();
         if (file.empty()) return std::nullopt;
         if (const auto [embedded, index] = scene_.GetEmbeddedTextureAndIndex(path.C_Str());
@@ -80,6 +88,7 @@ public:
         }
         TextureRef t;
         t.file = file;
+        if (placed) t.transform = placed->transform;
         std::replace(t.file.begin(), t.file.end(), '\\', '/');  // OBJ files from Windows
         switch (mode[0]) {
             case aiTextureMapMode_Clamp:
@@ -114,9 +123,20 @@ public:
                                e << YAML::Flow << YAML::BeginMap << YAML::Key << "file"
                                  << YAML::Value << t.file << YAML::Key << "filter"
                                  << YAML::Value << t.filter << YAML::Key << "wrap" << YAML::Value
-                                 << t.wrap << YAML::EndMap;
+                                 << t.wrap;
+                               if (!t.transform.identity()) emit(e, t.transform);
+                               e << YAML::EndMap;
                            }});
     }
+    static void emit(YAML::Emitter& e, const UvTransform& t) {
+        e << YAML::Key << "transform" << YAML::Value << YAML::BeginMap;
+        e << YAML::Key << "offset" << YAML::Value << YAML::BeginSeq << t.offset.x << t.offset.y << YAML::EndSeq;
+        e << YAML::Key << "rotation" << YAML::Value << t.rotation;
+        e << YAML::Key << "scale" << YAML::Value << YAML::BeginSeq << t.scale.x << t.scale.y << YAML::EndSeq;
+        e << YAML::EndMap;
+    }
+    // What the file's JSON says that assimp does not read, or null.
+    const GltfMaterialExtensions* extensions() const { return extensions_; }
 
     ImportedMaterial finish(const std::string& shader, const std::string& blend, bool two_sided) {
         YAML::Emitter e;
@@ -139,7 +159,7 @@ public:
         if (m_.Get(key, type, index, s) == AI_SUCCESS) return std::string(s.C_Str());
         return std::nullopt;
     }
-    bool has_texture(aiTextureType type) const { return m_.GetTextureCount(type) > 0; }
+    bool has_texture(aiTextureType type, unsigned index = 0) const { return m_.GetTextureCount(type) > index; }
     bool has(const char* key, unsigned type, unsigned index) const {
         const aiMaterialProperty* p = nullptr;
         return aiGetMaterialProperty(&m_, key, type, index, &p) == AI_SUCCESS;
@@ -154,24 +174,63 @@ public:
     }
 
 private:
+    const GltfTextureTransform* transform_of(const char* key) const {
+        if (!extensions_ || !key) return nullptr;
+        const auto it = extensions_->transforms.find(key);
+        return it == extensions_->transforms.end() ? nullptr : &it->second;
+    }
+
     const aiScene& scene_;
     const aiMaterial& m_;
     const std::string file_name_;
+    const GltfMaterialExtensions* extensions_;
     ImportedMaterial out_;
     std::vector<std::pair<std::string, std::function<void(YAML::Emitter&)>>> params_;
 };
 
 double clamp01(float v) { return std::clamp(double(v), 0.0, 1.0); }
 
-// Texture types whose UVs a KHR_texture_transform may move.
-constexpr aiTextureType kGltfTextures[] = {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE,
-                                           aiTextureType_UNKNOWN, aiTextureType_NORMALS,
-                                           aiTextureType_LIGHTMAP, aiTextureType_EMISSIVE};
+// KHR_materials_clearcoat, as assimp reads it: a coat of index 1.5 over
+// the base, its strength and roughness times the R and G of their textures.
+void gltf_clearcoat(Mapper& m) {
+    const float coat = std::clamp(m.number(AI_MATKEY_CLEARCOAT_FACTOR).value_or(0.0f), 0.0f, 1.0f);
+    if (!(coat > 0.0f)) return;  // and NaN: no coat
+    m.param("clearcoat", double(coat));
+    m.param("clearcoat_roughness", clamp01(m.number(AI_MATKEY_CLEARCOAT_ROUGHNESS_FACTOR).value_or(0.0f)));
+    if (auto t = m.texture(aiTextureType_CLEARCOAT, "clear coat texture", "clearcoatTexture", 0))
+        m.param("clearcoat_texture", *t);
+    if (auto t = m.texture(aiTextureType_CLEARCOAT, "clear coat roughness texture",
+                           "clearcoatRoughnessTexture", 1))
+        m.param("clearcoat_roughness_texture", *t);
+    if (m.has_texture(aiTextureType_CLEARCOAT, 2))
+        m.note("a clear coat normal texture (KHR_materials_clearcoat) is left out: the coat "
+               "follows the surface's interpolated normal");
+}
+
+// KHR_materials_ior and KHR_materials_specular (read from the file's JSON):
+// a dielectric's reflectance at normal incidence, ((ior - 1) / (ior + 1))^2
+// times the specular colour, and its weight.
+void gltf_specular(Mapper& m) {
+    const GltfMaterialExtensions* x = m.extensions();
+    if (!x) return;
+    if (x->ior) m.param("ior", double(*x->ior));
+    if (x->specular) m.param("specular", double(*x->specular));
+    if (x->specular_color) {
+        const glm::vec3 c = *x->specular_color;
+        if (std::max({c.r, c.g, c.b}) > 1.0f)
+            m.note("specularColorFactor above 1 is held to 1 (facet's specular_color is a colour)");
+        m.param("specular_color", {std::min(c.r, 1.0f), std::min(c.g, 1.0f), std::min(c.b, 1.0f)});
+    }
+    if (x->specular_textures)
+        m.note("KHR_materials_specular's specularTexture and specularColorTexture are left out: "
+               "its factors are drawn");
+}
 
 // KHR_materials_unlit: the base colour alone, as `unlit` draws it.
 ImportedMaterial gltf_unlit(Mapper& m, const aiColor4D& base) {
     m.param("base_color", {base.r, base.g, base.b, base.a});
-    if (auto t = m.texture(aiTextureType_BASE_COLOR, "base colour texture")) m.param("base_texture", *t);
+    if (auto t = m.texture(aiTextureType_BASE_COLOR, "base colour texture", "baseColorTexture"))
+        m.param("base_texture", *t);
     const std::string mode = m.text(AI_MATKEY_GLTF_ALPHAMODE).value_or("OPAQUE");
     if (mode == "MASK")
         m.param("alpha_cutoff", clamp01(m.number(AI_MATKEY_GLTF_ALPHACUTOFF).value_or(0.5f)));
@@ -193,18 +252,20 @@ ImportedMaterial gltf_material(Mapper& m) {
                "roughness 1 - glossiness; its specular colour and texture are left out");
     }
     m.param("base_color", {base.r, base.g, base.b, base.a});
-    std::optional<TextureRef> base_texture = m.texture(aiTextureType_BASE_COLOR, "base colour texture");
+    std::optional<TextureRef> base_texture =
+        m.texture(aiTextureType_BASE_COLOR, "base colour texture", "baseColorTexture");
     if (!base_texture && glossiness) base_texture = m.texture(aiTextureType_DIFFUSE, "diffuse texture");
     if (base_texture) m.param("base_texture", *base_texture);
     m.param("metallic", glossiness ? 0.0 : clamp01(m.number(AI_MATKEY_METALLIC_FACTOR).value_or(1.0f)));
     m.param("roughness", glossiness ? clamp01(1.0f - *glossiness)
                                     : clamp01(m.number(AI_MATKEY_ROUGHNESS_FACTOR).value_or(1.0f)));
     if (!glossiness) {
-        std::optional<TextureRef> mr = m.texture(aiTextureType_UNKNOWN, "metallic-roughness texture");
-        if (!mr) mr = m.texture(aiTextureType_METALNESS, "metallic-roughness texture");
+        const char* key = "metallicRoughnessTexture";
+        std::optional<TextureRef> mr = m.texture(aiTextureType_UNKNOWN, "metallic-roughness texture", key);
+        if (!mr) mr = m.texture(aiTextureType_METALNESS, "metallic-roughness texture", key);
         if (mr) m.param("metallic_roughness_texture", *mr);
     }
-    if (auto t = m.texture(aiTextureType_NORMALS, "normal texture")) {
+    if (auto t = m.texture(aiTextureType_NORMALS, "normal texture", "normalTexture")) {
         m.param("normal_texture", *t);
         // pbr takes -16 .. 16: far past what any map means.
         const float scale = m.number(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0)).value_or(1.0f);
@@ -212,23 +273,20 @@ ImportedMaterial gltf_material(Mapper& m) {
         if (clamped != double(scale)) m.note("normal texture scale " + std::to_string(scale) + " taken as " + std::to_string(clamped));
         m.param("normal_scale", clamped);
     }
-    if (auto t = m.texture(aiTextureType_LIGHTMAP, "occlusion texture")) {
+    if (auto t = m.texture(aiTextureType_LIGHTMAP, "occlusion texture", "occlusionTexture")) {
         m.param("occlusion_texture", *t);
         m.param("occlusion_strength",
                 clamp01(m.number(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0)).value_or(1.0f)));
     }
     // KHR_materials_emissive_strength scales the emissive factor (assimp
-    // 5.2.5, Debian 12's, does not read it yet; later ones do).
+    // 5.2.5, Debian 12's, does not read it: the file's JSON is read for it).
     const aiColor4D emissive = m.color(AI_MATKEY_COLOR_EMISSIVE).value_or(aiColor4D(0.0f, 0.0f, 0.0f, 1.0f));
-    const float strength = std::max(m.number(AI_MATKEY_EMISSIVE_INTENSITY).value_or(1.0f), 0.0f);
+    const float strength = m.extensions() ? m.extensions()->emissive_strength : 1.0f;
     m.param("emissive", {emissive.r * strength, emissive.g * strength, emissive.b * strength});
-    if (auto t = m.texture(aiTextureType_EMISSIVE, "emissive texture")) m.param("emissive_texture", *t);
-    for (aiTextureType type : kGltfTextures)
-        if (m.has(_AI_MATKEY_UVTRANSFORM_BASE, type, 0)) {
-            m.note("a texture transform (KHR_texture_transform) is left out: its texture is "
-                   "placed by the file's own UVs");
-            break;
-        }
+    if (auto t = m.texture(aiTextureType_EMISSIVE, "emissive texture", "emissiveTexture"))
+        m.param("emissive_texture", *t);
+    gltf_clearcoat(m);
+    gltf_specular(m);
 
     // OPAQUE ignores alpha, and what MASK keeps is opaque: both write alpha 1.
     const std::string mode = m.text(AI_MATKEY_GLTF_ALPHAMODE).value_or("OPAQUE");
@@ -315,8 +373,11 @@ void check_obj_libraries(const std::filesystem::path& obj, std::vector<ImportedM
 }
 
 ImportedMaterial import_material(const aiScene& scene, unsigned index,
-                                 const std::filesystem::path& file) {
-    Mapper m(scene, *scene.mMaterials[index], file.filename().string(), index);
+                                 const std::filesystem::path& file, const GltfMaterials* extensions) {
+    // assimp's material i is the file's material i (its default comes last).
+    const GltfMaterialExtensions* x =
+        extensions && index < extensions->materials.size() ? &extensions->materials[index] : nullptr;
+    Mapper m(scene, *scene.mMaterials[index], file.filename().string(), index, x);
     return is_gltf(file) ? gltf_material(m) : classic_material(m);
 }
 

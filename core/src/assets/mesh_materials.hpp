@@ -9,7 +9,10 @@
 //     metallic in B), the normal texture and its scale, the occlusion
 //     texture (R) and its strength, emissive colour and texture; alphaMode
 //     MASK becomes alpha_cutoff, BLEND `blend: alpha`; doubleSided `cull:
-//     none`. Samplers give each texture's wrap and filter.
+//     none`. Samplers give each texture's wrap and filter, and
+//     KHR_texture_transform its `transform:`. The clear coat, emissive
+//     strength, ior and specular extensions give their parameters (what
+//     assimp does not read comes from the file's JSON: gltf_materials.hpp).
 //   - every other format (OBJ's .mtl first) goes to `phong`: Kd, Ks, Ns and
 //     Ke, map_Kd as base_texture and a normal map (`norm`) as normal_texture.
 // What has no counterpart (textures of a second UV set, transmission,
@@ -29,14 +32,18 @@ struct aiScene;
 
 namespace facet {
 
+struct GltfMaterials;
+
 // Whether `path` names a format whose materials are glTF's metallic-roughness.
 bool is_gltf(const std::filesystem::path& path);
 
 // Material `index` of `scene`; `file` is the mesh file, whose name
 // embedded images are named after. A material the file leaves unnamed is
-// called "material #INDEX".
+// called "material #INDEX". A glTF file's `extensions` (read_gltf_materials)
+// add what assimp does not read.
 ImportedMaterial import_material(const aiScene& scene, unsigned index,
-                                 const std::filesystem::path& file);
+                                 const std::filesystem::path& file,
+                                 const GltfMaterials* extensions = nullptr);
 
 bool is_obj(const std::filesystem::path& path);
 

@@ -152,7 +152,14 @@ void sample_textures(const DrawContext& dc, const float* varyings, uint32_t mask
             continue;
         }
         const float* u = varyings + uv * N;
-        FACET_KERNEL_NS::sample_block(dc.textures[s], u, u + N, mask, out);
+        const TextureBinding& binding = dc.textures[s];
+        if (binding.transform.identity()) {
+            FACET_KERNEL_NS::sample_block(binding, u, u + N, mask, out);
+            continue;
+        }
+        alignas(64) float placed[2 * N];  // every lane: the quads' differences give the level
+        binding.transform.apply(u, u + N, N, placed, placed + N);
+        FACET_KERNEL_NS::sample_block(binding, placed, placed + N, mask, out);
     }
 }
 

@@ -58,7 +58,17 @@ void textures_sample(const facet_draw* draw, uint32_t slot, const float* coords,
     count = std::min(count, uint32_t(FACET_BLOCK_LANES));
     if (const TextureBinding* b = bound(draw, slot)) {
         const auto* dc = static_cast<const DrawContext*>(draw->host_data);
-        dc->kernels->sample_lanes(*b, coords, lod, count, mask, rgba);
+        if (b->transform.identity() || b->texture->faces == 6) {
+            dc->kernels->sample_lanes(*b, coords, lod, count, mask, rgba);
+            return;
+        }
+        // The shader's UVs, placed by the binding's transform; the level
+        // its derivatives gave, shifted by the transform's scale.
+        float placed[2 * FACET_BLOCK_LANES], shifted[FACET_BLOCK_LANES];
+        b->transform.apply(coords, coords + count, int(count), placed, placed + count);
+        const float shift = b->transform.lod_shift();
+        for (uint32_t i = 0; i < count; ++i) shifted[i] = (lod ? lod[i] : 0.0f) + shift;
+        dc->kernels->sample_lanes(*b, placed, shifted, count, mask, rgba);
         return;
     }
     for (uint32_t c = 0; c < 4; ++c)  // unbound: white
