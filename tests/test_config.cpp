@@ -227,6 +227,19 @@ TEST_CASE("a texture's transform places it on its UVs, and bad ones are refused"
     }
 }
 
+TEST_CASE("a texture's UV set is 0 or 1, and 1 only where the shader has a second", "[material]") {
+    Env env;
+    REQUIRE(env.material("shader: test\nparams:\n  albedo: {file: px.tga, uv_set: 0}\n")
+                ->textures.at(0).uv_set == 0);
+    auto e = error_of([&] { env.material("shader: test\nparams:\n  albedo: {file: px.tga, uv_set: 1}\n"); });
+    require_at(e, ErrorCode::config_invalid, env.dir / "m.yaml", 3, 11);
+    CHECK_THAT(e.what(), Contains("'albedo' reads the second set of texture coordinates") &&
+                             Contains("shader 'test' has no second set"));
+    e = error_of([&] { env.material("shader: test\nparams:\n  albedo: {file: px.tga, uv_set: 2}\n"); });
+    CHECK(e.code() == ErrorCode::out_of_range);
+    CHECK_THAT(e.what(), Contains("uv_set is 0"));
+}
+
 TEST_CASE("a material without params gets the schema defaults", "[material]") {
     Env env;
     const auto m = env.material("shader: test\n");

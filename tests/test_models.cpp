@@ -33,24 +33,28 @@ const char* kCameraAndLight =
 // A glTF 2.0 file of one quad (z = 0, facing +Z, UVs 0..1 with V down) in
 // two primitives, one triangle each, with `materials` (JSON) and each
 // primitive's material index; the buffer beside it. `bad_index` puts a
-// vertex index past the end into the second triangle.
+// vertex index past the end into the second triangle. `second_uvs` adds
+// a TEXCOORD_1 turned half a turn from the first (1 - u, 1 - v).
 void write_gltf(const fs::path& file, const std::string& materials, int first, int second,
                 bool bad_index = false, const std::string& images = "[]",
-                const std::string& textures = "[]") {
+                const std::string& textures = "[]", bool second_uvs = false) {
     const float positions[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
     const float normals[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
     const float uvs[] = {0, 1, 1, 1, 1, 0, 0, 0};
-    const uint16_t indices[] = {0, 1, 2, 0, 2, uint16_t(bad_index ? 9 : 3)};
+    const float uvs1[] = {1, 0, 0, 0, 0, 1, 1, 1};
+    const uint16_t indices[] = {0, 1, 2, 0, 2, uint16_t(bad_index ? 9 : 3), 0, 0};  // and padding
     std::string bin;
     for (const auto& [data, size] : {std::pair<const void*, size_t>{positions, sizeof positions},
                                      {normals, sizeof normals},
                                      {uvs, sizeof uvs},
-                                     {indices, sizeof indices}})
+                                     {indices, sizeof indices},
+                                     {uvs1, sizeof uvs1}})
         bin.append(static_cast<const char*>(data), size);
     std::ofstream(fs::path(file).replace_extension(".bin"), std::ios::binary) << bin;
     const std::string bin_name = fs::path(file).replace_extension(".bin").filename().string();
-    auto primitive = [](int index_accessor, int material) {
-        return "{\"attributes\": {\"POSITION\": 0, \"NORMAL\": 1, \"TEXCOORD_0\": 2}, "
+    auto primitive = [second_uvs](int index_accessor, int material) {
+        return "{\"attributes\": {\"POSITION\": 0, \"NORMAL\": 1, \"TEXCOORD_0\": 2" +
+               std::string(second_uvs ? ", \"TEXCOORD_1\": 5" : "") + "}, "
                "\"indices\": " + std::to_string(index_accessor) +
                (material >= 0 ? ", \"material\": " + std::to_string(material) : "") + "}";
     };
@@ -66,7 +70,8 @@ void write_gltf(const fs::path& file, const std::string& materials, int first, i
                 " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},\n"
                 "   {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 48},\n"
                 "   {\"buffer\": 0, \"byteOffset\": 96, \"byteLength\": 32},\n"
-                "   {\"buffer\": 0, \"byteOffset\": 128, \"byteLength\": 12}],\n"
+                "   {\"buffer\": 0, \"byteOffset\": 128, \"byteLength\": 12},\n"
+                "   {\"buffer\": 0, \"byteOffset\": 144, \"byteLength\": 32}],\n"
                 " \"accessors\": [\n"
                 "   {\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\", "
                 "\"min\": [-1, -1, 0], \"max\": [1, 1, 0]},\n"
@@ -75,7 +80,8 @@ void write_gltf(const fs::path& file, const std::string& materials, int first, i
                 "   {\"bufferView\": 3, \"byteOffset\": 0, \"componentType\": 5123, \"count\": 3, "
                 "\"type\": \"SCALAR\"},\n"
                 "   {\"bufferView\": 3, \"byteOffset\": 6, \"componentType\": 5123, \"count\": 3, "
-                "\"type\": \"SCALAR\"}]}\n");
+                "\"type\": \"SCALAR\"},\n"
+                "   {\"bufferView\": 4, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"}]}\n");
 }
 
 const char* kTwoMaterials =
@@ -287,6 +293,47 @@ TEST_CASE("glTF texture transforms, emissive strength, ior, specular and clear c
     const reference::ImageError e = render_against_reference(sampled, lit);
     CAPTURE(e.rmse, e.max, e.dssim);
     CHECK(e.rmse < 0.05);
+}
+
+TEST_CASE("a glTF texture of the second UV set is drawn at TEXCOORD_1", "[model][extensions]") {
+    SceneDir sd;
+    // The base colour on set 1, which is set 0 turned half a turn; the
+    // occlusion on set 0. The unlit triangle's base is on set 1 too, which
+    // unlit does not have: left out, and said.
+    write_gltf(sd.dir / "two_sets.gltf",
+               "[{\"name\": \"turned\", \"pbrMetallicRoughness\": {\"baseColorTexture\": "
+               "{\"index\": 0, \"texCoord\": 1}, \"metallicFactor\": 0, \"roughnessFactor\": 0.6},"
+               " \"occlusionTexture\": {\"index\": 0}},"
+               " {\"name\": \"flat\", \"pbrMetallicRoughness\": {\"baseColorTexture\": "
+               "{\"index\": 0, \"texCoord\": 1}}, \"extensions\": {\"KHR_materials_unlit\": {}}}],"
+               " \"extensionsUsed\": [\"KHR_materials_unlit\"]",
+               0, 1, false, "[{\"uri\": \"" + quadrant_png(sd.dir).string() + "\"}]",
+               "[{\"source\": 0, \"sampler\": 0}], \"samplers\": [{\"magFilter\": 9729, \"minFilter\": 9729,"
+               " \"wrapS\": 33071, \"wrapT\": 33071}]",
+               true);
+    test::LogCapture log;
+    Scene s = sd.load(std::string(kCameraAndLight) + "objects: [{mesh: two_sets.gltf}]\n");
+    CHECK_THAT(log.text(), Contains("material 'flat': base colour texture reads texture coordinates "
+                                    "set 1, and this material's shader reads only the first"));
+    const Object& o = s.objects[0];
+    REQUIRE(o.mesh->uvs1.size() == o.mesh->vertex_count());
+    const Material& turned = *o.material_of(0);
+    const int base = turned.plugin->texture_slot(*turned.plugin->find_param("base_texture"));
+    const int occlusion = turned.plugin->texture_slot(*turned.plugin->find_param("occlusion_texture"));
+    CHECK(turned.textures.at(size_t(base)).uv_set == 1);
+    CHECK(turned.textures.at(size_t(occlusion)).uv_set == 0);
+    // It matches the reference renderer, which samples each texture at its own set.
+    s.settings.msaa = 4;
+    Framebuffer fb;
+    const reference::ImageError e = render_against_reference(s, fb);
+    CAPTURE(e.rmse, e.max, e.dssim);
+    CHECK(e.rmse < 0.05);
+    // Near the quad's corner at the bottom right (u, v = 0.9), set 0 reads
+    // white and set 1 red: the base is red, darkened by the occlusion's white (1).
+    const glm::vec4 c = pixel_at(fb, s, {0.8f, -0.8f, 0.0f});
+    CHECK(c.r > 0.05f);
+    CHECK(c.g < 0.2f * c.r);
+    CHECK(c.b < 0.2f * c.r);
 }
 
 TEST_CASE("an OBJ whose material library is missing, or lacks its usemtl, is an error",

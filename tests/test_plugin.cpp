@@ -183,11 +183,25 @@ TEST_CASE("a descriptor that lies about itself is refused", "[plugin]") {
     entries[1].isa = 77;
     CHECK(d.why() == "accepted");
     // Needs this host cannot serve (yet) are refused, not silently unmet.
-    for (uint32_t need : {1u << 11, 1u << 30}) {
+    for (uint32_t need : {1u << 12, 1u << 30}) {
         d = real;
         d.shader.needs |= need;
         CHECK_THAT(d.why(), Catch::Contains("needs inputs this host cannot provide"));
     }
+    // A second UV set (ABI 2.1) names a varying of two components that is
+    // not conditional, and comes with FACET_NEED_UV1.
+    d = real;
+    d.shader.second_uv = d.shader.varying_count + 1;
+    d.shader.needs |= FACET_NEED_UV1;
+    CHECK_THAT(d.why(), Catch::Contains("second_uv names no varying"));
+    d.shader.second_uv = 1;
+    d.shader.needs &= ~uint32_t(FACET_NEED_UV1);
+    CHECK_THAT(d.why(), Catch::Contains("does not need FACET_NEED_UV1"));
+    // A plugin built against ABI 2.0 has a shorter shader record: what lies
+    // past it is never read.
+    d.shader.struct_size = uint32_t(offsetof(facet_shader_desc, second_uv));
+    d.plugin.abi_minor = 0;
+    CHECK(d.why() == "accepted");
     // Neither a shader nor a pass.
     d = real;
     d.plugin.shader = nullptr;

@@ -53,14 +53,17 @@ constexpr float kMinRoughness = 0.03f;  // a mirror's lobe is narrower than a pi
 struct Pbr {
     static constexpr const char* name = "pbr";
     static constexpr const char* version = "2.0";
-    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_TANGENTS |
-                                      FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
-                                      FACET_NEED_SHADOW_MAP | FACET_NEED_AO | FACET_NEED_DISCARD;
+    static constexpr uint32_t needs = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET_NEED_UV1 |
+                                      FACET_NEED_TANGENTS | FACET_NEED_LIGHTS |
+                                      FACET_NEED_TEXTURES | FACET_NEED_SHADOW_MAP |
+                                      FACET_NEED_AO | FACET_NEED_DISCARD;
 
     FACET_VARYINGS((Vec3, position),  // world space
                    (Vec3, normal),    // world space, unit at the vertices
                    (Vec2, uv),
+                   (Vec2, uv1),       // the second set: textures a material binds to it
                    (Vec4, tangent))   // world space, w the handedness
+    static constexpr const char* second_uv = "uv1";
     // The tangent: read only with a normal map, and interpolated only then.
     static constexpr uint32_t conditional_varyings = 1;
     static constexpr const char* varyings_condition = "normal_texture";
@@ -96,7 +99,7 @@ struct Pbr {
         (receiving, receive))
 
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, Vec4& clip) {
-        return surface_vertex<Varyings>(in, d, bool(p.normal_texture), clip);
+        return surface_vertex<Varyings>(in, d, bool(p.normal_texture), clip, in.uv1);
     }
 
     // What a surface point is made of.

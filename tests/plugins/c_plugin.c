@@ -162,7 +162,8 @@ static const facet_shader_desc shader = {
     0, 0,    /* needs, flags */
     0, NULL, /* varyings */
     0, 0,    /* no conditional varyings */
-    vertex, 1, fragments};
+    vertex, 1, fragments,
+    0};      /* no second UV set */
 
 #ifdef BOTH_KINDS
 static void run(const facet_pass_frame* frame) { (void)frame; }

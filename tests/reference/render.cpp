@@ -195,7 +195,8 @@ std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o, const Mat
                                    input(FACET_NEED_TANGENTS, mesh.tangents),
                                    glm::value_ptr(clip[0]),
                                    p->varyings.data(),
-                                   floats};
+                                   floats,
+                                   input(FACET_NEED_UV1, mesh.uvs1)};
     if (count) p->shader->shader_desc().vertex(&p->all, &batch);
 
     for (uint32_t k = 0; k < floats; ++k)
@@ -331,7 +332,7 @@ private:
                 std::fill(out, out + 4 * N, 1.0f);
                 continue;
             }
-            const float* u = varyings_ + p.shader->texture_uv_float(s) * N;
+            const float* u = varyings_ + p.shader->texture_uv_float(s, t->uv_set) * N;
             float placed[2 * N];
             for (int i = 0; i < N; ++i) {
                 const glm::dvec2 uv = oracle_placed(t->transform, u[i], u[N + i]);

@@ -54,6 +54,7 @@ struct MaterialParam {
     Filter filter = Filter::trilinear;   // texture: nearest | bilinear | trilinear
     Wrap wrap = Wrap::repeat;            // texture
     UvTransform transform;               // texture: a 2D one's placement on its UVs
+    int uv_set = 0;                      // texture: the UV set it reads (0 or 1)
     int line = 0;                 // 1-based position in the file
     int column = 0;
 };

@@ -158,6 +158,7 @@ struct Mesh {
     std::vector<glm::vec3> positions;  // object space
     std::vector<glm::vec3> normals;    // unit length
     std::vector<glm::vec2> uvs;
+    std::vector<glm::vec2> uvs1;       // a second set (glTF's TEXCOORD_1), or none
     std::vector<glm::vec4> colors;     // linear RGBA
     // Unit, perpendicular to the normal, pointing along +u; w = +1 or -1,
     // the handedness: the bitangent (along +v as the texture is drawn, that

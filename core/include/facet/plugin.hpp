@@ -71,6 +71,14 @@ public:
     const uint8_t* float_interpolation() const { return float_interpolation_; }
     // Index of the first varying float of texture slot `slot`'s UV.
     int texture_uv_float(int slot) const { return texture_uv_float_[slot]; }
+    // Index of the first varying float of the second UV set (ABI 2.1,
+    // facet_shader_desc.second_uv), or -1: the shader has none.
+    int second_uv_float() const { return second_uv_float_; }
+    // The UV float a texture slot is sampled at for a binding of UV set
+    // `set` (0 or 1; -1 where there is none).
+    int texture_uv_float(int slot, int set) const {
+        return set == 0 || texture_uv_float_[slot] < 0 ? texture_uv_float_[slot] : second_uv_float_;
+    }
 
     // Schema look-ups.
     const facet_param_desc* find_param(std::string_view name) const;
@@ -102,6 +110,7 @@ private:
     int texture_count_ = 0;
     uint8_t float_interpolation_[FACET_MAX_VARYING_FLOATS] = {};
     int texture_uv_float_[FACET_MAX_TEXTURES] = {};
+    int second_uv_float_ = -1;
 };
 
 // Checks a descriptor against this host's ABI and limits.
@@ -126,7 +135,7 @@ constexpr uint32_t kSupportedNeeds = FACET_NEED_NORMALS | FACET_NEED_UVS | FACET
                                      FACET_NEED_TANGENTS | FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
                                      FACET_NEED_SHADOW_MAP | FACET_NEED_AO |
                                      FACET_NEED_DERIVATIVES | FACET_NEED_BLENDING |
-                                     FACET_NEED_DISCARD;
+                                     FACET_NEED_DISCARD | FACET_NEED_UV1;
 
 // A registry loads each plugin from a private copy, in a folder of its own
 // in the temp folder (facet-plugins-PID-N), which its destructor removes.

@@ -209,13 +209,16 @@ struct UvTransform {
 struct TextureBinding {
     TextureBinding() = default;
     TextureBinding(std::shared_ptr<const Texture> t, Filter f = Filter::trilinear,
-                   Wrap w = Wrap::repeat, UvTransform placed = {})
-        : texture(std::move(t)), filter(f), wrap(w), transform(placed) {}
+                   Wrap w = Wrap::repeat, UvTransform placed = {}, int set = 0)
+        : texture(std::move(t)), filter(f), wrap(w), transform(placed), uv_set(set) {}
 
     std::shared_ptr<const Texture> texture;
     Filter filter = Filter::trilinear;
     Wrap wrap = Wrap::repeat;
     UvTransform transform;  // 2D textures only
+    // The set of texture coordinates the host samples it at: 0, or 1, the
+    // second (Mesh::uvs1), at the shader's second_uv varying.
+    int uv_set = 0;
 };
 
 // The scalar reference sampler: plain per-lane code over the 8-bit levels,

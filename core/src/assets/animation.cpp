@@ -33,6 +33,7 @@ Mesh drawable_copy(const Mesh& mesh) {
     m.positions = mesh.positions;
     m.normals = mesh.normals;
     m.uvs = mesh.uvs;
+    m.uvs1 = mesh.uvs1;
     m.colors = mesh.colors;
     m.tangents = mesh.tangents;
     m.indices = mesh.indices;

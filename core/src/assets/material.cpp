@@ -40,10 +40,15 @@ UvTransform parse_uv_transform(const yaml::Context& ctx, const YAML::Node& node)
     return t;
 }
 
-// {file: ...} or, for a cube map, {faces: [six files]}; filter, wrap and
-// a 2D texture's transform.
+// {file: ...} or, for a cube map, {faces: [six files]}; filter, wrap, and
+// a 2D texture's transform and UV set.
 void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, MaterialParam& p) {
-    yaml::check_map(ctx, node, "texture", {"file", "faces", "filter", "wrap", "transform"});
+    yaml::check_map(ctx, node, "texture", {"file", "faces", "filter", "wrap", "transform", "uv_set"});
+    if (const YAML::Node set = node["uv_set"]) {
+        p.uv_set = yaml::as<int>(ctx, set);
+        yaml::ensure(p.uv_set == 0 || p.uv_set == 1, ctx, set, ErrorCode::out_of_range,
+                     "uv_set is 0 (the first set of texture coordinates) or 1 (the second)");
+    }
     if (const YAML::Node transform = node["transform"]) {
         if (node["faces"])
             throw yaml::error(ctx, transform, ErrorCode::config_invalid,
@@ -298,7 +303,7 @@ TextureBinding load_binding(const std::string& m, const MaterialParam& p,
             return {cache.get_cube(p.cube_faces.empty() ? std::vector{p.texture_file} : p.cube_faces,
                                    srgb),
                     p.filter, p.wrap};
-        return {cache.get(p.texture_file, srgb), p.filter, p.wrap, p.transform};
+        return {cache.get(p.texture_file, srgb), p.filter, p.wrap, p.transform, p.uv_set};
     } catch (const Error& e) {
         throw yaml::relocated(e, m, p.line, p.column);
     }
@@ -327,8 +332,15 @@ BoundParams bind_params(const std::vector<MaterialParam>& params, const ShaderPl
                 ? choice_index(file, p, desc.choices[d - desc.params])
                 : 0;
         write_value(block, *d, p, choice);
-        if (d->type == FACET_PARAM_TEXTURE)
-            out.textures[plugin.texture_slot(*d)] = load_binding(file, p, *d, cache);
+        if (d->type != FACET_PARAM_TEXTURE) continue;
+        const int slot = plugin.texture_slot(*d);
+        if (p.uv_set == 1 && plugin.texture_uv_float(slot, 1) < 0)
+            throw param_error(file, p, ErrorCode::config_invalid,
+                              " reads the second set of texture coordinates (uv_set: 1), and " +
+                                  std::string(d->uv_varying < 0 ? "the shader samples it itself"
+                                                                : "shader '" + plugin.name() +
+                                                                      "' has no second set"));
+        out.textures[size_t(slot)] = load_binding(file, p, *d, cache);
     }
     return out;
 }

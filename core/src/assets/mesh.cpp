@@ -50,6 +50,7 @@ constexpr unsigned kImportFlags = aiProcess_ValidateDataStructure | aiProcess_Tr
 // without them get zero UVs or white.
 struct Layout {
     bool uvs = false;
+    bool uvs1 = false;
     bool colors = false;
 };
 
@@ -63,6 +64,7 @@ Layout find_layout(const aiScene& scene) {
         const aiMesh& mesh = *scene.mMeshes[i];
         if (!is_triangles(mesh)) continue;
         layout.uvs |= mesh.HasTextureCoords(0);
+        layout.uvs1 |= mesh.HasTextureCoords(1);
         layout.colors |= mesh.HasVertexColors(0);
     }
     return layout;
@@ -88,6 +90,11 @@ void append_vertices(const aiMesh& src, const glm::mat4& model, Layout layout, M
             const aiVector3D t =
                 src.HasTextureCoords(0) ? src.mTextureCoords[0][i] : aiVector3D(0.0f);
             out.uvs.emplace_back(t.x, t.y);
+        }
+        if (layout.uvs1) {
+            const aiVector3D t =
+                src.HasTextureCoords(1) ? src.mTextureCoords[1][i] : aiVector3D(0.0f);
+            out.uvs1.emplace_back(t.x, t.y);
         }
         if (layout.colors) {
             const aiColor4D c = src.HasVertexColors(0) ? src.mColors[0][i] : aiColor4D(1.0f);
@@ -197,6 +204,7 @@ void append_part(const aiMesh& src, const aiNode& node, const glm::mat4& model, 
     append(out.positions, part.positions);
     append(out.normals, part.normals);
     append(out.uvs, part.uvs);
+    append(out.uvs1, part.uvs1);
     append(out.colors, part.colors);
     append(out.tangents, part.tangents);
     for (uint32_t i : part.indices) out.indices.push_back(p.first_vertex + i);
@@ -510,6 +518,7 @@ std::string to_bytes(const Mesh& m) {
     put_array(out, m.positions);
     put_array(out, m.normals);
     put_array(out, m.uvs);
+    put_array(out, m.uvs1);
     put_array(out, m.colors);
     put_array(out, m.tangents);
     put_array(out, m.indices);
@@ -545,6 +554,7 @@ void from_bytes(std::string_view in, Mesh& m) {
     get_array(in, m.positions);
     get_array(in, m.normals);
     get_array(in, m.uvs);
+    get_array(in, m.uvs1);
     get_array(in, m.colors);
     get_array(in, m.tangents);
     get_array(in, m.indices);
@@ -686,9 +696,9 @@ std::shared_ptr<const Mesh> load_mesh(const std::filesystem::path& path, MeshImp
     for (MeshPart& p : mesh->parts)
         p.bounds = compute_bounds({mesh->positions.begin() + p.first_vertex,
                                    mesh->positions.begin() + p.first_vertex + p.vertex_count});
-    spdlog::debug("mesh {}: {} vertices, {} triangles{}{}{}, {} parts", mesh->source,
+    spdlog::debug("mesh {}: {} vertices, {} triangles{}{}{}{}, {} parts", mesh->source,
                   mesh->vertex_count(), mesh->triangle_count(), mesh->uvs.empty() ? "" : ", uvs",
-                  mesh->colors.empty() ? "" : ", colours",
+                  mesh->uvs1.empty() ? "" : ", a second UV set", mesh->colors.empty() ? "" : ", colours",
                   mesh->tangents.empty() ? "" : ", tangents", mesh->part_count());
     for (const MeshPart& p : mesh->parts)
         spdlog::debug("  part '{}': {} triangles, material '{}'", p.name, p.triangle_count(),
@@ -721,6 +731,7 @@ void validate_mesh(const Mesh& mesh) {
                                 " is not a multiple of 3");
     check_attribute(mesh, mesh.normals.size(), "normals");
     check_attribute(mesh, mesh.uvs.size(), "uvs");
+    check_attribute(mesh, mesh.uvs1.size(), "second UV set's uvs");
     check_attribute(mesh, mesh.colors.size(), "colours");
     check_attribute(mesh, mesh.tangents.size(), "tangents");
     for (size_t i = 0; i < mesh.positions.size(); ++i)

@@ -27,6 +27,7 @@ struct TextureRef {
     std::string filter = "trilinear";
     std::string wrap = "repeat";
     UvTransform transform;
+    int uv_set = 0;
 };
 
 std::string lower(std::string s) {
@@ -59,12 +60,12 @@ public:
     // textureInfo, whose KHR_texture_transform places it. Notes what cannot
     // be honoured.
     std::optional<TextureRef> texture(aiTextureType type, const char* what, const char* key = nullptr,
-                                      unsigned index = 0) {
-        if (m_.GetTextureCount(type) <= index) return std::nullopt;
+                                      unsigned which = 0) {
+        if (m_.GetTextureCount(type) <= which) return std::nullopt;
         aiString path;
         aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
         unsigned uv_set = 0;
-        if (m_.GetTexture(type, index, &path, nullptr, &uv_set, nullptr, nullptr, mode) != AI_SUCCESS)
+        if (m_.GetTexture(type, which, &path, nullptr, &uv_set, nullptr, nullptr, mode) != AI_SUCCESS)
             return std::nullopt;
         const GltfTextureTransform* placed = transform_of(key);
         if (placed && placed->tex_coord >= 0) uv_set = unsigned(placed->tex_coord);
@@ -81,13 +82,15 @@ public:
             }
             file = file_name_ + "#" + std::to_string(index);
         }
-        if (uv_set != 0) {
+        if (uv_set > (second_uv_ ? 1u : 0u)) {
             note(std::string(what) + " reads texture coordinates set " + std::to_string(uv_set) +
-                 ", and facet has only the first: left out");
+                 (second_uv_ ? ", and facet has two: left out"
+                             : ", and this material's shader reads only the first: left out"));
             return std::nullopt;
         }
         TextureRef t;
         t.file = file;
+        t.uv_set = int(uv_set);
         if (placed) t.transform = placed->transform;
         std::replace(t.file.begin(), t.file.end(), '\\', '/');  // OBJ files from Windows
         switch (mode[0]) {
@@ -125,6 +128,7 @@ public:
                                  << YAML::Value << t.filter << YAML::Key << "wrap" << YAML::Value
                                  << t.wrap;
                                if (!t.transform.identity()) emit(e, t.transform);
+                               if (t.uv_set != 0) e << YAML::Key << "uv_set" << YAML::Value << t.uv_set;
                                e << YAML::EndMap;
                            }});
     }
@@ -137,6 +141,9 @@ public:
     }
     // What the file's JSON says that assimp does not read, or null.
     const GltfMaterialExtensions* extensions() const { return extensions_; }
+    // Whether the material's shader has a second UV set (pbr does), so that
+    // its textures may read it.
+    void allow_second_uv() { second_uv_ = true; }
 
     ImportedMaterial finish(const std::string& shader, const std::string& blend, bool two_sided) {
         YAML::Emitter e;
@@ -184,6 +191,7 @@ private:
     const aiMaterial& m_;
     const std::string file_name_;
     const GltfMaterialExtensions* extensions_;
+    bool second_uv_ = false;
     ImportedMaterial out_;
     std::vector<std::pair<std::string, std::function<void(YAML::Emitter&)>>> params_;
 };
@@ -251,6 +259,7 @@ ImportedMaterial gltf_material(Mapper& m) {
                "metallic-roughness: its diffuse colour and texture as the base, metallic 0, "
                "roughness 1 - glossiness; its specular colour and texture are left out");
     }
+    m.allow_second_uv();
     m.param("base_color", {base.r, base.g, base.b, base.a});
     std::optional<TextureRef> base_texture =
         m.texture(aiTextureType_BASE_COLOR, "base colour texture", "baseColorTexture");

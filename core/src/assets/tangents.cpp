@@ -37,6 +37,7 @@ uint32_t split_vertex(Mesh& m, uint32_t i) {
     copy(m.positions);
     copy(m.normals);
     copy(m.uvs);
+    copy(m.uvs1);
     copy(m.colors);
     return uint32_t(m.positions.size() - 1);
 }

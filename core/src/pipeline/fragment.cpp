@@ -146,13 +146,13 @@ void sample_textures(const DrawContext& dc, const float* varyings, uint32_t mask
             std::fill(out, out + 4 * N, 1.0f);
             continue;
         }
-        const int uv = dc.shader->texture_uv_float(s);
+        const TextureBinding& binding = dc.textures[s];
+        const int uv = dc.shader->texture_uv_float(s, binding.uv_set);
         if (uv < 0) {  // one only the shader samples (a cube map, ...): none here
             std::fill(out, out + 4 * N, 1.0f);
             continue;
         }
         const float* u = varyings + uv * N;
-        const TextureBinding& binding = dc.textures[s];
         if (binding.transform.identity()) {
             FACET_KERNEL_NS::sample_block(binding, u, u + N, mask, out);
             continue;

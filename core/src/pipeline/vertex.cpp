@@ -69,7 +69,8 @@ void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_cou
             input(shader, FACET_NEED_TANGENTS, mesh.tangents, in),
             glm::value_ptr(d.clip[first]),
             d.varyings.data() + first * floats,
-            floats};
+            floats,
+            input(shader, FACET_NEED_UV1, mesh.uvs1, in)};
         call_plugin(&shader, PluginEntry::vertex, shader.shader_desc().vertex, &d.abi, &batch);
         project_vertices(d, first, batch.count, viewport);
     });

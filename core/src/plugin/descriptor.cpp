@@ -259,6 +259,22 @@ void validate_conditional_varyings(const Parts& d) {
     }
 }
 
+// The second UV set's varying (ABI 2.1): one of two components or more,
+// not conditional, filled from FACET_NEED_UV1.
+void validate_second_uv(const Parts& d) {
+    const facet_shader_desc& c = d.shader;
+    if (c.second_uv == 0) return;
+    const uint32_t v = c.second_uv - 1;
+    if (v >= c.varying_count || c.varyings[v].components < 2)
+        reject(ErrorCode::plugin_invalid, d.origin,
+               "second_uv names no varying of two components or more");
+    if (v >= c.varying_count - c.conditional_varyings)
+        reject(ErrorCode::plugin_invalid, d.origin, "second_uv names a conditional varying");
+    if (!(c.needs & FACET_NEED_UV1))
+        reject(ErrorCode::plugin_invalid, d.origin,
+               "second_uv is set, and the shader does not need FACET_NEED_UV1");
+}
+
 // The fragment entries: at least the baseline's, each instruction set
 // once, every function there. Entries for instruction sets this host does
 // not know are allowed (a later minor version's), and never called.
@@ -344,6 +360,7 @@ void validate_descriptor(const facet_plugin_desc* d, const std::string& origin) 
     validate_varyings(parts);
     validate_params(parts);
     validate_conditional_varyings(parts);
+    validate_second_uv(parts);
 }
 
 std::vector<std::string> choice_names(std::string_view choices) {

@@ -175,6 +175,7 @@ void ShaderPlugin::adopt(const facet_plugin_desc* desc) {
             const int32_t uv = schema().params[i].uv_varying;  // -1: only the shader samples it
             texture_uv_float_[texture_count_++] = uv >= 0 ? first_float[uv] : -1;
         }
+    second_uv_float_ = shader_.second_uv > 0 ? first_float[shader_.second_uv - 1] : -1;
 }
 
 // Each path's fragment function: the entry of the widest instruction set

@@ -122,14 +122,15 @@ inline Vec4 world_tangent(const Draw& d, const Vec4& t) {
 }
 
 // The vertex stage of a lit surface that may be normal mapped: clip, and
-// varyings V of world position, unit world normal, UV and world tangent
-// (0 without a normal map, whose tangent the host then does not
-// interpolate: conditional_varyings).
-template <class V>
-V surface_vertex(const VertexIn& in, const Draw& d, bool with_tangent, Vec4& clip) {
+// varyings V of world position, unit world normal, UV, any `more` (a
+// second UV set, ...) and world tangent (0 without a normal map, whose
+// tangent the host then does not interpolate: conditional_varyings).
+template <class V, class... More>
+V surface_vertex(const VertexIn& in, const Draw& d, bool with_tangent, Vec4& clip,
+                 const More&... more) {
     clip = d.model_view_projection() * Vec4(in.position, 1.0f);
     const Vec3 world = xyz(d.model() * Vec4(in.position, 1.0f));
-    return {world, normalize(d.normal_matrix() * in.normal), in.uv,
+    return {world, normalize(d.normal_matrix() * in.normal), in.uv, more...,
             with_tangent ? world_tangent(d, in.tangent) : Vec4(splat(0.0f))};
 }
 

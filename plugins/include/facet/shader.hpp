@@ -42,6 +42,10 @@
 // (read only under a parameter, as a normal map's tangent):
 //     static constexpr uint32_t conditional_varyings = 1;  // the last one
 //     static constexpr const char* varyings_condition = "normal_texture";
+// A second set of texture coordinates (glTF's TEXCOORD_1, ABI 2.1): need
+// FACET_NEED_UV1, carry VertexIn::uv1 in a varying, and name it; a texture
+// a material binds to set 1 (`uv_set: 1`) is then sampled there:
+//     static constexpr const char* second_uv = "uv1";
 #pragma once
 
 #include <facet/boundary.hpp>
@@ -76,6 +80,8 @@ struct VertexIn {
     Vec2 uv;       // when not asked for: 0
     Vec4 color;    // when not asked for: white
     Vec4 tangent;  // when not asked for, or the mesh has none: 0
+    Vec2 uv1;      // the second UV set (FACET_NEED_UV1); when not asked for, or
+                   // the mesh has none: 0
 };
 
 // A thin view of facet_draw: its uniforms as glm values.
@@ -303,6 +309,17 @@ uint32_t read_floats(const typename S::Params& params) {
     }
 }
 
+// 1 + the index of the varying S::second_uv names (ABI 2.1), or 0.
+template <class S>
+constexpr uint32_t second_uv() {
+    if constexpr (requires { S::second_uv; }) {
+        for (uint32_t v = 0; v < varying_count<S>(); ++v)
+            if (same_text(S::varyings[v].name, S::second_uv)) return v + 1;
+        throw "second_uv names no varying";  // a compile error in a constant
+    }
+    return 0;
+}
+
 // S's schema with each TEXTURE's UV varying found by its name.
 template <class S>
 constexpr auto resolved_params() {
@@ -351,6 +368,7 @@ void vertex_lanes(const Draw& d, const typename S::Params& p, const facet_vertex
     in.uv = Vec2(splat(0.0f));
     in.color = Vec4(splat(1.0f));
     in.tangent = Vec4(splat(0.0f));
+    in.uv1 = Vec2(splat(0.0f));
     const auto read = [&](const float* a, int n, Float* out) {
         if (!a) return;
         for (int l = 0; l < kLanes; ++l) {
@@ -363,6 +381,7 @@ void vertex_lanes(const Draw& d, const typename S::Params& p, const facet_vertex
     read(b->uv, 2, &in.uv.x);
     read(b->color, 4, &in.color.x);
     read(b->tangent, 4, &in.tangent.x);
+    if (d.raw->host->abi_minor >= 1) read(b->uv1, 2, &in.uv1.x);  // a field of ABI 2.1
     Vec4 clip;
     typename S::Varyings out = S::vertex(in, d, p, clip);
     const uint32_t lanes = std::min(uint32_t(kLanes), b->count - first);
@@ -555,6 +574,7 @@ const facet_plugin_desc* describe() {
         detail::conditional_varyings<S>(), condition,
         &detail::vertex_batch<S>,
         detail::fragment_entries<S>().second, detail::fragment_entries<S>().first.data(),
+        detail::second_uv<S>(),
     };
     static const facet_plugin_desc desc = {
         FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_plugin_desc)),

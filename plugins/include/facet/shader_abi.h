@@ -71,7 +71,7 @@ extern "C" {
 /* Versions and the entry point. */
 
 #define FACET_ABI_MAJOR 2
-#define FACET_ABI_MINOR 0
+#define FACET_ABI_MINOR 1
 
 /* The one symbol a plugin exports (ABI 2 on). */
 #define FACET_PLUGIN_ENTRY_SYMBOL "facet_plugin_entry"
@@ -179,9 +179,11 @@ enum facet_need {
                                       /*   in whole 4x4 blocks, every lane        */
                                       /*   interpolated                           */
     FACET_NEED_BLENDING = 1u << 9,    /* output alpha is meant for blending      */
-    FACET_NEED_DISCARD = 1u << 10     /* the fragment function clears mask bits  */
+    FACET_NEED_DISCARD = 1u << 10,    /* the fragment function clears mask bits  */
                                       /*   (a material whose USES_DISCARD         */
                                       /*   parameter is 0 is drawn as if not)     */
+    FACET_NEED_UV1 = 1u << 11         /* ABI 2.1: a second set of texture        */
+                                      /*   coordinates (facet_vertex_batch.uv1)   */
 };
 
 /* How a shader's fragment function may be called (facet_shader_desc.flags). */
@@ -252,6 +254,11 @@ typedef struct facet_shader_desc {
     facet_vertex_fn vertex;
     uint32_t fragment_count;         /* 1..: one entry per instruction set        */
     const facet_fragment_entry* fragments;
+    /* ABI 2.1. 1 + the index of the varying that carries the second set of
+     * texture coordinates (from FACET_NEED_UV1), where the host samples a
+     * texture parameter that a material binds to set 1; 0: none. It must
+     * have two components or more, and not be conditional. */
+    uint32_t second_uv;
 } facet_shader_desc;
 
 /* ------------------------------------------------------------------------ */
@@ -388,6 +395,10 @@ struct facet_vertex_batch {
     float* clip_position;    /* out: [count][4]                              */
     float* varyings;         /* out: [count][varying_floats]                 */
     uint32_t varying_floats; /* sum of the declared varyings' components    */
+    /* ABI 2.1 (read it only from a host of abi_minor 1 or more): */
+    const float* uv1;        /* [count][2] a second set of texture           */
+                             /*   coordinates (glTF's TEXCOORD_1), or NULL  */
+                             /*   unless FACET_NEED_UV1 and the mesh has it */
 };
 
 /* A fragment batch is one 4x4 block of pixels, lane i pixel
