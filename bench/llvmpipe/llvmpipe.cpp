@@ -2,6 +2,8 @@
 // llvmpipe.hpp for what it matches and what it leaves out.
 #include "llvmpipe.hpp"
 
+#include <facet/color.hpp>
+
 #include <facet/renderer.hpp>
 
 // Declares every GL entry point, so that decltype can name their types; the
@@ -39,7 +41,8 @@ namespace {
     X(GetProgramInfoLog) X(DeleteProgram) X(UseProgram) X(GetUniformLocation) X(Uniform1i)   \
     X(Uniform1f) X(Uniform3fv) X(Uniform4fv) X(Uniform1iv) X(Uniform1fv)                     \
     X(UniformMatrix3fv) X(UniformMatrix4fv) X(GenTextures) X(BindTexture) X(TexImage2D)       \
-    X(TexParameteri) X(ActiveTexture) X(DeleteTextures)
+    X(TexParameteri) X(ActiveTexture) X(DeleteTextures) X(BlendFuncSeparate)                 \
+    X(BlendEquationSeparate) X(BlendColor)
 
 struct Gl {
 #define FACET_GL_MEMBER(name) decltype(&::gl##name) name = nullptr;
@@ -684,8 +687,6 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
         if (!o.visible || !o.mesh) continue;
         for (const Material* m : o.materials()) {
             impl_->program(*m);
-            if (m->blend != BlendMode::opaque)
-                throw std::runtime_error("llvmpipe: only opaque materials are drawn");
             if (const TextureBinding* b = base_texture(*m)) impl_->upload_texture(*b);
         }
         impl_->upload_mesh(*o.mesh);
@@ -693,8 +694,100 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
     impl_->check_errors("upload()");
 }
 
+namespace {
+
+GLenum gl_factor(BlendFactor f) {
+    using F = BlendFactor;
+    switch (f) {
+        case F::zero: return GL_ZERO;
+        case F::one: return GL_ONE;
+        case F::src_color: return GL_SRC_COLOR;
+        case F::one_minus_src_color: return GL_ONE_MINUS_SRC_COLOR;
+        case F::dst_color: return GL_DST_COLOR;
+        case F::one_minus_dst_color: return GL_ONE_MINUS_DST_COLOR;
+        case F::src_alpha: return GL_SRC_ALPHA;
+        case F::one_minus_src_alpha: return GL_ONE_MINUS_SRC_ALPHA;
+        case F::dst_alpha: return GL_DST_ALPHA;
+        case F::one_minus_dst_alpha: return GL_ONE_MINUS_DST_ALPHA;
+        case F::constant_color: return GL_CONSTANT_COLOR;
+        case F::one_minus_constant_color: return GL_ONE_MINUS_CONSTANT_COLOR;
+        case F::constant_alpha: return GL_CONSTANT_ALPHA;
+        case F::one_minus_constant_alpha: return GL_ONE_MINUS_CONSTANT_ALPHA;
+        case F::src_alpha_saturate: return GL_SRC_ALPHA_SATURATE;
+    }
+    return GL_ZERO;
+}
+
+GLenum gl_equation(BlendOp op) {
+    switch (op) {
+        case BlendOp::add: return GL_FUNC_ADD;
+        case BlendOp::subtract: return GL_FUNC_SUBTRACT;
+        case BlendOp::reverse_subtract: return GL_FUNC_REVERSE_SUBTRACT;
+        case BlendOp::min: return GL_MIN;
+        case BlendOp::max: return GL_MAX;
+    }
+    return GL_FUNC_ADD;
+}
+
+// facet's blend of `m` as GL's: the named modes as their factors (the
+// same where the source alpha is within 0..1).
+void set_blend(Gl& gl, const Material& m) {
+    if (m.blend == BlendMode::opaque) {
+        gl.Disable(GL_BLEND);
+        return;
+    }
+    BlendFunc f = m.blend_func;
+    if (m.blend != BlendMode::custom) {
+        f = BlendFunc{};
+        f.src_color = BlendFactor::src_alpha;
+        f.dst_color = m.blend == BlendMode::alpha ? BlendFactor::one_minus_src_alpha : BlendFactor::one;
+        f.src_alpha = m.blend == BlendMode::alpha ? BlendFactor::one : BlendFactor::zero;
+        f.dst_alpha = m.blend == BlendMode::alpha ? BlendFactor::one_minus_src_alpha : BlendFactor::one;
+    }
+    gl.Enable(GL_BLEND);
+    gl.BlendFuncSeparate(gl_factor(f.src_color), gl_factor(f.dst_color), gl_factor(f.src_alpha),
+                         gl_factor(f.dst_alpha));
+    gl.BlendEquationSeparate(gl_equation(f.color_op), gl_equation(f.alpha_op));
+    gl.BlendColor(f.constant[0], f.constant[1], f.constant[2], f.constant[3]);
+}
+
+struct DrawnPart {
+    const Object* object;
+    size_t part;
+};
+
+// Each visible part with a material, in facet's order (renderer.cpp's
+// draw_main_pass): opaque ones in scene order, then blended ones farthest
+// first by the view depth of their bounds' centre, ties in scene order.
+std::vector<DrawnPart> draw_order(const Scene& scene) {
+    std::vector<DrawnPart> opaque;
+    std::vector<std::pair<float, DrawnPart>> blended;
+    const glm::mat4 view = scene.camera.view();
+    for (const Object& o : scene.objects) {
+        if (!o.visible || !o.mesh) continue;
+        for (size_t i = 0; i < o.mesh->part_count(); ++i) {  // as add_draw_items
+            const Material* m = o.material_of(i);
+            if (!m) continue;
+            if (m->blend == BlendMode::opaque) {
+                opaque.push_back({&o, i});
+                continue;
+            }
+            const Bounds& b = o.mesh->part(i).bounds;
+            const glm::vec3 centre = 0.5f * (b.min + b.max);
+            blended.push_back({(view * o.part_matrix(i) * glm::vec4(centre, 1.0f)).z, {&o, i}});
+        }
+    }
+    std::stable_sort(blended.begin(), blended.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [depth, d] : blended) opaque.push_back(d);
+    return opaque;
+}
+
+}  // namespace
+
 // Each draw follows facet's PipelineState for it (renderer.cpp's
-// pipeline_state): cull mode, front face, depth test and depth writes.
+// pipeline_state): cull mode, front face, depth test, depth writes and
+// blending.
 double LlvmpipeRenderer::render(const Scene& scene) {
     Gl& gl = impl_->gl;
     const RenderSettings& s = scene.settings;
@@ -710,27 +803,24 @@ double LlvmpipeRenderer::render(const Scene& scene) {
     // The flip in clip_from_world mirrors every triangle's winding.
     gl.FrontFace(s.front_ccw ? GL_CW : GL_CCW);
     const glm::mat4 view_projection = clip_from_world(scene);
-    for (const Object& o : scene.objects) {
-        if (!o.visible || !o.mesh) continue;
-        for (size_t i = 0; i < o.mesh->part_count(); ++i) {  // as add_draw_items
-            const Material* m = o.material_of(i);
-            if (!m) continue;
-            const CullMode cull = m->cull.value_or(s.cull);
-            if (cull == CullMode::none) gl.Disable(GL_CULL_FACE);
-            else {
-                gl.Enable(GL_CULL_FACE);
-                gl.CullFace(cull == CullMode::back ? GL_BACK : GL_FRONT);
-            }
-            gl.DepthMask(m->writes_depth() ? GL_TRUE : GL_FALSE);
-            const Program& p = impl_->program(*m);
-            gl.UseProgram(p.id);
-            impl_->set_uniforms(p, scene, o.part_matrix(i), *m, view_projection);
-            const MeshBuffers& b = impl_->meshes.at(o.mesh.get());
-            gl.BindVertexArray(b.vao);
-            const MeshPart part = o.mesh->part(i);
-            gl.DrawElements(GL_TRIANGLES, GLsizei(part.index_count), GL_UNSIGNED_INT,
-                            reinterpret_cast<const void*>(uintptr_t(part.first_index) * 4));
+    for (const DrawnPart& d : draw_order(scene)) {
+        const Material& m = *d.object->material_of(d.part);
+        const CullMode cull = m.cull.value_or(s.cull);
+        if (cull == CullMode::none) gl.Disable(GL_CULL_FACE);
+        else {
+            gl.Enable(GL_CULL_FACE);
+            gl.CullFace(cull == CullMode::back ? GL_BACK : GL_FRONT);
         }
+        gl.DepthMask(m.writes_depth() ? GL_TRUE : GL_FALSE);
+        set_blend(gl, m);
+        const Program& p = impl_->program(m);
+        gl.UseProgram(p.id);
+        impl_->set_uniforms(p, scene, d.object->part_matrix(d.part), m, view_projection);
+        const MeshBuffers& b = impl_->meshes.at(d.object->mesh.get());
+        gl.BindVertexArray(b.vao);
+        const MeshPart part = d.object->mesh->part(d.part);
+        gl.DrawElements(GL_TRIANGLES, GLsizei(part.index_count), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(uintptr_t(part.first_index) * 4));
     }
     gl.Finish();
     const auto end = std::chrono::steady_clock::now();
@@ -747,6 +837,9 @@ std::vector<glm::vec4> LlvmpipeRenderer::image() const {
     // GL's row 0 holds the image's top row (clip_from_world).
     gl.ReadPixels(0, 0, impl_->width, impl_->height, GL_RGBA, GL_FLOAT, rgba.data());
     impl_->check_errors("image()");
+    if (impl_->target == LlvmpipeTarget::srgb8)  // GL reads the stored codes: decode them
+        for (glm::vec4& c : rgba)
+            for (int k = 0; k < 3; ++k) c[k] = srgb8_to_linear(uint8_t(std::lround(c[k] * 255.0f)));
     return rgba;
 }
 

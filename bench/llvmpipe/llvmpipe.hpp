@@ -32,7 +32,11 @@
 //     with the binding's filter (nearest, bilinear from level 0, or
 //     trilinear: GL_LINEAR_MIPMAP_LINEAR) and wrap, and the material's
 //     alpha cutoff discards as facet's does.
-// What it does not do: normal maps, blending, MSAA, subpixel_bits other than
+//   - blending as facet blends: each material's factors and equations
+//     (glBlendFuncSeparate, glBlendEquationSeparate, glBlendColor; a named
+//     mode as its factors), blended parts drawn after the opaque ones,
+//     farthest first, as facet orders them.
+// What it does not do: normal maps, MSAA, subpixel_bits other than
 // 8, wireframe, shadow maps, AO, or any shader other than phong and unlit
 // (supports() says which). upload() and render() throw for those settings
 // rather than draw something else than facet.

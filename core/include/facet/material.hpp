@@ -69,6 +69,7 @@ struct Material {
     std::string file;      // file the params' line and column refer to
     std::string shader;    // plugin name
     BlendMode blend = BlendMode::opaque;
+    BlendFunc blend_func;                // blend == custom: the factors and equations
     std::optional<CullMode> cull;       // overrides the scene's setting
     std::optional<bool> depth_write;    // default: true unless blended
     // With MSAA, the shader's alpha chooses how many of a pixel's samples it

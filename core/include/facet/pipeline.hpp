@@ -101,6 +101,7 @@ struct PipelineState {
     CullMode cull = CullMode::back;
     bool front_ccw = true;
     BlendMode blend = BlendMode::opaque;
+    BlendFunc blend_func;  // blend == custom
     DepthCompare depth_compare = DepthCompare::greater_equal;
     bool depth_write = true;
     bool color_write = true;  // false: depth only (shadow maps, pre-passes)

@@ -1,13 +1,45 @@
 // The fixed-function modes a material or a scene chooses and the pipeline
 // applies (PipelineState, facet/pipeline.hpp): face culling, blending and
-// the depth test. Plain enums, so that assets name them without depending
+// the depth test. Plain types, so that assets name them without depending
 // on the pipeline.
 #pragma once
 
 namespace facet {
 
 enum class CullMode { none, back, front };
-enum class BlendMode { opaque, alpha, additive };
+
+// opaque, alpha and additive are facet's named modes (a material's `blend:
+// alpha`); custom blends by BlendFunc, as GL does.
+enum class BlendMode { opaque, alpha, additive, custom };
+
+// GL's blend factors (glBlendFuncSeparate), for the source s (the shader's
+// colour), the destination d (the target's) and the constant c. On the
+// colour channels: zero, one, s, 1 - s, d, 1 - d, s.a, 1 - s.a, d.a,
+// 1 - d.a, c, 1 - c, c.a, 1 - c.a, min(s.a, 1 - d.a); on alpha a colour
+// factor takes its alpha, and src_alpha_saturate is 1.
+enum class BlendFactor {
+    zero, one, src_color, one_minus_src_color, dst_color, one_minus_dst_color,
+    src_alpha, one_minus_src_alpha, dst_alpha, one_minus_dst_alpha,
+    constant_color, one_minus_constant_color, constant_alpha, one_minus_constant_alpha,
+    src_alpha_saturate
+};
+
+// GL's blend equations (glBlendEquationSeparate): s * S + d * D, s * S -
+// d * D, d * D - s * S, and min and max of s and d (which take no factors).
+enum class BlendOp { add, subtract, reverse_subtract, min, max };
+
+// A blend as GL writes it, colour and alpha apart. On a target of 8 bits a
+// channel (srgb8) the source, the destination (decoded to linear) and the
+// constant are clamped to 0..1 first, as GL clamps for a normalized
+// target; a float target takes them as they are.
+struct BlendFunc {
+    BlendFactor src_color = BlendFactor::one, dst_color = BlendFactor::zero;
+    BlendOp color_op = BlendOp::add;
+    BlendFactor src_alpha = BlendFactor::one, dst_alpha = BlendFactor::zero;
+    BlendOp alpha_op = BlendOp::add;
+    float constant[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // linear RGBA
+};
+
 enum class DepthCompare { never, less, less_equal, greater, greater_equal, equal, always };
 
 }  // namespace facet

@@ -130,11 +130,7 @@ Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
     m.source = std::move(source);
     m.file = ctx.file;
     m.shader = yaml::as<std::string>(ctx, yaml::require(ctx, node, "shader"));
-    if (const YAML::Node blend = node["blend"])
-        m.blend = yaml::as_enum<BlendMode>(ctx, blend,
-                                           {{"opaque", BlendMode::opaque},
-                                            {"alpha", BlendMode::alpha},
-                                            {"additive", BlendMode::additive}});
+    if (const YAML::Node blend = node["blend"]) parse_blend(ctx, blend, m);
     if (const YAML::Node cull = node["cull"])
         m.cull = yaml::as_enum<CullMode>(
             ctx, cull,

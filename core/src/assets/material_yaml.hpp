@@ -18,6 +18,12 @@ namespace facet {
 MaterialParam parse_param(const yaml::Context& ctx, const std::string& name,
                           const YAML::Node& value, const std::filesystem::path& folder);
 
+// A material's `blend:`: a named mode (opaque, alpha, additive,
+// premultiplied, multiply) or a map of GL's factors and equations (src,
+// dst, op, and src_alpha, dst_alpha, op_alpha, which default to the
+// colour's, and a constant colour), into m.blend and m.blend_func.
+void parse_blend(const yaml::Context& ctx, const YAML::Node& node, Material& m);
+
 // Parses `node` (a map with the keys of a material file) and binds it to its
 // shader from `registry`. Relative texture files resolve against `folder`;
 // `source` becomes Material::source. Errors name ctx.file and the line in it.

@@ -33,6 +33,7 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.cull = m.cull.value_or(s.cull);
     p.front_ccw = s.front_ccw;
     p.blend = m.blend;
+    p.blend_func = m.blend_func;
     p.depth_compare = s.depth_compare;
     p.depth_write = m.writes_depth();
     p.wireframe = s.wireframe;

@@ -1,5 +1,6 @@
 #include "pipeline/fragment.hpp"
 
+#include "pipeline/blend.hpp"
 #include "pipeline/pixels.hpp"
 #include "pipeline/rasterize.hpp"
 #include "pipeline/sampler.hpp"
@@ -163,37 +164,6 @@ void sample_textures(const DrawContext& dc, const float* varyings, uint32_t mask
     }
 }
 
-// Colour:  alpha    = src * a + dst * (1 - a)   (src-alpha, one-minus-src-alpha)
-//          additive = src * a + dst             (src-alpha, one)
-// Alpha:   alpha    = a + dst.a * (1 - a)       (coverage accumulates)
-//          additive keeps dst.a.
-// The factor a is the source alpha clamped to 0..1.
-Rgba blend(BlendMode mode, const Rgba& src, const Rgba& dst) {
-    const Float a = src.a < 0.0f ? 0.0f : src.a > 1.0f ? 1.0f : src.a;
-    switch (mode) {
-        case BlendMode::opaque: return src;
-        case BlendMode::alpha: {
-            const Float keep = 1.0f - a;
-            return {src.r * a + dst.r * keep, src.g * a + dst.g * keep, src.b * a + dst.b * keep,
-                    a + dst.a * keep};
-        }
-        case BlendMode::additive:
-            return {dst.r + src.r * a, dst.g + src.g * a, dst.b + src.b * a, dst.a};
-    }
-    return src;
-}
-
-glm::vec4 blend(BlendMode mode, const glm::vec4& src, const glm::vec4& dst) {
-    const float a = std::clamp(src.a, 0.0f, 1.0f);
-    switch (mode) {
-        case BlendMode::opaque: return src;
-        case BlendMode::alpha:
-            return {glm::vec3(src) * a + glm::vec3(dst) * (1.0f - a), a + dst.a * (1.0f - a)};
-        case BlendMode::additive: return {glm::vec3(dst) + glm::vec3(src) * a, dst.a};
-    }
-    return src;
-}
-
 // Part p of the shader's colour output ([4][16] floats).
 Rgba shaded(const float* color, int p) {
     const int first = p * kWidth;
@@ -235,7 +205,7 @@ void write_pixels(const DrawContext& dc, const Block& b, const Float* z, const f
         if (!write_color) continue;
         Rgba src = shaded(color, p);
         if (dc.state.blend != BlendMode::opaque)
-            src = blend(dc.state.blend, src, load_color(format, block, row_bytes, p));
+            src = blend(dc.state, format, src, load_color(format, block, row_bytes, p));
         Packed packed;
         pack(format, src, packed.bytes);
         store_packed(format, block, row_bytes, p, packed, lanes);
@@ -311,7 +281,7 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
                     continue;
                 }
                 const glm::vec4 src(color[i], color[N + i], color[2 * N + i], color[3 * N + i]);
-                encode_pixel(format, blend(dc.state.blend, src, decode_pixel(format, dst)), dst);
+                encode_pixel(format, blend(dc.state, format, src, decode_pixel(format, dst)), dst);
             }
         }
     }
