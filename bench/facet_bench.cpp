@@ -819,18 +819,21 @@ int run_pareto(const CLI::App& app, Options& o, const Interrupts& interrupts) {
 // llvmpipe, shadows).
 
 // True when llvmpipe can draw every visible object of a scene file as facet
-// does: GLSL versions of their shaders, no texture but a base texture, no
-// blending.
+// does: GLSL versions of their shaders, no texture but a base texture
+// (and that one neither transformed nor on a second UV set).
 bool llvmpipe_draws_scene(const Scene& scene, const LlvmpipeSide& lp) {
     for (const Object& o : scene.objects) {
         if (!o.visible || !o.mesh) continue;
         for (const Material* m : o.materials()) {
             if (!m->plugin) continue;
-            if (!lp.draws(m->plugin->name()) || m->blend != BlendMode::opaque) return false;
+            if (!lp.draws(m->plugin->name())) return false;
             const facet_param_desc* base = m->plugin->find_param("base_texture");
             const int base_slot = base ? m->plugin->texture_slot(*base) : -1;
-            for (size_t slot = 0; slot < m->textures.size(); ++slot)
-                if (m->textures[slot].texture && int(slot) != base_slot) return false;
+            for (size_t slot = 0; slot < m->textures.size(); ++slot) {
+                const TextureBinding& t = m->textures[slot];
+                if (t.texture && (int(slot) != base_slot || !t.transform.identity() || t.uv_set != 0))
+                    return false;
+            }
         }
     }
     return true;

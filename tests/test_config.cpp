@@ -227,6 +227,24 @@ TEST_CASE("a texture's transform places it on its UVs, and bad ones are refused"
     }
 }
 
+TEST_CASE("a cube map takes no transform and no UV set, whether faces or one file", "[material]") {
+    Env env;
+    facet::PluginRegistry shipped;  // the built shaders: mirror's environment is a cube map
+    const std::pair<const char*, const char*> cases[] = {
+        {"{file: sky.hdr, transform: {scale: [2, 2]}}", "'environment' is a cube map, read by direction"},
+        {"{file: sky.hdr, uv_set: 1}", "'environment' reads the second set of texture coordinates"}};
+    for (const auto& [value, says] : cases) {
+        INFO(value);
+        const auto e = error_of([&] {
+            facet::load_material(
+                env.write("m.yaml", std::string("shader: mirror\nparams:\n  environment: ") + value + "\n"),
+                shipped, env.cache);
+        });
+        CHECK(e.line() == 3);
+        CHECK_THAT(e.what(), Contains(says));
+    }
+}
+
 TEST_CASE("a texture's UV set is 0 or 1, and 1 only where the shader has a second", "[material]") {
     Env env;
     REQUIRE(env.material("shader: test\nparams:\n  albedo: {file: px.tga, uv_set: 0}\n")

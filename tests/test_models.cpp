@@ -295,6 +295,30 @@ TEST_CASE("glTF texture transforms, emissive strength, ior, specular and clear c
     CHECK(e.rmse < 0.05);
 }
 
+TEST_CASE("glTF extensions reach the material assimp reads, in assimp's order", "[model][extensions]") {
+    // The first primitive uses the file's second material: assimp reads the
+    // materials in the order it meets them, so its material 0 is the file's
+    // 1. Each must keep its own emissive strength.
+    SceneDir sd;
+    write_gltf(sd.dir / "order.gltf",
+               "[{\"name\": \"two\", \"emissiveFactor\": [0.1, 0.1, 0.1],"
+               " \"extensions\": {\"KHR_materials_emissive_strength\": {\"emissiveStrength\": 2}}},"
+               " {\"name\": \"five\", \"emissiveFactor\": [0.1, 0.1, 0.1],"
+               " \"extensions\": {\"KHR_materials_emissive_strength\": {\"emissiveStrength\": 5}}}],"
+               " \"extensionsUsed\": [\"KHR_materials_emissive_strength\"]",
+               1, 0);
+    const Scene s = sd.load("objects: [{mesh: order.gltf}]\n");
+    for (size_t part = 0; part < 2; ++part) {
+        const Material& m = *s.objects[0].material_of(part);
+        INFO(m.source);
+        float e[3];
+        std::memcpy(e, m.block->bytes + m.plugin->find_param("emissive")->offset, sizeof e);
+        const bool five = m.source.find("'five'") != std::string::npos;
+        CHECK(five == (part == 0));
+        CHECK(e[0] == Approx(five ? 0.5f : 0.2f));
+    }
+}
+
 TEST_CASE("a glTF texture of the second UV set is drawn at TEXCOORD_1", "[model][extensions]") {
     SceneDir sd;
     // The base colour on set 1, which is set 0 turned half a turn; the

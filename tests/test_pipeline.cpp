@@ -526,7 +526,7 @@ TEST_CASE("the core provides only what a shader asks for", "[pipeline][abi]") {
     const facet_varying_desc uv = {"uv", 2, FACET_INTERP_PERSPECTIVE};
     const facet_fragment_entry fragment = {FACET_ISA_BASELINE, probe_fragment};
     facet_shader_desc shader = {sizeof(facet_shader_desc), 0, 0, 0, nullptr, 0, 0,
-                                probe_vertex, 1, &fragment, 0};
+                                probe_vertex, 1, &fragment, 0, 0};
     const facet_plugin_desc desc = {FACET_ABI_MAJOR, FACET_ABI_MINOR, sizeof(facet_plugin_desc),
                                     "probe", "test", {}, &shader, nullptr};
     Mesh mesh = make_mesh({{-1, -1, 0.5f}, {1, -1, 0.5f}, {0, 1, 0.5f}}, {0, 1, 2},

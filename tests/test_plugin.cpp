@@ -218,17 +218,23 @@ TEST_CASE("conditional varyings: read only under their parameter, and checked at
           "[plugin]") {
     PluginRegistry registry;
     const std::shared_ptr<ShaderPlugin> phong = registry.get("phong");
-    // phong's tangent (4 floats, its last varying) serves only its normal map.
+    // phong's last three varyings (its Gouraud terms and its tangent, 10
+    // floats) serve only its normal map or its Gouraud mode (ABI 2.1's
+    // second condition).
     const facet_shader_desc& shader = phong->shader_desc();
     const facet_schema& schema = phong->schema();
-    REQUIRE(shader.conditional_varyings == 1);
+    REQUIRE(shader.conditional_varyings == 3);
     REQUIRE(std::string(schema.params[shader.varyings_condition].name) == "normal_texture");
-    ParamBlock block;
-    const facet_param_desc& condition = *phong->find_param("normal_texture");
-    CHECK(phong->read_floats(block.bytes) == phong->varying_floats() - 4);
-    const int32_t bound = 1;
-    std::memcpy(block.bytes + condition.offset, &bound, sizeof bound);
-    CHECK(phong->read_floats(block.bytes) == phong->varying_floats());
+    REQUIRE(shader.varyings_condition_also > 0);
+    REQUIRE(std::string(schema.params[shader.varyings_condition_also - 1].name) == "gouraud");
+    for (const char* name : {"normal_texture", "gouraud"}) {
+        INFO(name);
+        ParamBlock block;
+        CHECK(phong->read_floats(block.bytes) == phong->varying_floats() - 10);
+        const int32_t set = 1;
+        std::memcpy(block.bytes + phong->find_param(name)->offset, &set, sizeof set);
+        CHECK(phong->read_floats(block.bytes) == phong->varying_floats());
+    }
 
     const DescCopy real(&phong->desc());
     DescCopy d = real;
@@ -241,9 +247,12 @@ TEST_CASE("conditional varyings: read only under their parameter, and checked at
     d = real;
     d.shader.varyings_condition = schema.param_count;
     CHECK_THAT(d.why(), Catch::Contains("not a texture or bool parameter"));
+    d = real;
+    d.shader.varyings_condition_also = uint32_t(phong->find_param("shininess") - schema.params) + 1;
+    CHECK_THAT(d.why(), Catch::Contains("second condition is not a texture or bool parameter"));
     // With the UV conditional too, base_texture would be sampled at zeros.
     d = real;
-    d.shader.conditional_varyings = 2;
+    d.shader.conditional_varyings = 4;
     CHECK_THAT(d.why(), Catch::Contains("texture 'base_texture' reads its UV from a conditional"));
 }
 

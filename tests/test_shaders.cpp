@@ -456,10 +456,36 @@ double ref_lobe(const dvec3& n, const dvec3& l, const dvec3& v, const Values& p)
     return std::pow(std::max(c, 0.0), num(p, "shininess"));
 }
 
+// Gouraud: the lights' diffuse and specular sums at a vertex; nothing near
+// a range cut-off.
+std::optional<std::pair<dvec3, dvec3>> ref_vertex_light(const Setup& s, const Values& p,
+                                                        const dvec3& pos, const dvec3& n) {
+    const dvec3 v = glm::normalize(dvec3(s.eye) - pos);
+    dvec3 diffuse(0.0), specular(0.0);
+    for (const facet_light& l : s.lights) {
+        const RefLight in = ref_light(l, pos);
+        if (in.near_range) return std::nullopt;
+        const double n_l = glm::dot(n, in.to_light);
+        if (n_l <= 0) continue;
+        diffuse += in.radiance * n_l;
+        specular += in.radiance * ref_lobe(n, in.to_light, v, p);
+    }
+    return std::pair{diffuse, specular};
+}
+
 Reference phong_reference(const Setup& s, const Values& p, const TextureBinding* tex,
                           const TextureBinding* normal_map = nullptr) {
-    const std::vector<dvec3> nrm = world_normals(s);
+    const std::vector<dvec3> nrm = world_normals(s), pos = world_positions(s);
     const std::vector<dvec4> tan = world_tangents(s);
+    std::vector<dvec3> vertex_diffuse, vertex_specular;  // gouraud
+    bool near_edge = false;
+    for (size_t i = 0; i < pos.size(); ++i) {
+        const auto light = ref_vertex_light(s, p, pos[i], nrm[i]);
+        near_edge |= !light;
+        vertex_diffuse.push_back(light ? light->first : dvec3(0.0));
+        vertex_specular.push_back(light ? light->second : dvec3(0.0));
+    }
+    const bool gouraud = num(p, "gouraud") != 0;
     return [=, &s](const Hit& h) -> std::optional<dvec4> {
         const std::optional<dvec4> texel = ref_texel(s, tex, h);
         const std::optional<dvec3> mapped = ref_normal(s, nrm, tan, normal_map, p, h);
@@ -468,6 +494,11 @@ Reference phong_reference(const Setup& s, const Values& p, const TextureBinding*
         const dvec3 v = glm::normalize(dvec3(s.eye) - h.world);
         const dvec3 kd = rgb(p, "diffuse") * dvec3(*texel);
         dvec3 c = rgb(p, "emission") + rgb(p, "ambient");
+        if (gouraud) {
+            if (near_edge) return std::nullopt;
+            c += kd * interpolate(h, vertex_diffuse) + rgb(p, "specular") * interpolate(h, vertex_specular);
+            return dvec4(c, texel->a);
+        }
         for (const facet_light& l : s.lights) {
             const RefLight in = ref_light(l, h.world);
             if (in.near_range) return std::nullopt;
@@ -486,6 +517,7 @@ Values phong_values(bool blinn, double shininess, bool textured) {
             {"emission", {0.03, 0.0, 0.01}},
             {"shininess", {shininess}},
             {"blinn", {double(blinn)}},
+            {"gouraud", {0.0}},
             {"base_texture", {double(textured)}},
             {"alpha_cutoff", {0.0}},
             {"normal_texture", {0.0}},
@@ -688,7 +720,7 @@ dvec3 ref_pbr(const Setup& s, const Values& p, const dvec4& base, const dvec3& p
         c += in.radiance * ((1 - w) * ref_lit(lobe, n, v, in.to_light) +
                             w * ref_lit(coat, coat_n, v, in.to_light));
     }
-    return rgb(p, "emissive") + c;
+    return (1 - w) * rgb(p, "emissive") + c;  // the coat lies over the emission too
 }
 
 // Whether the quad's front faces the camera at the hit (the pipeline's
@@ -783,6 +815,18 @@ TEST_CASE("phong.so matches Phong and Blinn-Phong with directional, point and sp
         const TextureBinding* tex = c.textured ? &texture : nullptr;
         const Framebuffer fb = draw(s, *phong, make_block(*phong, p), tex);
         require_match(compare(s, fb, phong_reference(s, p, tex)), 1500);
+    }
+    // Gouraud with specular: each light's terms at the vertices, interpolated.
+    for (const Case c : {Case{false, 24, false}, Case{true, 8, true}}) {
+        INFO("gouraud, blinn " << c.blinn << ", shininess " << c.shininess << ", textured " << c.textured);
+        Values p = phong_values(c.blinn, c.shininess, c.textured);
+        p["gouraud"] = {1.0};
+        const TextureBinding* tex = c.textured ? &texture : nullptr;
+        const Framebuffer fb = draw(s, *phong, make_block(*phong, p), tex);
+        require_match(compare(s, fb, phong_reference(s, p, tex)), 1500);
+        CHECK(max_difference(fb, draw(s, *phong, make_block(*phong, phong_values(c.blinn, c.shininess,
+                                                                               c.textured)),
+                                      tex)) > 10);  // not the per-pixel image
     }
     // The choice of lobe and the exponent both show.
     auto image = [&](bool blinn, double shininess) {

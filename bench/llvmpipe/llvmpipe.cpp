@@ -687,7 +687,12 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
         if (!o.visible || !o.mesh) continue;
         for (const Material* m : o.materials()) {
             impl_->program(*m);
-            if (const TextureBinding* b = base_texture(*m)) impl_->upload_texture(*b);
+            if (const TextureBinding* b = base_texture(*m)) {
+                if (!b->transform.identity() || b->uv_set != 0)
+                    throw std::runtime_error("llvmpipe: a base texture with a transform or on a "
+                                             "second UV set is not drawn");
+                impl_->upload_texture(*b);
+            }
         }
         impl_->upload_mesh(*o.mesh);
     }

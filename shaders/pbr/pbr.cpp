@@ -19,9 +19,9 @@
 //            + (c_diff E(n) + S(r, roughness) (f0 A + f90 B)) * occlusion  (an environment)
 //            + sum over lights of radiance * n.L * ((1 - F) c_diff + pi F D V)
 //
-// A clear coat (KHR_materials_clearcoat) lies over all but the emission:
+// A clear coat (KHR_materials_clearcoat) lies over the rest, emission too:
 // with w = clearcoat * clearcoat_texture.r * (0.04 + 0.96 (1 - n.v)^5),
-// the base's light is times (1 - w), and w times a GGX lobe of
+// the base's light and emission are times (1 - w), and w times a GGX lobe of
 // clearcoat_roughness (times clearcoat_roughness_texture.g) with F = 1 is
 // added, lit as the base is. The coat follows the interpolated normal.
 //
@@ -83,7 +83,8 @@ struct Pbr {
         (color3, emissive, {0.0f, 0.0f, 0.0f}, "linear RGB the surface emits"),
         (texture, emissive_texture, "uv", srgb, "colour texture (sRGB) multiplying emissive"),
         (color3, ambient, {0.03f, 0.03f, 0.03f}, "light arriving equally from everywhere"),
-        (float1, ior, 1.5f, 1.0f, 10.0f, "a dielectric's index of refraction (glTF KHR_materials_ior)"),
+        (float1, ior, 1.5f, 0.0f, 10.0f,
+         "a dielectric's index of refraction (glTF KHR_materials_ior); 0: it reflects all (F0 = 1)"),
         (float1, specular, 1.0f, 0.0f, 1.0f,
          "a dielectric's specular weight (glTF KHR_materials_specular): 0 none"),
         (color3, specular_color, {1.0f, 1.0f, 1.0f},
@@ -201,7 +202,7 @@ struct Pbr {
         if constexpr (Receives) occlusion = occlusion * ambient_visibility(f, p.receive);
         Vec3 c = p.emissive * rgb(f.texture(p.emissive_texture));
         if (coated) {
-            c += ambient_light(s, roughness, f, p) * occlusion * (1.0f - coat.w) +
+            c = c * (1.0f - coat.w) + ambient_light(s, roughness, f, p) * occlusion * (1.0f - coat.w) +
                  ambient_light(coat.s, coat.roughness, f, p) * (occlusion * coat.w);
         } else {
             c += ambient_light(s, roughness, f, p) * occlusion;

@@ -18,6 +18,16 @@
 // light's term is times the share of it its shadow map lets through, if it
 // casts shadows; with ambient_occlusion above 0, ambient is times AO to
 // that power (facet::sdk::Receiving).
+//
+// With gouraud: true each light's diffuse and specular terms (attenuation,
+// spot cone and range included) are summed at the vertices and
+// interpolated, as fixed-function Gouraud shading with specular does:
+//     colour = emission + ambient + kd * D + specular * S
+// D and S the interpolated sums of radiance * max(n.L, 0) and radiance * s
+// at the vertices (v from each vertex to the camera); the texture is still
+// sampled per fragment. A light whose shadow map the draw receives is lit
+// per fragment instead, so that its shadow stays sharp. A normal_texture
+// is not read under gouraud.
 #include <facet/environment.hpp>
 #include <facet/lighting.hpp>
 
@@ -32,13 +42,16 @@ struct Phong {
                                       FACET_NEED_LIGHTS | FACET_NEED_TEXTURES |
                                       FACET_NEED_SHADOW_MAP | FACET_NEED_AO | FACET_NEED_DISCARD;
 
-    FACET_VARYINGS((Vec3, position),  // world space
-                   (Vec3, normal),    // world space, unit at the vertices
+    FACET_VARYINGS((Vec3, position),         // world space
+                   (Vec3, normal),           // world space, unit at the vertices
                    (Vec2, uv),
-                   (Vec4, tangent))   // world space, w the handedness
-    // The tangent: read only with a normal map, and interpolated only then.
-    static constexpr uint32_t conditional_varyings = 1;
+                   (Vec3, vertex_diffuse),   // gouraud: D at the vertices
+                   (Vec3, vertex_specular),  // gouraud: S at the vertices
+                   (Vec4, tangent))          // world space, w the handedness
+    // Read only with a normal map or under gouraud, and interpolated only then.
+    static constexpr uint32_t conditional_varyings = 3;
     static constexpr const char* varyings_condition = "normal_texture";
+    static constexpr const char* varyings_condition_also = "gouraud";
 
     FACET_PARAMS(
         (color3, ambient, {0.02f, 0.02f, 0.02f}, "linear RGB added everywhere"),
@@ -48,6 +61,8 @@ struct Phong {
         (float1, shininess, 32.0f, 1.0f, 10000.0f,
          "specular exponent: higher is a smaller, sharper highlight"),
         (boolean, blinn, false, "Blinn-Phong (half vector) instead of Phong (reflected vector)"),
+        (boolean, gouraud, false,
+         "light each vertex and interpolate (Gouraud, with specular) instead of each fragment"),
         (texture, base_texture, "uv", srgb,
          "colour texture (sRGB) multiplying diffuse; its alpha is the output's"),
         (cutoff, alpha_cutoff),
@@ -56,7 +71,35 @@ struct Phong {
         (receiving, receive))
 
     static Varyings vertex(const VertexIn& in, const Draw& d, const Params& p, Vec4& clip) {
-        return surface_vertex<Varyings>(in, d, bool(p.normal_texture), clip);
+        Vec3 diffuse(splat(0.0f)), specular(splat(0.0f));
+        if (p.gouraud) {
+            const Vec3 world = xyz(d.model() * Vec4(in.position, 1.0f));
+            const Vec3 n = normalize(d.normal_matrix() * in.normal);
+            const Vec3 to_eye = normalize(d.camera_position() - world);
+            for (uint32_t i = 0; i < d.light_count(); ++i)
+                if (!shadowed(d, i, p)) add_light(d.light(i), world, n, to_eye, p, diffuse, specular);
+        }
+        return surface_vertex<Varyings>(in, d, bool(p.normal_texture) && !p.gouraud, clip, diffuse,
+                                        specular);
+    }
+
+    // Whether light i's term is lit per fragment under gouraud: its shadow
+    // map is one the draw receives.
+    static bool shadowed(const Draw& d, uint32_t i, const Params& p) {
+        return p.receive.shadows && has_shadow(d, i);
+    }
+
+    // Light `l`'s diffuse (radiance * n.L) and specular (radiance * s) terms
+    // at p, added; 0 where it does not reach.
+    static void add_light(const facet_light& l, const Vec3& p, const Vec3& n, const Vec3& to_eye,
+                          const Params& params, Vec3& diffuse, Vec3& specular) {
+        const Incident in = incident_light(l, p);
+        const Float n_l = dot(n, in.to_light);
+        const Mask reached = lit_by(in, n_l);
+        if (!any(reached)) return;
+        diffuse += select(reached, in.radiance * n_l, Vec3(splat(0.0f)));
+        specular += select(reached, in.radiance * lobe(n, in.to_light, to_eye, params),
+                           Vec3(splat(0.0f)));
     }
 
     // The specular lobe s for unit n, L, v; 0 where n.L <= 0 is left to the caller.
@@ -77,7 +120,7 @@ struct Phong {
     template <bool Receives>
     static Vec4 shade(const Varyings& v, Fragment& f, const Draw& d, const Params& p) {
         Vec3 n = normalize(v.normal);
-        if (p.normal_texture)
+        if (p.normal_texture && !p.gouraud)
             n = normal_mapped(n, v.tangent, f.texture(p.normal_texture), p.normal_scale);
         const Vec3 to_eye = normalize(d.camera_position() - v.position);
         const Vec4 base = f.texture(p.base_texture);
@@ -87,7 +130,9 @@ struct Phong {
         if (const Environment env = environment_of(f)) ambient = kd * env.irradiance(n);
         Vec3 c = p.emission + ambient;
         if constexpr (Receives) c = p.emission + ambient * ambient_visibility(f, p.receive);
+        if (p.gouraud) c += kd * v.vertex_diffuse + p.specular * v.vertex_specular;
         for (uint32_t i = 0; i < d.light_count(); ++i) {
+            if (p.gouraud && !(Receives && shadowed(d, i, p))) continue;  // summed at the vertices
             const Incident in = incident_light(d.light(i), v.position);
             const Float n_l = dot(n, in.to_light);
             const Mask reached = lit_by(in, n_l);

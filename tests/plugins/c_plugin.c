@@ -163,7 +163,7 @@ static const facet_shader_desc shader = {
     0, NULL, /* varyings */
     0, 0,    /* no conditional varyings */
     vertex, 1, fragments,
-    0};      /* no second UV set */
+    0, 0};   /* no second UV set, no second condition */
 
 #ifdef BOTH_KINDS
 static void run(const facet_pass_frame* frame) { (void)frame; }

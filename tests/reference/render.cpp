@@ -88,7 +88,7 @@ void oracle_sample(const facet_draw* draw, uint32_t slot, const float* coords, c
             if (b && b->texture->faces != 6) {  // the level scales with the transform's area
                 at = glm::vec3(oracle_placed(b->transform, at.x, at.y), 0.0f);
                 const double area = std::abs(double(b->transform.scale.x) * b->transform.scale.y);
-                if (area > 0.0) l += float(0.5 * std::log2(area));
+                if (lod && area > 0.0) l += float(0.5 * std::log2(area));
             }
             c = !b                          ? glm::vec4(1.0f)
                 : b->texture->faces == 6    ? sample_cube(*b, at, l)

@@ -3,7 +3,8 @@
 // A material file (YAML) names a shader and gives parameter values:
 //
 //     shader: unlit
-//     blend: opaque            # opaque | alpha | additive
+//     blend: opaque            # opaque | alpha | additive | premultiplied | multiply,
+//                              # or GL's {src, dst, op, ...} (docs/scenes.md)
 //     alpha_to_coverage: false # MSAA: alpha picks the samples covered
 //     params:
 //       base_color: [1, 0.5, 0.2, 1]

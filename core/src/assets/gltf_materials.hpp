@@ -3,8 +3,9 @@
 // the importer runs).
 //
 // Takes: a .gltf file, or a GLB (its JSON chunk), of at most 64 MiB of JSON.
-// Gives: for each of the file's materials, in the file's order (assimp's
-// material i is the file's material i; assimp adds its default last):
+// Gives: for each material assimp reads, in assimp's order (the order its
+// glTF reader first meets them in the default scene's nodes, then in skins
+// and animations: mMaterials; its default material, added last, has none):
 //   - KHR_materials_emissive_strength: the strength;
 //   - KHR_materials_ior: the index of refraction;
 //   - KHR_materials_specular: its factor and colour factor, and whether

@@ -62,16 +62,20 @@ void check_pnm(std::string_view bytes, const std::string& source) {
 }
 
 // What a JPEG's markers have defined so far, for the checks stb_image
-// (libstb 2022-09-08) does not make. stb_image allocates its decoder's tables
-// without clearing them, so a scan that uses a table the file never defined
-// decodes with whatever memory held: an out-of-bounds read of a Huffman
-// table, or quantization by garbage.
+// (libstb 2022-09-08) does not make. stb_image allocates its decoder's
+// tables and a component's samples (or, progressive, its coefficients)
+// without clearing them, so a scan that uses a table the file never
+// defined decodes with whatever memory held (an out-of-bounds read of a
+// Huffman table, or quantization by garbage), and so does a component no
+// scan codes: each is refused.
 struct JpegDefined {
     std::string_view bytes;
     const std::string& source;
     bool huffman[2][4] = {};  // [0 DC, 1 AC][table], from DHT segments
     bool quant[4] = {};       // from DQT segments
     int quant_of[256];        // a frame component's table, by component id; -1: none
+    unsigned ids[4] = {}, id_count = 0;  // the frame's components
+    bool coded[256] = {};     // a component a scan codes (progressive: a first DC scan)
     bool progressive = false;
 
     JpegDefined(std::string_view b, const std::string& s) : bytes(b), source(s) {
@@ -109,14 +113,18 @@ struct JpegDefined {
     void frame(size_t p, unsigned marker) {
         progressive = marker == 0xC2;
         std::fill(std::begin(quant_of), std::end(quant_of), -1);
+        std::fill(std::begin(coded), std::end(coded), false);
+        id_count = 0;
         const unsigned components = at(p + 5);
         for (unsigned c = 0; c < components && c < 4; ++c) {
             const size_t q = p + 6 + 3 * c;
-            if (quant_of[at(q)] < 0) quant_of[at(q)] = int(at(q + 2) & 3);
+            if (quant_of[at(q)] >= 0 || at(q + 2) > 3) continue;  // stb_image refuses a table past 3
+            quant_of[at(q)] = int(at(q + 2));
+            ids[id_count++] = at(q);
         }
     }
     // SOS: the tables this scan decodes with must have been defined.
-    void scan(size_t p) const {
+    void scan(size_t p) {
         const unsigned components = std::min(at(p), 4u);
         const unsigned start = at(p + 1 + 2 * components), refining = at(p + 3 + 2 * components) >> 4;
         for (unsigned c = 0; c < components; ++c) {
@@ -127,6 +135,7 @@ struct JpegDefined {
                        std::to_string(quant_of[id]) + " is not defined before it");
             const bool uses_dc = !progressive || (start == 0 && refining == 0);
             const bool uses_ac = !progressive || start > 0;
+            coded[id] = coded[id] || uses_dc;
             for (const auto& [used, kind, table] : {std::tuple{uses_dc, 0, dc}, std::tuple{uses_ac, 1, ac}})
                 if (used && !huffman[kind][table])
                     refuse(std::string("scan that uses ") + (kind ? "AC" : "DC") + " Huffman table " +
@@ -134,6 +143,15 @@ struct JpegDefined {
                            ", which is not defined before it (Motion-JPEG's implied "
                            "standard tables are not read)");
         }
+    }
+    // At the end of the image: every component coded (and so its
+    // quantization table defined, which scan() checks).
+    void finish() const {
+        for (unsigned c = 0; c < id_count; ++c)
+            if (!coded[ids[c]])
+                refuse("component " + std::to_string(ids[c]) + " that no scan codes" +
+                       (progressive ? " from its first DC scan" : "") +
+                       ": its pixels would be memory the decoder never wrote");
     }
 };
 
@@ -149,7 +167,7 @@ void check_jpeg(std::string_view bytes, const std::string& source) {
     if (at == 0 || at + 3 > bytes.size() || u(at) != 0xD8) return;
     ++at;
     JpegDefined defined(bytes, source);
-    while (at + 4 <= bytes.size()) {
+    while (at + 2 <= bytes.size()) {
         if (u(at) != 0xFF) {  // entropy-coded data: on to the next marker
             ++at;
             continue;
@@ -160,7 +178,11 @@ void check_jpeg(std::string_view bytes, const std::string& source) {
             at += marker == 0xFF ? 1 : 2;
             continue;
         }
-        if (marker == 0xD9) return;  // the end of the image
+        if (marker == 0xD9) {  // the end of the image
+            defined.finish();
+            return;
+        }
+        if (at + 4 > bytes.size()) return;  // a segment cut short: stb_image refuses it
         const size_t end = at + 2 + ((size_t(u(at + 2)) << 8) | u(at + 3));
         if (marker == 0xC4) defined.huffman_tables(at + 4, end);
         if (marker == 0xDB) defined.quant_tables(at + 4, end);

@@ -294,6 +294,11 @@ TextureBinding load_binding(const std::string& m, const MaterialParam& p,
         throw Error(ErrorCode::param_type,
                     "'" + p.name + "' is a 2D texture: give it a file, not a cube map's faces", m,
                     p.line, p.column);
+    if ((d.flags & FACET_PARAM_CUBE) && (!p.transform.identity() || p.uv_set != 0))
+        throw Error(ErrorCode::param_type,
+                    "'" + p.name + "' is a cube map, read by direction: it has no UVs to transform "
+                    "or choose",
+                    m, p.line, p.column);
     try {
         if (d.flags & FACET_PARAM_CUBE)
             return {cache.get_cube(p.cube_faces.empty() ? std::vector{p.texture_file} : p.cube_faces,

@@ -667,6 +667,8 @@ void log_gltf_extensions(const std::filesystem::path& path) {
     const auto used = gltf_extensions_used(path);
     if (!used) {
         spdlog::warn("{}: its JSON could not be read for the extensions it uses (over 64 MiB?); "
+                     "its materials' texture transforms, emissive strength, ior and specular are "
+                     "left out, and "
                      "they are not listed", path.string());
         return;
     }

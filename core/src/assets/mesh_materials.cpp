@@ -102,7 +102,7 @@ public:
         if (mode[1] != mode[0]) note(std::string(what) + " wraps u and v differently; facet uses u's way for both");
         // glTF samplers: 9728 NEAREST, 9729 LINEAR, 9984.. the mipmapped ones.
         unsigned min_filter = 0;
-        if (m_.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MIN(type, 0), min_filter) == AI_SUCCESS) {
+        if (m_.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MIN(type, which), min_filter) == AI_SUCCESS) {
             if (min_filter == 9728) t.filter = "nearest";
             else if (min_filter == 9729) t.filter = "bilinear";
         }
@@ -223,11 +223,9 @@ void gltf_specular(Mapper& m) {
     if (!x) return;
     if (x->ior) m.param("ior", double(*x->ior));
     if (x->specular) m.param("specular", double(*x->specular));
-    if (x->specular_color) {
+    if (x->specular_color) {  // above 1 too: pbr holds its product with f0 to 1, as the extension does
         const glm::vec3 c = *x->specular_color;
-        if (std::max({c.r, c.g, c.b}) > 1.0f)
-            m.note("specularColorFactor above 1 is held to 1 (facet's specular_color is a colour)");
-        m.param("specular_color", {std::min(c.r, 1.0f), std::min(c.g, 1.0f), std::min(c.b, 1.0f)});
+        m.param("specular_color", {c.r, c.g, c.b});
     }
     if (x->specular_textures)
         m.note("KHR_materials_specular's specularTexture and specularColorTexture are left out: "
@@ -263,7 +261,8 @@ ImportedMaterial gltf_material(Mapper& m) {
     m.param("base_color", {base.r, base.g, base.b, base.a});
     std::optional<TextureRef> base_texture =
         m.texture(aiTextureType_BASE_COLOR, "base colour texture", "baseColorTexture");
-    if (!base_texture && glossiness) base_texture = m.texture(aiTextureType_DIFFUSE, "diffuse texture");
+    if (!base_texture && glossiness)
+        base_texture = m.texture(aiTextureType_DIFFUSE, "diffuse texture", "diffuseTexture");
     if (base_texture) m.param("base_texture", *base_texture);
     m.param("metallic", glossiness ? 0.0 : clamp01(m.number(AI_MATKEY_METALLIC_FACTOR).value_or(1.0f)));
     m.param("roughness", glossiness ? clamp01(1.0f - *glossiness)
@@ -276,6 +275,11 @@ ImportedMaterial gltf_material(Mapper& m) {
     }
     if (auto t = m.texture(aiTextureType_NORMALS, "normal texture", "normalTexture")) {
         m.param("normal_texture", *t);
+        if (t->uv_set != 0 || t->transform.rotation != 0.0f ||
+            t->transform.scale.x * t->transform.scale.y < 0.0f)
+            m.note("the normal texture reads a second UV set, or turns or mirrors its UVs: its "
+                   "tangent frame still follows the first set as the file places it, so its "
+                   "bumps may lean the wrong way");
         // pbr takes -16 .. 16: far past what any map means.
         const float scale = m.number(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0)).value_or(1.0f);
         const double clamped = std::isfinite(scale) ? std::clamp(double(scale), -16.0, 16.0) : 1.0;
@@ -383,10 +387,18 @@ void check_obj_libraries(const std::filesystem::path& obj, std::vector<ImportedM
 
 ImportedMaterial import_material(const aiScene& scene, unsigned index,
                                  const std::filesystem::path& file, const GltfMaterials* extensions) {
-    // assimp's material i is the file's material i (its default comes last).
+    // In assimp's order (read_gltf_materials); a name that differs means
+    // the order was not found, and nothing is taken rather than another's.
     const GltfMaterialExtensions* x =
         extensions && index < extensions->materials.size() ? &extensions->materials[index] : nullptr;
+    aiString name;
+    if (x && scene.mMaterials[index]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS &&
+        std::string(name.C_Str()) != x->name)
+        x = nullptr;
     Mapper m(scene, *scene.mMaterials[index], file.filename().string(), index, x);
+    if (extensions && !extensions->materials.empty() && index < extensions->materials.size() && !x)
+        m.note("its place among the file's materials was not found: its texture transforms, "
+               "emissive strength, ior and specular are left out");
     return is_gltf(file) ? gltf_material(m) : classic_material(m);
 }
 

@@ -63,11 +63,12 @@ void textures_sample(const facet_draw* draw, uint32_t slot, const float* coords,
             return;
         }
         // The shader's UVs, placed by the binding's transform; the level
-        // its derivatives gave, shifted by the transform's scale.
+        // its derivatives gave, shifted by the transform's scale (a level
+        // the shader did not give is level 0, as asked).
         float placed[2 * FACET_BLOCK_LANES], shifted[FACET_BLOCK_LANES];
         b->transform.apply(coords, coords + count, int(count), placed, placed + count);
         const float shift = b->transform.lod_shift();
-        for (uint32_t i = 0; i < count; ++i) shifted[i] = (lod ? lod[i] : 0.0f) + shift;
+        for (uint32_t i = 0; i < count; ++i) shifted[i] = lod ? lod[i] + shift : 0.0f;
         dc->kernels->sample_lanes(*b, placed, shifted, count, mask, rgba);
         return;
     }

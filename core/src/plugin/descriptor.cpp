@@ -243,16 +243,21 @@ void validate_conditional_varyings(const Parts& d) {
         reject(ErrorCode::plugin_invalid, d.origin,
                std::to_string(c.conditional_varyings) + " conditional varyings of " +
                    std::to_string(c.varying_count));
-    if (c.varyings_condition >= s.param_count ||
-        (s.params[c.varyings_condition].type != FACET_PARAM_TEXTURE &&
-         s.params[c.varyings_condition].type != FACET_PARAM_BOOL))
+    const auto is_condition = [&](uint32_t i) {
+        return i < s.param_count &&
+               (s.params[i].type == FACET_PARAM_TEXTURE || s.params[i].type == FACET_PARAM_BOOL);
+    };
+    if (!is_condition(c.varyings_condition))
         reject(ErrorCode::plugin_invalid, d.origin,
                "the conditional varyings' condition is not a texture or bool parameter");
+    if (c.varyings_condition_also > 0 && !is_condition(c.varyings_condition_also - 1))
+        reject(ErrorCode::plugin_invalid, d.origin,
+               "the conditional varyings' second condition is not a texture or bool parameter");
     const uint32_t first = c.varying_count - c.conditional_varyings;
     for (uint32_t i = 0; i < s.param_count; ++i) {
         const facet_param_desc& p = s.params[i];
         if (p.type == FACET_PARAM_TEXTURE && p.uv_varying >= 0 && uint32_t(p.uv_varying) >= first &&
-            i != c.varyings_condition)
+            i != c.varyings_condition && i + 1 != c.varyings_condition_also)
             reject(ErrorCode::plugin_invalid, d.origin,
                    "texture '" + std::string(p.name) + "' reads its UV from a conditional "
                    "varying, and is not their condition");

@@ -203,12 +203,15 @@ ShaderPlugin::~ShaderPlugin() {
 
 uint32_t ShaderPlugin::read_floats(const void* params) const {
     if (shader_.conditional_varyings == 0 || !params) return varying_floats_;
-    int32_t condition;  // TEXTURE and BOOL are both an int32
-    std::memcpy(&condition,
-                static_cast<const unsigned char*>(params) +
-                    schema().params[shader_.varyings_condition].offset,
-                sizeof condition);
-    return condition ? varying_floats_ : unconditional_floats_;
+    const auto set = [&](uint32_t param) {
+        int32_t value;  // TEXTURE and BOOL are both an int32
+        std::memcpy(&value, static_cast<const unsigned char*>(params) + schema().params[param].offset,
+                    sizeof value);
+        return value != 0;
+    };
+    const bool read = set(shader_.varyings_condition) ||
+                      (shader_.varyings_condition_also > 0 && set(shader_.varyings_condition_also - 1));
+    return read ? varying_floats_ : unconditional_floats_;
 }
 
 const facet_param_desc* ShaderPlugin::find_param(std::string_view name) const {

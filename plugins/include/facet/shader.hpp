@@ -42,6 +42,8 @@
 // (read only under a parameter, as a normal map's tangent):
 //     static constexpr uint32_t conditional_varyings = 1;  // the last one
 //     static constexpr const char* varyings_condition = "normal_texture";
+// and, where another parameter needs them too (ABI 2.1), read under either:
+//     static constexpr const char* varyings_condition_also = "gouraud";
 // A second set of texture coordinates (glTF's TEXCOORD_1, ABI 2.1): need
 // FACET_NEED_UV1, carry VertexIn::uv1 in a varying, and name it; a texture
 // a material binds to set 1 (`uv_set: 1`) is then sampled there:
@@ -285,6 +287,27 @@ constexpr uint32_t varyings_condition() {
     return 0;
 }
 
+// 1 + the index of the parameter S::varyings_condition_also names (ABI
+// 2.1), or 0.
+template <class S>
+constexpr uint32_t varyings_condition_also() {
+    if constexpr (requires { S::varyings_condition_also; }) {
+        for (uint32_t i = 0; i < S::params.count; ++i)
+            if (same_text(S::params.at[i].name, S::varyings_condition_also)) return i + 1;
+        throw "varyings_condition_also names no parameter";  // a compile error in a constant
+    }
+    return 0;
+}
+
+// Parameter `index`'s int32 (a TEXTURE or BOOL) in `params`.
+template <class S>
+int32_t int_param(const typename S::Params& params, uint32_t index) {
+    int32_t value;
+    std::memcpy(&value, reinterpret_cast<const unsigned char*>(&params) + S::params.at[index].offset,
+                sizeof value);
+    return value;
+}
+
 // The varying floats a draw with `params` reads: all, or those before the
 // conditional varyings when their condition is 0 (the host leaves those
 // uninterpolated).
@@ -300,12 +323,10 @@ uint32_t read_floats(const typename S::Params& params) {
                 n += S::varyings[v].components;
             return n;
         }();
-        int32_t condition;  // a TEXTURE or BOOL: an int32
-        std::memcpy(&condition,
-                    reinterpret_cast<const unsigned char*>(&params) +
-                        S::params.at[varyings_condition<S>()].offset,
-                    sizeof condition);
-        return condition ? all : unconditional;
+        constexpr uint32_t also = varyings_condition_also<S>();
+        const bool read = int_param<S>(params, varyings_condition<S>()) != 0 ||
+                          (also > 0 && int_param<S>(params, also - 1) != 0);
+        return read ? all : unconditional;
     }
 }
 
@@ -385,10 +406,13 @@ void vertex_lanes(const Draw& d, const typename S::Params& p, const facet_vertex
     Vec4 clip;
     typename S::Varyings out = S::vertex(in, d, p, clip);
     const uint32_t lanes = std::min(uint32_t(kLanes), b->count - first);
+    // Conditional varyings the draw does not read are left unwritten: the
+    // host neither interpolates nor hands them on (shader_abi.h).
+    const uint32_t written = read_floats<S>(p);
     for (uint32_t l = 0; l < lanes; ++l) {
         const size_t i = first + l;
         for (int c = 0; c < 4; ++c) b->clip_position[4 * i + size_t(c)] = (&clip.x)[c][l];
-        for (uint32_t k = 0; k < varying_floats<S>(); ++k)
+        for (uint32_t k = 0; k < written; ++k)
             b->varyings[size_t(b->varying_floats) * i + k] = floats_of(out)[k][l];
     }
 }
@@ -567,6 +591,8 @@ const facet_plugin_desc* describe() {
                   "too many varying floats");
     static_assert(std::is_standard_layout_v<P> && std::is_trivially_copyable_v<P>);
     constexpr uint32_t condition = detail::varyings_condition<S>();  // at compile time
+    constexpr uint32_t second_uv = detail::second_uv<S>();
+    constexpr uint32_t condition_also = detail::varyings_condition_also<S>();
     static constexpr auto kParams = detail::resolved_params<S>();
     static const facet_shader_desc shader = {
         static_cast<uint32_t>(sizeof(facet_shader_desc)), S::needs, detail::flags<S>(),
@@ -574,7 +600,8 @@ const facet_plugin_desc* describe() {
         detail::conditional_varyings<S>(), condition,
         &detail::vertex_batch<S>,
         detail::fragment_entries<S>().second, detail::fragment_entries<S>().first.data(),
-        detail::second_uv<S>(),
+        second_uv,
+        condition_also,
     };
     static const facet_plugin_desc desc = {
         FACET_ABI_MAJOR, FACET_ABI_MINOR, static_cast<uint32_t>(sizeof(facet_plugin_desc)),

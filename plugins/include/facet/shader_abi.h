@@ -247,7 +247,8 @@ typedef struct facet_shader_desc {
      * is not 0, as a normal map's tangent is read only with a normal map
      * bound. When it is 0 the host may leave them uninterpolated: their
      * floats in a fragment batch are then unspecified, and the fragment
-     * function must not read them. A TEXTURE whose UV is one of them must
+     * function must not read them; the vertex function need not write
+     * them, and the host reads nothing of them. A TEXTURE whose UV is one of them must
      * be the condition itself. 0: every varying is read. */
     uint32_t conditional_varyings;
     uint32_t varyings_condition;
@@ -259,6 +260,11 @@ typedef struct facet_shader_desc {
      * texture parameter that a material binds to set 1; 0: none. It must
      * have two components or more, and not be conditional. */
     uint32_t second_uv;
+    /* ABI 2.1. 1 + the index of a second TEXTURE or BOOL parameter: the
+     * conditional varyings are then read when either condition is not 0
+     * (a normal map's tangent and a per-vertex mode's terms can share
+     * them); 0: none. */
+    uint32_t varyings_condition_also;
 } facet_shader_desc;
 
 /* ------------------------------------------------------------------------ */
