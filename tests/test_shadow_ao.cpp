@@ -1206,8 +1206,8 @@ TEST_CASE("the AO pass finds a plane's view positions and normal from its depth 
 
 // ---- shadows and AO as services of every lit shader (ABI 1.3) --------------
 
-TEST_CASE("phong, toon and lit receive shadows from directional, spot and point lights as the "
-          "ray caster casts them",
+TEST_CASE("phong (Gouraud too), toon and lit receive shadows from directional, spot and point "
+          "lights as the ray caster casts them",
           "[shadow]") {
     // Materials that show only the light: their colour is zero exactly where
     // the light is blocked.
@@ -1220,7 +1220,9 @@ TEST_CASE("phong, toon and lit receive shadows from directional, spot and point 
         {"lit", "{shader: lit, params: {base_color: [1, 1, 1, 1], ambient: [0, 0, 0], "
                 "shadow_kernel: 1}}"},
         {"lit per vertex", "{shader: lit, params: {base_color: [1, 1, 1, 1], ambient: [0, 0, 0], "
-                           "per_pixel: false, shadow_kernel: 1}}"}};
+                           "per_pixel: false, shadow_kernel: 1}}"},
+        {"phong gouraud", "{shader: phong, params: {ambient: [0, 0, 0], diffuse: [1, 1, 1], "
+                          "specular: [0, 0, 0], gouraud: true, shadow_kernel: 1}}"}};
     for (const auto& [shader, material] : materials)
         for (const char* light : {kDirectional, kSpot, kPoint}) {
             INFO(shader << ", " << light);
