@@ -694,6 +694,18 @@ TEST_CASE("a JPEG scan that uses a table never defined, or a component none code
             CHECK_THAT(e.what(), Catch::Contains(c.says));
         }
     }
+    // A frame whose second component takes the first's id: stb_image would
+    // code the first twice and leave the second unwritten.
+    std::string twin = jpeg_without("jpeg-baseline.jpg", 0xE0, 0);
+    const size_t sof = twin.find("\xFF\xC0");
+    REQUIRE(sof != std::string::npos);
+    twin[sof + 4 + 6 + 3] = twin[sof + 4 + 6];  // component 2's id := component 1's
+    try {
+        decode_texture(twin, false, "twin.jpg");
+        FAIL("decoded");
+    } catch (const Error& e) {
+        CHECK_THAT(e.what(), Catch::Contains("two components of id"));
+    }
     // The control: without a segment no scan needs (JFIF's APP0), the
     // progressive seed, whose AC tables come between its scans, decodes.
     CHECK(decode_texture(jpeg_without("jpeg-progressive.jpg", 0xE0, 0), false, "ok.jpg")->width == 5);

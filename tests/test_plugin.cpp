@@ -354,3 +354,52 @@ TEST_CASE("FACET_PLUGIN_PATH is searched after the built-in plugins' folders", "
     CHECK(std::filesystem::equivalent(registry.get("unlit")->origin(),
                                       std::string(FACET_BUILD_PLUGIN_DIR) + "/unlit.so"));
 }
+
+TEST_CASE("a 2.0 host, which does not know a second condition, leaves those varyings zero",
+          "[plugin][abi]") {
+    // phong's Gouraud terms are conditional varyings under its second
+    // condition (ABI 2.1). A 2.0 host interpolates them under the first
+    // alone: with gouraud and no normal map it leaves them out, and the SDK
+    // must hand the fragment function zeros, not whatever the rows held.
+    PluginRegistry registry;
+    const std::shared_ptr<ShaderPlugin> phong = registry.get("phong");
+    MaterialParam gouraud;
+    gouraud.name = "gouraud";
+    gouraud.kind = MaterialParam::Kind::boolean;
+    gouraud.flag = true;
+    TextureCache cache;
+    const BoundParams bound = bind_params({gouraud}, *phong, "test", cache);
+    constexpr int N = FACET_BLOCK_LANES;
+    const uint32_t floats = phong->varying_floats();
+    // Unconditional rows: a point in front of the camera facing it; the rest NaN.
+    std::vector<float> varyings(size_t(floats) * N, std::nanf(""));
+    const float unconditional[] = {0, 0, 0, 0, 0, 1, 0.5f, 0.5f};
+    REQUIRE(phong->read_floats(bound.block->bytes) == floats);  // 2.1: all of them
+    for (int k = 0; k < 8; ++k) std::fill_n(varyings.begin() + k * N, N, unconditional[k]);
+    const auto colour = [&](uint16_t host_minor) {
+        static const auto no_service = [](const char*, uint32_t) -> const void* { return nullptr; };
+        const facet_host host = {FACET_ABI_MAJOR, host_minor, sizeof(facet_host), nullptr,
+                                 +no_service};
+        facet_draw d{};
+        d.host = &host;
+        d.params = bound.block->bytes;
+        const glm::mat4 identity(1.0f);
+        for (float* m : {d.model, d.view, d.projection, d.view_projection, d.model_view_projection,
+                         d.normal_matrix})
+            std::memcpy(m, &identity[0][0], sizeof(float) * 16);
+        d.camera_position[2] = 5.0f, d.camera_position[3] = 1.0f;
+        std::vector<float> depth(N, 0.5f), color(4 * N, -1.0f);
+        facet_fragment_batch b{};
+        b.mask = 0xFFFFu;
+        b.front_facing = 1;
+        b.varyings = varyings.data();
+        b.depth = depth.data();
+        b.color = color.data();
+        phong->fragment_for(Isa::portable)(&d, &b);
+        return glm::vec4(color[0], color[N], color[2 * N], color[3 * N]);
+    };
+    // A 2.1 host interpolated them: the NaN rows are what it gave.
+    CHECK(std::isnan(colour(1).r));
+    // A 2.0 host did not: zeros, so emission + ambient alone.
+    CHECK(colour(0) == glm::vec4(0.02f, 0.02f, 0.02f, 1.0f));
+}

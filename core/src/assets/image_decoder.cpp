@@ -12,6 +12,13 @@
 #include <iterator>
 #include <tuple>
 
+// Every buffer stb_image allocates starts as zeros: what a corrupt file
+// leaves unwritten (a scan that ends early after a missing restart marker,
+// a table or component the checks below do not foresee) is then black or
+// zero, never another allocation's leftovers.
+#define STBI_MALLOC(size) std::calloc(1, size)
+#define STBI_REALLOC(p, size) std::realloc(p, size)
+#define STBI_FREE(p) std::free(p)
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
@@ -118,7 +125,9 @@ struct JpegDefined {
         const unsigned components = at(p + 5);
         for (unsigned c = 0; c < components && c < 4; ++c) {
             const size_t q = p + 6 + 3 * c;
-            if (quant_of[at(q)] >= 0 || at(q + 2) > 3) continue;  // stb_image refuses a table past 3
+            if (at(q + 2) > 3) continue;  // stb_image refuses a table past 3
+            if (quant_of[at(q)] >= 0)  // stb_image codes only the first of an id
+                refuse("frame with two components of id " + std::to_string(at(q)));
             quant_of[at(q)] = int(at(q + 2));
             ids[id_count++] = at(q);
         }

@@ -202,7 +202,8 @@ ShaderPlugin::~ShaderPlugin() {
 }
 
 uint32_t ShaderPlugin::read_floats(const void* params) const {
-    if (shader_.conditional_varyings == 0 || !params) return varying_floats_;
+    if (shader_.conditional_varyings == 0) return varying_floats_;
+    if (!params) return unconditional_floats_;  // the plugin sees zeros: no condition holds
     const auto set = [&](uint32_t param) {
         int32_t value;  // TEXTURE and BOOL are both an int32
         std::memcpy(&value, static_cast<const unsigned char*>(params) + schema().params[param].offset,

@@ -330,6 +330,20 @@ uint32_t read_floats(const typename S::Params& params) {
     }
 }
 
+// Whether a host older than ABI 2.1, which does not know the second
+// condition, left the conditional varyings out of a draw that reads them
+// under it alone: the fragment function then gets zeros for them.
+template <class S>
+bool old_host_left_out(const facet_draw* draw, const typename S::Params& params) {
+    constexpr uint32_t also = varyings_condition_also<S>();
+    if constexpr (also == 0) {
+        return false;
+    } else {
+        return draw->host->abi_minor < 1 && int_param<S>(params, also - 1) != 0 &&
+               int_param<S>(params, varyings_condition<S>()) == 0;
+    }
+}
+
 // 1 + the index of the varying S::second_uv names (ABI 2.1), or 0.
 template <class S>
 constexpr uint32_t second_uv() {
@@ -383,7 +397,7 @@ Float* floats_of(V& v) {
 // kLanes vertices from `first` (the last repeated past `count`).
 template <class S>
 void vertex_lanes(const Draw& d, const typename S::Params& p, const facet_vertex_batch* b,
-                  uint32_t first) {
+                  uint32_t first, uint32_t written) {
     VertexIn in;
     in.normal = Vec3(glm::vec3(0.0f, 0.0f, 1.0f));
     in.uv = Vec2(splat(0.0f));
@@ -408,7 +422,6 @@ void vertex_lanes(const Draw& d, const typename S::Params& p, const facet_vertex
     const uint32_t lanes = std::min(uint32_t(kLanes), b->count - first);
     // Conditional varyings the draw does not read are left unwritten: the
     // host neither interpolates nor hands them on (shader_abi.h).
-    const uint32_t written = read_floats<S>(p);
     for (uint32_t l = 0; l < lanes; ++l) {
         const size_t i = first + l;
         for (int c = 0; c < 4; ++c) b->clip_position[4 * i + size_t(c)] = (&clip.x)[c][l];
@@ -422,8 +435,9 @@ void vertex_batch(const facet_draw* draw, const facet_vertex_batch* b) {
     guarded(S::name, "vertex", [&] {
         const Draw d{draw};
         const auto& params = *static_cast<const typename S::Params*>(draw->params);
+        const uint32_t written = read_floats<S>(params);
         for (uint32_t first = 0; first < b->count; first += kLanes)
-            vertex_lanes<S>(d, params, b, first);
+            vertex_lanes<S>(d, params, b, first, written);
     });
 }
 
@@ -506,19 +520,37 @@ void fragment_quads(const Draw& d, const typename S::Params& params, facet_fragm
     }
 }
 
-// A batch in calls of kLanes lanes, each holding whole 2x2 quads of a block.
+// A batch in calls of kLanes lanes, each holding whole 2x2 quads of a
+// block, on varyings the host gave (`read` floats of them).
+template <class S>
+void fragment_loop_given(const Draw& d, const typename S::Params& params, facet_fragment_batch* b,
+                         uint32_t read) {
+    const bool block = !b->coord;
+    if constexpr (kLanes == 4 && (S::needs & FACET_NEED_DERIVATIVES) != 0)
+        if (block) return fragment_quads<S>(d, params, b, read, texture_count<S>());
+    static constexpr BlockPixels kPixels(false);
+    Batch batch{d.raw, block};
+    for (int first = 0; first < FACET_BLOCK_LANES; first += kLanes)
+        fragment_lanes<S>(d, params, b, batch, {first}, read, kPixels.column, kPixels.row);
+}
+
 template <class S>
 void fragment_loop(const facet_draw* draw, facet_fragment_batch* b) {
     const Draw d{draw};
     const auto& params = *static_cast<const typename S::Params*>(draw->params);
     const uint32_t read = read_floats<S>(params);
-    const bool block = !b->coord;
-    if constexpr (kLanes == 4 && (S::needs & FACET_NEED_DERIVATIVES) != 0)
-        if (block) return fragment_quads<S>(d, params, b, read, texture_count<S>());
-    static constexpr BlockPixels kPixels(false);
-    Batch batch{draw, block};
-    for (int first = 0; first < FACET_BLOCK_LANES; first += kLanes)
-        fragment_lanes<S>(d, params, b, batch, {first}, read, kPixels.column, kPixels.row);
+    if (old_host_left_out<S>(draw, params)) [[unlikely]] {
+        // The unconditional rows, then zeros for what the host left out.
+        alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * FACET_BLOCK_LANES] = {};
+        std::memcpy(varyings, b->varyings,
+                    read_floats<S>(typename S::Params{}) * FACET_BLOCK_LANES * sizeof(float));
+        facet_fragment_batch zeroed = *b;
+        zeroed.varyings = varyings;
+        fragment_loop_given<S>(d, params, &zeroed, read);
+        b->mask = zeroed.mask;  // the colour went where b's goes
+        return;
+    }
+    fragment_loop_given<S>(d, params, b, read);
 }
 
 // The fragment entry: the loop, with what it throws caught (boundary.hpp).

@@ -263,7 +263,9 @@ typedef struct facet_shader_desc {
     /* ABI 2.1. 1 + the index of a second TEXTURE or BOOL parameter: the
      * conditional varyings are then read when either condition is not 0
      * (a normal map's tangent and a per-vertex mode's terms can share
-     * them); 0: none. */
+     * them); 0: none. A 2.0 host ignores it, and interpolates them under
+     * the first condition alone: <facet/shader.hpp> then gives the
+     * fragment function zeros for them. */
     uint32_t varyings_condition_also;
 } facet_shader_desc;
 
