@@ -167,10 +167,6 @@ public:
         return std::nullopt;
     }
     bool has_texture(aiTextureType type, unsigned index = 0) const { return m_.GetTextureCount(type) > index; }
-    bool has(const char* key, unsigned type, unsigned index) const {
-        const aiMaterialProperty* p = nullptr;
-        return aiGetMaterialProperty(&m_, key, type, index, &p) == AI_SUCCESS;
-    }
     bool integer(const char* key, unsigned type, unsigned index, int& out) const {
         return m_.Get(key, type, index, out) == AI_SUCCESS;
     }

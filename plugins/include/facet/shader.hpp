@@ -276,14 +276,19 @@ constexpr bool same_text(const char* a, const char* b) {
     return *a == *b;
 }
 
+// The index of S's parameter `name` (a compile error in a constant when
+// there is none).
+template <class S>
+constexpr uint32_t param_index(const char* name) {
+    for (uint32_t i = 0; i < S::params.count; ++i)
+        if (same_text(S::params.at[i].name, name)) return i;
+    throw "a conditional varyings' condition names no parameter";
+}
+
 // The index of the parameter S::varyings_condition names.
 template <class S>
 constexpr uint32_t varyings_condition() {
-    if constexpr (requires { S::varyings_condition; }) {
-        for (uint32_t i = 0; i < S::params.count; ++i)
-            if (same_text(S::params.at[i].name, S::varyings_condition)) return i;
-        throw "varyings_condition names no parameter";  // a compile error in a constant
-    }
+    if constexpr (requires { S::varyings_condition; }) return param_index<S>(S::varyings_condition);
     return 0;
 }
 
@@ -291,12 +296,18 @@ constexpr uint32_t varyings_condition() {
 // 2.1), or 0.
 template <class S>
 constexpr uint32_t varyings_condition_also() {
-    if constexpr (requires { S::varyings_condition_also; }) {
-        for (uint32_t i = 0; i < S::params.count; ++i)
-            if (same_text(S::params.at[i].name, S::varyings_condition_also)) return i + 1;
-        throw "varyings_condition_also names no parameter";  // a compile error in a constant
-    }
+    if constexpr (requires { S::varyings_condition_also; })
+        return param_index<S>(S::varyings_condition_also) + 1;
     return 0;
+}
+
+// The floats before the conditional varyings.
+template <class S>
+constexpr uint32_t unconditional_floats() {
+    uint32_t n = 0;
+    for (uint32_t v = 0; v < varying_count<S>() - conditional_varyings<S>(); ++v)
+        n += S::varyings[v].components;
+    return n;
 }
 
 // Parameter `index`'s int32 (a TEXTURE or BOOL) in `params`.
@@ -317,12 +328,7 @@ uint32_t read_floats(const typename S::Params& params) {
     if constexpr (conditional_varyings<S>() == 0) {
         return all;
     } else {
-        constexpr uint32_t unconditional = [] {
-            uint32_t n = 0;
-            for (uint32_t v = 0; v < varying_count<S>() - conditional_varyings<S>(); ++v)
-                n += S::varyings[v].components;
-            return n;
-        }();
+        constexpr uint32_t unconditional = unconditional_floats<S>();
         constexpr uint32_t also = varyings_condition_also<S>();
         const bool read = int_param<S>(params, varyings_condition<S>()) != 0 ||
                           (also > 0 && int_param<S>(params, also - 1) != 0);
@@ -543,7 +549,7 @@ void fragment_loop(const facet_draw* draw, facet_fragment_batch* b) {
         // The unconditional rows, then zeros for what the host left out.
         alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * FACET_BLOCK_LANES] = {};
         std::memcpy(varyings, b->varyings,
-                    read_floats<S>(typename S::Params{}) * FACET_BLOCK_LANES * sizeof(float));
+                    unconditional_floats<S>() * FACET_BLOCK_LANES * sizeof(float));
         facet_fragment_batch zeroed = *b;
         zeroed.varyings = varyings;
         fragment_loop_given<S>(d, params, &zeroed, read);
