@@ -36,6 +36,7 @@ namespace fs = std::filesystem;
 struct Setting {
     int msaa = -1;
     int filter = -1;  // Filter, as int
+    int anisotropy = -1;  // Filter::anisotropic's most samples
     int subpixel_bits = -1;
     int shadow_map_size = -1;
     int pcf_kernel = -1;
@@ -57,9 +58,14 @@ struct Point {
     bool front = false;
 };
 
-const char* filter_name(int f) {
-    return f == int(Filter::nearest) ? "nearest" : f == int(Filter::bilinear) ? "bilinear"
-                                                                             : "trilinear";
+std::string filter_name(const Setting& s) {
+    switch (Filter(s.filter)) {
+        case Filter::nearest: return "nearest";
+        case Filter::bilinear: return "bilinear";
+        case Filter::trilinear: return "trilinear";
+        case Filter::anisotropic: return "anisotropic" + std::to_string(s.anisotropy) + "x";
+    }
+    return "?";
 }
 
 // Every material of `scene` replaced by a private copy changed by `edit`.
@@ -106,7 +112,10 @@ Scene with(const Scene& base, const Setting& s) {
     }
     edit_materials(scene, [&](Material& m) {
         if (s.filter >= 0)
-            for (TextureBinding& t : m.textures) t.filter = Filter(s.filter);
+            for (TextureBinding& t : m.textures) {
+                t.filter = Filter(s.filter);
+                if (s.anisotropy > 0) t.anisotropy = s.anisotropy;
+            }
         if (s.pcf_kernel > 0) set_param(m, "pcf_kernel", s.pcf_kernel);
         if (s.per_pixel >= 0) set_param(m, "per_pixel", s.per_pixel);
     });
@@ -151,14 +160,21 @@ constexpr int kPassMsaa = 4;
 std::vector<Setting> sweep(const std::string& scene, const Scene& base) {
     std::vector<Setting> out;
     if (scene == "default" || scene == "lit" || scene == "gallery") {  // textured
+        // filters: nearest, bilinear, trilinear, anisotropic 4x and 16x
+        const std::pair<Filter, int> filters[] = {{Filter::nearest, -1},
+                                                  {Filter::bilinear, -1},
+                                                  {Filter::trilinear, -1},
+                                                  {Filter::anisotropic, 4},
+                                                  {Filter::anisotropic, 16}};
         for (int bits : {4, 8})
-            for (int f : {int(Filter::nearest), int(Filter::bilinear), int(Filter::trilinear)})
+            for (const auto& [filter, most] : filters)
                 for (int msaa : {1, 2, 4, 8})
                     for (int per_pixel : scene == "lit" ? std::vector<int>{1, 0}
                                                         : std::vector<int>{-1}) {
                         Setting s;
                         s.msaa = msaa;
-                        s.filter = f;
+                        s.filter = int(filter);
+                        s.anisotropy = most;
                         s.subpixel_bits = bits;
                         s.per_pixel = per_pixel;
                         out.push_back(s);
@@ -214,7 +230,7 @@ void csv_header(std::ostream& out) {
 
 void csv_row(std::ostream& out, const Point& p, int threads, bool fronts_known) {
     const Setting& s = p.setting;
-    out << p.scene << ',' << s.msaa << ',' << (s.filter >= 0 ? filter_name(s.filter) : "") << ','
+    out << p.scene << ',' << s.msaa << ',' << (s.filter >= 0 ? filter_name(s) : "") << ','
         << s.subpixel_bits << ',' << s.shadow_map_size << ',' << s.pcf_kernel << ','
         << s.ao_samples << ',' << s.ao_radius << ','
         << (s.ao_half < 0 ? "" : s.ao_half ? "half" : "full") << ',' << s.per_pixel << ','
@@ -234,7 +250,7 @@ std::string label(const Setting& s) {
     std::string l;
     auto add = [&](const std::string& part) { l += (l.empty() ? "" : " ") + part; };
     if (s.msaa > 0) add("msaa=" + std::to_string(s.msaa));
-    if (s.filter >= 0) add(filter_name(s.filter));
+    if (s.filter >= 0) add(filter_name(s));
     if (s.subpixel_bits > 0) add("bits=" + std::to_string(s.subpixel_bits));
     if (s.shadow_map_size > 0) add("map=" + std::to_string(s.shadow_map_size));
     if (s.pcf_kernel > 0) add("pcf=" + std::to_string(s.pcf_kernel));

@@ -29,7 +29,9 @@ SCENES = [
 def label(row, scene):
     if scene in ("default", "lit", "gallery"):
         vertex = " vtx" if row["per_pixel"] == "0" else ""
-        return f"{row['msaa']}x {row['filter'][:3]} {row['subpixel_bits']}b{vertex}"
+        name = row["filter"]
+        name = "an" + name[len("anisotropic"):] if name.startswith("anisotropic") else name[:3]
+        return f"{row['msaa']}x {name} {row['subpixel_bits']}b{vertex}"
     if scene in ("phong", "toon"):
         return f"{row['msaa']}x {row['subpixel_bits']}b"
     if scene == "shadow":

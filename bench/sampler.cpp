@@ -9,7 +9,7 @@
 // surface facing the eye at about one texel a pixel. Each is sampled from
 // a 1024x1024 colour texture (sRGB: 16-bit linear texels), a 1024x1024
 // data texture (8-bit) and a 600x400 colour texture (no power of two), with
-// each filter. A row gives the median and the fastest of --runs passes over
+// each filter (anisotropic at 16x). A row gives the median and the fastest of --runs passes over
 // the frame on one thread, and the scalar reference sampler's median
 // (facet/texture.hpp) for scale. The sampler's share of a real frame is
 // for perf on facet-bench (docs/performance.md).
@@ -154,15 +154,15 @@ int main(int argc, char** argv) {
                 "median", "fastest", "reference");
     for (const Workload& w : workloads)
         for (const auto& t : textures)
-            for (const Filter filter : {Filter::nearest, Filter::bilinear, Filter::trilinear}) {
-                const TextureBinding b{t.texture, filter, Wrap::repeat};
+            for (const Filter filter : {Filter::nearest, Filter::bilinear, Filter::trilinear,
+                                        Filter::anisotropic}) {
+                const TextureBinding b{t.texture, filter, Wrap::repeat};  // anisotropic: 16x
                 const Timing ref = time_runs(w, std::max(1, runs / 3),
                                              [&](const float* u, const float* v, float* rgba) {
                                                  sample_block(b, u, v, 0xFFFFu, rgba);
                                              });
-                const char* filter_name = filter == Filter::nearest    ? "nearest"
-                                          : filter == Filter::bilinear ? "bilinear"
-                                                                       : "trilinear";
+                const char* const names[] = {"nearest", "bilinear", "trilinear", "aniso16x"};
+                const char* filter_name = names[int(filter)];
                 for (const Isa isa : isas) {
                     const Kernels& k = kernels(isa);
                     const Timing x =

@@ -13,7 +13,8 @@
 // A shader writes its colour input as the clip position, so the vertices
 // reach clipping exactly as decoded, and outputs red 1 under additive
 // blending, so red counts coverage. Each triangle is drawn alone, then all
-// of them in one draw. Checks, for each triangle:
+// of them in one draw, and once more with the stencil counting coverage.
+// Checks, for each triangle:
 //  - statistics: one triangle in, ending in exactly one outcome (NaN or Inf:
 //    invalid); fragments shaded = pixels covered; nothing covered unless it
 //    was rasterized;
@@ -28,7 +29,8 @@
 //    weights, interpolated as a varying, are finite, in [0, 1], and sum to
 //    at most 1;
 // and for the single draw of all: every sample's count and every statistic
-// is the sum of the separate draws'.
+// is the sum of the separate draws'; drawn with the stencil on, the same
+// colours, and every sample's stencil value its count.
 #include "support.hpp"
 
 #include <facet/framebuffer.hpp>
@@ -281,10 +283,13 @@ Mesh mesh_of(const std::vector<Triangle>& triangles) {
     return m;
 }
 
-FrameStats draw(Pipeline& pipeline, const Mesh& mesh, const Config& c, Framebuffer& fb) {
+// With `stencil`, into a target with a stencil buffer, each covered sample
+// also adds 1 to its stencil value.
+FrameStats draw(Pipeline& pipeline, const Mesh& mesh, const Config& c, Framebuffer& fb,
+                bool stencil = false) {
     static const std::shared_ptr<ShaderPlugin> shader =
         ShaderPlugin::from_descriptor(sdk::describe<ClipShader>(), "fuzz");
-    fb.clear(glm::vec4(0.0f), 0.0f);
+    fb.clear(glm::vec4(0.0f), 0.0f, 0);
     DrawCall call;
     call.mesh = &mesh;
     call.shader = shader.get();
@@ -294,6 +299,8 @@ FrameStats draw(Pipeline& pipeline, const Mesh& mesh, const Config& c, Framebuff
     call.state.depth_compare = DepthCompare::always;
     call.state.depth_write = false;
     call.state.subpixel_bits = c.subpixel_bits;
+    call.state.stencil.enabled = stencil;
+    call.state.stencil.front.pass = call.state.stencil.back.pass = StencilOp::increment;
     FrameStats stats;
     pipeline.draw(call, fb, stats);
     return stats;
@@ -423,6 +430,19 @@ void raster(const uint8_t* data, size_t size) {
     for (size_t i = 0; i < counts.size(); ++i)
         check(together[i].r == counts[i],
               "drawn together, the triangles cover a sample a different number of times");
+    // Through the stencil route (no packing; tested sample by sample): the
+    // same colours, and each sample's stencil counts its coverage.
+    Framebuffer counted(c.width, c.height, ColorFormat::rgba32f, c.samples, true);
+    const FrameStats st = draw(pipeline, mesh_of(triangles), c, counted, true);
+    check(st.fragments_shaded == all.fragments_shaded,
+          "with the stencil on, a different number of fragments was shaded");
+    check(read_samples(counted) == together, "with the stencil on, the colours differ");
+    size_t i = 0;
+    for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x)
+            for (int s = 0; s < c.samples; ++s, ++i)
+                check(float(counted.sample_stencil_at(x, y, s)) == counts[i],
+                      "the stencil counts a sample's coverage wrongly");
 }
 
 }  // namespace facet::fuzz

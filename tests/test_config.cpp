@@ -258,6 +258,30 @@ TEST_CASE("a texture's UV set is 0 or 1, and 1 only where the shader has a secon
     CHECK_THAT(e.what(), Contains("uv_set is 0"));
 }
 
+TEST_CASE("anisotropic filtering takes its most samples, 2 to 16, and only with that filter",
+          "[material][anisotropic]") {
+    Env env;
+    const auto m = env.material(
+        "shader: test\nparams:\n  albedo: {file: px.tga, filter: anisotropic, anisotropy: 8}\n");
+    CHECK(m->textures.at(0).filter == facet::Filter::anisotropic);
+    CHECK(m->textures.at(0).anisotropy == 8);
+    CHECK(env.material("shader: test\nparams:\n  albedo: {file: px.tga, filter: anisotropic}\n")
+              ->textures.at(0).anisotropy == 16);  // GL's and D3D's most
+    auto e = error_of([&] {
+        env.material("shader: test\nparams:\n  albedo: {file: px.tga, anisotropy: 4}\n");
+    });
+    require_at(e, ErrorCode::config_invalid, env.dir / "m.yaml", 3, 38);
+    CHECK_THAT(e.what(), Contains("filter: anisotropic"));
+    for (const char* most : {"1", "17", "-3"}) {
+        e = error_of([&] {
+            env.material(std::string("shader: test\nparams:\n  albedo: {file: px.tga, filter: "
+                                     "anisotropic, anisotropy: ") + most + "}\n");
+        });
+        CHECK(e.code() == ErrorCode::out_of_range);
+        CHECK_THAT(e.what(), Contains("2 to 16"));
+    }
+}
+
 TEST_CASE("a material without params gets the schema defaults", "[material]") {
     Env env;
     const auto m = env.material("shader: test\n");

@@ -146,12 +146,13 @@ TEST_CASE("every path clears, resolves and converts to 8 bits as the scalar code
         for (ColorFormat format : {ColorFormat::srgb8, ColorFormat::rgba16f, ColorFormat::rgba32f}) {
             INFO("path " << isa_name(isa) << ", " << color_format_name(format));
             const Kernels& k = kernels(isa);
-            Framebuffer fb(37, 11, format, 4);  // a width that is no multiple of anything
+            // A width that is no multiple of anything, with a stencil buffer.
+            Framebuffer fb(37, 11, format, 4, true);
             // In pieces, as a pipeline clears tiles: whole rows streamed, then
             // the rest in two rectangles, one through the cache.
-            k.clear_rect(fb, 0, 0, fb.stride(), 5, clear, 0.25f, true);
-            k.clear_rect(fb, 0, 5, 16, fb.rows(), clear, 0.25f, false);
-            k.clear_rect(fb, 16, 5, fb.stride(), fb.rows(), clear, 0.25f, true);
+            k.clear_rect(fb, 0, 0, fb.stride(), 5, clear, 0.25f, 0x5A, true);
+            k.clear_rect(fb, 0, 5, 16, fb.rows(), clear, 0.25f, 0x5A, false);
+            k.clear_rect(fb, 16, 5, fb.stride(), fb.rows(), clear, 0.25f, 0x5A, true);
             uint8_t px[16];
             encode_pixel(format, clear, px);
             const glm::vec4 stored = decode_pixel(format, px);
@@ -167,6 +168,7 @@ TEST_CASE("every path clears, resolves and converts to 8 bits as the scalar code
                     for (int s = 0; s < 4; ++s) {
                         REQUIRE(fb.sample(x, y, s) == stored);
                         REQUIRE(fb.sample_depth_at(x, y, s) == 0.25f);
+                        REQUIRE(fb.sample_stencil_at(x, y, s) == 0x5A);
                         if (x % 3 == 0) {
                             sum += stored;
                             continue;  // some pixels keep the clear colour

@@ -5,6 +5,7 @@
 // Run through `xvfb-run` by CTest; the camera controller tests need no
 // display.
 #include "support.hpp"
+#include "editor.hpp"
 #include "viewer.hpp"
 
 #include <facet/error.hpp>
@@ -13,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include <stb/stb_image.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -876,4 +878,39 @@ TEST_CASE("the editor moves a still object and an animated one's place at rest",
         CHECK(object.transform.translation.x == 0.5f);
         CHECK((object.transform.rotation != object.rest.rotation) == !object.animation.empty());
     }
+}
+
+TEST_CASE("the editor writes a texture back with everything it sets", "[viewer][editor]") {
+    MaterialParam p;
+    p.kind = MaterialParam::Kind::texture;
+    p.texture_file = "/materials/textures/tiles.png";
+    const auto parsed = [&] { return YAML::Load(view::texture_yaml(p, "/materials")); };
+    YAML::Node n = parsed();
+    CHECK(n["file"].as<std::string>() == "textures/tiles.png");
+    CHECK(n["filter"].as<std::string>() == "trilinear");
+    CHECK(n["wrap"].as<std::string>() == "repeat");
+    CHECK(n.size() == 3);  // nothing that is as the defaults have it
+    p.filter = Filter::anisotropic;
+    p.anisotropy = 8;
+    p.wrap = Wrap::mirror;
+    p.uv_set = 1;
+    p.transform.offset = {0.5f, -1.0f};
+    p.transform.rotation = 0.1f;
+    p.transform.scale = {2.0f, 1.0f / 3.0f};
+    n = parsed();
+    CHECK(n["filter"].as<std::string>() == "anisotropic");
+    CHECK(n["anisotropy"].as<int>() == 8);
+    CHECK(n["wrap"].as<std::string>() == "mirror");
+    CHECK(n["uv_set"].as<int>() == 1);
+    CHECK(n["transform"]["offset"][1].as<float>() == -1.0f);
+    CHECK(n["transform"]["rotation"].as<float>() == 0.1f);  // every float as it was
+    CHECK(n["transform"]["scale"][1].as<float>() == 1.0f / 3.0f);
+    p = MaterialParam{};
+    p.kind = MaterialParam::Kind::texture;
+    for (const char* face : {"px", "nx", "py", "ny", "pz", "nz"})
+        p.cube_faces.push_back(std::string("/materials/sky/") + face + ".png");
+    n = parsed();
+    CHECK_FALSE(n["file"]);
+    REQUIRE(n["faces"].size() == 6);
+    CHECK(n["faces"][5].as<std::string>() == "sky/nz.png");
 }

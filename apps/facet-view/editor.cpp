@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <imgui.h>
 #include <imgui_stdlib.h>
+#include <spdlog/fmt/fmt.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -20,7 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* const kFilters[] = {"nearest", "bilinear", "trilinear"};
+const char* const kFilters[] = {"nearest", "bilinear", "trilinear", "anisotropic"};
 const char* const kWraps[] = {"repeat", "clamp", "mirror"};
 
 std::string filter_text(Filter f) { return kFilters[int(f)]; }
@@ -167,6 +168,30 @@ double ms_of(const FrameStats& s, int pass) {
 }
 
 }  // namespace
+
+std::string texture_yaml(const MaterialParam& p, const fs::path& folder) {
+    const auto name = [&](const fs::path& f) {
+        return yaml_string(f.lexically_relative(folder).generic_string());
+    };
+    std::string text = "{";
+    if (p.cube_faces.empty()) {
+        text += "file: " + name(p.texture_file);
+    } else {
+        text += "faces: [";
+        for (size_t i = 0; i < p.cube_faces.size(); ++i)
+            text += (i ? ", " : "") + name(p.cube_faces[i]);
+        text += "]";
+    }
+    text += ", filter: " + filter_text(p.filter) + ", wrap: " + wrap_text(p.wrap);
+    if (p.filter == Filter::anisotropic && p.anisotropy != kMaxAnisotropy)
+        text += ", anisotropy: " + std::to_string(p.anisotropy);
+    if (p.uv_set != 0) text += ", uv_set: " + std::to_string(p.uv_set);
+    const UvTransform& t = p.transform;
+    if (!t.identity())
+        text += fmt::format(", transform: {{offset: [{}, {}], rotation: {}, scale: [{}, {}]}}",
+                            t.offset.x, t.offset.y, t.rotation, t.scale.x, t.scale.y);
+    return text + "}";
+}
 
 glm::vec3 to_euler_degrees(const glm::quat& q) {
     // R = Rz(c) Ry(b) Rx(a): R[2][0] = -sin b, R[2][1] = cos b sin a,
@@ -466,7 +491,8 @@ bool Editor::set_param(EditorTarget& t, Material& material, const facet_param_de
 
 namespace {
 
-// A texture parameter's widgets: its file, filter and wrap.
+// A texture parameter's widgets: its file, filter and wrap. What it sets
+// besides is kept as written.
 bool texture_widget(const Material& m, const std::string& name, MaterialParam& p,
                     std::string& text, EditorResult& r) {
     bool changed = false;
@@ -474,8 +500,12 @@ bool texture_widget(const Material& m, const std::string& name, MaterialParam& p
     p.kind = MaterialParam::Kind::texture;
     if (w) {
         p.texture_file = w->texture_file;
+        p.cube_faces = w->cube_faces;
         p.filter = w->filter;
+        p.anisotropy = w->anisotropy;
         p.wrap = w->wrap;
+        p.transform = w->transform;
+        p.uv_set = w->uv_set;
     }
     const fs::path folder = fs::path(m.source).parent_path();
     std::string file = p.texture_file.empty()
@@ -488,16 +518,18 @@ bool texture_widget(const Material& m, const std::string& name, MaterialParam& p
         changed = !file.empty();
     }
     int filter = int(p.filter), wrap = int(p.wrap);
-    if (ImGui::Combo(("filter##" + name).c_str(), &filter, kFilters, 3)) changed = true;
+    if (ImGui::Combo(("filter##" + name).c_str(), &filter, kFilters, 4)) changed = true;
     if (ImGui::Combo(("wrap##" + name).c_str(), &wrap, kWraps, 3)) changed = true;
     p.filter = Filter(filter);
     p.wrap = Wrap(wrap);
-    if (changed && p.texture_file.empty()) {
+    if (p.filter == Filter::anisotropic &&
+        ImGui::SliderInt(("anisotropy##" + name).c_str(), &p.anisotropy, 2, kMaxAnisotropy))
+        changed = true;
+    if (changed && p.texture_file.empty() && p.cube_faces.empty()) {
         r.errors.push_back(name + ": type the texture's file first");
         changed = false;
     }
-    text = "{file: " + yaml_string(p.texture_file.lexically_relative(folder).generic_string()) +
-           ", filter: " + filter_text(p.filter) + ", wrap: " + wrap_text(p.wrap) + "}";
+    text = texture_yaml(p, folder);
     return changed;
 }
 

@@ -155,6 +155,11 @@ private:
     std::deque<FrameStats> history_;
 };
 
+// A texture parameter as the editor writes it back: its file (or a cube
+// map's faces) relative to `folder`, filter and wrap, and what else it sets
+// (anisotropy, transform, UV set), as a YAML flow map.
+std::string texture_yaml(const MaterialParam& p, const std::filesystem::path& folder);
+
 // Euler angles in degrees (applied X, then Y, then Z) of a rotation, the
 // inverse of euler_degrees() (facet/math.hpp).
 glm::vec3 to_euler_degrees(const glm::quat& q);

@@ -42,7 +42,8 @@ namespace {
     X(Uniform1f) X(Uniform3fv) X(Uniform4fv) X(Uniform1iv) X(Uniform1fv)                     \
     X(UniformMatrix3fv) X(UniformMatrix4fv) X(GenTextures) X(BindTexture) X(TexImage2D)       \
     X(TexParameteri) X(ActiveTexture) X(DeleteTextures) X(BlendFuncSeparate)                 \
-    X(BlendEquationSeparate) X(BlendColor)
+    X(BlendEquationSeparate) X(BlendColor) X(ColorMask) X(ClearStencil) X(StencilMask)      \
+    X(StencilFuncSeparate) X(StencilOpSeparate) X(StencilMaskSeparate)
 
 struct Gl {
 #define FACET_GL_MEMBER(name) decltype(&::gl##name) name = nullptr;
@@ -207,7 +208,11 @@ struct MeshBuffers {
 
 // A facet texture as GL sees it: its levels, filter and wrap. The same image
 // bound with two filters or wraps is two GL textures.
-using TextureKey = std::tuple<const Texture*, Filter, Wrap>;
+using TextureKey = std::tuple<const Texture*, Filter, Wrap, int>;  // int: anisotropy
+
+TextureKey texture_key(const TextureBinding& b) {
+    return {b.texture.get(), b.filter, b.wrap, b.filter == Filter::anisotropic ? b.anisotropy : 1};
+}
 
 struct Program {
     GLuint id = 0;
@@ -419,7 +424,7 @@ void LlvmpipeRenderer::Impl::check_errors(const char* after) {
     if (!names.empty()) throw std::runtime_error(std::string("llvmpipe: ") + names + " in " + after);
 }
 
-// Colour and float32 depth renderbuffers of the frame's size, and the
+// Colour and float32 depth (with 8-bit stencil) renderbuffers of the frame's size, and the
 // fixed-function state that matches facet's defaults.
 void LlvmpipeRenderer::Impl::make_framebuffer() {
     gl.GenRenderbuffers(1, &color);
@@ -429,11 +434,11 @@ void LlvmpipeRenderer::Impl::make_framebuffer() {
                            width, height);
     gl.GenRenderbuffers(1, &depth);
     gl.BindRenderbuffer(GL_RENDERBUFFER, depth);
-    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH32F_STENCIL8, width, height);
     gl.GenFramebuffers(1, &fbo);
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
-    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
     if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw std::runtime_error("llvmpipe: incomplete framebuffer");
     if (target == LlvmpipeTarget::srgb8) gl.Enable(GL_FRAMEBUFFER_SRGB);
@@ -540,6 +545,7 @@ GLint gl_min_filter(Filter f) {
     case Filter::nearest: return GL_NEAREST;
     case Filter::bilinear: return GL_LINEAR;
     case Filter::trilinear: return GL_LINEAR_MIPMAP_LINEAR;
+    case Filter::anisotropic: return GL_LINEAR_MIPMAP_LINEAR;  // with its most samples
     }
     throw std::logic_error("unknown Filter");
 }
@@ -558,7 +564,7 @@ GLint gl_wrap(Wrap w) {
 // sRGB before it filters, as facet does. Its rows go up in the order facet
 // stores them, so that t = 0 is facet's v = 0, the top row's edge.
 void LlvmpipeRenderer::Impl::upload_texture(const TextureBinding& b) {
-    const TextureKey key{b.texture.get(), b.filter, b.wrap};
+    const TextureKey key = texture_key(b);
     if (textures.count(key)) return;
     const Texture& t = *b.texture;
     GLuint& id = textures[key];
@@ -566,7 +572,7 @@ void LlvmpipeRenderer::Impl::upload_texture(const TextureBinding& b) {
     gl.BindTexture(GL_TEXTURE_2D, id);
     gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
     const GLint format = t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8;
-    const int levels = b.filter == Filter::trilinear ? t.levels() : 1;
+    const int levels = mipmapped(b.filter) ? t.levels() : 1;
     for (int i = 0; i < levels; ++i) {
         const MipLevel* m = i ? &t.mips[size_t(i - 1)] : nullptr;
         gl.TexImage2D(GL_TEXTURE_2D, i, format, m ? m->width : t.width, m ? m->height : t.height,
@@ -576,6 +582,8 @@ void LlvmpipeRenderer::Impl::upload_texture(const TextureBinding& b) {
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, gl_min_filter(b.filter));
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
                      b.filter == Filter::nearest ? GL_NEAREST : GL_LINEAR);
+    if (b.filter == Filter::anisotropic)  // GL 4.6 (and EXT_texture_filter_anisotropic)
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY, b.anisotropy);
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(b.wrap));
     gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(b.wrap));
 }
@@ -589,7 +597,7 @@ void LlvmpipeRenderer::Impl::bind_texture(const Program& p, const Material& m) {
     gl.Uniform1f(uniform(p.id, "alpha_cutoff"), cutoff);
     if (!b) return;
     gl.ActiveTexture(GL_TEXTURE0);
-    gl.BindTexture(GL_TEXTURE_2D, textures.at({b->texture.get(), b->filter, b->wrap}));
+    gl.BindTexture(GL_TEXTURE_2D, textures.at(texture_key(*b)));
 }
 
 // The lights as facet hands them to a shader (to_abi), one array per field.
@@ -756,6 +764,52 @@ void set_blend(Gl& gl, const Material& m) {
     gl.BlendColor(f.constant[0], f.constant[1], f.constant[2], f.constant[3]);
 }
 
+GLenum gl_stencil_compare(StencilCompare c) {
+    switch (c) {
+    case StencilCompare::never: return GL_NEVER;
+    case StencilCompare::less: return GL_LESS;
+    case StencilCompare::less_equal: return GL_LEQUAL;
+    case StencilCompare::greater: return GL_GREATER;
+    case StencilCompare::greater_equal: return GL_GEQUAL;
+    case StencilCompare::equal: return GL_EQUAL;
+    case StencilCompare::not_equal: return GL_NOTEQUAL;
+    case StencilCompare::always: return GL_ALWAYS;
+    }
+    return GL_ALWAYS;
+}
+
+GLenum gl_stencil_op(StencilOp o) {
+    switch (o) {
+    case StencilOp::keep: return GL_KEEP;
+    case StencilOp::zero: return GL_ZERO;
+    case StencilOp::replace: return GL_REPLACE;
+    case StencilOp::increment: return GL_INCR;
+    case StencilOp::increment_wrap: return GL_INCR_WRAP;
+    case StencilOp::decrement: return GL_DECR;
+    case StencilOp::decrement_wrap: return GL_DECR_WRAP;
+    case StencilOp::invert: return GL_INVERT;
+    }
+    return GL_KEEP;
+}
+
+// facet's colour mask and stencil state of `m` as GL's, each facing's own.
+void set_stencil(Gl& gl, const Material& m) {
+    const GLboolean c = m.color_write ? GL_TRUE : GL_FALSE;
+    gl.ColorMask(c, c, c, c);
+    if (!m.stencil.enabled) {
+        gl.Disable(GL_STENCIL_TEST);
+        return;
+    }
+    gl.Enable(GL_STENCIL_TEST);
+    for (const auto& [face, f] : {std::pair{GLenum(GL_FRONT), m.stencil.front},
+                                  std::pair{GLenum(GL_BACK), m.stencil.back}}) {
+        gl.StencilFuncSeparate(face, gl_stencil_compare(f.compare), f.reference, f.read_mask);
+        gl.StencilOpSeparate(face, gl_stencil_op(f.fail), gl_stencil_op(f.depth_fail),
+                             gl_stencil_op(f.pass));
+        gl.StencilMaskSeparate(face, f.write_mask);
+    }
+}
+
 struct DrawnPart {
     const Object* object;
     size_t part;
@@ -791,8 +845,8 @@ std::vector<DrawnPart> draw_order(const Scene& scene) {
 }  // namespace
 
 // Each draw follows facet's PipelineState for it (renderer.cpp's
-// pipeline_state): cull mode, front face, depth test, depth writes and
-// blending.
+// pipeline_state): cull mode, front face, depth test, depth writes,
+// blending, the colour mask and the stencil.
 double LlvmpipeRenderer::render(const Scene& scene) {
     Gl& gl = impl_->gl;
     const RenderSettings& s = scene.settings;
@@ -803,8 +857,11 @@ double LlvmpipeRenderer::render(const Scene& scene) {
     gl.ClearColor(s.clear_color.r, s.clear_color.g, s.clear_color.b, s.clear_color.a);
     gl.ClearDepth(s.reversed_z ? 0.0 : 1.0);  // RenderSettings::far_depth(), as Renderer clears
     gl.DepthFunc(gl_compare(s.depth_compare));
-    gl.DepthMask(GL_TRUE);  // glClear honours the depth mask
-    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl.ClearStencil(s.clear_stencil);
+    gl.DepthMask(GL_TRUE);  // glClear honours the depth, colour and stencil masks
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.StencilMask(0xFF);
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     // The flip in clip_from_world mirrors every triangle's winding.
     gl.FrontFace(s.front_ccw ? GL_CW : GL_CCW);
     const glm::mat4 view_projection = clip_from_world(scene);
@@ -818,6 +875,7 @@ double LlvmpipeRenderer::render(const Scene& scene) {
         }
         gl.DepthMask(m.writes_depth() ? GL_TRUE : GL_FALSE);
         set_blend(gl, m);
+        set_stencil(gl, m);
         const Program& p = impl_->program(m);
         gl.UseProgram(p.id);
         impl_->set_uniforms(p, scene, d.object->part_matrix(d.part), m, view_projection);

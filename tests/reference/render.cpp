@@ -62,7 +62,7 @@ void oracle_info(const facet_draw* draw, uint32_t slot, facet_texture_info* out)
     if (const TextureBinding* b = oracle_bound(draw, slot)) {
         out->kind = b->texture->faces == 6 ? FACET_TEXTURE_CUBE : FACET_TEXTURE_2D;
         out->width = uint32_t(b->texture->width), out->height = uint32_t(b->texture->height);
-        out->levels = b->filter == Filter::trilinear ? uint32_t(b->texture->levels()) : 1u;
+        out->levels = mipmapped(b->filter) ? uint32_t(b->texture->levels()) : 1u;
     }
 }
 
@@ -98,9 +98,33 @@ void oracle_sample(const facet_draw* draw, uint32_t slot, const float* coords, c
     }
 }
 
+// textureGrad: an anisotropic 2D binding over the footprint of the
+// derivatives (turned and scaled as the UVs are); the rest as textureLod.
+void oracle_sample_grad(const facet_draw* draw, uint32_t slot, const float* coords,
+                        const float* lod, const float* grads, uint32_t count, uint32_t mask,
+                        float* rgba) {
+    const TextureBinding* b = oracle_bound(draw, slot);
+    if (!grads || !b || b->filter != Filter::anisotropic || b->texture->faces == 6)
+        return oracle_sample(draw, slot, coords, lod, count, mask, rgba);
+    const UvTransform& t = b->transform;
+    const auto turned = [&](glm::dvec2 d) {  // the linear part of oracle_placed
+        return glm::vec2(oracle_placed(t, d.x, d.y) - oracle_placed(t, 0.0, 0.0));
+    };
+    for (uint32_t i = 0; i < count; ++i) {
+        glm::vec4 c(0.0f);
+        if (mask >> i & 1u) {
+            const glm::vec2 at(oracle_placed(t, coords[i], coords[count + i]));
+            const glm::vec2 dx = turned({grads[i], grads[count + i]});
+            const glm::vec2 dy = turned({grads[2 * count + i], grads[3 * count + i]});
+            c = sample_grad(*b, at, dx, dy);
+        }
+        for (int k = 0; k < 4; ++k) rgba[uint32_t(k) * count + i] = c[k];
+    }
+}
+
 const void* oracle_extension(const char* id, uint32_t version) {
-    static const facet_textures_service textures = {sizeof(facet_textures_service),
-                                                    &oracle_info, &oracle_sample};
+    static const facet_textures_service textures = {sizeof(facet_textures_service), &oracle_info,
+                                                    &oracle_sample, &oracle_sample_grad};
     if (id && std::strcmp(id, FACET_TEXTURES_EXTENSION) == 0 && version >= 1 &&
         version <= FACET_TEXTURES_VERSION)
         return &textures;

@@ -1,5 +1,5 @@
 // The framebuffer: a colour buffer in one of several formats, plus float32
-// depth.
+// depth and, where a frame's draws use one, an 8-bit stencil buffer.
 //
 // Shading and blending happen in linear light; a colour buffer stores it as
 //   srgb8    8-bit sRGB-encoded RGB and linear 8-bit alpha, 4 bytes a pixel:
@@ -16,7 +16,7 @@
 // starts on a cache line; the padding is never shown.
 //
 // Multisampling: a framebuffer made with samples > 1 (2, 4 or 8) also holds
-// a colour and a depth per sample, at the D3D standard sample positions
+// a colour, a depth and (with a stencil buffer) a stencil value per sample, at the D3D standard sample positions
 // (sample_offset()), in the same format. The rasterizer tests coverage and
 // depth per sample and the shader runs once per pixel; resolve() then
 // averages each pixel's samples in linear light into the per-pixel colour
@@ -67,19 +67,21 @@ public:
 
     Framebuffer() = default;
     Framebuffer(int width, int height, ColorFormat format = ColorFormat::rgba32f,
-                int samples = 1) {
-        resize(width, height, format, samples);
+                int samples = 1, bool stencil = false) {
+        resize(width, height, format, samples, stencil);
     }
 
     // Reallocates; contents are undefined until the next clear(). `samples`
     // is 1, 2, 4 or 8; a size or sample count outside the limits throws
     // Error(out_of_range), and a target over the memory budget
     // (facet/memory.hpp) Error(over_budget), before anything is allocated.
+    // With `stencil`, an 8-bit stencil value a pixel (and a sample) too.
     void resize(int width, int height, ColorFormat format = ColorFormat::rgba32f,
-                int samples = 1);
-    // What resize() allocates for such a target: colour and depth, with its
-    // samples.
-    static uint64_t storage_bytes(int width, int height, ColorFormat format, int samples);
+                int samples = 1, bool stencil = false);
+    // What resize() allocates for such a target: colour, depth and stencil,
+    // with its samples.
+    static uint64_t storage_bytes(int width, int height, ColorFormat format, int samples,
+                                  bool stencil = false);
     // What a frame of that size costs a program that renders it and keeps
     // its 8-bit image: the target, the image, and twice the image again for
     // what takes it from there (the PNG encoder's filtered rows and its
@@ -91,7 +93,7 @@ public:
     // clear(), resolve() and resolve_srgb8() run on the calling thread, on
     // the default instruction-set path (default_isa(), which throws for a
     // bad FACET_ISA); Renderer's versions use all its threads and its path.
-    void clear(const glm::vec4& color, float depth);
+    void clear(const glm::vec4& color, float depth, uint8_t stencil = 0);
     // Averages each pixel's samples into its colour (in linear light), and
     // copies sample 0's depth into its depth. Call after drawing; a no-op
     // with one sample.
@@ -102,6 +104,7 @@ public:
     int samples() const { return samples_; }
     ColorFormat format() const { return format_; }
     bool has_color() const { return format_ != ColorFormat::none; }
+    bool has_stencil() const { return stencil_on_; }
     // Pixels from one row to the next (width() rounded up to 4), and the
     // number of rows stored (height() rounded up to 4).
     int stride() const { return stride_; }
@@ -117,13 +120,20 @@ public:
     float sample_depth_at(int x, int y, int s) const {
         return sample_depth_[(size_t(y) * stride_ + x) * samples_ + s];
     }
+    // The stencil value of pixel (x, y), or of its sample s (with MSAA the
+    // samples hold it; a pixel's is not resolved from them).
+    uint8_t stencil_at(int x, int y) const { return stencil_[size_t(y) * stride_ + x]; }
+    uint8_t sample_stencil_at(int x, int y, int s) const {
+        return samples_ == 1 ? stencil_at(x, y)
+                             : sample_stencil_[(size_t(y) * stride_ + x) * samples_ + s];
+    }
     // Every pixel's linear RGBA (width x height, no padding).
     std::vector<glm::vec4> linear() const;
 
     // The storage: pixel (x, y) at color_data() + (y * stride() + x) *
     // bytes_per_pixel(format()); with MSAA, its sample s at
     // sample_color_data() + ((y * stride() + x) * samples() + s) * bytes.
-    // Depth likewise, in floats.
+    // Depth likewise, in floats, and stencil in bytes (empty without one).
     uint8_t* color_data() { return color_.data(); }
     const uint8_t* color_data() const { return color_.data(); }
     uint8_t* sample_color_data() { return sample_color_.data(); }
@@ -132,6 +142,8 @@ public:
     const float* depth() const { return depth_.data(); }
     float* sample_depth() { return sample_depth_.data(); }
     const float* sample_depth() const { return sample_depth_.data(); }
+    uint8_t* stencil() { return stencil_.data(); }
+    uint8_t* sample_stencil() { return sample_stencil_.data(); }
 
     // 8-bit sRGB RGBA, row-major, width * 4 bytes a row. Alpha is stored
     // linearly. From an srgb8 target this is a copy.
@@ -152,6 +164,9 @@ private:
     std::vector<float, CacheLineAllocator<float>> depth_;
     std::vector<uint8_t, CacheLineAllocator<uint8_t>> sample_color_;  // empty with one sample
     std::vector<float, CacheLineAllocator<float>> sample_depth_;
+    bool stencil_on_ = false;
+    std::vector<uint8_t, CacheLineAllocator<uint8_t>> stencil_;         // empty without stencil
+    std::vector<uint8_t, CacheLineAllocator<uint8_t>> sample_stencil_;  // ... or one sample
 };
 
 // Position of sample s of an n-sample pattern, in 1/16 pixel from the pixel

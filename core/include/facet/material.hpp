@@ -6,6 +6,8 @@
 //     blend: opaque            # opaque | alpha | additive | premultiplied | multiply,
 //                              # or GL's {src, dst, op, ...} (docs/scenes.md)
 //     alpha_to_coverage: false # MSAA: alpha picks the samples covered
+//     color_write: true        # false: only depth and stencil are written
+//     stencil: {test: equal, ref: 1, pass: keep}  # GL's stencil test (docs/scenes.md)
 //     params:
 //       base_color: [1, 0.5, 0.2, 1]
 //       base_texture: {file: ../../assets/spot/spot_texture.png, filter: trilinear, wrap: repeat}
@@ -52,7 +54,8 @@ struct MaterialParam {
     // texture: a cube map's six faces (+X, -X, +Y, -Y, +Z, -Z), resolved so
     // too; empty for one file (a cube map's then equirectangular)
     std::vector<std::filesystem::path> cube_faces;
-    Filter filter = Filter::trilinear;   // texture: nearest | bilinear | trilinear
+    Filter filter = Filter::trilinear;   // texture: nearest | bilinear | trilinear | anisotropic
+    int anisotropy = kMaxAnisotropy;     // texture: anisotropic's most samples (2 to 16)
     Wrap wrap = Wrap::repeat;            // texture
     UvTransform transform;               // texture: a 2D one's placement on its UVs
     int uv_set = 0;                      // texture: the UV set it reads (0 or 1)
@@ -73,6 +76,8 @@ struct Material {
     BlendFunc blend_func;                // blend == custom: the factors and equations
     std::optional<CullMode> cull;       // overrides the scene's setting
     std::optional<bool> depth_write;    // default: true unless blended
+    bool color_write = true;            // false: depth and stencil only (GL's colour mask)
+    StencilState stencil;               // `stencil:`; off unless given
     // With MSAA, the shader's alpha chooses how many of a pixel's samples it
     // covers (alpha to coverage: PipelineState::alpha_to_coverage).
     bool alpha_to_coverage = false;

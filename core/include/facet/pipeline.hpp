@@ -112,6 +112,10 @@ struct PipelineState {
     // 0..1, taken in turn from sample (x + 2 y) mod n. With one sample, a
     // dithered alpha test. The colour written keeps its alpha.
     bool alpha_to_coverage = false;
+    // The stencil test and operations, on a target with a stencil buffer
+    // (none: as GL without one, every fragment passes and nothing is
+    // written). A draw that uses it is shaded block by block, in order.
+    StencilState stencil;
     glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
 };
 
@@ -217,7 +221,7 @@ public:
     // cancel(), resolve(), resolve_srgb8()) completes the clear, so no pass
     // reads the whole target only to overwrite it. Until then `target` must
     // live, keep its size, and be read through none of its own methods.
-    void clear(Framebuffer& target, const glm::vec4& color, float depth);
+    void clear(Framebuffer& target, const glm::vec4& color, float depth, uint8_t stencil = 0);
     // Drops the queued draws (and what flush(stats, true) kept) undrawn,
     // and completes any clear that waits: for a frame abandoned part way,
     // say by an exception, so that the next one starts afresh.

@@ -1,8 +1,10 @@
 // The fixed-function modes a material or a scene chooses and the pipeline
 // applies (PipelineState, facet/pipeline.hpp): face culling, blending and
-// the depth test. Plain types, so that assets name them without depending
+// the depth and stencil tests. Plain types, so that assets name them without depending
 // on the pipeline.
 #pragma once
+
+#include <cstdint>
 
 namespace facet {
 
@@ -41,5 +43,38 @@ struct BlendFunc {
 };
 
 enum class DepthCompare { never, less, less_equal, greater, greater_equal, equal, always };
+
+// GL's stencil test (glStencilFuncSeparate): a fragment passes where
+// (reference & read_mask) compares so with (stored & read_mask); `less`
+// passes where the masked reference is less than the masked stored value.
+enum class StencilCompare {
+    never, less, less_equal, greater, greater_equal, equal, not_equal, always
+};
+
+// GL's stencil operations (glStencilOpSeparate): keep, 0, the reference,
+// +1 clamped at 255, +1 wrapping, -1 clamped at 0, -1 wrapping, bitwise
+// not. Only the bits of the write mask change.
+enum class StencilOp {
+    keep, zero, replace, increment, increment_wrap, decrement, decrement_wrap, invert
+};
+
+// One facing's stencil state: its test, and the operation where the
+// stencil test fails, where it passes and the depth test fails, and where
+// both pass.
+struct StencilFace {
+    StencilCompare compare = StencilCompare::always;
+    uint8_t reference = 0, read_mask = 0xFF, write_mask = 0xFF;
+    StencilOp fail = StencilOp::keep, depth_fail = StencilOp::keep, pass = StencilOp::keep;
+    bool operator==(const StencilFace&) const = default;
+};
+
+// The 8-bit stencil test and operations of a draw, front- and back-facing
+// triangles apart, as GL has them. Off, the stencil buffer is neither
+// tested nor written.
+struct StencilState {
+    bool enabled = false;
+    StencilFace front, back;
+    bool operator==(const StencilState&) const = default;
+};
 
 }  // namespace facet

@@ -110,6 +110,7 @@ private:
         bool ao = false;                 // the AO pass
         bool ao_shares_prepass = false;  // which reads the frame's depth pre-pass
         bool prepassed = false;          // a depth pre-pass before the main pass
+        bool stencil = false;            // a material drawn uses the stencil buffer
     };
     FramePlan plan_frame(const Scene& scene, const DrawCall& call, FrameStats& stats);
     // The plan's passes into `frame`, in order: shadow maps, the frame's

@@ -90,6 +90,7 @@ struct RenderSettings {
     int width = 960;
     int height = 540;
     glm::vec4 clear_color{0.0f, 0.0f, 0.0f, 1.0f};  // linear
+    uint8_t clear_stencil = 0;  // where a material uses the stencil buffer
     bool reversed_z = true;
     // The depth a target is cleared to, which means nothing was drawn.
     float far_depth() const { return reversed_z ? 0.0f : 1.0f; }

@@ -29,9 +29,18 @@
 namespace facet {
 
 // nearest and bilinear read level 0; trilinear picks the level of detail
-// from the UV derivatives and blends the two nearest levels.
-enum class Filter { nearest, bilinear, trilinear };
+// from the UV derivatives and blends the two nearest levels; anisotropic
+// takes up to TextureBinding::anisotropy trilinear samples along the
+// longer axis of the pixel's footprint, each at the level of its share
+// (anisotropic_footprint). A cube map's anisotropic filter is trilinear.
+enum class Filter { nearest, bilinear, trilinear, anisotropic };
 enum class Wrap { repeat, clamp, mirror };
+
+// Whether a filter reads the mipmap levels.
+constexpr bool mipmapped(Filter f) { return f == Filter::trilinear || f == Filter::anisotropic; }
+
+// The most samples anisotropic filtering takes (GL's and D3D's 16x).
+constexpr int kMaxAnisotropy = 16;
 
 // A texel as stored: red, green, blue (sRGB-encoded in an sRGB texture) and
 // alpha (linear), 8 bits each.
@@ -209,8 +218,10 @@ struct UvTransform {
 struct TextureBinding {
     TextureBinding() = default;
     TextureBinding(std::shared_ptr<const Texture> t, Filter f = Filter::trilinear,
-                   Wrap w = Wrap::repeat, UvTransform placed = {}, int set = 0)
-        : texture(std::move(t)), filter(f), wrap(w), transform(placed), uv_set(set) {}
+                   Wrap w = Wrap::repeat, UvTransform placed = {}, int set = 0,
+                   int most = kMaxAnisotropy)
+        : texture(std::move(t)), filter(f), wrap(w), transform(placed), uv_set(set),
+          anisotropy(most) {}
 
     std::shared_ptr<const Texture> texture;
     Filter filter = Filter::trilinear;
@@ -219,6 +230,8 @@ struct TextureBinding {
     // The set of texture coordinates the host samples it at: 0, or 1, the
     // second (Mesh::uvs1), at the shader's second_uv varying.
     int uv_set = 0;
+    // Filter::anisotropic's most samples a pixel, 1 to kMaxAnisotropy.
+    int anisotropy = kMaxAnisotropy;
 };
 
 // The scalar reference sampler: plain per-lane code over the 8-bit levels,
@@ -251,6 +264,32 @@ void sample_many(const TextureBinding& binding, const float* u, const float* v, 
 // Level of detail (0 = level 0) for UV derivatives in UV units per pixel,
 // as trilinear filtering uses it: log2 of the longer footprint axis in texels.
 float level_of_detail(const Texture& texture, glm::vec2 duv_dx, glm::vec2 duv_dy);
+
+// How anisotropic filtering reads the footprint that UV derivatives
+// duv_dx and duv_dy (UV units a pixel) span, as EXT_texture_filter_
+// anisotropic describes it. With px and py their lengths in level-0 texels
+// and pmax >= pmin the longer and shorter:
+//   samples = min(ceil(pmax / pmin), most) (most where pmin is 0),
+//   lod     = log2(pmax / samples),
+//   step    = the longer derivative (UV units),
+// and sample k of n is the trilinear one at uv + step ((k + 1/2) / n - 1/2):
+// n samples spread evenly over the pixel's extent along its longer axis.
+// The filtered value is their mean. A footprint of no size (or NaN) is one
+// sample at level 0. Worked in float, step by step as the per-path sampler
+// works it (squares compared; x where they are unordered).
+struct AnisotropicFootprint {
+    int samples = 1;
+    float lod = 0.0f;
+    glm::vec2 step{0.0f};
+};
+AnisotropicFootprint anisotropic_footprint(const Texture& texture, glm::vec2 duv_dx,
+                                           glm::vec2 duv_dy, int most);
+
+// A 2D binding sampled at uv with UV derivatives duv_dx and duv_dy, as
+// textureGrad: its filter at the level of detail they give (anisotropic:
+// over their footprint); nearest and bilinear read level 0.
+glm::vec4 sample_grad(const TextureBinding& binding, glm::vec2 uv, glm::vec2 duv_dx,
+                      glm::vec2 duv_dy);
 
 // Sample one 4x4 fragment block (lane i at pixel (i % 4, i / 4)) at the
 // lanes of `mask`, taking each 2x2 quad's UV differences as its derivatives

@@ -5,6 +5,8 @@
 #include "facet/error.hpp"
 #include "assets/material_yaml.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -43,7 +45,8 @@ UvTransform parse_uv_transform(const yaml::Context& ctx, const YAML::Node& node)
 // {file: ...} or, for a cube map, {faces: [six files]}; filter, wrap, and
 // a 2D texture's transform and UV set.
 void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, MaterialParam& p) {
-    yaml::check_map(ctx, node, "texture", {"file", "faces", "filter", "wrap", "transform", "uv_set"});
+    yaml::check_map(ctx, node, "texture",
+                    {"file", "faces", "filter", "anisotropy", "wrap", "transform", "uv_set"});
     if (const YAML::Node set = node["uv_set"]) {
         p.uv_set = yaml::as<int>(ctx, set);
         yaml::ensure(p.uv_set == 0 || p.uv_set == 1, ctx, set, ErrorCode::out_of_range,
@@ -70,7 +73,16 @@ void parse_texture_map(const yaml::Context& ctx, const YAML::Node& node, Materia
         p.filter = yaml::as_enum<Filter>(ctx, filter,
                                          {{"nearest", Filter::nearest},
                                           {"bilinear", Filter::bilinear},
-                                          {"trilinear", Filter::trilinear}});
+                                          {"trilinear", Filter::trilinear},
+                                          {"anisotropic", Filter::anisotropic}});
+    if (const YAML::Node most = node["anisotropy"]) {
+        yaml::ensure(p.filter == Filter::anisotropic, ctx, most, ErrorCode::config_invalid,
+                     "anisotropy is the most samples of 'filter: anisotropic', which this "
+                     "texture does not use");
+        p.anisotropy = yaml::as<int>(ctx, most);
+        yaml::ensure(p.anisotropy >= 2 && p.anisotropy <= kMaxAnisotropy, ctx, most,
+                     ErrorCode::out_of_range, "anisotropy is 2 to 16 samples a pixel");
+    }
     if (const YAML::Node wrap = node["wrap"])
         p.wrap = yaml::as_enum<Wrap>(
             ctx, wrap,
@@ -125,7 +137,8 @@ std::vector<MaterialParam> parse_params(const yaml::Context& ctx, const YAML::No
 Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
                         const std::filesystem::path& folder, std::string source) {
     yaml::check_map(ctx, node, "material",
-                    {"shader", "blend", "cull", "depth_write", "alpha_to_coverage", "params"});
+                    {"shader", "blend", "cull", "depth_write", "color_write", "stencil",
+                     "alpha_to_coverage", "params"});
     Material m;
     m.source = std::move(source);
     m.file = ctx.file;
@@ -137,6 +150,8 @@ Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
             {{"none", CullMode::none}, {"back", CullMode::back}, {"front", CullMode::front}});
     if (const YAML::Node depth_write = node["depth_write"])
         m.depth_write = yaml::as<bool>(ctx, depth_write);
+    yaml::read(ctx, node, "color_write", m.color_write);
+    if (const YAML::Node stencil = node["stencil"]) parse_stencil(ctx, stencil, m);
     yaml::read(ctx, node, "alpha_to_coverage", m.alpha_to_coverage);
     if (const YAML::Node params = node["params"]) m.params = parse_params(ctx, params, folder);
     return m;
@@ -299,12 +314,17 @@ TextureBinding load_binding(const std::string& m, const MaterialParam& p,
                     "'" + p.name + "' is a cube map, read by direction: it has no UVs to transform "
                     "or choose",
                     m, p.line, p.column);
+    if ((d.flags & FACET_PARAM_CUBE) && p.filter == Filter::anisotropic)
+        spdlog::warn("{}:{}: '{}' is a cube map: anisotropic filtering is for 2D textures, so it "
+                     "is filtered trilinear",
+                     m, p.line, p.name);
     try {
         if (d.flags & FACET_PARAM_CUBE)
             return {cache.get_cube(p.cube_faces.empty() ? std::vector{p.texture_file} : p.cube_faces,
                                    srgb),
                     p.filter, p.wrap};
-        return {cache.get(p.texture_file, srgb), p.filter, p.wrap, p.transform, p.uv_set};
+        return {cache.get(p.texture_file, srgb), p.filter, p.wrap, p.transform, p.uv_set,
+                p.anisotropy};
     } catch (const Error& e) {
         throw yaml::relocated(e, m, p.line, p.column);
     }

@@ -24,6 +24,14 @@ MaterialParam parse_param(const yaml::Context& ctx, const std::string& name,
 // colour's, and a constant colour), into m.blend and m.blend_func.
 void parse_blend(const yaml::Context& ctx, const YAML::Node& node, Material& m);
 
+// A material's `stencil:`, into m.stencil (on): a map of GL's test (test:
+// never, less, less_equal, greater, greater_equal, equal, not_equal,
+// always; ref; read_mask) and operations (fail, depth_fail, pass: keep,
+// zero, replace, increment, increment_wrap, decrement, decrement_wrap,
+// invert; write_mask), and `back:`, the same keys for back faces over the
+// front's (stencil_yaml.cpp).
+void parse_stencil(const yaml::Context& ctx, const YAML::Node& node, Material& m);
+
 // Parses `node` (a map with the keys of a material file) and binds it to its
 // shader from `registry`. Relative texture files resolve against `folder`;
 // `source` becomes Material::source. Errors name ctx.file and the line in it.

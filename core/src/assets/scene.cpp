@@ -161,12 +161,19 @@ void read_shadow_settings(const yaml::Context& ctx, const YAML::Node& node, Rend
 // Reads a `render:` map over `s`: the keys it names replace their values.
 void read_render(const yaml::Context& ctx, const YAML::Node& node, RenderSettings& s) {
     yaml::check_map(ctx, node, "render",
-                    {"size", "clear_color", "depth", "depth_compare", "cull", "front_face",
+                    {"size", "clear_color", "clear_stencil", "depth", "depth_compare", "cull",
+                     "front_face",
                      "shadow_map_size", "shadow_distance", "msaa", "subpixel_bits", "wireframe",
                      "shadows", "ao", "ao_resolution", "ao_radius", "ao_samples", "depth_prepass",
                      "color_format", "post"});
     if (const YAML::Node size = node["size"]) read_size(ctx, size, s);
     if (const YAML::Node clear = node["clear_color"]) s.clear_color = read_clear_color(ctx, clear);
+    if (const YAML::Node clear = node["clear_stencil"]) {
+        const int v = yaml::as<int>(ctx, clear);
+        ensure(v >= 0 && v <= 255, ctx, clear, ErrorCode::out_of_range,
+               "clear_stencil is 0 to 255 (the stencil buffer has 8 bits)");
+        s.clear_stencil = uint8_t(v);
+    }
     if (const YAML::Node depth = node["depth"]) {  // and the compare that goes with it
         s.reversed_z = yaml::as_enum<bool>(ctx, depth, {{"reversed", true}, {"standard", false}});
         s.depth_compare = s.reversed_z ? DepthCompare::greater_equal : DepthCompare::less_equal;

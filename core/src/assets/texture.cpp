@@ -330,32 +330,66 @@ glm::vec4 sample(const TextureBinding& binding, glm::vec2 uv) {
     return binding.filter == Filter::nearest ? sampler.nearest(uv) : sampler.bilinear(uv);
 }
 
+AnisotropicFootprint anisotropic_footprint(const Texture& t, glm::vec2 duv_dx, glm::vec2 duv_dy,
+                                           int most) {
+    const glm::vec2 size(float(t.width), float(t.height));
+    const glm::vec2 x = duv_dx * size, y = duv_dy * size;
+    const float x2 = x.x * x.x + x.y * x.y, y2 = y.x * y.x + y.y * y.y;
+    const bool along_y = y2 > x2;
+    const float longer = along_y ? y2 : x2, shorter = along_y ? x2 : y2;
+    AnisotropicFootprint f;
+    if (!(longer > 0.0f)) return f;  // no size, or NaN: one sample at level 0
+    const float ratio = std::sqrt(longer / shorter);  // shorter 0: infinite
+    f.samples = ratio < float(most) ? int(std::ceil(ratio)) : most;
+    f.lod = 0.5f * std::log2(longer / float(f.samples * f.samples));
+    f.step = along_y ? duv_dy : duv_dx;
+    return f;
+}
+
+namespace {
+
+// The mean of a footprint's trilinear samples (anisotropic_footprint).
+glm::vec4 anisotropic(const TextureBinding& b, glm::vec2 uv, const AnisotropicFootprint& f) {
+    glm::vec4 sum(0.0f);
+    for (int k = 0; k < f.samples; ++k) {
+        const float at = (float(k) + 0.5f) / float(f.samples) - 0.5f;
+        sum += trilinear(*b.texture, b.wrap, {uv.x + f.step.x * at, uv.y + f.step.y * at}, f.lod);
+    }
+    return sum / float(f.samples);
+}
+
+}  // namespace
+
+glm::vec4 sample_grad(const TextureBinding& binding, glm::vec2 uv, glm::vec2 duv_dx,
+                      glm::vec2 duv_dy) {
+    if (!binding.texture || !mipmapped(binding.filter)) return sample(binding, uv);
+    if (binding.filter == Filter::trilinear)
+        return trilinear(*binding.texture, binding.wrap, uv,
+                         level_of_detail(*binding.texture, duv_dx, duv_dy));
+    return anisotropic(binding, uv,
+                       anisotropic_footprint(*binding.texture, duv_dx, duv_dy, binding.anisotropy));
+}
+
 void sample_block(const TextureBinding& binding, const float* u, const float* v, uint32_t mask,
                   float* rgba) {
     constexpr int N = 16;
     std::fill(rgba, rgba + 4 * N, 0.0f);
-    const bool mipmapped = binding.filter == Filter::trilinear && binding.texture;
     for (int quad : {0, 2, 8, 10}) {  // top-left lane of each 2x2 quad
         const uint32_t lanes = mask & (0x33u << quad);
         if (!lanes) continue;
-        float lod = 0.0f;
-        if (mipmapped) {
-            const glm::vec2 o(u[quad], v[quad]);
-            lod = level_of_detail(*binding.texture, glm::vec2(u[quad + 1], v[quad + 1]) - o,
-                                  glm::vec2(u[quad + 4], v[quad + 4]) - o);
-        }
+        const glm::vec2 o(u[quad], v[quad]);
+        const glm::vec2 dx = glm::vec2(u[quad + 1], v[quad + 1]) - o;
+        const glm::vec2 dy = glm::vec2(u[quad + 4], v[quad + 4]) - o;
         for (uint32_t m = lanes; m; m &= m - 1) {
             const int lane = std::countr_zero(m);
-            const glm::vec4 c = mipmapped ? trilinear(*binding.texture, binding.wrap,
-                                                             {u[lane], v[lane]}, lod)
-                                          : sample(binding, {u[lane], v[lane]});
+            const glm::vec4 c = sample_grad(binding, {u[lane], v[lane]}, dx, dy);
             for (int k = 0; k < 4; ++k) rgba[k * N + lane] = c[k];
         }
     }
 }
 
 glm::vec4 sample_lod(const TextureBinding& binding, glm::vec2 uv, float lod) {
-    if (binding.filter != Filter::trilinear || !binding.texture) return sample(binding, uv);
+    if (!mipmapped(binding.filter) || !binding.texture) return sample(binding, uv);
     return trilinear(*binding.texture, binding.wrap, uv, lod);
 }
 
@@ -379,7 +413,7 @@ glm::vec4 sample_cube(const TextureBinding& binding, glm::vec3 dir, float lod) {
     glm::vec2 uv;
     const int f = cube_face(dir, uv);
     const Texture& t = *binding.texture;
-    if (binding.filter == Filter::trilinear) return trilinear(t, Wrap::clamp, uv, lod, f);
+    if (mipmapped(binding.filter)) return trilinear(t, Wrap::clamp, uv, lod, f);
     const Sampler face(level(t, 0, f), Wrap::clamp, t.srgb);
     return binding.filter == Filter::nearest ? face.nearest(uv) : face.bilinear(uv);
 }

@@ -94,6 +94,7 @@ void AoPass::draw_prepass(const std::vector<DrawItem>& items, const glm::mat4& v
         // bit; a cutout's own shader runs (with no lights) to discard what its
         // alpha cuts away, and no other shader runs.
         const Material& m = *d.material;
+        if (!m.color_write && !m.writes_depth()) continue;  // a stencil mask hides nothing
         call.state.cull = m.cull.value_or(settings.cull);
         call.state.subpixel_bits = settings.subpixel_bits;
         pipeline.queue(call, depth_, pass);

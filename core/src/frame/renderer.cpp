@@ -39,6 +39,8 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.wireframe = s.wireframe;
     p.subpixel_bits = s.subpixel_bits;
     p.alpha_to_coverage = m.alpha_to_coverage;
+    p.color_write = m.color_write;
+    p.stencil = m.stencil;
     return p;
 }
 
@@ -48,10 +50,25 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
 // Not with alpha to coverage, whose samples depend on the shader's alpha,
 // which a depth-only pass does not compute.
 bool in_depth_prepass(const PipelineState& p) {
-    return p.depth_write && !p.alpha_to_coverage &&
+    return p.depth_write && !p.alpha_to_coverage && !p.stencil.enabled &&
            (p.depth_compare == DepthCompare::less_equal ||
             p.depth_compare == DepthCompare::greater_equal);
 }
+
+// Whether a visible object's material uses the stencil buffer: the frame's
+// target then has one.
+bool uses_stencil(const Scene& scene) {
+    for (const Object& o : scene.objects) {
+        if (!o.visible || !o.mesh) continue;
+        for (size_t i = 0; i < o.drawn_mesh()->part_count(); ++i)
+            if (const Material* m = o.material_of(i); m && m->stencil.enabled) return true;
+    }
+    return false;
+}
+
+// Whether a part is seen by the shadow maps and AO: not one that writes
+// neither colour nor depth (a stencil mask), which hides nothing.
+bool occludes(const Material& m) { return m.color_write || m.writes_depth(); }
 
 }  // namespace
 
@@ -157,10 +174,10 @@ FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
     const RenderSettings& s = scene.settings;
     check_rows(scene, first_row, rows);
     const bool band = first_row != 0 || rows != s.height;
-    const auto fit = [&](Framebuffer& fb, ColorFormat format, int samples) {
+    const auto fit = [&](Framebuffer& fb, ColorFormat format, int samples, bool stencil) {
         if (fb.width() != s.width || fb.height() != rows || fb.samples() != samples ||
-            fb.format() != format)
-            fb.resize(s.width, rows, format, samples);
+            fb.format() != format || fb.has_stencil() != stencil)
+            fb.resize(s.width, rows, format, samples, stencil);
     };
     // With a post chain, the frame is drawn in float and the chain's result
     // goes to the target.
@@ -171,8 +188,8 @@ FrameStats Renderer::draw_frame(const Scene& scene, int first_row, int rows,
                     "it; render the whole image, or set render: {post: false}",
                     scene.source.string());
     Framebuffer& frame = post ? passes_->hdr : target;
-    fit(frame, post ? ColorFormat::rgba32f : s.color_format, s.msaa);
-    if (post) fit(target, s.color_format, 1);
+    fit(frame, post ? ColorFormat::rgba32f : s.color_format, s.msaa, uses_stencil(scene));
+    if (post) fit(target, s.color_format, 1, false);
 
     DrawCall call;
     call.view = scene.camera.view();
@@ -233,13 +250,13 @@ Renderer::FramePlan Renderer::plan_frame(const Scene& scene, const DrawCall& cal
         if (o.part_poses.empty() &&
             outside_frustum(o.drawn_mesh()->bounds, call.projection * call.view * o.transform.matrix())) {
             ++stats.objects_culled;
-            scratch_.casters.insert(scratch_.casters.end(), scratch_.items.begin() + first,
-                                    scratch_.items.end());
+            for (size_t i = first; i < scratch_.items.size(); ++i)
+                if (occludes(*scratch_.items[i].material)) scratch_.casters.push_back(scratch_.items[i]);
             continue;
         }
         for (size_t i = first; i < scratch_.items.size(); ++i) {
             const DrawItem& d = scratch_.items[i];
-            scratch_.casters.push_back(d);
+            if (occludes(*d.material)) scratch_.casters.push_back(d);
             if (d.part && outside_frustum(*d.bounds, call.projection * call.view * d.model))
                 continue;
             const Material& m = *d.material;
@@ -249,6 +266,7 @@ Renderer::FramePlan Renderer::plan_frame(const Scene& scene, const DrawCall& cal
             plan.ao |= s.ao && m.uses_ao;
             if (m.blend == BlendMode::opaque) scratch_.opaque.push_back(d);
             else scratch_.blended.push_back({d, 0.0f});
+            plan.stencil |= m.stencil.enabled;
         }
     }
     // AO needs the depth of every opaque surface before the main pass. When
@@ -262,7 +280,14 @@ Renderer::FramePlan Renderer::plan_frame(const Scene& scene, const DrawCall& cal
         std::all_of(scratch_.opaque.begin(), scratch_.opaque.end(), [&](const DrawItem& d) {
             return in_depth_prepass(pipeline_state(*d.material, s));
         });
-    plan.prepassed = s.depth_prepass || plan.ao_shares_prepass;
+    // The stencil's operations see the depth the draws before them left,
+    // in scene order: no pre-pass may write depth ahead of them.
+    if (plan.stencil) {
+        if (s.depth_prepass)
+            spdlog::debug("depth pre-pass off: the scene's materials use the stencil buffer");
+        plan.ao_shares_prepass = false;
+    }
+    plan.prepassed = !plan.stencil && (s.depth_prepass || plan.ao_shares_prepass);
     return plan;
 }
 
@@ -278,7 +303,9 @@ void Renderer::draw_passes(const Scene& scene, const FramePlan& plan, DrawCall& 
     // The frame's clear waits for its first pass's draws (Pipeline::clear),
     // and a pass into another target (shadow maps, AO's own pre-pass) would
     // complete it first: so it comes after those.
-    const auto clear_frame = [&] { pipeline_.clear(frame, s.clear_color, s.far_depth()); };
+    const auto clear_frame = [&] {
+        pipeline_.clear(frame, s.clear_color, s.far_depth(), s.clear_stencil);
+    };
     if (plan.prepassed) {
         clear_frame();
         draw_depth_prepass(scene, call, frame, stats);
@@ -349,8 +376,10 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
     scratch_.after_sky.clear();
     for (const DrawItem& d : scratch_.opaque) {
         if (!item_call(scene, call, d, Role::main, prepassed)) continue;
-        const bool writes_depth = pipeline_state(*d.material, scene.settings).depth_write;
-        (sky && !writes_depth ? scratch_.after_sky : scratch_.opaque_calls).push_back(call);
+        // A stencil draw keeps its place: the draws after it may test what it writes.
+        const PipelineState state = pipeline_state(*d.material, scene.settings);
+        const bool after_sky = sky && !state.depth_write && !state.stencil.enabled;
+        (after_sky ? scratch_.after_sky : scratch_.opaque_calls).push_back(call);
     }
     if (!prepassed || !pipeline_.redraw(scratch_.opaque_calls, target, stats))
         for (const DrawCall& c : scratch_.opaque_calls) pipeline_.queue(c, target, stats);

@@ -34,6 +34,7 @@ struct DrawContext {
     bool perspective_only = true;              // no varying float is screen-linear
     bool packable = false;                     // fragments may be packed (fragment.hpp)
     bool may_discard = false;                  // the shader may clear mask bits
+    bool stencil = false;                      // tests and writes the target's stencil
     const float* ao = nullptr;                 // target-sized, if the shader needs AO
     const AoFrame* ao_grid = nullptr;          // or half-size, upsampled by tiles
     bool needs_ao = false;                     // the shader asks for AO (all ones without a pass)

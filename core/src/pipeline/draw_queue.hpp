@@ -76,6 +76,7 @@ struct PendingClear {
     Framebuffer* target = nullptr;
     glm::vec4 color{0.0f};
     float depth = 0.0f;
+    uint8_t stencil = 0;
     int columns = 0, rows = 0;     // the target's tiles (kTileSize pixels), as Bins lays them out
     std::vector<uint8_t> cleared;  // per tile: done; each written by the thread drawing the tile
 

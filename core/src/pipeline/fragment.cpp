@@ -4,6 +4,7 @@
 #include "pipeline/pixels.hpp"
 #include "pipeline/rasterize.hpp"
 #include "pipeline/sampler.hpp"
+#include "pipeline/stencil.hpp"
 #include "base/simd.hpp"
 #include "plugin/plugin_calls.hpp"
 
@@ -25,19 +26,6 @@ constexpr int N = FACET_BLOCK_LANES;
 using simd::Float;
 using simd::kParts;
 using simd::kWidth;
-
-bool depth_passes(DepthCompare compare, float z, float stored) {
-    switch (compare) {
-        case DepthCompare::never: return false;
-        case DepthCompare::less: return z < stored;
-        case DepthCompare::less_equal: return z <= stored;
-        case DepthCompare::greater: return z > stored;
-        case DepthCompare::greater_equal: return z >= stored;
-        case DepthCompare::equal: return z == stored;
-        case DepthCompare::always: return true;
-    }
-    return false;
-}
 
 // Lanes where z passes a depth test known at compile time.
 template <DepthCompare Compare>
@@ -81,10 +69,6 @@ Float interpolate_depth(const TriangleSetup& t, const Block& b, int p) {
     const Float z = t.z[0] + simd::load<Float>(b.bary[1] + p * kWidth) * (t.z[1] - t.z[0]) +
                     simd::load<Float>(b.bary[2] + p * kWidth) * (t.z[2] - t.z[0]);
     return z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
-}
-
-size_t pixel_index(const Framebuffer& fb, int x, int y) {
-    return size_t(y) * size_t(fb.stride()) + size_t(x);
 }
 
 // The early depth test, part by part; `z` gets each part's depth. The
@@ -212,23 +196,8 @@ void write_pixels(const DrawContext& dc, const Block& b, const Float* z, const f
     }
 }
 
-// MSAA: the depth plane's change per pixel in x and y, from the exact
-// edge functions (vertex k+2's weight is edge k over twice the area).
-glm::vec2 depth_gradient(const TriangleSetup& t) {
-    const double scale = double(kSubpixelOne) / double(t.area2);
-    const double dz1 = double(t.z[1]) - t.z[0], dz2 = double(t.z[2]) - t.z[0];
-    return {float((-t.edge[2].dy * dz1 - t.edge[0].dy * dz2) * scale),
-            float((t.edge[2].dx * dz1 + t.edge[0].dx * dz2) * scale)};
-}
-
-// Per-sample depth of one block, and which covered samples pass the depth
-// test: the surviving sample bits go to `passed`, the lanes with any to the
-// result.
-struct SampleDepth {
-    float z[Framebuffer::kMaxSamples][N];
-    uint8_t passed[N];
-};
-
+// MSAA: which covered samples pass the depth test: the surviving sample
+// bits go to `passed`, the lanes with any to the result.
 uint32_t sample_depth_test(const DrawContext& dc, const TriangleSetup& t, const Block& b,
                            uint32_t mask, SampleDepth& out) {
     const Framebuffer& fb = *dc.target;
@@ -238,16 +207,14 @@ uint32_t sample_depth_test(const DrawContext& dc, const TriangleSetup& t, const 
     uint32_t lanes = 0;
     for (uint32_t m = mask; m; m &= m - 1) {
         const int i = std::countr_zero(m);
-        const float centre = t.z[0] + b.bary[1][i] * (t.z[1] - t.z[0]) +
-                             b.bary[2][i] * (t.z[2] - t.z[0]);
+        const float centre = centre_depth(t, b, i);
         const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
         out.passed[i] = 0;
         for (uint32_t bits = b.samples[i]; bits; bits &= bits - 1) {
             const int s = std::countr_zero(bits);
-            const glm::vec2 o = glm::vec2(sample_offset(n, s)) * (1.0f / 16.0f);
-            const float z = std::clamp(centre + dz.x * o.x + dz.y * o.y, 0.0f, 1.0f);
+            const float z = sample_depth(centre, dz, n, s);
             out.z[s][i] = z;
-            if (depth_passes(dc.state.depth_compare, z, depth[at + size_t(s)]))
+            if (depth_test_passes(dc.state.depth_compare, z, depth[at + size_t(s)]))
                 out.passed[i] |= uint8_t(1u << s);
         }
         lanes |= uint32_t(out.passed[i] != 0) << i;
@@ -485,8 +452,15 @@ void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVar
     }
 }
 
+glm::vec2 depth_gradient(const TriangleSetup& t) {
+    const double scale = double(kSubpixelOne) / double(t.area2);
+    const double dz1 = double(t.z[1]) - t.z[0], dz2 = double(t.z[2]) - t.z[0];
+    return {float((-t.edge[2].dy * dz1 - t.edge[0].dy * dz2) * scale),
+            float((t.edge[2].dx * dz1 + t.edge[0].dx * dz2) * scale)};
+}
+
 bool depth_only(const DrawContext& dc) {
-    return !dc.state.color_write && !dc.may_discard && dc.target->samples() == 1;
+    return !dc.state.color_write && !dc.may_discard && dc.target->samples() == 1 && !dc.stencil;
 }
 
 namespace {
@@ -592,7 +566,18 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     const bool msaa = n_samples > 1;
     Float z[kParts];
     SampleDepth sd;
-    const uint32_t mask = msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, t, b, z);
+    // With the stencil test, a shader that may remove lanes or samples has
+    // its fragments tested (and the stencil written) after it runs, as GL
+    // does; otherwise before.
+    const bool late = dc.stencil && (dc.may_discard || dc.state.alpha_to_coverage);
+    uint32_t mask;
+    if (dc.stencil) {
+        for (int p = 0; p < kParts; ++p) z[p] = interpolate_depth(t, b, p);
+        for (int i = 0; i < N; ++i) sd.passed[i] = msaa ? b.samples[i] : 1;
+        mask = late ? b.mask : stencil_depth_test(dc, t, b, b.mask, sd);
+    } else {
+        mask = msaa ? sample_depth_test(dc, t, b, b.mask, sd) : depth_test(dc, t, b, z);
+    }
     stats.fragments_depth_rejected += simd::popcount(b.mask) - simd::popcount(mask);
     if (!mask) return;
     // Packed batches write depth before they shade, and opaque colours only.
@@ -601,7 +586,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
                       dc.state.blend == BlendMode::opaque && mask != 0xFFFFu;
     if (!pack && !packed.empty()) packed.flush(stats);  // what came first is written first
-    if (!dc.state.color_write && !dc.may_discard) {
+    if (!dc.state.color_write && !dc.may_discard && !late) {
         // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
         else write_pixels(dc, b, z, nullptr, mask);
@@ -648,6 +633,11 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);
     uint32_t kept = batch.mask & mask;  // a shader may only clear bits
     if (dc.state.alpha_to_coverage) kept = alpha_to_coverage(b, color + 3 * N, n_samples, kept, sd);
+    if (late) {
+        const uint32_t tested = kept;
+        kept = stencil_depth_test(dc, t, b, kept, sd);
+        stats.fragments_depth_rejected += simd::popcount(tested) - simd::popcount(kept);
+    }
     if (msaa) write_samples(dc, b, sd, color, kept);
     else write_pixels(dc, b, z, color, kept);
 }

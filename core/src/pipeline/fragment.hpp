@@ -25,6 +25,8 @@
 #include "pipeline/setup.hpp"
 #include "base/simd.hpp"
 
+#include <algorithm>
+
 namespace facet::FACET_KERNEL_NS {
 
 // What the fragment stage needs of one triangle, worked out once for all of
@@ -152,8 +154,51 @@ private:
     alignas(64) int32_t position_[kRow];  // x | y << 16 of each fragment's pixel
 };
 
+inline size_t pixel_index(const Framebuffer& fb, int x, int y) {
+    return size_t(y) * size_t(fb.stride()) + size_t(x);
+}
+
+// Whether window depth z passes `compare` against the stored `stored`.
+inline bool depth_test_passes(DepthCompare compare, float z, float stored) {
+    switch (compare) {
+        case DepthCompare::never: return false;
+        case DepthCompare::less: return z < stored;
+        case DepthCompare::less_equal: return z <= stored;
+        case DepthCompare::greater: return z > stored;
+        case DepthCompare::greater_equal: return z >= stored;
+        case DepthCompare::equal: return z == stored;
+        case DepthCompare::always: return true;
+    }
+    return false;
+}
+
+// Window depth at lane i of block b, from the exact weights, unclamped:
+// the arithmetic of the per-part interpolation, lane by lane.
+inline float centre_depth(const TriangleSetup& t, const Block& b, int i) {
+    return t.z[0] + b.bary[1][i] * (t.z[1] - t.z[0]) + b.bary[2][i] * (t.z[2] - t.z[0]);
+}
+
+// MSAA: the depth plane's change per pixel in x and y, from the exact
+// edge functions (vertex k+2's weight is edge k over twice the area).
+glm::vec2 depth_gradient(const TriangleSetup& t);
+
+// Depth at sample s of n (with one sample, the centre's), clamped like
+// std::clamp (NaN stays NaN).
+inline float sample_depth(float centre, glm::vec2 dz, int n, int s) {
+    if (n == 1) return std::clamp(centre, 0.0f, 1.0f);
+    const glm::vec2 o = glm::vec2(sample_offset(n, s)) * (1.0f / 16.0f);
+    return std::clamp(centre + dz.x * o.x + dz.y * o.y, 0.0f, 1.0f);
+}
+
+// Per-sample depth of one block's lanes, and each lane's samples that
+// passed (or, going in, the samples to test).
+struct SampleDepth {
+    float z[Framebuffer::kMaxSamples][FACET_BLOCK_LANES];
+    uint8_t passed[FACET_BLOCK_LANES];
+};
+
 // Whether a draw writes depth only, with no shader call: no colour, no
-// discard, one sample per pixel (shadow maps, pre-passes).
+// discard, one sample per pixel, no stencil (shadow maps, pre-passes).
 bool depth_only(const DrawContext& dc);
 
 class BlockCoverage;

@@ -32,14 +32,16 @@ glm::ivec2 sample_offset(int n, int s) {
     }
 }
 
-uint64_t Framebuffer::storage_bytes(int width, int height, ColorFormat format, int samples) {
+uint64_t Framebuffer::storage_bytes(int width, int height, ColorFormat format, int samples,
+                                    bool stencil) {
     // As resize() lays it out: rows of a multiple of 16 pixels, a multiple of 4 rows.
     const uint64_t pixels = uint64_t((width + 15) & ~15) * uint64_t((height + 3) & ~3);
-    const uint64_t per_pixel = uint64_t(bytes_per_pixel(format)) + sizeof(float);  // colour, depth
+    const uint64_t per_pixel =  // colour, depth, stencil
+        uint64_t(bytes_per_pixel(format)) + sizeof(float) + (stencil ? 1 : 0);
     return pixels * per_pixel * uint64_t(samples > 1 ? 1 + samples : 1);
 }
 
-void Framebuffer::resize(int width, int height, ColorFormat format, int samples) {
+void Framebuffer::resize(int width, int height, ColorFormat format, int samples, bool stencil) {
     if (width <= 0 || height <= 0 || width > kMaxSize || height > kMaxSize)
         throw Error(ErrorCode::out_of_range,
                     "framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
@@ -52,7 +54,7 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples)
     if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
         throw Error(ErrorCode::out_of_range,
                     "MSAA sample count " + std::to_string(samples) + " (must be 1, 2, 4 or 8)");
-    require_within_budget(storage_bytes(width, height, format, samples),
+    require_within_budget(storage_bytes(width, height, format, samples, stencil),
                           "a " + std::to_string(width) + "x" + std::to_string(height) + " target" +
                               (samples > 1 ? " with " + std::to_string(samples) + " samples" : ""));
     width_ = width;
@@ -68,10 +70,13 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples)
     depth_.resize(pixels);
     sample_color_.resize(multi * bytes);
     sample_depth_.resize(multi);
+    stencil_on_ = stencil;
+    stencil_.resize(stencil ? pixels : 0);
+    sample_stencil_.resize(stencil ? multi : 0);
 }
 
-void Framebuffer::clear(const glm::vec4& color, float depth) {
-    kernels(default_isa()).clear_rect(*this, 0, 0, stride_, rows_, color, depth, true);
+void Framebuffer::clear(const glm::vec4& color, float depth, uint8_t stencil) {
+    kernels(default_isa()).clear_rect(*this, 0, 0, stride_, rows_, color, depth, stencil, true);
 }
 
 void Framebuffer::resolve() {

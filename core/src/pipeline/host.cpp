@@ -18,6 +18,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 namespace facet {
@@ -50,30 +51,50 @@ void textures_info(const facet_draw* draw, uint32_t slot, facet_texture_info* ou
     out->kind = t.faces == 6 ? FACET_TEXTURE_CUBE : FACET_TEXTURE_2D;
     out->width = uint32_t(t.width);
     out->height = uint32_t(t.height);
-    out->levels = b->filter == Filter::trilinear ? uint32_t(t.levels()) : 1u;
+    out->levels = mipmapped(b->filter) ? uint32_t(t.levels()) : 1u;
+}
+
+// As GLSL's textureGrad (facet_textures_service.sample_grad); null grads:
+// as textureLod (.sample).
+void textures_sample_grad(const facet_draw* draw, uint32_t slot, const float* coords,
+                          const float* lod, const float* grads, uint32_t count, uint32_t mask,
+                          float* rgba) {
+    count = std::min(count, uint32_t(FACET_BLOCK_LANES));
+    const TextureBinding* b = bound(draw, slot);
+    if (!b) {
+        for (uint32_t c = 0; c < 4; ++c)  // unbound: white
+            for (uint32_t i = 0; i < count; ++i) rgba[c * count + i] = mask >> i & 1u ? 1.0f : 0.0f;
+        return;
+    }
+    const auto* dc = static_cast<const DrawContext*>(draw->host_data);
+    if (b->filter != Filter::anisotropic) grads = nullptr;  // only it reads them
+    if (b->transform.identity() || b->texture->faces == 6) {
+        dc->kernels->sample_lanes(*b, coords, lod, grads, count, mask, rgba);
+        return;
+    }
+    // The shader's UVs and derivatives, placed by the binding's transform;
+    // a level the shader gave, shifted by the transform's scale (one it did
+    // not give is level 0, as asked).
+    float placed[2 * FACET_BLOCK_LANES], shifted[FACET_BLOCK_LANES];
+    float turned[4 * FACET_BLOCK_LANES];
+    b->transform.apply(coords, coords + count, int(count), placed, placed + count);
+    const float shift = b->transform.lod_shift();
+    for (uint32_t i = 0; i < count; ++i) shifted[i] = lod ? lod[i] + shift : 0.0f;
+    if (grads) {  // the derivatives turn and scale with the UVs, and do not move
+        const std::array<float, 4> m = b->transform.matrix();
+        for (int k = 0; k < 2; ++k)  // d/dx, then d/dy
+            for (uint32_t i = 0; i < count; ++i) {
+                const float du = grads[(2 * k) * count + i], dv = grads[(2 * k + 1) * count + i];
+                turned[(2 * k) * count + i] = m[0] * du + m[1] * dv;
+                turned[(2 * k + 1) * count + i] = m[2] * du + m[3] * dv;
+            }
+    }
+    dc->kernels->sample_lanes(*b, placed, shifted, grads ? turned : nullptr, count, mask, rgba);
 }
 
 void textures_sample(const facet_draw* draw, uint32_t slot, const float* coords, const float* lod,
                      uint32_t count, uint32_t mask, float* rgba) {
-    count = std::min(count, uint32_t(FACET_BLOCK_LANES));
-    if (const TextureBinding* b = bound(draw, slot)) {
-        const auto* dc = static_cast<const DrawContext*>(draw->host_data);
-        if (b->transform.identity() || b->texture->faces == 6) {
-            dc->kernels->sample_lanes(*b, coords, lod, count, mask, rgba);
-            return;
-        }
-        // The shader's UVs, placed by the binding's transform; the level
-        // its derivatives gave, shifted by the transform's scale (a level
-        // the shader did not give is level 0, as asked).
-        float placed[2 * FACET_BLOCK_LANES], shifted[FACET_BLOCK_LANES];
-        b->transform.apply(coords, coords + count, int(count), placed, placed + count);
-        const float shift = b->transform.lod_shift();
-        for (uint32_t i = 0; i < count; ++i) shifted[i] = lod ? lod[i] + shift : 0.0f;
-        dc->kernels->sample_lanes(*b, placed, shifted, count, mask, rgba);
-        return;
-    }
-    for (uint32_t c = 0; c < 4; ++c)  // unbound: white
-        for (uint32_t i = 0; i < count; ++i) rgba[c * count + i] = mask >> i & 1u ? 1.0f : 0.0f;
+    textures_sample_grad(draw, slot, coords, lod, nullptr, count, mask, rgba);
 }
 
 // ---- "facet.pass": threads and scratch memory for a screen pass
@@ -139,8 +160,8 @@ const facet_environment* environment_lighting(const facet_draw* draw) {
 }
 
 const void* host_extension(const char* id, uint32_t version) {
-    static const facet_textures_service textures = {sizeof(facet_textures_service),
-                                                    &textures_info, &textures_sample};
+    static const facet_textures_service textures = {
+        sizeof(facet_textures_service), &textures_info, &textures_sample, &textures_sample_grad};
     static const facet_environment_service environment = {sizeof(facet_environment_service),
                                                           &environment_lighting};
     static const facet_pass_service pass = {sizeof(facet_pass_service), &host_parallel_for,

@@ -29,7 +29,7 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     if (PendingClear* c = g.clear_now; c && !c->cleared[size_t(tile)]) {
         int cx0, cy0, cx1, cy1;
         c->storage_rect(tile, cx0, cy0, cx1, cy1);
-        clear_rect(*g.target, cx0, cy0, cx1, cy1, c->color, c->depth, false);
+        clear_rect(*g.target, cx0, cy0, cx1, cy1, c->color, c->depth, c->stencil, false);
         c->cleared[size_t(tile)] = 1;
     }
     PackedBatch packed;

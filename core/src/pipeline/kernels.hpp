@@ -52,10 +52,10 @@ struct Kernels {
                   EdgeWidth width, std::vector<Block>& out);
     // Clears the storage rectangle [x0, x1) x [y0, y1) (the padding past the
     // last column and row included where x1 is stride() and y1 rows()),
-    // every sample, with streaming stores past the caches or (for the draws
-    // about to follow) into them.
+    // every sample, stencil too where it has one, with streaming stores past
+    // the caches or (for the draws about to follow) into them.
     void (*clear_rect)(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4& color,
-                       float depth, bool stream);
+                       float depth, uint8_t stencil, bool stream);
     // Framebuffer rows [first, first + count): average the samples into
     // each pixel; write 8-bit sRGB RGBA, `width * 4` bytes a row.
     void (*resolve_rows)(Framebuffer& fb, int first, int count);
@@ -89,12 +89,13 @@ struct Kernels {
     void (*shadow_plane_rows)(const ShadowPlaneRows& rows, int first, int count);
     // The texture sampler (sampler.hpp): 16 lanes of `mask`, with levels of
     // detail from the 2x2 quads; or `count` lanes, 2D or cube, with a level
-    // per lane (the host's textures service). The fragment stage
-    // calls its own path's directly; here for the host's services and tests.
+    // per lane and, for a 2D texture, derivatives if given (the host's
+    // textures service). The fragment stage calls its own path's directly;
+    // here for the host's services and tests.
     void (*sample_block)(const TextureBinding& binding, const float* u, const float* v,
                          uint32_t mask, float* rgba);
     void (*sample_lanes)(const TextureBinding& binding, const float* coords, const float* lod,
-                         uint32_t count, uint32_t mask, float* rgba);
+                         const float* grads, uint32_t count, uint32_t mask, float* rgba);
     // The environment behind everything, target rows [first, first +
     // count): every pixel (or sample) still at the far depth takes its
     // radiance (sky.hpp).

@@ -59,6 +59,10 @@ void set_context(QueuedDraw& d, const DrawCall& call, Framebuffer& target, Isa i
     prepare_context(d.dc, shader, isa, call.params, call.textures, call.texture_count,
                     call.may_discard, call.state);
     d.dc.target = &target;
+    // The stencil test applies where the target has the buffer: as in GL,
+    // a target without one passes every fragment and writes nothing.
+    d.dc.stencil = call.state.stencil.enabled && target.has_stencil();
+    if (d.dc.stencil) d.dc.packable = false;  // its tests come in order, block by block
     d.dc.ao = shader.needs(FACET_NEED_AO) ? call.ao : nullptr;
     d.dc.ao_grid = shader.needs(FACET_NEED_AO) ? call.ao_grid : nullptr;
     // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
@@ -131,7 +135,7 @@ void complete_clears(DrawQueue& g, ThreadPool& pool, const Kernels& kernels) {
                 int x0, y0, x1, y1, last_x0, last_y0, last_x1, last_y1;
                 c.storage_rect(row * c.columns + first, x0, y0, x1, y1);
                 c.storage_rect(row * c.columns + last, last_x0, last_y0, last_x1, last_y1);
-                kernels.clear_rect(fb, x0, y0, last_x1, y1, c.color, c.depth, true);
+                kernels.clear_rect(fb, x0, y0, last_x1, y1, c.color, c.depth, c.stencil, true);
                 first = last + 1;
             }
         });
@@ -358,7 +362,7 @@ void Pipeline::require_flushed(const Framebuffer& target, const char* what) cons
                     std::string(what) + ": draws queued for the target wait; flush() first");
 }
 
-void Pipeline::clear(Framebuffer& target, const glm::vec4& color, float depth) {
+void Pipeline::clear(Framebuffer& target, const glm::vec4& color, float depth, uint8_t stencil) {
     require_flushed(target, "Pipeline::clear");
     DrawQueue& g = *queue_;
     // This target's entry, waiting or done, else one done, else a new one.
@@ -370,6 +374,7 @@ void Pipeline::clear(Framebuffer& target, const glm::vec4& color, float depth) {
     c->target = &target;
     c->color = color;
     c->depth = depth;
+    c->stencil = stencil;
     c->columns = tiles_across(target.width());
     c->rows = tiles_across(target.height());
     c->cleared.assign(size_t(c->columns) * size_t(c->rows), 0);

@@ -85,7 +85,7 @@ void put_pixels(ColorFormat format, const Rgba& c, uint8_t* out, int count) {
 }  // namespace
 
 void clear_rect(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4& color,
-                float depth, bool stream) {
+                float depth, uint8_t stencil, bool stream) {
     const size_t n = size_t(fb.samples()), bytes = size_t(bytes_per_pixel(fb.format()));
     const size_t stride = size_t(fb.stride());
     uint8_t encoded[16] = {};
@@ -98,6 +98,10 @@ void clear_rect(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4
         const size_t at = size_t(y) * stride + size_t(x0);
         fill(reinterpret_cast<uint8_t*>(fb.depth() + at), run * 4, z, stream);
         if (n > 1) fill(reinterpret_cast<uint8_t*>(fb.sample_depth() + at * n), run * n * 4, z, stream);
+        if (fb.has_stencil()) {
+            std::memset(fb.stencil() + at, stencil, run);
+            if (n > 1) std::memset(fb.sample_stencil() + at * n, stencil, run * n);
+        }
         if (!fb.has_color()) continue;
         fill(fb.color_data() + at * bytes, run * bytes, c, stream);
         if (n > 1) fill(fb.sample_color_data() + at * n * bytes, run * n * bytes, c, stream);

@@ -227,7 +227,7 @@ inline void store_packed(ColorFormat format, uint8_t* block, size_t row_bytes, i
 
 // The row kernels and bulk codecs of the Kernels table (pixels.cpp).
 void clear_rect(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4& color,
-                float depth, bool stream);
+                float depth, uint8_t stencil, bool stream);
 void resolve_rows(Framebuffer& fb, int first, int count);
 void srgb8_rows(const Framebuffer& fb, int first, int count, uint8_t* out);
 void encode_pixels(ColorFormat format, const glm::vec4* linear, size_t count, uint8_t* out);

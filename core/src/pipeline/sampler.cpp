@@ -284,27 +284,35 @@ using QuadInt = int32_t __attribute__((vector_size(16)));
 // log2(x) for finite x >= FLT_MIN: x = m 2^e with m in [sqrt(1/2),
 // sqrt(2)), and log2 m = log2(1 + s) for s = m - 1 from a polynomial of
 // degree 6 fitted by least squares at Chebyshev nodes (error below 2.5e-6).
-// Below FLT_MIN it gives about -127.
-FACET_INLINE Quad log2(const Quad& x) {
-    const QuadInt bits = std::bit_cast<QuadInt>(x);
-    Quad e = __builtin_convertvector(((bits >> 23) & 0xFF) - 127, Quad);
-    Quad m = std::bit_cast<Quad>((bits & 0x7FFFFF) | 0x3F800000);  // [1, 2)
-    const QuadInt high = m > 1.41421356f;
+// Below FLT_MIN it gives about -127. For a quad's floats or a part's.
+template <class V>
+FACET_INLINE V log2(const V& x) {
+    using Bits = decltype(x < x);  // the integer vector of V's shape
+    const Bits bits = std::bit_cast<Bits>(x);
+    V e = __builtin_convertvector(((bits >> 23) & 0xFF) - 127, V);
+    V m = std::bit_cast<V>((bits & 0x7FFFFF) | 0x3F800000);  // [1, 2)
+    const Bits high = m > 1.41421356f;
     m = high ? m * 0.5f : m;
     e = high ? e + 1.0f : e;
-    const Quad s = m - 1.0f;
-    const Quad p =
+    const V s = m - 1.0f;
+    const V p =
         1.44271577f +
         s * (-0.721122539f +
              s * (0.479324359f + s * (-0.367703982f + s * (0.322085496f + s * -0.205298295f))));
     return e + s * p;
 }
 
-// The level of detail of each 2x2 quad of a block (quads in the order
-// top left, top right, bottom left, bottom right): log2 of the longer axis
-// of its footprint in level-0 texels, from its top-left, top-right and
-// bottom-left lanes' u and v (all 16 lanes hold coordinates).
-FACET_INLINE Quad block_lods(const TexelLevels& t, const float* u, const float* v) {
+// The screen derivatives of u and v, UV units a pixel: du/dx, dv/dx,
+// du/dy, dv/dy. Of each 2x2 quad of a block (Quad: quads in the order top
+// left, top right, bottom left, bottom right), or of each lane (Float).
+template <class V>
+struct Derivatives {
+    V ux, vx, uy, vy;
+};
+
+// Each quad's, from its top-left, top-right and bottom-left lanes' u and v
+// (all 16 lanes hold coordinates).
+FACET_INLINE Derivatives<Quad> block_derivatives(const float* u, const float* v) {
     const auto corners = [](const float* a, Quad& tl, Quad& tr, Quad& bl) {
         const Quad r0 = simd::load<Quad>(a), r1 = simd::load<Quad>(a + 4);
         const Quad r2 = simd::load<Quad>(a + 8), r3 = simd::load<Quad>(a + 12);
@@ -315,17 +323,23 @@ FACET_INLINE Quad block_lods(const TexelLevels& t, const float* u, const float* 
     Quad utl, utr, ubl, vtl, vtr, vbl;
     corners(u, utl, utr, ubl);
     corners(v, vtl, vtr, vbl);
+    return {utr - utl, vtr - vtl, ubl - utl, vbl - vtl};
+}
+
+// The level of detail of each quad: log2 of the longer axis of its
+// footprint in level-0 texels.
+FACET_INLINE Quad block_lods(const TexelLevels& t, const Derivatives<Quad>& d) {
     const float w = float(t.level[0].width), h = float(t.level[0].height);
-    const Quad xu = (utr - utl) * w, xv = (vtr - vtl) * h;
-    const Quad yu = (ubl - utl) * w, yv = (vbl - vtl) * h;
+    const Quad xu = d.ux * w, xv = d.vx * h;
+    const Quad yu = d.uy * w, yv = d.vy * h;
     // As std::max(x, y) in the reference: x where they are unordered.
     const Quad x2 = xu * xu + xv * xv, y2 = yu * yu + yv * yv;
     const Quad rho2 = y2 > x2 ? y2 : x2;
     return rho2 == rho2 ? log2(rho2) * 0.5f : Quad{};  // NaN: level 0
 }
 
-// Each lane of part p with its quad's level of detail.
-FACET_INLINE Float lane_lods(const Quad& q, int p) {
+// Each lane of part p with its quad's value.
+FACET_INLINE Float per_lane(const Quad& q, int p) {
 #if FACET_SIMD_WIDTH == 16
     (void)p;
     return __builtin_shufflevector(q, q, 0, 0, 1, 1, 0, 0, 1, 1, 2, 2, 3, 3, 2, 2, 3, 3);
@@ -358,6 +372,50 @@ FACET_INLINE Texels trilinear(const TexelLevels& t, const Float& lod, const Floa
     return unfixed<F>(lerp(a, b, fixed_weight(frac)));  // frac 0: a, exactly
 }
 
+// Each lane's quad's derivatives, in part p.
+FACET_INLINE Derivatives<Float> per_lane(const Derivatives<Quad>& d, int p) {
+    return {per_lane(d.ux, p), per_lane(d.vx, p), per_lane(d.uy, p), per_lane(d.vy, p)};
+}
+
+// x at the lanes of `keep`, 0 at the others.
+FACET_INLINE Float kept(const Float& x, const Int& keep) {
+    return std::bit_cast<Float>(std::bit_cast<Int>(x) & keep);
+}
+
+// The mean of up to `most` trilinear samples a lane along the longer axis
+// of its footprint, at raw (unfolded) coordinates u, v with derivatives d:
+// the reference's anisotropic_footprint() and anisotropic() (texture.cpp),
+// step by step. A part loops to its largest count of samples; a lane past
+// its own count reads nothing.
+template <TexelFormat F, Wrap W>
+FACET_INLINE Texels anisotropic(const TexelLevels& t, const Derivatives<Float>& d,
+                                const Float& u, const Float& v, int most, const Int& active) {
+    const float w = float(t.level[0].width), h = float(t.level[0].height);
+    const Float xu = d.ux * w, xv = d.vx * h, yu = d.uy * w, yv = d.vy * h;
+    const Float x2 = xu * xu + xv * xv, y2 = yu * yu + yv * yv;
+    const Int along_y = y2 > x2;
+    const Float longer = along_y ? y2 : x2, shorter = along_y ? x2 : y2;
+    const Int sized = longer > 0.0f;  // else (no size, NaN) one sample at level 0
+    // ceil(sqrt(longer / shorter)) up to `most`: NaN and infinity are `most`.
+    const Float ratio = simd::min(simd::sqrt(longer / shorter), splat(float(most)));
+    const Int whole = __builtin_convertvector(ratio, Int);
+    const Int n = sized ? whole - (simd::to_float(whole) < ratio) : Int{} + 1;
+    const Float nf = simd::to_float(n);
+    const Float lod = kept(log2(longer / (nf * nf)) * 0.5f, sized);
+    const Float su = kept(along_y ? d.uy : d.ux, sized), sv = kept(along_y ? d.vy : d.vx, sized);
+    int samples = 1;
+    for (int j = 0; j < kWidth; ++j) samples = active[j] ? std::max(samples, int(n[j])) : samples;
+    Texels sum{};
+    for (int k = 0; k < samples; ++k) {
+        const Int on = active & (n > k);
+        const Float at = (float(k) + 0.5f) / nf - 0.5f;
+        const Texels c = trilinear<F, W>(t, lod, fold<W>(u + su * at), fold<W>(v + sv * at), on);
+        sum = {sum.r + kept(c.r, on), sum.g + kept(c.g, on), sum.b + kept(c.b, on),
+               sum.a + kept(c.a, on)};
+    }
+    return {sum.r / nf, sum.g / nf, sum.b / nf, sum.a / nf};
+}
+
 // Each lane's cube face (0..5, times `levels`) and where its direction
 // meets it, (u, v): the reference's cube_face() (texture.cpp), step by step.
 FACET_INLINE Int cube_faces(const Float& x, const Float& y, const Float& z, int levels, Float& u,
@@ -385,21 +443,43 @@ FACET_INLINE Int active_lanes(uint32_t lanes) {
 
 // Part p of the output: c at the lanes of `active`, 0 at the others.
 FACET_INLINE void store(float* rgba, int p, const Texels& c, const Int& active) {
-    const auto kept = [&](const Float& x) {
-        return std::bit_cast<Float>(std::bit_cast<Int>(x) & active);
-    };
-    simd::store(rgba + p * kWidth, kept(c.r));
-    simd::store(rgba + N + p * kWidth, kept(c.g));
-    simd::store(rgba + 2 * N + p * kWidth, kept(c.b));
-    simd::store(rgba + 3 * N + p * kWidth, kept(c.a));
+    simd::store(rgba + p * kWidth, kept(c.r, active));
+    simd::store(rgba + N + p * kWidth, kept(c.g, active));
+    simd::store(rgba + 2 * N + p * kWidth, kept(c.b, active));
+    simd::store(rgba + 3 * N + p * kWidth, kept(c.a, active));
 }
 
-// Every part with a lane in `mask`, with its levels of detail from `lod`
-// or, where that is null, from the quads.
+// Where a part's lanes read: their raw coordinates, and their level of
+// detail or derivatives as given per lane (null: from the block's quads).
+struct Lanes {
+    const float *u, *v, *lod, *grads;
+};
+
+// Part p of an anisotropic binding: over each lane's footprint, from its
+// derivatives (given, or its quad's); at a level given with no
+// derivatives, trilinear.
 template <TexelFormat F, Wrap W>
-void sample_parts(const TexelLevels& t, Filter filter, const float* u, const float* v,
-                  const float* lod, uint32_t mask, float* rgba) {
-    const Quad lods = filter == Filter::trilinear && !lod ? block_lods(t, u, v) : Quad{};
+FACET_INLINE Texels anisotropic_part(const TexelLevels& t, const TextureBinding& b,
+                                     const Lanes& in, const Derivatives<Quad>& quads, int p,
+                                     const Int& active) {
+    const auto at = [&](const float* a) { return simd::load<Float>(a + p * kWidth); };
+    const Float u = at(in.u), v = at(in.v);
+    if (in.lod && !in.grads) return trilinear<F, W>(t, at(in.lod), fold<W>(u), fold<W>(v), active);
+    const Derivatives<Float> d =
+        in.grads ? Derivatives<Float>{at(in.grads), at(in.grads + N), at(in.grads + 2 * N),
+                                      at(in.grads + 3 * N)}
+                 : per_lane(quads, p);
+    return anisotropic<F, W>(t, d, u, v, b.anisotropy, active);
+}
+
+// Every part with a lane in `mask`.
+template <TexelFormat F, Wrap W>
+void sample_parts(const TexelLevels& t, const TextureBinding& b, const Lanes& in, uint32_t mask,
+                  float* rgba) {
+    const bool from_quads = !in.lod && !in.grads;
+    const Derivatives<Quad> quads =
+        from_quads && mipmapped(b.filter) ? block_derivatives(in.u, in.v) : Derivatives<Quad>{};
+    const Quad lods = from_quads && b.filter == Filter::trilinear ? block_lods(t, quads) : Quad{};
     for (int p = 0; p < kParts; ++p) {
         const uint32_t lanes = simd::part_mask(mask, p);
         if (!lanes) {
@@ -407,21 +487,19 @@ void sample_parts(const TexelLevels& t, Filter filter, const float* u, const flo
             continue;
         }
         const Int active = active_lanes(lanes);
-        const Float fu = fold<W>(simd::load<Float>(u + p * kWidth));
-        const Float fv = fold<W>(simd::load<Float>(v + p * kWidth));
-        switch (filter) {
-            case Filter::nearest:
-                store(rgba, p, nearest<F, W>(t, level_at(t, 0), fu, fv, active), active);
-                break;
-            case Filter::bilinear:
-                store(rgba, p, unfixed<F>(bilinear<F, W>(t, level_at(t, 0), fu, fv, active)),
-                      active);
-                break;
-            case Filter::trilinear: {
-                const Float l = lod ? simd::load<Float>(lod + p * kWidth) : lane_lods(lods, p);
-                store(rgba, p, trilinear<F, W>(t, l, fu, fv, active), active);
-                break;
-            }
+        if (b.filter == Filter::anisotropic) {
+            store(rgba, p, anisotropic_part<F, W>(t, b, in, quads, p, active), active);
+            continue;
+        }
+        const Float fu = fold<W>(simd::load<Float>(in.u + p * kWidth));
+        const Float fv = fold<W>(simd::load<Float>(in.v + p * kWidth));
+        if (b.filter == Filter::nearest) {
+            store(rgba, p, nearest<F, W>(t, level_at(t, 0), fu, fv, active), active);
+        } else if (b.filter == Filter::bilinear) {
+            store(rgba, p, unfixed<F>(bilinear<F, W>(t, level_at(t, 0), fu, fv, active)), active);
+        } else {
+            const Float l = in.lod ? simd::load<Float>(in.lod + p * kWidth) : per_lane(lods, p);
+            store(rgba, p, trilinear<F, W>(t, l, fu, fv, active), active);
         }
     }
 }
@@ -445,30 +523,28 @@ void sample_cube_parts(const TexelLevels& t, Filter filter, const float* x, cons
             store(rgba, p, nearest<F, W>(t, level_at(t, face), u, v, active), active);
         else if (filter == Filter::bilinear)
             store(rgba, p, unfixed<F>(bilinear<F, W>(t, level_at(t, face), u, v, active)), active);
-        else
+        else  // trilinear, and anisotropic, which a cube map filters as trilinear
             store(rgba, p, trilinear<F, W>(t, lod ? at(lod) : Float{}, u, v, active, face), active);
     }
 }
 
 template <TexelFormat F>
-FACET_INLINE void sample_format(const TexelLevels& t, const TextureBinding& b, const float* u,
-                                const float* v, const float* lod, uint32_t mask, float* rgba) {
+FACET_INLINE void sample_format(const TexelLevels& t, const TextureBinding& b, const Lanes& in,
+                                uint32_t mask, float* rgba) {
     switch (b.wrap) {
-        case Wrap::repeat:
-            return sample_parts<F, Wrap::repeat>(t, b.filter, u, v, lod, mask, rgba);
-        case Wrap::clamp:
-            return sample_parts<F, Wrap::clamp>(t, b.filter, u, v, lod, mask, rgba);
-        case Wrap::mirror:
-            return sample_parts<F, Wrap::mirror>(t, b.filter, u, v, lod, mask, rgba);
+        case Wrap::repeat: return sample_parts<F, Wrap::repeat>(t, b, in, mask, rgba);
+        case Wrap::clamp: return sample_parts<F, Wrap::clamp>(t, b, in, mask, rgba);
+        case Wrap::mirror: return sample_parts<F, Wrap::mirror>(t, b, in, mask, rgba);
     }
 }
 
 // 16 lanes: coordinates x, y (u, v) or, for a cube, x, y, z (a direction),
-// levels of detail `lod` (null: from the quads; a cube's: 0). A cube with no
-// z (sample_block: a slot at a UV varying, which descriptors refuse for
-// cubes) reads as nothing bound.
+// levels of detail `lod` and a 2D texture's derivatives `grads` ([4][16]:
+// du/dx, dv/dx, du/dy, dv/dy; both null: from the quads; a cube's level
+// null: 0). A cube with no z (sample_block: a slot at a UV varying, which
+// descriptors refuse for cubes) reads as nothing bound.
 void sample(const TextureBinding& b, const float* x, const float* y, const float* z,
-            const float* lod, uint32_t mask, float* rgba) {
+            const float* lod, const float* grads, uint32_t mask, float* rgba) {
     const TexelLevels* t = b.texture ? &b.texture->sampled() : nullptr;
     if (!t || t->levels == 0 || (t->faces == 6 && !z)) {  // nothing bound reads as white
         for (int k = 0; k < 4; ++k)
@@ -482,9 +558,9 @@ void sample(const TextureBinding& b, const float* x, const float* y, const float
         else
             sample_cube_parts<TexelFormat::rgba8>(*t, b.filter, x, y, z, lod, mask, rgba);
     } else if (wide) {
-        sample_format<TexelFormat::rgba16>(*t, b, x, y, lod, mask, rgba);
+        sample_format<TexelFormat::rgba16>(*t, b, {x, y, lod, grads}, mask, rgba);
     } else {
-        sample_format<TexelFormat::rgba8>(*t, b, x, y, lod, mask, rgba);
+        sample_format<TexelFormat::rgba8>(*t, b, {x, y, lod, grads}, mask, rgba);
     }
 }
 
@@ -494,18 +570,21 @@ void sample(const TextureBinding& b, const float* x, const float* y, const float
 
 void sample_block(const TextureBinding& binding, const float* u, const float* v, uint32_t mask,
                   float* rgba) {
-    sample(binding, u, v, nullptr, nullptr, mask, rgba);
+    sample(binding, u, v, nullptr, nullptr, nullptr, mask, rgba);
 }
 
 void sample_lanes(const TextureBinding& binding, const float* coords, const float* lod,
-                  uint32_t count, uint32_t mask, float* rgba) {
+                  const float* grads, uint32_t count, uint32_t mask, float* rgba) {
     count = std::min(count, uint32_t(N));
     mask &= (1u << count) - 1u;
-    const int components = binding.texture && binding.texture->faces == 6 ? 3 : 2;
-    float c[3 * N] = {}, l[N] = {}, out[4 * N];
+    const bool cube = binding.texture && binding.texture->faces == 6;
+    const int components = cube ? 3 : 2;
+    float c[3 * N] = {}, l[N] = {}, d[4 * N] = {}, out[4 * N];
     for (int k = 0; k < components; ++k) std::memcpy(c + k * N, coords + k * count, sizeof(float) * count);
     if (lod) std::memcpy(l, lod, sizeof(float) * count);
-    sample(binding, c, c + N, c + 2 * N, l, mask, out);
+    if (grads && !cube)
+        for (int k = 0; k < 4; ++k) std::memcpy(d + k * N, grads + k * count, sizeof(float) * count);
+    sample(binding, c, c + N, c + 2 * N, l, grads && !cube ? d : nullptr, mask, out);
     for (int k = 0; k < 4; ++k) std::memcpy(rgba + k * count, out + k * N, sizeof(float) * count);
 }
 

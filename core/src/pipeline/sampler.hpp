@@ -20,10 +20,15 @@
 //     quads) as log2 of its longer footprint axis in level-0 texels, or
 //     given per lane (sample_lod); the bilinear samples of levels floor(l)
 //     and floor(l) + 1 mixed by the fraction, l within [0, levels - 1].
+//   - anisotropic: the mean of up to the binding's anisotropy trilinear
+//     samples along the longer axis of the lane's footprint, from the
+//     quad's differences or given derivatives (anisotropic_footprint in
+//     facet/texture.hpp); a part loops to its largest count.
 //   - wraps: repeat, clamp to edge, mirrored repeat, each folding a
 //     coordinate once.
 //   - cube maps: the face of a direction's largest component, filtered as
-//     a 2D texture clamped to its edges (texture.hpp, cube_face).
+//     a 2D texture clamped to its edges (texture.hpp, cube_face);
+//     anisotropic as trilinear.
 #pragma once
 
 #ifndef FACET_KERNEL_NS
@@ -42,10 +47,12 @@ void sample_block(const TextureBinding& binding, const float* u, const float* v,
                   float* rgba);
 
 // `count` lanes (1 to 16) of `mask`, as facet_textures_service.sample
-// takes them: coords[k * count + i] (u, v; a cube map's direction x, y,
-// z), a level of detail per lane (null: 0; nearest and bilinear read level
-// 0 whatever it says), rgba[c * count + i].
+// and sample_grad take them: coords[k * count + i] (u, v; a cube map's
+// direction x, y, z), a level of detail per lane (null: 0; nearest and
+// bilinear read level 0 whatever it says), a 2D texture's derivatives
+// grads[k * count + i] (du/dx, dv/dx, du/dy, dv/dy; null: none, and an
+// anisotropic binding is then trilinear at `lod`), rgba[c * count + i].
 void sample_lanes(const TextureBinding& binding, const float* coords, const float* lod,
-                  uint32_t count, uint32_t mask, float* rgba);
+                  const float* grads, uint32_t count, uint32_t mask, float* rgba);
 
 }  // namespace facet::FACET_KERNEL_NS

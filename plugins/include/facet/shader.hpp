@@ -62,6 +62,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -131,11 +132,20 @@ struct Batch {
     const facet_textures_service* textures = nullptr;
     const facet_environment* lighting = nullptr;
     const facet_textures_service* service() {
-        if (!looked_up)
-            textures = static_cast<const facet_textures_service*>(
-                draw->host->extension(FACET_TEXTURES_EXTENSION, FACET_TEXTURES_VERSION));
+        if (!looked_up) {  // version 1 from a host that has no 2
+            for (uint32_t version : {FACET_TEXTURES_VERSION, 1u})
+                if (!textures)
+                    textures = static_cast<const facet_textures_service*>(
+                        draw->host->extension(FACET_TEXTURES_EXTENSION, version));
+        }
         looked_up = true;
         return textures;
+    }
+    // Its sample_grad, where the host's record has one.
+    auto sample_grad() {
+        const facet_textures_service* s = service();
+        constexpr size_t end = offsetof(facet_textures_service, sample_grad) + sizeof(void*);
+        return s && s->struct_size >= end ? s->sample_grad : nullptr;
     }
     const facet_environment* environment() {
         if (!environment_looked_up) {
@@ -171,16 +181,21 @@ struct Fragment {
     // Texture parameter `t` sampled at `uv` in each lane, with its filter
     // and wrap, at the level of detail uv's screen derivatives give (log2
     // of the longer axis of a 2x2 quad's footprint, in texels), plus
-    // `bias`: for a shader that asks for FACET_NEED_DERIVATIVES (whose
-    // fragments come in whole quads; packed ones read level 0). White where
-    // nothing is bound.
+    // `bias`; a binding filtered `anisotropic` filters over the footprint
+    // the derivatives span (each scaled by 2^bias). For a shader that asks
+    // for FACET_NEED_DERIVATIVES (whose fragments come in whole quads;
+    // packed ones read level 0). White where nothing is bound.
     Vec4 sample(const Texture& t, const Vec2& uv, float bias = 0.0f) const {
         const facet_texture_info i = info(t);
         const Vec2 dx = dFdx(uv), dy = dFdy(uv);
         const float w = float(i.width), h = float(i.height);
         const Float x2 = dx.x * dx.x * (w * w) + dx.y * dx.y * (h * h);
         const Float y2 = dy.x * dy.x * (w * w) + dy.y * dy.y * (h * h);
-        return sample_lod(t, uv, from_quads(max(x2, y2)) + bias);
+        const Float lod = from_quads(max(x2, y2)) + bias;
+        if (!batch_->block || i.kind != FACET_TEXTURE_2D) return sample_lod(t, uv, lod);
+        const float scale = bias == 0.0f ? 1.0f : std::exp2(bias);
+        const Float grads[4] = {dx.x * scale, dx.y * scale, dy.x * scale, dy.y * scale};
+        return sampled(t, &uv.x, 2, lod, grads);
     }
     // The same at a level of detail of each lane's own (0: level 0).
     Vec4 sample_lod(const Texture& t, const Vec2& uv, const Float& lod) const {
@@ -229,14 +244,23 @@ private:
         if (!batch_->block) return splat(0.0f);
         return select(rho2 > 0.0f, 0.5f * log2(max(rho2, splat(1e-30f))), splat(0.0f));
     }
-    Vec4 sampled(const Texture& t, const Float* coords, int n, const Float& lod) const {
+    // The service's sample, or with `grads` (du/dx, dv/dx, du/dy, dv/dy)
+    // its sample_grad where the host has one.
+    Vec4 sampled(const Texture& t, const Float* coords, int n, const Float& lod,
+                 const Float* grads = nullptr) const {
         const facet_textures_service* s = batch_->service();
         const int slot = slot_of(t);
         if (!s || slot < 0) return Vec4(splat(1.0f));
-        float c[3 * kLanes], l[kLanes], rgba[4 * kLanes];
+        float c[3 * kLanes], l[kLanes], g[4 * kLanes], rgba[4 * kLanes];
         for (int k = 0; k < n; ++k) std::memcpy(c + k * kLanes, &coords[k], sizeof(Float));
         std::memcpy(l, &lod, sizeof l);
-        s->sample(batch_->draw, uint32_t(slot), c, l, kLanes, (1u << kLanes) - 1u, rgba);
+        const auto with_grads = grads ? batch_->sample_grad() : nullptr;
+        if (with_grads) {
+            for (int k = 0; k < 4; ++k) std::memcpy(g + k * kLanes, &grads[k], sizeof(Float));
+            with_grads(batch_->draw, uint32_t(slot), c, l, g, kLanes, (1u << kLanes) - 1u, rgba);
+        } else {
+            s->sample(batch_->draw, uint32_t(slot), c, l, kLanes, (1u << kLanes) - 1u, rgba);
+        }
         Vec4 r;
         std::memcpy(&r, rgba, sizeof r);
         return r;

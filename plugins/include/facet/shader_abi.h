@@ -488,11 +488,12 @@ struct facet_host {
     const void* (*extension)(const char* id, uint32_t version);
 };
 
-/* "facet.textures", version 1: a draw's texture parameters sampled where
+/* "facet.textures", version 2: a draw's texture parameters sampled where
  * the shader wants them, with their filter and wrap, on the draw's
- * instruction-set path. */
+ * instruction-set path. Version 1's record ends before sample_grad: ask
+ * for version 2, and for 1 where a host has no 2. */
 #define FACET_TEXTURES_EXTENSION "facet.textures"
-#define FACET_TEXTURES_VERSION 1u
+#define FACET_TEXTURES_VERSION 2u
 
 enum facet_texture_kind {
     FACET_TEXTURE_NONE = 0, /* nothing bound: samples read white               */
@@ -503,7 +504,8 @@ enum facet_texture_kind {
 typedef struct facet_texture_info {
     uint32_t kind;          /* enum facet_texture_kind                          */
     uint32_t width, height; /* level 0 (a cube: each face)                      */
-    uint32_t levels;        /* mip levels, 1 when the filter reads level 0 only */
+    uint32_t levels;        /* mip levels, 1 when the filter reads level 0 only
+                               (nearest, bilinear)                              */
 } facet_texture_info;
 
 typedef struct facet_textures_service {
@@ -522,6 +524,15 @@ typedef struct facet_textures_service {
      * then filtered as a 2D texture clamped to its edges. Thread-safe. */
     void (*sample)(const facet_draw* draw, uint32_t slot, const float* coords,
                    const float* lod, uint32_t count, uint32_t mask, float* rgba);
+    /* Version 2. As sample, with each lane's screen derivatives of a 2D
+     * texture's coordinates, as GLSL's textureGrad: grads[k * count + i]
+     * is du/dx, dv/dx, du/dy, dv/dy of lane i, in UV units a pixel. A
+     * binding filtered `anisotropic` filters over the footprint they span
+     * (and ignores lod); every other binding, and a cube map, reads at lod
+     * as sample does. NULL grads: as sample. Thread-safe. */
+    void (*sample_grad)(const facet_draw* draw, uint32_t slot, const float* coords,
+                        const float* lod, const float* grads, uint32_t count, uint32_t mask,
+                        float* rgba);
 } facet_textures_service;
 
 /* "facet.environment", version 1: the light arriving from the scene's
