@@ -200,3 +200,64 @@ TEST_CASE("the stencil's YAML: every test and operation, back faces, and bad val
     CHECK_THAT(error("{back: {back: {}}}"), Catch::Contains("'back'"));
     CHECK_THAT(sd.error("render: {clear_stencil: 300}\nobjects: []\n"), Catch::Contains("0 to 255"));
 }
+
+TEST_CASE("with a sky shown, a part that writes colour and no depth still draws where the "
+          "stencil lets it",
+          "[stencil][environment]") {
+    // The sky fills what is still at the far depth. A stencil frame keeps
+    // its parts in order, so the sky comes before the part that writes no
+    // depth, not over it.
+    SceneDir sd;
+    const std::string sky = "environment: {file: " + std::string(FACET_SOURCE_DIR) +
+                            "/assets/environments/sky.hdr, use: background, size: 32}\n";
+    const std::string quad = "  - mesh: " + kPlane + "\n    rotation: [90, 0, 0]\n    scale: 0.5\n";
+    const Scene s = sd.load(
+        sky + scene_text(quad +
+                             "    material: {shader: unlit, color_write: false, depth_write: false,\n"
+                             "               stencil: {test: always, ref: 1, pass: replace}}\n"
+                             "  - mesh: " + kPlane + "\n    rotation: [90, 0, 0]\n    scale: 4\n"
+                             "    material: {shader: unlit, depth_write: false,\n"
+                             "               stencil: {test: equal, ref: 1},\n"
+                             "               params: {base_color: [1, 0, 1, 1]}}\n",
+                         1));
+    for (const Isa isa : supported_isas()) {
+        INFO("path " << isa_name(isa));
+        Framebuffer fb;
+        Renderer(1, isa).render(s, fb);
+        CHECK(fb.pixel(30, 23) == glm::vec4(1, 0, 1, 1));  // the quad, inside the mask
+        CHECK(fb.pixel(2, 2) != glm::vec4(1, 0, 1, 1));    // the sky, outside it
+        CHECK(fb.pixel(2, 2) != glm::vec4(0, 0, 0, 1));
+    }
+}
+
+TEST_CASE("a part that writes no colour writes depth only where its alpha covers", "[cutout][msaa]") {
+    // color_write: false with alpha to coverage: its depth hides a white
+    // quad behind it exactly where the same part drawn in black would.
+    SceneDir sd;
+    std::vector<uint8_t> rgba;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) rgba.insert(rgba.end(), {255, 255, 255, uint8_t(x % 2 ? 255 : 0)});
+    const std::string texture = (sd.dir / "columns.png").string();
+    REQUIRE(stbi_write_png(texture.c_str(), 8, 8, 4, rgba.data(), 8 * 4));
+    const std::string behind = "  - mesh: " + kPlane + "\n    rotation: [90, 0, 0]\n    scale: 4\n"
+                               "    position: [0, 0, -0.5]\n    material: {shader: unlit}\n";
+    const auto front = [&](const std::string& colour) {
+        return "  - mesh: " + kPlane + "\n    rotation: [90, 0, 0]\n"
+               "    material: {shader: unlit, alpha_to_coverage: true, " + colour +
+               "params: {base_color: [0, 0, 0, 1], base_texture: {file: " + texture +
+               ", filter: nearest}}}\n";
+    };
+    for (const int msaa : {1, 4}) {
+        INFO(msaa << " samples");
+        const Scene masked = sd.load(scene_text(front("color_write: false, ") + behind, msaa));
+        const Scene black = sd.load(scene_text(front("") + behind, msaa));
+        const std::vector<glm::vec4> want = rendered(black, default_isa());
+        int white = 0;
+        for (const glm::vec4& p : want) white += p == glm::vec4(1.0f);
+        CHECK(white > 100);
+        for (const Isa isa : supported_isas()) {
+            INFO("path " << isa_name(isa));
+            CHECK(rendered(masked, isa) == want);
+        }
+    }
+}

@@ -515,6 +515,7 @@ bool texture_widget(const Material& m, const std::string& name, MaterialParam& p
     const std::string field = "file##" + name;
     if (ImGui::InputText(field.c_str(), &file, ImGuiInputTextFlags_EnterReturnsTrue)) {
         p.texture_file = (folder / file).lexically_normal();
+        p.cube_faces.clear();  // a file typed in replaces a cube map's faces
         changed = !file.empty();
     }
     int filter = int(p.filter), wrap = int(p.wrap);

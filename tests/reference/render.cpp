@@ -171,11 +171,12 @@ void check_supported(const Object& o, const Material& m) {
     // A shader that can discard is fine while its material does not.
     const uint32_t unsupported = FACET_NEED_DERIVATIVES | FACET_NEED_BLENDING;
     if (m.blend != BlendMode::opaque || (m.plugin->needs() & unsupported) || m.discards ||
-        m.alpha_to_coverage)
+        m.alpha_to_coverage || m.stencil.enabled || !m.color_write)
         throw std::runtime_error("reference renderer: object '" + o.name + "' (material " +
                                  m.source + ", shader " + m.plugin->name() +
-                                 ") blends, discards or takes derivatives; only opaque, "
-                                 "derivative-free materials have a reference");
+                                 ") blends, discards, takes derivatives, uses the stencil or "
+                                 "writes no colour; only opaque, derivative-free materials that "
+                                 "write colour have a reference");
 }
 
 std::unique_ptr<Prepared> prepare(const Scene& scene, const Object& o, const Material& m,

@@ -22,7 +22,7 @@
 //
 // Limits: the geometry is each mesh under its object's transform, which is
 // where every built-in shader's vertex function puts it; materials must be
-// opaque, without discard and without derivatives (else it throws
+// opaque, without discard, derivatives or the stencil, and write colour (else it throws
 // std::runtime_error). Shadowed lighting is taken to be ambient plus a sum
 // over lights, as the SDK's lighting helpers compute it: the reference
 // removes a blocked light's share, the difference between shading with that

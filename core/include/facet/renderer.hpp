@@ -118,7 +118,9 @@ private:
     void draw_passes(const Scene& scene, const FramePlan& plan, DrawCall& call,
                      Framebuffer& frame, FrameStats& stats);
     void draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
-                        bool prepassed, FrameStats& stats);
+                        bool prepassed, bool stencil, FrameStats& stats);
+    void queue_around_sky(const Scene& scene, DrawCall& call, Framebuffer& target,
+                          FrameStats& stats);
     // The environment behind the opaque draws (core/src/pipeline/sky.hpp).
     void draw_sky(const Scene& scene, const DrawCall& call, Framebuffer& target);
 

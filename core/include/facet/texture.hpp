@@ -230,7 +230,7 @@ struct TextureBinding {
     // The set of texture coordinates the host samples it at: 0, or 1, the
     // second (Mesh::uvs1), at the shader's second_uv varying.
     int uv_set = 0;
-    // Filter::anisotropic's most samples a pixel, 1 to kMaxAnisotropy.
+    // Filter::anisotropic's most samples a pixel, held to 1..kMaxAnisotropy.
     int anisotropy = kMaxAnisotropy;
 };
 
@@ -273,7 +273,8 @@ float level_of_detail(const Texture& texture, glm::vec2 duv_dx, glm::vec2 duv_dy
 //   lod     = log2(pmax / samples),
 //   step    = the longer derivative (UV units),
 // and sample k of n is the trilinear one at uv + step ((k + 1/2) / n - 1/2):
-// n samples spread evenly over the pixel's extent along its longer axis.
+// n samples spread evenly over the pixel's extent along its longer axis
+// (`most` held to 1..kMaxAnisotropy).
 // The filtered value is their mean. A footprint of no size (or NaN) is one
 // sample at level 0. Worked in float, step by step as the per-path sampler
 // works it (squares compared; x where they are unordered).

@@ -339,6 +339,7 @@ AnisotropicFootprint anisotropic_footprint(const Texture& t, glm::vec2 duv_dx, g
     const float longer = along_y ? y2 : x2, shorter = along_y ? x2 : y2;
     AnisotropicFootprint f;
     if (!(longer > 0.0f)) return f;  // no size, or NaN: one sample at level 0
+    most = std::clamp(most, 1, kMaxAnisotropy);
     const float ratio = std::sqrt(longer / shorter);  // shorter 0: infinite
     f.samples = ratio < float(most) ? int(std::ceil(ratio)) : most;
     f.lod = 0.5f * std::log2(longer / float(f.samples * f.samples));

@@ -317,7 +317,7 @@ void Renderer::draw_passes(const Scene& scene, const FramePlan& plan, DrawCall& 
         call.ao_grid = passes_->ao.grid();
     }
     if (!plan.prepassed) clear_frame();
-    draw_main_pass(scene, call, frame, plan.prepassed, stats);
+    draw_main_pass(scene, call, frame, plan.prepassed, plan.stencil, stats);
 }
 
 void Renderer::queue_item(const Scene& scene, DrawCall& call, const DrawItem& d, Role role,
@@ -363,30 +363,34 @@ void Renderer::draw_depth_prepass(const Scene& scene, DrawCall& call, Framebuffe
 // scene (and so each material's plugin, block and textures) outlives the
 // pass.
 void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& target,
-                              bool prepassed, FrameStats& stats) {
+                              bool prepassed, bool stencil, FrameStats& stats) {
     const auto start = std::chrono::steady_clock::now();
     // After the pre-pass, the opaque parts are its triangles shaded: where
     // each is drawn in both and the pre-pass kept them (it did not fill the
     // queue), they are drawn again with the main pass's state, without a
     // second vertex stage, setup and binning. Otherwise they are queued.
     // With a sky, an opaque part that writes no depth would leave the far
-    // depth the sky fills: it is drawn after the sky, over it.
+    // depth the sky fills: it is drawn after the sky, over it. In a frame
+    // that uses the stencil the parts keep their order (one may test what
+    // another wrote), and the sky comes before the first it would hide.
     const bool sky = scene.environment && scene.environment.settings.shows();
-    scratch_.opaque_calls.clear();
-    scratch_.after_sky.clear();
-    for (const DrawItem& d : scratch_.opaque) {
-        if (!item_call(scene, call, d, Role::main, prepassed)) continue;
-        // A stencil draw keeps its place: the draws after it may test what it writes.
-        const PipelineState state = pipeline_state(*d.material, scene.settings);
-        const bool after_sky = sky && !state.depth_write && !state.stencil.enabled;
-        (after_sky ? scratch_.after_sky : scratch_.opaque_calls).push_back(call);
-    }
-    if (!prepassed || !pipeline_.redraw(scratch_.opaque_calls, target, stats))
-        for (const DrawCall& c : scratch_.opaque_calls) pipeline_.queue(c, target, stats);
-    if (sky) {
-        pipeline_.flush(stats);  // the opaque draws: the sky goes where they left the far depth
-        draw_sky(scene, call, target);
-        for (const DrawCall& c : scratch_.after_sky) pipeline_.queue(c, target, stats);
+    if (sky && stencil) {
+        queue_around_sky(scene, call, target, stats);
+    } else {
+        scratch_.opaque_calls.clear();
+        scratch_.after_sky.clear();
+        for (const DrawItem& d : scratch_.opaque) {
+            if (!item_call(scene, call, d, Role::main, prepassed)) continue;
+            const bool writes_depth = pipeline_state(*d.material, scene.settings).depth_write;
+            (sky && !writes_depth ? scratch_.after_sky : scratch_.opaque_calls).push_back(call);
+        }
+        if (!prepassed || !pipeline_.redraw(scratch_.opaque_calls, target, stats))
+            for (const DrawCall& c : scratch_.opaque_calls) pipeline_.queue(c, target, stats);
+        if (sky) {
+            pipeline_.flush(stats);  // the opaque draws: the sky goes where they left the far depth
+            draw_sky(scene, call, target);
+            for (const DrawCall& c : scratch_.after_sky) pipeline_.queue(c, target, stats);
+        }
     }
     for (BlendedItem& b : scratch_.blended) b.depth = view_depth(b.item, call.view);
     std::sort(scratch_.blended.begin(), scratch_.blended.end(),
@@ -397,6 +401,26 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
         queue_item(scene, call, b.item, Role::main, prepassed, target, stats);
     pipeline_.flush(stats);
     stats.ms_main += elapsed_ms(start);
+}
+
+// The opaque parts in scene order, the sky drawn before the first that
+// writes colour and no depth (or after them all): where the sky fills a
+// pixel, the parts before it left the far depth, and a part after it that
+// writes depth covers the sky as it would have covered the clear colour.
+void Renderer::queue_around_sky(const Scene& scene, DrawCall& call, Framebuffer& target,
+                                FrameStats& stats) {
+    bool sky_drawn = false;
+    const auto sky_now = [&] {
+        pipeline_.flush(stats);
+        draw_sky(scene, call, target);
+        sky_drawn = true;
+    };
+    for (const DrawItem& d : scratch_.opaque) {
+        if (!item_call(scene, call, d, Role::main, false)) continue;
+        if (!sky_drawn && !call.state.depth_write && call.state.color_write) sky_now();
+        pipeline_.queue(call, target, stats);
+    }
+    if (!sky_drawn) sky_now();
 }
 
 void Renderer::draw_sky(const Scene& scene, const DrawCall& call, Framebuffer& target) {

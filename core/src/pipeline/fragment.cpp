@@ -460,7 +460,8 @@ glm::vec2 depth_gradient(const TriangleSetup& t) {
 }
 
 bool depth_only(const DrawContext& dc) {
-    return !dc.state.color_write && !dc.may_discard && dc.target->samples() == 1 && !dc.stencil;
+    return !dc.state.color_write && !dc.may_discard && !dc.state.alpha_to_coverage &&
+           dc.target->samples() == 1 && !dc.stencil;
 }
 
 namespace {
@@ -586,7 +587,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
                       dc.state.blend == BlendMode::opaque && mask != 0xFFFFu;
     if (!pack && !packed.empty()) packed.flush(stats);  // what came first is written first
-    if (!dc.state.color_write && !dc.may_discard && !late) {
+    if (!dc.state.color_write && !dc.may_discard && !dc.state.alpha_to_coverage) {
         // Depth only (shadow maps, pre-passes): the shader's colour would go nowhere.
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
         else write_pixels(dc, b, z, nullptr, mask);

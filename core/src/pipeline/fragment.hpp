@@ -198,7 +198,8 @@ struct SampleDepth {
 };
 
 // Whether a draw writes depth only, with no shader call: no colour, no
-// discard, one sample per pixel, no stencil (shadow maps, pre-passes).
+// discard, no alpha to coverage, one sample per pixel, no stencil (shadow
+// maps, pre-passes).
 bool depth_only(const DrawContext& dc);
 
 class BlockCoverage;

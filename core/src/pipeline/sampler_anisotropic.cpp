@@ -55,6 +55,7 @@ FACET_INLINE Texels anisotropic(const TexelLevels& t, const Derivatives<Float>& 
 template <TexelFormat F, Wrap W>
 void anisotropic_parts(const TexelLevels& t, const TextureBinding& b,
                                          const Lanes& in, uint32_t mask, float* rgba) {
+    const int most = std::clamp(b.anisotropy, 1, kMaxAnisotropy);  // as the reference holds it
     const Derivatives<Quad> quads =
         in.grads || in.lod ? Derivatives<Quad>{} : block_derivatives(in.u, in.v);
     for (int p = 0; p < kParts; ++p) {
@@ -74,7 +75,7 @@ void anisotropic_parts(const TexelLevels& t, const TextureBinding& b,
             in.grads ? Derivatives<Float>{at(in.grads), at(in.grads + N), at(in.grads + 2 * N),
                                           at(in.grads + 3 * N)}
                      : lanes_of(quads, p);
-        store(rgba, p, anisotropic<F, W>(t, d, u, v, b.anisotropy, active), active);
+        store(rgba, p, anisotropic<F, W>(t, d, u, v, most, active), active);
     }
 }
 

@@ -525,11 +525,13 @@ typedef struct facet_textures_service {
     void (*sample)(const facet_draw* draw, uint32_t slot, const float* coords,
                    const float* lod, uint32_t count, uint32_t mask, float* rgba);
     /* Version 2. As sample, with each lane's screen derivatives of a 2D
-     * texture's coordinates, as GLSL's textureGrad: grads[k * count + i]
-     * is du/dx, dv/dx, du/dy, dv/dy of lane i, in UV units a pixel. A
-     * binding filtered `anisotropic` filters over the footprint they span
-     * (and ignores lod); every other binding, and a cube map, reads at lod
-     * as sample does. NULL grads: as sample. Thread-safe. */
+     * texture's coordinates: grads[k * count + i] is du/dx, dv/dx, du/dy,
+     * dv/dy of lane i, in UV units a pixel. A binding filtered
+     * `anisotropic` filters over the footprint they span, as GLSL's
+     * textureGrad (and ignores lod). Every other binding, and a cube map,
+     * does not read them: it reads at lod as sample does (NULL lod: level
+     * 0), so give the level the derivatives give as well. NULL grads: as
+     * sample. Thread-safe. */
     void (*sample_grad)(const facet_draw* draw, uint32_t slot, const float* coords,
                         const float* lod, const float* grads, uint32_t count, uint32_t mask,
                         float* rgba);
