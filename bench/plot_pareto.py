@@ -75,6 +75,8 @@ def main(csv_path, png_path):
         ax.set_yscale("log")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
+    for ax in list(axes.flat)[len(SCENES):]:  # the grid's slots past the last scene
+        ax.set_visible(False)
     fig.suptitle("facet: error against run time (facet-bench --pareto)")
     fig.tight_layout()
     fig.savefig(png_path, dpi=110)
