@@ -73,9 +73,12 @@ FACET_INLINE Int floor_int(const Float& x) {
 }
 
 // x - floor(x) where |x| < 2^23, else 0 (NaN and infinities too): exact.
+// The other lanes are floored as 0, where floor_int would overflow.
 FACET_INLINE Float fraction(const Float& x) {
     const Int small = simd::abs(x) < kWhole;
-    return std::bit_cast<Float>(std::bit_cast<Int>(x - simd::to_float(floor_int(x))) & small);
+    const Float within = std::bit_cast<Float>(std::bit_cast<Int>(x) & small);
+    return std::bit_cast<Float>(std::bit_cast<Int>(within - simd::to_float(floor_int(within))) &
+                                small);
 }
 
 // A coordinate folded as its wrap repeats it, as the reference's fold()
