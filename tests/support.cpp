@@ -66,13 +66,13 @@ bool same_image(const Framebuffer& a, const Framebuffer& b) {
            std::memcmp(a.depth(), b.depth(), n * sizeof(float)) == 0;
 }
 
-const char* const kDemoScenes[13] = {"default.yaml",           "scenes/lit.yaml",
+const char* const kDemoScenes[14] = {"default.yaml",           "scenes/lit.yaml",
                                     "scenes/phong.yaml",       "scenes/toon.yaml",
                                     "scenes/shadow.yaml",      "scenes/ao.yaml",
                                     "scenes/showcase.yaml",    "scenes/gallery.yaml",
                                     "scenes/environment.yaml", "scenes/skinning.yaml",
                                     "scenes/blending.yaml",    "scenes/anisotropic.yaml",
-                                    "scenes/stencil.yaml"};
+                                    "scenes/stencil.yaml",     "scenes/lines.yaml"};
 
 Scene SceneDir::load(const std::string& yaml) {
     write(dir / "scene.yaml", yaml);

@@ -84,7 +84,7 @@ glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height);
 bool same_image(const Framebuffer& a, const Framebuffer& b);
 
 // The demo scenes in configs/, each as small_demo_scene() loads it.
-extern const char* const kDemoScenes[13];
+extern const char* const kDemoScenes[14];
 // configs/<name>, at 197 x 111 (several tiles, and no multiple of the tile
 // or block size), with shadow maps 256 texels a side (unless a light asks
 // for its own size).

@@ -7,6 +7,7 @@
 //                              # or GL's {src, dst, op, ...} (docs/scenes.md)
 //     alpha_to_coverage: false # MSAA: alpha picks the samples covered
 //     color_write: true        # false: only depth and stencil are written
+//     draw: triangles          # or lines (line_width: px) or points (point_size: px)
 //     stencil: {test: equal, ref: 1, pass: keep}  # GL's stencil test (docs/scenes.md)
 //     params:
 //       base_color: [1, 0.5, 0.2, 1]
@@ -77,6 +78,9 @@ struct Material {
     std::optional<CullMode> cull;       // overrides the scene's setting
     std::optional<bool> depth_write;    // default: true unless blended
     bool color_write = true;            // false: depth and stencil only (GL's colour mask)
+    Topology draw = Topology::triangles;  // `draw:` triangles, lines (its edges) or points
+    float line_width = 1.0f;            // pixels, lines
+    float point_size = 1.0f;            // pixels, points
     StencilState stencil;               // `stencil:`; off unless given
     // With MSAA, the shader's alpha chooses how many of a pixel's samples it
     // covers (alpha to coverage: PipelineState::alpha_to_coverage).

@@ -116,6 +116,11 @@ struct PipelineState {
     // (none: as GL without one, every fragment passes and nothing is
     // written). A draw that uses it is shaded block by block, in order.
     StencilState stencil;
+    // Lines and points: never culled, always front-facing; flat varyings
+    // from the first end point.
+    Topology topology = Topology::triangles;
+    float line_width = 1.0f;  // pixels, lines
+    float point_size = 1.0f;  // pixels, points
     glm::vec3 wire_color{1.0f, 0.45f, 0.05f};  // linear; orange shows on light and dark
 };
 

@@ -10,6 +10,14 @@ namespace facet {
 
 enum class CullMode { none, back, front };
 
+// What a draw's mesh is drawn as: its triangles; its triangles' edges,
+// each once, as lines; or its vertices as points. A line of width w is the
+// rectangle w pixels across centred on it, ending at its end points, and a
+// point of size s the square of side s centred on it (Vulkan's rectangular
+// lines and its points), each covering what a triangle would: the same
+// sample positions, the top-left rule on the edges.
+enum class Topology { triangles, lines, points };
+
 // opaque, alpha and additive are facet's named modes (a material's `blend:
 // alpha`); custom blends by BlendFunc, as GL does.
 enum class BlendMode { opaque, alpha, additive, custom };

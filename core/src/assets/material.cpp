@@ -134,11 +134,32 @@ std::vector<MaterialParam> parse_params(const yaml::Context& ctx, const YAML::No
     return params;
 }
 
+// `draw:` and the width or size that goes with it.
+void parse_topology(const yaml::Context& ctx, const YAML::Node& node, Material& m) {
+    if (const YAML::Node draw = node["draw"])
+        m.draw = yaml::as_enum<Topology>(ctx, draw,
+                                         {{"triangles", Topology::triangles},
+                                          {"lines", Topology::lines},
+                                          {"points", Topology::points}});
+    const auto pixels = [&](const char* key, Topology needs, float& out) {
+        const YAML::Node n = node[key];
+        if (!n) return;
+        yaml::ensure(m.draw == needs, ctx, n, ErrorCode::config_invalid,
+                     std::string(key) + " is for 'draw: " +
+                         (needs == Topology::lines ? "lines" : "points") + "'");
+        out = yaml::as<float>(ctx, n);
+        yaml::ensure(out > 0.0f && out <= 256.0f, ctx, n, ErrorCode::out_of_range,
+                     std::string(key) + " is more than 0 and at most 256 pixels");
+    };
+    pixels("line_width", Topology::lines, m.line_width);
+    pixels("point_size", Topology::points, m.point_size);
+}
+
 Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
                         const std::filesystem::path& folder, std::string source) {
     yaml::check_map(ctx, node, "material",
-                    {"shader", "blend", "cull", "depth_write", "color_write", "stencil",
-                     "alpha_to_coverage", "params"});
+                    {"shader", "blend", "cull", "depth_write", "color_write", "stencil", "draw",
+                     "line_width", "point_size", "alpha_to_coverage", "params"});
     Material m;
     m.source = std::move(source);
     m.file = ctx.file;
@@ -152,6 +173,7 @@ Material parse_material(const yaml::Context& ctx, const YAML::Node& node,
         m.depth_write = yaml::as<bool>(ctx, depth_write);
     yaml::read(ctx, node, "color_write", m.color_write);
     if (const YAML::Node stencil = node["stencil"]) parse_stencil(ctx, stencil, m);
+    parse_topology(ctx, node, m);
     yaml::read(ctx, node, "alpha_to_coverage", m.alpha_to_coverage);
     if (const YAML::Node params = node["params"]) m.params = parse_params(ctx, params, folder);
     return m;

@@ -36,11 +36,14 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.blend_func = m.blend_func;
     p.depth_compare = s.depth_compare;
     p.depth_write = m.writes_depth();
-    p.wireframe = s.wireframe;
+    p.wireframe = s.wireframe && m.draw == Topology::triangles;  // a triangle's edges
     p.subpixel_bits = s.subpixel_bits;
     p.alpha_to_coverage = m.alpha_to_coverage;
     p.color_write = m.color_write;
     p.stencil = m.stencil;
+    p.topology = m.draw;
+    p.line_width = m.line_width;
+    p.point_size = m.point_size;
     return p;
 }
 

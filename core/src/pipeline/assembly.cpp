@@ -31,7 +31,9 @@ int screen_orientation(const ClipVertex* poly, int n, const Viewport& viewport) 
     return area > 0.0 ? 1 : -1;
 }
 
-void count(SetupResult r, FrameStats& stats) {
+}  // namespace
+
+void count_result(SetupResult r, FrameStats& stats) {
     switch (r) {
         case SetupResult::ok: ++stats.triangles_rasterized; break;
         case SetupResult::culled_backface: ++stats.triangles_culled_backface; break;
@@ -41,10 +43,9 @@ void count(SetupResult r, FrameStats& stats) {
     }
 }
 
-}  // namespace
-
 CullState cull_state(const PipelineState& s) {
-    return {s.cull == CullMode::back, s.cull == CullMode::front, s.front_ccw};
+    const bool culls = s.topology == Topology::triangles;
+    return {culls && s.cull == CullMode::back, culls && s.cull == CullMode::front, s.front_ccw};
 }
 
 void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
@@ -78,7 +79,7 @@ void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) co
             r = setup_triangle(w, varyings, viewport_, cull_, s);
             if (r != SetupResult::ok) chunk.setups.pop_back();
         }
-        count(r, chunk.stats);
+        count_result(r, chunk.stats);
     }
 }
 
@@ -95,18 +96,35 @@ SetupResult Assembler::setup(const SetupVertex v[3], int orientation, SetupChunk
 // to the orientation of the whole polygon.
 SetupResult Assembler::clipped(const SetupVertex v[3], uint32_t planes,
                                    SetupChunk& chunk) const {
-    ClipVertex in[3], out[kMaxClipVertices];
+    ClipVertex in[3];
     const int floats = int(dc_.varying_floats);
     for (int i = 0; i < 3; ++i) {
         in[i].position = v[i].clip;
         std::memcpy(in[i].varyings, v[i].varyings, sizeof(float) * floats);
     }
-    const int n = clip_polygon(in, 3, planes, guard_, floats, dc_.interpolation, out);
+    return fan(in, 3, planes, chunk);
+}
+
+SetupResult Assembler::quad(const ClipVertex* v, int n, SetupChunk& chunk) const {
+    const size_t first = chunk.setups.size();
+    const SetupResult r = fan(v, n, kPlaneNear | kPlaneFar | kPlaneLeft | kPlaneRight |
+                                        kPlaneBottom | kPlaneTop, chunk);
+    for (size_t i = first; i < chunk.setups.size(); ++i) chunk.setups[i].front_facing = true;
+    return r;
+}
+
+// Polygon `in` (n corners) clipped against `planes`, and the fan of what is
+// left set up, each piece held to the orientation of the whole.
+SetupResult Assembler::fan(const ClipVertex* in, int n_in, uint32_t planes,
+                           SetupChunk& chunk) const {
+    ClipVertex out[kMaxClipVertices];
+    const int floats = int(dc_.varying_floats);
+    const int n = clip_polygon(in, n_in, planes, guard_, floats, dc_.interpolation, out);
     if (n < 3) return SetupResult::clipped_away;
     // Flat varyings keep the first input vertex's value, not a blend.
     for (int k = 0; k < floats; ++k)
         if (dc_.interpolation[k] == FACET_INTERP_FLAT)
-            for (int i = 0; i < n; ++i) out[i].varyings[k] = v[0].varyings[k];
+            for (int i = 0; i < n; ++i) out[i].varyings[k] = in[0].varyings[k];
     const size_t first = chunk.clipped_used;
     chunk.clipped_used += size_t(n);
     if (chunk.clipped.size() < chunk.clipped_used) chunk.clipped.resize(chunk.clipped_used);

@@ -10,6 +10,7 @@
 // its pieces keep the orientation of the whole.
 #pragma once
 
+#include "pipeline/clip.hpp"
 #include "pipeline/draw_queue.hpp"
 #include "pipeline/setup.hpp"
 
@@ -18,8 +19,11 @@
 
 namespace facet {
 
-// The back-face culling of a pipeline state.
+// The back-face culling of a pipeline state (none for lines and points).
 CullState cull_state(const PipelineState& s);
+
+// Counts a primitive's fate in `stats`.
+void count_result(SetupResult r, FrameStats& stats);
 
 class Assembler {
 public:
@@ -32,8 +36,17 @@ public:
     // Assembles, clips and sets up `triangles` triangles from `idx` (the
     // mesh's indices) into `chunk`, counting them in chunk.stats.
     void run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const;
+    // The same for `count` lines (a pair of indices each) or points (one
+    // each), each a rectangle or square of two triangles (lines.cpp),
+    // counted as triangles in.
+    void run_lines(const uint32_t* idx, size_t count, SetupChunk& chunk) const;
+    void run_points(const uint32_t* idx, size_t count, SetupChunk& chunk) const;
 
 private:
+    // The convex polygon `v` (n corners: a line's rectangle, a point's
+    // square) clipped and set up, front-facing whichever way it turns.
+    SetupResult quad(const ClipVertex* v, int n, SetupChunk& chunk) const;
+    SetupResult fan(const ClipVertex* in, int n, uint32_t planes, SetupChunk& chunk) const;
     SetupResult setup(const SetupVertex v[3], int orientation, SetupChunk& chunk) const;
     SetupResult clipped(const SetupVertex v[3], uint32_t planes, SetupChunk& chunk) const;
 

@@ -1,6 +1,7 @@
 // Homogeneous clipping.
 //
-// Takes: a triangle in clip space (position x, y, z, w plus its varyings).
+// Takes: a triangle (or a line's or point's quadrilateral) in clip space
+// (position x, y, z, w plus its varyings).
 // Gives: the convex polygon of the part that lies inside the depth range
 // 0 <= z <= w and inside the guard band |x|, |y| <= g * w, as at most
 // kMaxClipVertices vertices, ready to be split into a fan.
@@ -46,7 +47,8 @@ enum ClipPlane : uint32_t {
     kPlaneTop = 1u << 5,     // y <= g w
 };
 
-constexpr int kMaxClipVertices = 3 + 6;
+// A quadrilateral (a line's rectangle, a point's square) cut by six planes.
+constexpr int kMaxClipVertices = 4 + 6;
 
 // The planes p lies outside of, for side planes at +-g w (g = 1: the view
 // frustum itself; `guard` is the guard-band half-width in NDC units).

@@ -64,6 +64,9 @@ struct QueuedDraw {
     std::vector<glm::vec4> clip;       // per vertex
     std::vector<WindowVertex> window;  // per vertex: projected, with its outcodes (vertex.cpp)
     std::vector<float> varyings;       // per vertex, varying_floats each
+    // Lines: the mesh's edges, a pair of vertex indices each; points: the
+    // vertices. Empty for triangles, which read the mesh's indices.
+    std::vector<uint32_t> primitives;
 };
 
 // A clear waiting for the draws into its target (Pipeline::clear). A tile

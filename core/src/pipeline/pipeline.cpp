@@ -51,6 +51,32 @@ void drop_queued(DrawQueue& g) {
     g.triangles_queued = 0;
 }
 
+// What a draw of `part` as lines or points reads: its triangles' edges, each
+// once (a pair of vertex indices, the lower first, in order), or its
+// vertices.
+void list_primitives(const Mesh& mesh, const MeshPart& part, Topology topology,
+                     std::vector<uint32_t>& out) {
+    out.clear();
+    if (topology == Topology::points) {
+        for (uint32_t v = 0; v < part.vertex_count; ++v) out.push_back(part.first_vertex + v);
+        return;
+    }
+    std::vector<uint64_t> edges;
+    edges.reserve(size_t(part.index_count));
+    const uint32_t* idx = mesh.indices.data() + part.first_index;
+    for (uint32_t t = 0; t + 2 < part.index_count; t += 3)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = idx[t + uint32_t(k)], b = idx[t + uint32_t((k + 1) % 3)];
+            if (a != b) edges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (const uint64_t e : edges) {
+        out.push_back(uint32_t(e >> 32));
+        out.push_back(uint32_t(e));
+    }
+}
+
 // A queued draw's state and what its fragments read, from `call` (whose band
 // of rows, if any, lies within its image).
 void set_context(QueuedDraw& d, const DrawCall& call, Framebuffer& target, Isa isa) {
@@ -257,8 +283,13 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
 
     const CullState cull = cull_state(call.state);
     const Assembler assembler(d, viewport, cull, part.first_vertex);
-    const uint32_t* indices = mesh.indices.data() + part.first_index;
-    const size_t triangles = part.triangle_count();
+    const Topology topology = call.state.topology;
+    if (topology != Topology::triangles) list_primitives(mesh, part, topology, d.primitives);
+    // A primitive's indices: three for a triangle, two for a line, one for a point.
+    const size_t per = topology == Topology::triangles ? 3 : topology == Topology::lines ? 2 : 1;
+    const uint32_t* indices =
+        per == 3 ? mesh.indices.data() + part.first_index : d.primitives.data();
+    const size_t triangles = per == 3 ? part.triangle_count() : d.primitives.size() / per;
     for (size_t first = 0; first < triangles; first += kTriangleBatch) {
         if (stopped()) return drop_queued(g);
         const size_t count = std::min(kTriangleBatch, triangles - first);
@@ -281,8 +312,10 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
             chunk.draw = index;
             chunk.stats = {};
             const size_t begin = first + size_t(c) * kSetupChunk;
-            assembler.run(indices + 3 * begin,
-                          std::min(kSetupChunk, first + count - begin), chunk);
+            const size_t n = std::min(kSetupChunk, first + count - begin);
+            if (per == 3) assembler.run(indices + 3 * begin, n, chunk);
+            else if (per == 2) assembler.run_lines(indices + 2 * begin, n, chunk);
+            else assembler.run_points(indices + begin, n, chunk);
         });
         g.chunks_used += chunks;
         g.triangles_queued += count;
