@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 #include <stb/stb_image_write.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,30 @@ std::vector<glm::vec4> rendered(const Scene& scene, Isa isa) {
     return fb.linear();
 }
 
+// Writes an 8x8 white texture whose columns alternate alpha 0 and 1 into
+// the scene's folder; its path.
+std::string columns_texture(SceneDir& sd) {
+    std::vector<uint8_t> rgba;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) rgba.insert(rgba.end(), {255, 255, 255, uint8_t(x % 2 ? 255 : 0)});
+    const std::string texture = (sd.dir / "columns.png").string();
+    REQUIRE(stbi_write_png(texture.c_str(), 8, 8, 4, rgba.data(), 8 * 4));
+    return texture;
+}
+
+// `scene` drawn on every path gives `want`.
+void check_every_path(const Scene& scene, const std::vector<glm::vec4>& want) {
+    for (const Isa isa : supported_isas()) {
+        INFO("path " << isa_name(isa));
+        CHECK(rendered(scene, isa) == want);
+    }
+}
+
+// Pixels of `image` that are exactly `c`.
+int count_of(const std::vector<glm::vec4>& image, glm::vec4 c) {
+    return int(std::count(image.begin(), image.end(), c));
+}
+
 // A mask (writes stencil 1 where `shape` covers, no colour, no depth),
 // then a white quad over the frame where the stencil is 1.
 std::string masked(const std::string& shape) {
@@ -106,13 +131,8 @@ TEST_CASE("the stencil holds the coverage of a draw, sample by sample, on every 
             const Scene mask = sd.load(scene_text(masked(sphere), msaa, prepass));
             const Scene direct = sd.load(scene_text(sphere + "    material: {shader: unlit}\n", msaa));
             const std::vector<glm::vec4> want = rendered(direct, default_isa());
-            int white = 0;
-            for (const glm::vec4& p : want) white += p == glm::vec4(1.0f);
-            CHECK(white > 200);
-            for (const Isa isa : supported_isas()) {
-                INFO("path " << isa_name(isa));
-                CHECK(rendered(mask, isa) == want);
-            }
+            CHECK(count_of(want, glm::vec4(1.0f)) > 200);
+            check_every_path(mask, want);
         }
 }
 
@@ -121,11 +141,7 @@ TEST_CASE("a fragment the shader discards, or whose alpha covers no sample, writ
     // Columns of alpha 0 and 1 across the texture: the cutout removes every
     // other column (alpha_cutoff at one sample, alpha to coverage at four).
     SceneDir sd;
-    std::vector<uint8_t> rgba;
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 8; ++x) rgba.insert(rgba.end(), {255, 255, 255, uint8_t(x % 2 ? 255 : 0)});
-    const std::string texture = (sd.dir / "columns.png").string();
-    REQUIRE(stbi_write_png(texture.c_str(), 8, 8, 4, rgba.data(), 8 * 4));
+    const std::string texture = columns_texture(sd);
     for (const int msaa : {1, 4}) {
         INFO(msaa << " samples");
         const std::string cut = msaa == 1 ? "alpha_cutoff: 0.5" : "alpha_cutoff: 0";
@@ -143,14 +159,9 @@ TEST_CASE("a fragment the shader discards, or whose alpha covers no sample, writ
         const Scene direct = sd.load(
             scene_text(quad + "    material: {shader: unlit, " + coverage + params + "}\n", msaa));
         const std::vector<glm::vec4> want = rendered(direct, default_isa());
-        int white = 0, black = 0;
-        for (const glm::vec4& p : want) white += p == glm::vec4(1.0f), black += p == glm::vec4(0, 0, 0, 1);
-        CHECK(white > 100);
-        CHECK(black > 100);
-        for (const Isa isa : supported_isas()) {
-            INFO("path " << isa_name(isa));
-            CHECK(rendered(mask, isa) == want);
-        }
+        CHECK(count_of(want, glm::vec4(1.0f)) > 100);
+        CHECK(count_of(want, glm::vec4(0, 0, 0, 1)) > 100);
+        check_every_path(mask, want);
     }
 }
 
@@ -234,11 +245,7 @@ TEST_CASE("a part that writes no colour writes depth only where its alpha covers
     // color_write: false with alpha to coverage: its depth hides a white
     // quad behind it exactly where the same part drawn in black would.
     SceneDir sd;
-    std::vector<uint8_t> rgba;
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 8; ++x) rgba.insert(rgba.end(), {255, 255, 255, uint8_t(x % 2 ? 255 : 0)});
-    const std::string texture = (sd.dir / "columns.png").string();
-    REQUIRE(stbi_write_png(texture.c_str(), 8, 8, 4, rgba.data(), 8 * 4));
+    const std::string texture = columns_texture(sd);
     const std::string behind = "  - mesh: " + kPlane + "\n    rotation: [90, 0, 0]\n    scale: 4\n"
                                "    position: [0, 0, -0.5]\n    material: {shader: unlit}\n";
     const auto front = [&](const std::string& colour) {
@@ -252,12 +259,7 @@ TEST_CASE("a part that writes no colour writes depth only where its alpha covers
         const Scene masked = sd.load(scene_text(front("color_write: false, ") + behind, msaa));
         const Scene black = sd.load(scene_text(front("") + behind, msaa));
         const std::vector<glm::vec4> want = rendered(black, default_isa());
-        int white = 0;
-        for (const glm::vec4& p : want) white += p == glm::vec4(1.0f);
-        CHECK(white > 100);
-        for (const Isa isa : supported_isas()) {
-            INFO("path " << isa_name(isa));
-            CHECK(rendered(masked, isa) == want);
-        }
+        CHECK(count_of(want, glm::vec4(1.0f)) > 100);
+        check_every_path(masked, want);
     }
 }

@@ -53,8 +53,8 @@ FACET_INLINE Texels anisotropic(const TexelLevels& t, const Derivatives<Float>& 
 // lane's footprint, from its derivatives (given, or its quad's); at a
 // level given with no derivatives, trilinear.
 template <TexelFormat F, Wrap W>
-void anisotropic_parts(const TexelLevels& t, const TextureBinding& b,
-                                         const Lanes& in, uint32_t mask, float* rgba) {
+void anisotropic_parts(const TexelLevels& t, const TextureBinding& b, const Lanes& in,
+                       uint32_t mask, float* rgba) {
     const int most = std::clamp(b.anisotropy, 1, kMaxAnisotropy);  // as the reference holds it
     const Derivatives<Quad> quads =
         in.grads || in.lod ? Derivatives<Quad>{} : block_derivatives(in.u, in.v);
