@@ -2,6 +2,8 @@
 
 #include <facet/error.hpp>
 
+#include <catch2/catch.hpp>
+
 #include <algorithm>
 
 #include <glm/gtc/constants.hpp>
@@ -55,6 +57,33 @@ DrawCall clip_space_call(const Mesh& mesh, const ShaderPlugin& shader) {
 
 glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height) {
     return {float(window.x / width * 2.0 - 1.0), float(1.0 - window.y / height * 2.0), 0.5f};
+}
+
+double inside_line(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b, double w) {
+    const glm::dvec2 d = b - a;
+    const double length = glm::length(d);
+    const glm::dvec2 along = d / length, across(-along.y, along.x);
+    const double s = glm::dot(p - a, along), t = glm::dot(p - a, across);
+    return std::min({s, length - s, w / 2 - std::abs(t)});
+}
+
+void check_coverage(const Framebuffer& fb,
+                    const std::function<std::vector<double>(glm::dvec2)>& inside, int& covered) {
+    const double tol = 0.02;
+    const int n = fb.samples();
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x)
+            for (int s = 0; s < n; ++s) {
+                const glm::dvec2 p =
+                    glm::dvec2(x + 0.5, y + 0.5) + glm::dvec2(sample_offset(n, s)) / 16.0;
+                int surely = 0, maybe = 0;
+                for (const double d : inside(p)) surely += d > tol, maybe += d > -tol;
+                const float count = fb.sample(x, y, s).r;
+                INFO("pixel " << x << ", " << y << " sample " << s << ": covered " << count);
+                REQUIRE(count >= float(surely));
+                REQUIRE(count <= float(maybe));
+                covered += count > 0.0f;
+            }
 }
 
 bool same_image(const Framebuffer& a, const Framebuffer& b) {

@@ -80,6 +80,20 @@ DrawCall clip_space_call(const Mesh& mesh, const ShaderPlugin& shader);
 // Clip coordinates (w = 1) of a window position in a width x height target.
 glm::vec3 window_to_ndc(glm::dvec2 window, int width, int height);
 
+// How far p lies inside the rectangle of width w around segment a-b (no
+// caps), the shape of a line (Topology::lines): positive inside, negative
+// outside, in pixels.
+double inside_line(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b, double w);
+
+// For a target drawn in white, added (so red counts how often a sample is
+// covered), by shapes whose signed distances inside (pixels, positive
+// inside) at a point `inside` gives: every sample more than 0.02 pixel
+// (the snapping of corners to 1/256) inside some shape is covered, none
+// more than that outside all of them is, and none more often than the
+// shapes that hold it. Adds the covered samples to `covered`.
+void check_coverage(const Framebuffer& fb,
+                    const std::function<std::vector<double>(glm::dvec2)>& inside, int& covered);
+
 // The same size, format and stored bits, colour and depth (padding too).
 bool same_image(const Framebuffer& a, const Framebuffer& b);
 

@@ -1,6 +1,6 @@
-// Multisampling and wireframe through Pipeline::draw, against exact and
-// double-precision references: per-sample coverage of shared edges, the
-// resolve, per-sample depth, and the wireframe's distance to each edge.
+// Multisampling through Pipeline::draw, against exact and double-precision
+// references: per-sample coverage of shared edges, the resolve and
+// per-sample depth.
 #include "support.hpp"
 
 #include <facet/framebuffer.hpp>
@@ -22,13 +22,11 @@ constexpr int W = 64, H = 48;
 // `mesh` drawn into a fresh W x H target with `samples` samples, cleared
 // to black and far depth (reversed-Z).
 Framebuffer draw_msaa(const Mesh& mesh, const ShaderPlugin& shader, int samples,
-                      BlendMode blend = BlendMode::opaque, bool wireframe = false) {
+                      BlendMode blend = BlendMode::opaque) {
     Framebuffer fb(W, H, ColorFormat::rgba32f, samples);
     fb.clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), 0.0f);
     DrawCall call = clip_space_call(mesh, shader);  // no culling, no depth test
     call.state.blend = blend;
-    call.state.wireframe = wireframe;
-    call.state.wire_color = glm::vec3(1.0f);
     FrameStats stats;
     Pipeline(1).draw(call, fb, stats);
     fb.resolve();
@@ -135,36 +133,4 @@ TEST_CASE("MSAA: depth is tested per sample on the exact depth plane", "[msaa][d
         CHECK(max_error < 1e-6);
         CHECK(checked > W * H * n * 9 / 10);
     }
-}
-
-TEST_CASE("wireframe blends the wire within a pixel of each edge, by exact distance",
-          "[wireframe]") {
-    static auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
-    const glm::dvec2 v[3] = {{5.3, 4.1}, {58.7, 12.2}, {20.4, 44.6}};
-    std::vector<glm::vec3> pos;
-    for (const glm::dvec2& p : v) pos.push_back(window_to_ndc(p, W, H));
-    const Mesh mesh = make_mesh(pos, {0, 1, 2}, std::vector<glm::vec4>(3, {0, 0, 0, 1}));
-    const Framebuffer fb = draw_msaa(mesh, *shader, 1, BlendMode::opaque, true);
-    int on_wire = 0, inside = 0;
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const glm::dvec2 c(x + 0.5, y + 0.5);
-            double d = 1e9;  // distance to the nearest edge, in pixels
-            int side = 0;
-            for (int k = 0; k < 3; ++k) {
-                const glm::dvec2 a = v[k], b = v[(k + 1) % 3], e = b - a;
-                const double cross = e.x * (c.y - a.y) - e.y * (c.x - a.x);
-                side += cross > 0 ? 1 : cross < 0 ? -1 : 0;
-                d = std::min(d, std::abs(cross) / glm::length(e));
-            }
-            if (std::abs(side) != 3) continue;  // pixel centre outside the triangle
-            ++inside;
-            const double expected = std::clamp(2.0 * (1.0 - d), 0.0, 1.0);
-            CAPTURE(x, y, d);
-            // Vertices snap to 1/256 pixel: allow for that in the distance.
-            REQUIRE(fb.pixel(x, y).r == Approx(expected).margin(2.0 * 2.0 / 256.0));
-            on_wire += d < 0.5;
-        }
-    CHECK(on_wire > 60);
-    CHECK(inside > 500);
 }

@@ -43,7 +43,9 @@ namespace {
     X(UniformMatrix3fv) X(UniformMatrix4fv) X(GenTextures) X(BindTexture) X(TexImage2D)       \
     X(TexParameteri) X(ActiveTexture) X(DeleteTextures) X(BlendFuncSeparate)                 \
     X(BlendEquationSeparate) X(BlendColor) X(ColorMask) X(ClearStencil) X(StencilMask)      \
-    X(StencilFuncSeparate) X(StencilOpSeparate) X(StencilMaskSeparate)
+    X(StencilFuncSeparate) X(StencilOpSeparate) X(StencilMaskSeparate) X(DrawArrays)          \
+    X(LineWidth) X(PointSize) X(ProvokingVertex) X(RenderbufferStorageMultisample)            \
+    X(BlitFramebuffer)
 
 struct Gl {
 #define FACET_GL_MEMBER(name) decltype(&::gl##name) name = nullptr;
@@ -202,9 +204,33 @@ void main() {
 // One object's mesh in GL buffers.
 struct MeshBuffers {
     GLuint vao = 0;
-    GLuint buffers[5] = {};  // positions, normals, colours, UVs, indices
+    GLuint buffers[6] = {};  // positions, normals, colours, UVs, indices, edges
     GLsizei index_count = 0;
+    // Each part's edges in buffers[5] (first index, count), once a part is
+    // drawn as lines: its triangles' sides, each once, as facet draws them.
+    std::vector<std::pair<size_t, GLsizei>> edges;
 };
+
+// The sides of each part's triangles, each once (lower vertex first), the
+// parts one after another, and where each part's lie.
+std::vector<uint32_t> part_edges(const Mesh& mesh, std::vector<std::pair<size_t, GLsizei>>& where) {
+    std::vector<uint32_t> out;
+    for (size_t i = 0; i < mesh.part_count(); ++i) {
+        const MeshPart part = mesh.part(i);
+        std::vector<std::pair<uint32_t, uint32_t>> sides;
+        for (uint32_t t = 0; t + 2 < part.index_count; t += 3)
+            for (uint32_t k = 0; k < 3; ++k) {
+                const uint32_t a = mesh.indices[part.first_index + t + k];
+                const uint32_t b = mesh.indices[part.first_index + t + (k + 1) % 3];
+                if (a != b) sides.push_back({std::min(a, b), std::max(a, b)});
+            }
+        std::sort(sides.begin(), sides.end());
+        sides.erase(std::unique(sides.begin(), sides.end()), sides.end());
+        where.push_back({out.size(), GLsizei(2 * sides.size())});
+        for (const auto& [a, b] : sides) out.insert(out.end(), {a, b});
+    }
+    return out;
+}
 
 // A facet texture as GL sees it: its levels, filter and wrap. The same image
 // bound with two filters or wraps is two GL textures.
@@ -294,7 +320,8 @@ GLenum gl_compare(DepthCompare c) {
 
 // What of `s` this renderer cannot draw as facet does, or "" when nothing.
 std::string unmodelled(const RenderSettings& s) {
-    if (s.msaa != 1) return "msaa " + std::to_string(s.msaa) + " (it draws one sample)";
+    if (s.msaa != 1 && s.msaa != 4)
+        return "msaa " + std::to_string(s.msaa) + " (llvmpipe has 1 or 4 samples)";
     if (s.subpixel_bits != 8)
         return "subpixel_bits " + std::to_string(s.subpixel_bits) + " (llvmpipe snaps to 8)";
     if (s.wireframe) return "wireframe";
@@ -340,7 +367,9 @@ struct LlvmpipeRenderer::Impl {
     uint8_t window[16 * 16 * 4] = {};  // OSMesa's own buffer; frames go to `fbo`
     int width = 0, height = 0;
     LlvmpipeTarget target = LlvmpipeTarget::rgba32f;
+    int samples = 1;  // the framebuffer's: 1 or 4
     GLuint fbo = 0, color = 0, depth = 0;
+    GLuint resolved_fbo = 0, resolved = 0;  // its colour resolved, with samples
     std::map<const Mesh*, MeshBuffers> meshes;
     std::map<std::string, Program> programs;  // by shader name and defines
     // Each material's, found without building its key again in a timed frame
@@ -356,7 +385,9 @@ struct LlvmpipeRenderer::Impl {
     void make_context();
     void make_current();
     void check_errors(const char* after);
-    void make_framebuffer();
+    void make_framebuffer(int samples);
+    void free_framebuffer();
+    void upload_edges(const Mesh& mesh);
     GLuint compile(GLenum stage, const std::string& defines, const char* body);
     Program& program(const Material& m);
     void upload_mesh(const Mesh& mesh);
@@ -375,13 +406,20 @@ LlvmpipeRenderer::Impl::~Impl() {
     if (!OSMesaMakeCurrent(context.handle, window, GL_UNSIGNED_BYTE, 16, 16)) return;
     for (auto& [key, t] : textures) gl.DeleteTextures(1, &t);
     for (auto& [mesh, b] : meshes) {
-        gl.DeleteBuffers(5, b.buffers);
+        gl.DeleteBuffers(6, b.buffers);
         gl.DeleteVertexArrays(1, &b.vao);
     }
     for (auto& [name, p] : programs) gl.DeleteProgram(p.id);
+    free_framebuffer();
+}
+
+void LlvmpipeRenderer::Impl::free_framebuffer() {
     gl.DeleteFramebuffers(1, &fbo);
     gl.DeleteRenderbuffers(1, &color);
     gl.DeleteRenderbuffers(1, &depth);
+    gl.DeleteFramebuffers(1, &resolved_fbo);
+    gl.DeleteRenderbuffers(1, &resolved);
+    fbo = color = depth = resolved_fbo = resolved = 0;
 }
 
 void LlvmpipeRenderer::Impl::make_context() {
@@ -424,23 +462,37 @@ void LlvmpipeRenderer::Impl::check_errors(const char* after) {
     if (!names.empty()) throw std::runtime_error(std::string("llvmpipe: ") + names + " in " + after);
 }
 
-// Colour and float32 depth (with 8-bit stencil) renderbuffers of the frame's size, and the
-// fixed-function state that matches facet's defaults.
-void LlvmpipeRenderer::Impl::make_framebuffer() {
-    gl.GenRenderbuffers(1, &color);
-    gl.BindRenderbuffer(GL_RENDERBUFFER, color);
-    gl.RenderbufferStorage(GL_RENDERBUFFER,
-                           target == LlvmpipeTarget::rgba32f ? GL_RGBA32F : GL_SRGB8_ALPHA8,
-                           width, height);
-    gl.GenRenderbuffers(1, &depth);
-    gl.BindRenderbuffer(GL_RENDERBUFFER, depth);
-    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH32F_STENCIL8, width, height);
+// Colour and float32 depth (with 8-bit stencil) renderbuffers of the
+// frame's size and `n` samples (and with more than one, a colour buffer
+// they resolve to), and the fixed-function state that matches facet's
+// defaults.
+void LlvmpipeRenderer::Impl::make_framebuffer(int n) {
+    free_framebuffer();
+    samples = n;
+    const GLenum format = target == LlvmpipeTarget::rgba32f ? GL_RGBA32F : GL_SRGB8_ALPHA8;
+    const auto storage = [&](GLuint& buffer, GLenum f, int s) {
+        gl.GenRenderbuffers(1, &buffer);
+        gl.BindRenderbuffer(GL_RENDERBUFFER, buffer);
+        if (s > 1) gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, s, f, width, height);
+        else gl.RenderbufferStorage(GL_RENDERBUFFER, f, width, height);
+    };
+    storage(color, format, n);
+    storage(depth, GL_DEPTH32F_STENCIL8, n);
     gl.GenFramebuffers(1, &fbo);
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
     gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
     if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw std::runtime_error("llvmpipe: incomplete framebuffer");
+    if (n > 1) {
+        storage(resolved, format, 1);
+        gl.GenFramebuffers(1, &resolved_fbo);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, resolved_fbo);
+        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolved);
+        if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error("llvmpipe: incomplete framebuffer to resolve to");
+        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    }
     if (target == LlvmpipeTarget::srgb8) gl.Enable(GL_FRAMEBUFFER_SRGB);
 
     // Clip depth 0..w, as facet's projections make it. The image is drawn
@@ -452,6 +504,8 @@ void LlvmpipeRenderer::Impl::make_framebuffer() {
     gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     gl.Enable(GL_DEPTH_TEST);
     gl.Viewport(0, 0, width, height);
+    // A line's flat varyings come from its first end point, as in facet.
+    gl.ProvokingVertex(GL_FIRST_VERTEX_CONVENTION);
 }
 
 GLuint LlvmpipeRenderer::Impl::compile(GLenum stage, const std::string& defines,
@@ -510,7 +564,7 @@ void LlvmpipeRenderer::Impl::upload_mesh(const Mesh& mesh) {
     MeshBuffers& b = meshes[&mesh];
     gl.GenVertexArrays(1, &b.vao);
     gl.BindVertexArray(b.vao);
-    gl.GenBuffers(5, b.buffers);
+    gl.GenBuffers(6, b.buffers);
     auto attribute = [&](GLuint location, GLuint buffer, const void* data, size_t count,
                          int components) {
         gl.BindBuffer(GL_ARRAY_BUFFER, buffer);
@@ -537,6 +591,15 @@ void LlvmpipeRenderer::Impl::upload_mesh(const Mesh& mesh) {
                   mesh.indices.data(), GL_STATIC_DRAW);
     b.index_count = GLsizei(mesh.indices.size());
     gl.BindVertexArray(0);
+}
+
+void LlvmpipeRenderer::Impl::upload_edges(const Mesh& mesh) {
+    MeshBuffers& b = meshes.at(&mesh);
+    if (!b.edges.empty()) return;
+    const std::vector<uint32_t> edges = part_edges(mesh, b.edges);
+    gl.BindBuffer(GL_ARRAY_BUFFER, b.buffers[5]);  // bound as indices when drawn
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(edges.size() * sizeof(uint32_t)), edges.data(),
+                  GL_STATIC_DRAW);
 }
 
 // GL's minification filter, magnification filter and wrap for facet's.
@@ -670,7 +733,7 @@ LlvmpipeRenderer::LlvmpipeRenderer(int width, int height, LlvmpipeTarget target)
     impl_->height = height;
     impl_->target = target;
     impl_->make_context();
-    impl_->make_framebuffer();
+    impl_->make_framebuffer(1);
     impl_->check_errors("making the framebuffer");
 }
 
@@ -694,6 +757,9 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
     for (const Object& o : scene.objects) {
         if (!o.visible || !o.mesh) continue;
         for (const Material* m : o.materials()) {
+            if (m->alpha_to_coverage)
+                throw std::runtime_error("llvmpipe: alpha_to_coverage is not drawn (GL picks "
+                                         "other samples than facet's dither)");
             impl_->program(*m);
             if (const TextureBinding* b = base_texture(*m)) {
                 if (!b->transform.identity() || b->uv_set != 0)
@@ -703,7 +769,11 @@ void LlvmpipeRenderer::upload(const Scene& scene) {
             }
         }
         impl_->upload_mesh(*o.mesh);
+        for (size_t i = 0; i < o.mesh->part_count(); ++i)
+            if (const Material* m = o.material_of(i); m && m->draw == Topology::lines)
+                impl_->upload_edges(*o.mesh);
     }
+    if (scene.settings.msaa != impl_->samples) impl_->make_framebuffer(scene.settings.msaa);
     impl_->check_errors("upload()");
 }
 
@@ -810,6 +880,33 @@ void set_stencil(Gl& gl, const Material& m) {
     }
 }
 
+// Part `index` of a mesh as its material draws it: its triangles, its
+// edges as lines (upload_edges) or its vertices as points, with the
+// material's width or size.
+void draw_part(Gl& gl, const MeshBuffers& b, const MeshPart& part, size_t index, const Material& m) {
+    gl.BindVertexArray(b.vao);
+    switch (m.draw) {
+        case Topology::triangles:
+            gl.DrawElements(GL_TRIANGLES, GLsizei(part.index_count), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(uintptr_t(part.first_index) * 4));
+            break;
+        case Topology::lines:
+            if (index >= b.edges.size())
+                throw std::runtime_error("llvmpipe: a part is drawn as lines that upload() did "
+                                         "not upload as lines");
+            gl.LineWidth(m.line_width);
+            gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.buffers[5]);
+            gl.DrawElements(GL_LINES, b.edges.at(index).second, GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(b.edges[index].first * 4));
+            gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.buffers[4]);  // the VAO's own again
+            break;
+        case Topology::points:
+            gl.PointSize(m.point_size);
+            gl.DrawArrays(GL_POINTS, GLint(part.first_vertex), GLsizei(part.vertex_count));
+            break;
+    }
+}
+
 struct DrawnPart {
     const Object* object;
     size_t part;
@@ -853,6 +950,9 @@ double LlvmpipeRenderer::render(const Scene& scene) {
     require_modelled(s);
     impl_->make_current();
     const auto start = std::chrono::steady_clock::now();
+    if (s.msaa != impl_->samples)
+        throw std::runtime_error("llvmpipe: render() of msaa " + std::to_string(s.msaa) +
+                                 " after upload() of msaa " + std::to_string(impl_->samples));
     gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
     gl.ClearColor(s.clear_color.r, s.clear_color.g, s.clear_color.b, s.clear_color.a);
     gl.ClearDepth(s.reversed_z ? 0.0 : 1.0);  // RenderSettings::far_depth(), as Renderer clears
@@ -879,11 +979,7 @@ double LlvmpipeRenderer::render(const Scene& scene) {
         const Program& p = impl_->program(m);
         gl.UseProgram(p.id);
         impl_->set_uniforms(p, scene, d.object->part_matrix(d.part), m, view_projection);
-        const MeshBuffers& b = impl_->meshes.at(d.object->mesh.get());
-        gl.BindVertexArray(b.vao);
-        const MeshPart part = d.object->mesh->part(d.part);
-        gl.DrawElements(GL_TRIANGLES, GLsizei(part.index_count), GL_UNSIGNED_INT,
-                        reinterpret_cast<const void*>(uintptr_t(part.first_index) * 4));
+        draw_part(gl, impl_->meshes.at(d.object->mesh.get()), d.object->mesh->part(d.part), d.part, m);
     }
     gl.Finish();
     const auto end = std::chrono::steady_clock::now();
@@ -896,6 +992,12 @@ std::vector<glm::vec4> LlvmpipeRenderer::image() const {
     impl_->make_current();
     std::vector<glm::vec4> rgba(size_t(impl_->width) * size_t(impl_->height));
     gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
+    if (impl_->samples > 1) {  // each pixel's samples averaged (in linear light for sRGB)
+        gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, impl_->resolved_fbo);
+        gl.BlitFramebuffer(0, 0, impl_->width, impl_->height, 0, 0, impl_->width, impl_->height,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->resolved_fbo);
+    }
     gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
     // GL's row 0 holds the image's top row (clip_from_world).
     gl.ReadPixels(0, 0, impl_->width, impl_->height, GL_RGBA, GL_FLOAT, rgba.data());

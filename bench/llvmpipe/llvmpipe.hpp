@@ -11,7 +11,9 @@
 //     it (0 with reversed_z, else 1), and each draw's PipelineState: the
 //     settings' depth_compare as glDepthFunc (GEQUAL by default), the
 //     material's depth writes, cull mode and the front face;
-//   - a float32 depth buffer and one sample per pixel;
+//   - a float32 depth buffer, and one sample per pixel or four (the
+//     settings' msaa; GL's standard 4x positions are facet's, and image()
+//     resolves them with glBlitFramebuffer);
 //   - the same coverage: pixel centres, 8 sub-pixel bits, and facet's
 //     top-left rule (llvmpipe's own rule is bottom-left, so the image is
 //     drawn upside down in GL and read back in facet's row order). The two
@@ -36,8 +38,15 @@
 //     (glBlendFuncSeparate, glBlendEquationSeparate, glBlendColor; a named
 //     mode as its factors), blended parts drawn after the opaque ones,
 //     farthest first, as facet orders them.
-// What it does not do: normal maps, MSAA, subpixel_bits other than
-// 8, wireframe, shadow maps, AO, or any shader other than phong and unlit
+//   - a material's `draw`: its part's triangles, its edges (each once) as
+//     GL_LINES of its line_width, or its vertices as GL_POINTS of its
+//     point_size; flat varyings from a line's first end point. GL draws a
+//     line as facet's rectangle only with multisampling (single-sampled,
+//     it follows the diamond-exit rule).
+// What it does not do: normal maps, MSAA other than 1 or 4 samples,
+// alpha to coverage (GL's samples are not facet's dither),
+// subpixel_bits other than 8, wireframe (facet's wire over pushed-back
+// surfaces), shadow maps, AO, or any shader other than phong and unlit
 // (supports() says which). upload() and render() throw for those settings
 // rather than draw something else than facet.
 //
@@ -76,8 +85,8 @@ public:
 
     // Uploads every object's mesh once; later frames draw from these
     // buffers. Throws std::runtime_error for what this renderer cannot
-    // draw (an unsupported shader, a normal map, blending; settings with
-    // msaa other than 1, subpixel_bits other than 8, or wireframe) and for
+    // draw (an unsupported shader, a normal map; settings with msaa other
+    // than 1 or 4, subpixel_bits other than 8, or wireframe) and for
     // a GL error, which it names (GL_OUT_OF_MEMORY, ...).
     void upload(const Scene& scene);
     // Draws one frame of `scene` (uploaded before) and waits for it

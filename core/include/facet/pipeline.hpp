@@ -105,8 +105,22 @@ struct PipelineState {
     DepthCompare depth_compare = DepthCompare::greater_equal;
     bool depth_write = true;
     bool color_write = true;  // false: depth only (shadow maps, pre-passes)
-    bool wireframe = false;   // blend each triangle's edges (about 1 pixel) over its colour
+    // Draws the wire of a triangle mesh instead of its surface: the edges of
+    // its triangles that `cull` keeps (each edge once), as lines
+    // `line_width` pixels wide in wire_color, with no fragment shader (the
+    // vertex shader still places them). Renderer draws it over a frame's
+    // triangle parts when RenderSettings::wireframe is on.
+    bool wireframe = false;
     int subpixel_bits = 8;    // vertex snapping precision, 1..8 (D3D10+: 8)
+    // Vulkan's depth bias, for triangles (not lines, points or the wire):
+    // each one's window depth moves by depth_bias_constant * r +
+    // depth_bias_slope * m, where m is the larger of its depth's slopes per
+    // pixel in x and y, and r the spacing of floats at its largest depth
+    // (2^(e - 23) for exponent e), before the depth test; its corners'
+    // depths are then held inside 0..1 (add_depth_bias). The sign says
+    // which way: toward the far depth pushes the surface back.
+    float depth_bias_constant = 0.0f;
+    float depth_bias_slope = 0.0f;
     // The shader's alpha (0..1) covers that share of a pixel's samples:
     // floor(alpha * n + d) of its n, d a 4x4 ordered dither of the pixel in
     // 0..1, taken in turn from sample (x + 2 y) mod n. With one sample, a

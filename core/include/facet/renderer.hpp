@@ -123,6 +123,7 @@ private:
                           FrameStats& stats);
     // The environment behind the opaque draws (core/src/pipeline/sky.hpp).
     void draw_sky(const Scene& scene, const DrawCall& call, Framebuffer& target);
+    void draw_wire(const Scene& scene, DrawCall& call, Framebuffer& target, FrameStats& stats);
 
     struct BlendedItem {
         DrawItem item;

@@ -36,7 +36,15 @@ PipelineState pipeline_state(const Material& m, const RenderSettings& s) {
     p.blend_func = m.blend_func;
     p.depth_compare = s.depth_compare;
     p.depth_write = m.writes_depth();
-    p.wireframe = s.wireframe && m.draw == Topology::triangles;  // a triangle's edges
+    if (s.wireframe && m.draw == Topology::triangles) {
+        // Pushed back by its slope (as glPolygonOffset(1, 4)), under its
+        // wire, which draw_wire draws at the depth of its edges: a sample
+        // the 1-pixel line covers lies within half a pixel of the edge,
+        // where the surface is at most 0.71 (half of root 2) slopes nearer.
+        const float away = s.far_depth() > 0.5f ? 1.0f : -1.0f;
+        p.depth_bias_slope = away;
+        p.depth_bias_constant = 4.0f * away;
+    }
     p.subpixel_bits = s.subpixel_bits;
     p.alpha_to_coverage = m.alpha_to_coverage;
     p.color_write = m.color_write;
@@ -403,7 +411,35 @@ void Renderer::draw_main_pass(const Scene& scene, DrawCall& call, Framebuffer& t
     for (const BlendedItem& b : scratch_.blended)
         queue_item(scene, call, b.item, Role::main, prepassed, target, stats);
     pipeline_.flush(stats);
+    if (scene.settings.wireframe) draw_wire(scene, call, target, stats);
     stats.ms_main += elapsed_ms(start);
+}
+
+// The wire of every triangle part drawn (RenderSettings::wireframe), over
+// the frame: the edges of its triangles that face the eye (as its culling
+// keeps them), as lines a pixel wide in the wire colour, tested against
+// the depth (and stencil) the frame left and writing neither. Its surfaces
+// were pushed back (pipeline_state), so that a wire shows over its own.
+void Renderer::draw_wire(const Scene& scene, DrawCall& call, Framebuffer& target,
+                         FrameStats& stats) {
+    const auto wire = [&](const DrawItem& d) {
+        const Material& m = *d.material;
+        if (m.draw != Topology::triangles || !m.color_write) return;
+        set_item(call, d);
+        call.may_discard = false;
+        PipelineState& p = call.state = pipeline_state(m, scene.settings);
+        p.wireframe = true;
+        p.depth_write = false;
+        p.blend = BlendMode::opaque;
+        p.alpha_to_coverage = false;
+        p.depth_bias_constant = p.depth_bias_slope = 0.0f;
+        p.line_width = 1.0f;
+        p.stencil.front.write_mask = p.stencil.back.write_mask = 0;
+        pipeline_.queue(call, target, stats);
+    };
+    for (const DrawItem& d : scratch_.opaque) wire(d);
+    for (const BlendedItem& b : scratch_.blended) wire(b.item);
+    pipeline_.flush(stats);
 }
 
 // The opaque parts in scene order, the sky drawn before the first that

@@ -44,7 +44,7 @@ void count_result(SetupResult r, FrameStats& stats) {
 }
 
 CullState cull_state(const PipelineState& s) {
-    const bool culls = s.topology == Topology::triangles;
+    const bool culls = s.topology == Topology::triangles && !s.wireframe;
     return {culls && s.cull == CullMode::back, culls && s.cull == CullMode::front, s.front_ccw};
 }
 
@@ -78,16 +78,22 @@ void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) co
             TriangleSetup& s = chunk.setups.emplace_back();
             r = setup_triangle(w, varyings, viewport_, cull_, s);
             if (r != SetupResult::ok) chunk.setups.pop_back();
+            else if (biased_) bias(s);
         }
         count_result(r, chunk.stats);
     }
 }
 
 
+void Assembler::bias(TriangleSetup& t) const {
+    add_depth_bias(t, dc_.state.depth_bias_constant, dc_.state.depth_bias_slope);
+}
+
 SetupResult Assembler::setup(const SetupVertex v[3], int orientation, SetupChunk& chunk) const {
     TriangleSetup& t = chunk.setups.emplace_back();
     const SetupResult r = setup_triangle(v, viewport_, cull_, t, orientation);
     if (r != SetupResult::ok) chunk.setups.pop_back();
+    else if (biased_) bias(t);
     return r;
 }
 
@@ -107,8 +113,9 @@ SetupResult Assembler::clipped(const SetupVertex v[3], uint32_t planes,
 
 SetupResult Assembler::quad(const ClipVertex* v, int n, SetupChunk& chunk) const {
     const size_t first = chunk.setups.size();
-    const SetupResult r = fan(v, n, kPlaneNear | kPlaneFar | kPlaneLeft | kPlaneRight |
-                                        kPlaneBottom | kPlaneTop, chunk);
+    uint32_t planes = 0;  // those a corner lies outside: most quads need none
+    for (int i = 0; i < n; ++i) planes |= outcode(v[i].position, guard_);
+    const SetupResult r = fan(v, n, planes, chunk);
     for (size_t i = first; i < chunk.setups.size(); ++i) chunk.setups[i].front_facing = true;
     return r;
 }

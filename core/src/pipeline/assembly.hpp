@@ -19,7 +19,8 @@
 
 namespace facet {
 
-// The back-face culling of a pipeline state (none for lines and points).
+// The back-face culling of a pipeline state's triangles (none for lines,
+// points and the wire, whose lines face the eye).
 CullState cull_state(const PipelineState& s);
 
 // Counts a primitive's fate in `stats`.
@@ -31,7 +32,9 @@ public:
     Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull,
               uint32_t first_vertex)
         : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()),
-          first_vertex_(first_vertex) {}
+          first_vertex_(first_vertex),
+          biased_((d.dc.state.depth_bias_constant != 0.0f || d.dc.state.depth_bias_slope != 0.0f) &&
+                  d.dc.state.topology == Topology::triangles && !d.dc.state.wireframe) {}
 
     // Assembles, clips and sets up `triangles` triangles from `idx` (the
     // mesh's indices) into `chunk`, counting them in chunk.stats.
@@ -41,8 +44,23 @@ public:
     // counted as triangles in.
     void run_lines(const uint32_t* idx, size_t count, SetupChunk& chunk) const;
     void run_points(const uint32_t* idx, size_t count, SetupChunk& chunk) const;
+    // The same for `count` edges of the wire (a MeshEdge each, edges.hpp)
+    // of the triangles of `indices` (the part's): an edge is a line where
+    // one of its triangles is kept by the state's culling.
+    // `edges` lies in the draw's list, which starts at `list`: an edge of
+    // more than two triangles, listed more than once, is drawn once.
+    void run_wire(const uint32_t* edges, size_t count, const uint32_t* list,
+                  const uint32_t* indices, SetupChunk& chunk) const;
 
 private:
+    // The line from mesh vertex a to b, cut to the depth range, as its
+    // rectangle (lines.cpp), its fate counted.
+    void line(uint32_t a, uint32_t b, SetupChunk& chunk) const;
+    // Whether the triangle of `triangle`'s three indices is kept by the
+    // state's culling, as seen from its clip-space corners.
+    bool kept_by_culling(const uint32_t* triangle) const;
+    bool kept_by_culling(const MeshEdge& e, const uint32_t* indices) const;  // either triangle
+    void bias(TriangleSetup& t) const;  // the state's depth bias, added
     // The convex polygon `v` (n corners: a line's rectangle, a point's
     // square) clipped and set up, front-facing whichever way it turns.
     SetupResult quad(const ClipVertex* v, int n, SetupChunk& chunk) const;
@@ -56,6 +74,7 @@ private:
     const CullState cull_;
     const double guard_;  // guard-band half-width, NDC
     const uint32_t first_vertex_;
+    const bool biased_;  // the state has a depth bias (add_depth_bias) for its triangles
 };
 
 }  // namespace facet

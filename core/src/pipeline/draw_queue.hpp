@@ -10,6 +10,7 @@
 
 #include "pipeline/bin.hpp"
 #include "pipeline/draw_context.hpp"
+#include "pipeline/edges.hpp"
 #include "pipeline/setup.hpp"
 
 #include "facet/pipeline.hpp"
@@ -44,6 +45,10 @@ struct Geometry {
     CullMode cull = CullMode::back;
     bool front_ccw = true;
     int subpixel_bits = 8;
+    Topology topology = Topology::triangles;
+    bool wireframe = false;
+    float line_width = 1.0f, point_size = 1.0f;
+    float depth_bias_constant = 0.0f, depth_bias_slope = 0.0f;
 
     Geometry() = default;
     explicit Geometry(const DrawCall& call);
@@ -64,8 +69,9 @@ struct QueuedDraw {
     std::vector<glm::vec4> clip;       // per vertex
     std::vector<WindowVertex> window;  // per vertex: projected, with its outcodes (vertex.cpp)
     std::vector<float> varyings;       // per vertex, varying_floats each
-    // Lines: the mesh's edges, a pair of vertex indices each; points: the
-    // vertices. Empty for triangles, which read the mesh's indices.
+    // Lines: the part's edges, a pair of vertex indices each; its wire: its
+    // edges (a MeshEdge each, edges.hpp); points: its vertices. Empty for
+    // triangles, which read the mesh's indices.
     std::vector<uint32_t> primitives;
 };
 
@@ -126,6 +132,7 @@ struct DrawQueue {
     std::vector<WorkerStats> worker_stats;
     std::vector<PendingClear> clears;  // at most one waiting per target
     PendingClear* clear_now = nullptr;  // that of `target`, while its tiles are drawn
+    EdgeCache edges;  // of the parts drawn as lines or wire
 };
 
 }  // namespace facet

@@ -254,25 +254,6 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
     }
 }
 
-// Wireframe: blends the wire colour over the lanes within about a pixel of
-// an edge. Lane i lies bary * area2 / length sub-pixels from an edge, where
-// bary is the weight of the vertex opposite it; both triangles of a shared
-// edge draw their own side, so the line is centred on the edge.
-void blend_wire(const DrawContext& dc, const TriangleSetup& t, const Block& b, float* color) {
-    float to_pixels[3];  // per edge k: pixels per unit of the weight of vertex k + 2
-    for (int k = 0; k < 3; ++k) {
-        const double length = std::hypot(double(t.edge[k].dx), double(t.edge[k].dy));
-        to_pixels[k] = float(double(t.area2) / (length * double(kSubpixelOne)));
-    }
-    for (int i = 0; i < N; ++i) {
-        const float d = std::min({b.bary[2][i] * to_pixels[0], b.bary[0][i] * to_pixels[1],
-                                  b.bary[1][i] * to_pixels[2]});
-        const float cover = std::clamp(2.0f * (1.0f - d), 0.0f, 1.0f);  // 1 up to 0.5 px
-        for (int c = 0; c < 3; ++c)
-            color[c * N + i] += cover * (dc.state.wire_color[c] - color[c * N + i]);
-    }
-}
-
 // x | y << 16 of each lane's pixel, for a block at (x, y).
 void lane_positions(const Block& b, int32_t* position) {
     for (int p = 0; p < kParts; ++p)
@@ -584,7 +565,7 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     // Packed batches write depth before they shade, and opaque colours only.
     // A block whose every lane passes is a full batch as it is: shaded on its
     // own, it is copied nowhere, and its colours are written a row at a time.
-    const bool pack = dc.packable && !msaa && !dc.state.wireframe && dc.state.color_write &&
+    const bool pack = dc.packable && !msaa && dc.state.color_write &&
                       dc.state.blend == BlendMode::opaque && mask != 0xFFFFu;
     if (!pack && !packed.empty()) packed.flush(stats);  // what came first is written first
     if (!dc.state.color_write && !dc.may_discard && !dc.state.alpha_to_coverage) {
@@ -592,6 +573,14 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
         if (msaa) write_samples(dc, b, sd, nullptr, mask);
         else write_pixels(dc, b, z, nullptr, mask);
         stats.fragments_depth_only += simd::popcount(mask);
+        return;
+    }
+    if (dc.state.wireframe) {  // the wire's colour, with no shader (PipelineState::wireframe)
+        alignas(64) float color[4 * N];
+        for (int c = 0; c < 4; ++c)
+            std::fill(color + c * N, color + (c + 1) * N, c < 3 ? dc.state.wire_color[c] : 1.0f);
+        if (msaa) write_samples(dc, b, sd, color, mask);
+        else write_pixels(dc, b, z, color, mask);
         return;
     }
 
@@ -631,7 +620,6 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     call_plugin(dc.shader, PluginEntry::fragment, dc.fragment, dc.abi, &batch);
     stats.blocks_shaded += 1;
     stats.fragments_shaded += simd::popcount(mask);
-    if (dc.state.wireframe && dc.state.color_write) blend_wire(dc, t, b, color);
     uint32_t kept = batch.mask & mask;  // a shader may only clear bits
     if (dc.state.alpha_to_coverage) kept = alpha_to_coverage(b, color + 3 * N, n_samples, kept, sd);
     if (late) {

@@ -5,6 +5,7 @@
 // a triangle, and set up as two triangles.
 #include "pipeline/assembly.hpp"
 
+#include "pipeline/edges.hpp"
 #include "pipeline/vertex.hpp"
 
 #include <glm/glm.hpp>
@@ -48,40 +49,94 @@ bool finite(const glm::dvec4& p) {
 
 }  // namespace
 
-void Assembler::run_lines(const uint32_t* idx, size_t count, SetupChunk& chunk) const {
+void Assembler::line(uint32_t a, uint32_t b, SetupChunk& chunk) const {
     const int floats = int(dc_.varying_floats);
+    ClipVertex end[2];
+    const uint32_t at[2] = {a - first_vertex_, b - first_vertex_};
+    for (int k = 0; k < 2; ++k) {
+        end[k].position = glm::dvec4(draw_.clip[at[k]]);
+        std::memcpy(end[k].varyings, draw_.varyings.data() + size_t(at[k]) * dc_.vertex_floats,
+                    sizeof(float) * size_t(floats));
+    }
+    if (!finite(end[0].position) || !finite(end[1].position)) {
+        ++chunk.stats.triangles_invalid;
+        return;
+    }
+    if (!clip_depth(end[0], end[1], floats)) {
+        ++chunk.stats.triangles_culled_frustum;
+        return;
+    }
+    const glm::dvec2 p = to_window(end[0].position, viewport_);
+    const glm::dvec2 q = to_window(end[1].position, viewport_);
+    const double length = glm::length(q - p);
+    if (!(length > 0.0)) {  // no direction: a line of no length covers nothing
+        ++chunk.stats.triangles_culled_degenerate;
+        return;
+    }
     const double half = 0.5 * double(dc_.state.line_width);
+    const glm::dvec2 across = glm::dvec2(p.y - q.y, q.x - p.x) * (half / length);
+    ClipVertex corner[4] = {end[0], end[0], end[1], end[1]};
+    corner[0].position = from_window(p + across, end[0].position, viewport_);
+    corner[1].position = from_window(p - across, end[0].position, viewport_);
+    corner[2].position = from_window(q - across, end[1].position, viewport_);
+    corner[3].position = from_window(q + across, end[1].position, viewport_);
+    count_result(quad(corner, 4, chunk), chunk.stats);
+}
+
+void Assembler::run_lines(const uint32_t* idx, size_t count, SetupChunk& chunk) const {
     for (size_t l = 0; l < count; ++l, idx += 2) {
         ++chunk.stats.triangles_in;
-        ClipVertex end[2];
-        for (int k = 0; k < 2; ++k) {
-            const uint32_t i = idx[k] - first_vertex_;
-            end[k].position = glm::dvec4(draw_.clip[i]);
-            std::memcpy(end[k].varyings, draw_.varyings.data() + size_t(i) * dc_.vertex_floats,
-                        sizeof(float) * size_t(floats));
+        line(idx[0], idx[1], chunk);
+    }
+}
+
+// The sign of the determinant of a triangle's clip-space x, y and w gives
+// its facing wherever its corners lie around w = 0 (Olano and Greer, 1997):
+// it is the sign of its area in NDC (y up) times that of w0 w1 w2, and a
+// triangle with a corner behind the eye is seen, where it is, turned as
+// the determinant says.
+bool Assembler::kept_by_culling(const uint32_t* triangle) const {
+    glm::dvec3 r[3];
+    for (int k = 0; k < 3; ++k) {
+        const glm::vec4& c = draw_.clip[triangle[k] - first_vertex_];
+        r[k] = glm::dvec3(c.x, c.y, c.w);
+    }
+    const double det = glm::dot(r[0], glm::cross(r[1], r[2]));
+    if (!(det != 0.0)) return false;  // edge-on (or NaN): the triangle draws nothing
+    const bool front = (det > 0.0) == cull_.front_ccw;
+    return !((front && dc_.state.cull == CullMode::front) ||
+             (!front && dc_.state.cull == CullMode::back));
+}
+
+bool Assembler::kept_by_culling(const MeshEdge& e, const uint32_t* indices) const {
+    return kept_by_culling(indices + e.triangle[0]) ||
+           (e.triangle[1] != kNoTriangle && kept_by_culling(indices + e.triangle[1]));
+}
+
+void Assembler::run_wire(const uint32_t* edges, size_t count, const uint32_t* list,
+                         const uint32_t* indices, SetupChunk& chunk) const {
+    const auto edge = [](const uint32_t* at) {
+        MeshEdge e;
+        std::memcpy(&e, at, sizeof e);
+        return e;
+    };
+    for (size_t l = 0; l < count; ++l, edges += 4) {
+        ++chunk.stats.triangles_in;
+        const MeshEdge e = edge(edges);
+        bool shown = kept_by_culling(e, indices);
+        // An edge listed again (more than two triangles) is drawn by the
+        // first of its listings with a triangle kept.
+        for (const uint32_t* before = edges; shown && before != list;) {
+            before -= 4;
+            const MeshEdge b = edge(before);
+            if (b.a != e.a || b.b != e.b) break;
+            shown = !kept_by_culling(b, indices);
         }
-        if (!finite(end[0].position) || !finite(end[1].position)) {
-            ++chunk.stats.triangles_invalid;
+        if (!shown) {
+            ++chunk.stats.triangles_culled_backface;
             continue;
         }
-        if (!clip_depth(end[0], end[1], floats)) {
-            ++chunk.stats.triangles_culled_frustum;
-            continue;
-        }
-        const glm::dvec2 a = to_window(end[0].position, viewport_);
-        const glm::dvec2 b = to_window(end[1].position, viewport_);
-        const double length = glm::length(b - a);
-        if (!(length > 0.0)) {  // no direction: a line of no length covers nothing
-            ++chunk.stats.triangles_culled_degenerate;
-            continue;
-        }
-        const glm::dvec2 across = glm::dvec2(a.y - b.y, b.x - a.x) * (half / length);
-        ClipVertex corner[4] = {end[0], end[0], end[1], end[1]};
-        corner[0].position = from_window(a + across, end[0].position, viewport_);
-        corner[1].position = from_window(a - across, end[0].position, viewport_);
-        corner[2].position = from_window(b - across, end[1].position, viewport_);
-        corner[3].position = from_window(b + across, end[1].position, viewport_);
-        count_result(quad(corner, 4, chunk), chunk.stats);
+        line(e.a, e.b, chunk);
     }
 }
 

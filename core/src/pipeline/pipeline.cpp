@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <thread>
 #include <string>
 
@@ -51,29 +52,51 @@ void drop_queued(DrawQueue& g) {
     g.triangles_queued = 0;
 }
 
-// What a draw of `part` as lines or points reads: its triangles' edges, each
-// once (a pair of vertex indices, the lower first, in order), or its
-// vertices.
-void list_primitives(const Mesh& mesh, const MeshPart& part, Topology topology,
+// How a draw reads its part: as triangles (three mesh indices each), its
+// wire (a MeshEdge each, the part's edges), lines (two vertex indices each,
+// its edges once) or points (one each, its vertices).
+enum class Primitives { triangles, wire, lines, points };
+
+Primitives primitives_of(const PipelineState& s) {
+    if (s.wireframe) return Primitives::wire;
+    switch (s.topology) {
+        case Topology::triangles: return Primitives::triangles;
+        case Topology::lines: return Primitives::lines;
+        case Topology::points: return Primitives::points;
+    }
+    return Primitives::triangles;
+}
+
+size_t indices_per(Primitives p) {
+    switch (p) {
+        case Primitives::triangles: return 3;
+        case Primitives::wire: return sizeof(MeshEdge) / sizeof(uint32_t);
+        case Primitives::lines: return 2;
+        case Primitives::points: return 1;
+    }
+    return 3;
+}
+
+// What a draw of `part` as its wire, lines or points reads (Primitives).
+void list_primitives(const Mesh& mesh, const MeshPart& part, Primitives kind, EdgeCache& cache,
                      std::vector<uint32_t>& out) {
     out.clear();
-    if (topology == Topology::points) {
+    if (kind == Primitives::points) {
         for (uint32_t v = 0; v < part.vertex_count; ++v) out.push_back(part.first_vertex + v);
         return;
     }
-    std::vector<uint64_t> edges;
-    edges.reserve(size_t(part.index_count));
-    const uint32_t* idx = mesh.indices.data() + part.first_index;
-    for (uint32_t t = 0; t + 2 < part.index_count; t += 3)
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = idx[t + uint32_t(k)], b = idx[t + uint32_t((k + 1) % 3)];
-            if (a != b) edges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
-        }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (const uint64_t e : edges) {
-        out.push_back(uint32_t(e >> 32));
-        out.push_back(uint32_t(e));
+    const std::vector<MeshEdge>& edges =
+        cache.edges(mesh.indices.data() + part.first_index, part.index_count);
+    if (kind == Primitives::wire) {
+        static_assert(sizeof(MeshEdge) == 4 * sizeof(uint32_t));
+        out.resize(edges.size() * 4);
+        std::memcpy(out.data(), edges.data(), edges.size() * sizeof(MeshEdge));
+        return;
+    }
+    for (size_t i = 0; i < edges.size(); ++i) {
+        if (i > 0 && edges[i].a == edges[i - 1].a && edges[i].b == edges[i - 1].b) continue;
+        out.push_back(edges[i].a);
+        out.push_back(edges[i].b);
     }
 }
 
@@ -94,6 +117,13 @@ void set_context(QueuedDraw& d, const DrawCall& call, Framebuffer& target, Isa i
     // Without an AO pass a plugin of ABI 1.3 on gets a NULL ao, which it
     // reads as full visibility: nothing is gathered or packed for it.
     if (!d.dc.ao && !d.dc.ao_grid && shader.desc().abi_minor >= 3) d.dc.needs_ao = false;
+    if (call.state.wireframe) {  // the wire's colour is the state's: no fragment shader runs
+        d.dc.varying_floats = 0;
+        d.dc.sample_textures = d.dc.packable = d.dc.may_discard = d.dc.needs_ao = false;
+        d.dc.state.alpha_to_coverage = false;  // no alpha to pick samples by
+        d.dc.ao = nullptr;
+        d.dc.ao_grid = nullptr;
+    }
     d.dc.environment = call.environment;
     d.dc.first_row = call.image_height > 0 ? call.first_row : 0;
     d.abi = make_abi_draw(call, target.width(),
@@ -283,13 +313,13 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
 
     const CullState cull = cull_state(call.state);
     const Assembler assembler(d, viewport, cull, part.first_vertex);
-    const Topology topology = call.state.topology;
-    if (topology != Topology::triangles) list_primitives(mesh, part, topology, d.primitives);
-    // A primitive's indices: three for a triangle, two for a line, one for a point.
-    const size_t per = topology == Topology::triangles ? 3 : topology == Topology::lines ? 2 : 1;
-    const uint32_t* indices =
-        per == 3 ? mesh.indices.data() + part.first_index : d.primitives.data();
-    const size_t triangles = per == 3 ? part.triangle_count() : d.primitives.size() / per;
+    const Primitives kind = primitives_of(call.state);
+    if (kind != Primitives::triangles) list_primitives(mesh, part, kind, g.edges, d.primitives);
+    const size_t per = indices_per(kind);
+    const uint32_t* part_indices = mesh.indices.data() + part.first_index;
+    const uint32_t* indices = kind == Primitives::triangles ? part_indices : d.primitives.data();
+    const size_t triangles =
+        kind == Primitives::triangles ? part.triangle_count() : d.primitives.size() / per;
     for (size_t first = 0; first < triangles; first += kTriangleBatch) {
         if (stopped()) return drop_queued(g);
         const size_t count = std::min(kTriangleBatch, triangles - first);
@@ -313,9 +343,15 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
             chunk.stats = {};
             const size_t begin = first + size_t(c) * kSetupChunk;
             const size_t n = std::min(kSetupChunk, first + count - begin);
-            if (per == 3) assembler.run(indices + 3 * begin, n, chunk);
-            else if (per == 2) assembler.run_lines(indices + 2 * begin, n, chunk);
-            else assembler.run_points(indices + begin, n, chunk);
+            const uint32_t* first_primitive = indices + per * begin;
+            switch (kind) {
+                case Primitives::triangles: assembler.run(first_primitive, n, chunk); break;
+                case Primitives::wire:
+                    assembler.run_wire(first_primitive, n, indices, part_indices, chunk);
+                    break;
+                case Primitives::lines: assembler.run_lines(first_primitive, n, chunk); break;
+                case Primitives::points: assembler.run_points(first_primitive, n, chunk); break;
+            }
         });
         g.chunks_used += chunks;
         g.triangles_queued += count;
@@ -379,7 +415,10 @@ Geometry::Geometry(const DrawCall& call)
       light_count(call.light_count), shadows(call.shadows), time(call.time),
       image_height(call.image_height),
       first_row(call.first_row), cull(call.state.cull), front_ccw(call.state.front_ccw),
-      subpixel_bits(call.state.subpixel_bits) {
+      subpixel_bits(call.state.subpixel_bits), topology(call.state.topology),
+      wireframe(call.state.wireframe), line_width(call.state.line_width),
+      point_size(call.state.point_size), depth_bias_constant(call.state.depth_bias_constant),
+      depth_bias_slope(call.state.depth_bias_slope) {
     const auto take = [&](const MeshPart& part) {
         first_index = part.first_index, index_count = part.index_count;
         first_vertex = part.first_vertex, vertex_count = part.vertex_count;

@@ -160,4 +160,26 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
     return SetupResult::ok;
 }
 
+void add_depth_bias(TriangleSetup& t, double constant, double slope) {
+    // The depth's plane: z = z0 + w1 (z1 - z0) + w2 (z2 - z0), the weights
+    // edge[2] and edge[0] over area2 (edge k weighs vertex k + 2), each
+    // growing by -dy per sub-pixel in x and by dx in y.
+    const double dz1 = double(t.z[1]) - t.z[0], dz2 = double(t.z[2]) - t.z[0];
+    const double per_pixel = double(kSubpixelOne) / double(t.area2);
+    const double dzdx = (-double(t.edge[2].dy) * dz1 - double(t.edge[0].dy) * dz2) * per_pixel;
+    const double dzdy = (double(t.edge[2].dx) * dz1 + double(t.edge[0].dx) * dz2) * per_pixel;
+    const double m = std::max(std::abs(dzdx), std::abs(dzdy));
+    const float largest = std::max({std::abs(t.z[0]), std::abs(t.z[1]), std::abs(t.z[2])});
+    int e = 0;  // largest = f 2^e, f in [0.5, 1): its float exponent is e - 1
+    std::frexp(largest > 0.0f ? largest : std::numeric_limits<float>::min(), &e);
+    const double r = std::ldexp(1.0, e - 1 - 23);
+    const double bias = constant * r + slope * m;
+    if (!std::isfinite(bias)) return;
+    // Held inside 0..1 (unless already at an end): a surface pushed back
+    // onto the far depth would be taken for the sky's background.
+    constexpr double kLow = std::numeric_limits<float>::min(), kHigh = 1.0 - 0x1p-24;
+    for (float& z : t.z)
+        z = float(std::clamp(double(z) + bias, std::min(double(z), kLow), std::max(double(z), kHigh)));
+}
+
 }  // namespace facet

@@ -141,6 +141,12 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
                            const Viewport& viewport, const CullState& cull, TriangleSetup& out,
                            int orientation = 0);
 
+// Moves a set-up triangle's window depth by Vulkan's depth bias
+// (PipelineState::depth_bias_constant and depth_bias_slope), its corners
+// held inside 0..1: no nearer than 1 - 2^-24 and no farther than the
+// smallest normal float, unless a corner already lay beyond.
+void add_depth_bias(TriangleSetup& t, double constant, double slope);
+
 // Window position of a clip-space point (pixel units, y down), as setup uses.
 glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport);
 
