@@ -1,6 +1,7 @@
 #include "pipeline/bin.hpp"
 
 #include <algorithm>
+#include <climits>
 
 namespace facet {
 
@@ -29,30 +30,62 @@ void Bins::resize(int width, int height) {
     rows_ = tiles_across(height);
     // Only ever grows: a shadow map's many tiles keep their lists' storage
     // while the (smaller) main target uses the first few.
-    if (tiles_.size() < size_t(columns_) * rows_) tiles_.resize(size_t(columns_) * rows_);
+    if (tiles_.size() < size_t(columns_) * rows_) {
+        tiles_.resize(size_t(columns_) * rows_);
+        counts_.resize(size_t(columns_) * rows_);
+    }
 }
 
-void Bins::bin(const std::deque<SetupChunk>& chunks, int count) {
+void Bins::bin_chunk(SetupChunk& chunk) const {
+    // Each (tile, setup) a setup touches, in order, then a counting sort of
+    // them by tile over the range of tiles the chunk touches.
+    std::vector<uint64_t>& touches = chunk.touches;
+    touches.clear();
+    int lo = INT32_MAX, hi = -1;
+    const std::vector<TriangleSetup>& setups = chunk.setups;
+    for (size_t i = 0; i < setups.size(); ++i) {
+        const TriangleSetup& t = setups[i];
+        const int tx0 = t.x0 / kTileSize, tx1 = t.x1 / kTileSize;
+        const int ty0 = t.y0 / kTileSize, ty1 = t.y1 / kTileSize;
+        const bool one_tile = tx0 == tx1 && ty0 == ty1;
+        for (int ty = ty0; ty <= ty1; ++ty)
+            for (int tx = tx0; tx <= tx1; ++tx) {
+                // Large triangles skip the tiles of their box they miss.
+                if (!one_tile && !overlaps(t, tx * kTileSize, ty * kTileSize,
+                                           tx * kTileSize + kTileSize - 1,
+                                           ty * kTileSize + kTileSize - 1))
+                    continue;
+                const int tile = ty * columns_ + tx;
+                touches.push_back(uint64_t(tile) << 32 | i);
+                lo = std::min(lo, tile);
+                hi = std::max(hi, tile);
+            }
+    }
+    chunk.tile0 = lo;
+    chunk.tile1 = hi;
+    if (hi < lo) return;
+    chunk.first.assign(size_t(hi - lo + 2), 0u);
+    for (const uint64_t e : touches) ++chunk.first[size_t((e >> 32) - uint64_t(lo)) + 1];
+    for (size_t k = 1; k < chunk.first.size(); ++k) chunk.first[k] += chunk.first[k - 1];
+    chunk.binned.resize(touches.size());
+    // Each setup to the next place of its tile, which moves each tile's
+    // start to the next one's; then back by one tile.
+    for (const uint64_t e : touches)
+        chunk.binned[chunk.first[size_t((e >> 32) - uint64_t(lo))]++] = uint16_t(e);
+    std::copy_backward(chunk.first.begin(), chunk.first.end() - 1, chunk.first.end());
+    chunk.first[0] = 0;
+}
+
+void Bins::gather(const std::deque<SetupChunk>& chunks, int count) {
     for (int c = 0; c < count; ++c) {
-        const std::vector<TriangleSetup>& setups = chunks[size_t(c)].setups;
-        for (size_t i = 0; i < setups.size(); ++i) {
-            const TriangleSetup& t = setups[i];
-            const uint32_t entry = uint32_t(c) << 16 | uint32_t(i);
-            const int tx0 = t.x0 / kTileSize, tx1 = t.x1 / kTileSize;
-            const int ty0 = t.y0 / kTileSize, ty1 = t.y1 / kTileSize;
-            const bool one_tile = tx0 == tx1 && ty0 == ty1;
-            for (int ty = ty0; ty <= ty1; ++ty)
-                for (int tx = tx0; tx <= tx1; ++tx) {
-                    // Large triangles skip the tiles of their box they miss.
-                    if (!one_tile && !overlaps(t, tx * kTileSize, ty * kTileSize,
-                                               tx * kTileSize + kTileSize - 1,
-                                               ty * kTileSize + kTileSize - 1))
-                        continue;
-                    const int tile = ty * columns_ + tx;
-                    std::vector<uint32_t>& list = tiles_[size_t(tile)];
-                    if (list.empty()) busy_.push_back(tile);
-                    list.push_back(entry);
-                }
+        const SetupChunk& chunk = chunks[size_t(c)];
+        for (int tile = chunk.tile0; tile <= chunk.tile1; ++tile) {
+            const uint32_t* first = chunk.first.data() + (tile - chunk.tile0);
+            if (first[1] == first[0]) continue;
+            std::vector<uint32_t>& list = tiles_[size_t(tile)];
+            if (list.empty()) busy_.push_back(tile);
+            list.push_back(uint32_t(c));
+            counts_[size_t(tile)] += first[1] - first[0];
         }
     }
     order_busy();
@@ -62,13 +95,16 @@ void Bins::bin(const std::deque<SetupChunk>& chunks, int count) {
 // the same image, tiles being independent). std::sort allocates nothing.
 void Bins::order_busy() {
     std::sort(busy_.begin(), busy_.end(), [&](int a, int b) {
-        const size_t na = tiles_[size_t(a)].size(), nb = tiles_[size_t(b)].size();
+        const uint32_t na = counts_[size_t(a)], nb = counts_[size_t(b)];
         return na != nb ? na > nb : a < b;
     });
 }
 
 void Bins::clear() {
-    for (int tile : busy_) tiles_[size_t(tile)].clear();
+    for (int tile : busy_) {
+        tiles_[size_t(tile)].clear();
+        counts_[size_t(tile)] = 0;
+    }
     busy_.clear();
 }
 

@@ -21,7 +21,26 @@ void sky_rows(const SkyRows& sky, int first, int count);  // sky_kernels.cpp
 
 namespace {
 
-// Rasterizes and shades one tile's triangles, in submission order.
+// One of a tile's triangles: rasterized and shaded, or its depth drawn.
+void draw_triangle(const DrawContext& dc, const TriangleSetup& t, int samples, int x0, int y0,
+                   int x1, int y1, PackedBatch& packed, TileAo& ao, FrameStats& stats) {
+    const BlockCoverage cover(t, samples);
+    if (cover.narrow() && depth_only(dc)) {
+        if (!packed.empty()) packed.flush(stats);  // what came first is written first
+        draw_depth_only(dc, cover, t, x0, y0, x1, y1, stats);
+        return;
+    }
+    TriangleVaryings tv;
+    bool prepared = false;  // many triangles cover nothing in a tile
+    rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
+        if (!prepared) prepare_varyings(dc, t, tv);
+        prepared = true;
+        shade_block(dc, t, tv, b, packed, ao, stats);
+    });
+}
+
+// Rasterizes and shades one tile's triangles, in submission order: chunk
+// by chunk, and in each its setups that touch the tile (bin.hpp).
 void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     int x0, y0, x1, y1;
     g.bins.rect(tile, x0, y0, x1, y1);
@@ -35,23 +54,13 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     PackedBatch packed;
     alignas(64) static thread_local float visibility[kTileSize * kTileSize];  // the tile's AO
     TileAo ao{x0, y0, x1, y1, false, visibility};
-    for (const uint32_t entry : g.bins.entries(tile)) {
-        const SetupChunk& chunk = g.chunks[entry >> 16];
+    for (const uint32_t c : g.bins.chunks(tile)) {
+        const SetupChunk& chunk = g.chunks[c];
         const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
-        const TriangleSetup& t = chunk.setups[entry & 0xFFFFu];
-        const BlockCoverage cover(t, samples);
-        if (cover.narrow() && depth_only(dc)) {
-            if (!packed.empty()) packed.flush(stats);  // what came first is written first
-            draw_depth_only(dc, cover, t, x0, y0, x1, y1, stats);
-            continue;
-        }
-        TriangleVaryings tv;
-        bool prepared = false;  // many triangles cover nothing in a tile
-        rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
-            if (!prepared) prepare_varyings(dc, t, tv);
-            prepared = true;
-            shade_block(dc, t, tv, b, packed, ao, stats);
-        });
+        const uint32_t* range = chunk.first.data() + (tile - chunk.tile0);
+        for (uint32_t i = range[0]; i < range[1]; ++i)
+            draw_triangle(dc, chunk.setups[chunk.binned[i]], samples, x0, y0, x1, y1, packed, ao,
+                          stats);
     }
     packed.flush(stats);
 }

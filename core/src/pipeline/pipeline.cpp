@@ -157,8 +157,7 @@ void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
                       const Pipeline& stop, FrameStats& stats, bool keep = false) {
     if (g.chunks_used == 0) return;
     if (stop.stopped()) return drop_queued(g);
-    g.bins.resize(g.target->width(), g.target->height());
-    g.bins.bin(g.chunks, g.chunks_used);
+    g.bins.gather(g.chunks, g.chunks_used);  // each chunk was binned as it was set up
     rasterize_binned(g, pool, kernels, stop, stats);
     if (keep && !stop.stopped()) {
         g.kept = true;
@@ -299,6 +298,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
                         " lies outside its image of " + std::to_string(call.image_height) +
                         " rows");
     set_context(d, call, target, kernels_->isa);
+    g.bins.resize(target.width(), target.height());  // the grid each chunk is binned on
     const Viewport viewport{target.width(), image_height,      target.samples(),
                             call.state.subpixel_bits, d.dc.first_row, target.height()};
     const MeshPart part = call.part ? *call.part : mesh.whole_part();
@@ -352,6 +352,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
                 case Primitives::lines: assembler.run_lines(first_primitive, n, chunk); break;
                 case Primitives::points: assembler.run_points(first_primitive, n, chunk); break;
             }
+            g.bins.bin_chunk(chunk);
         });
         g.chunks_used += chunks;
         g.triangles_queued += count;

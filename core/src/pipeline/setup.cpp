@@ -12,14 +12,21 @@ namespace {
 
 // Rounds a window coordinate to the nearest multiple of 1 / 2^bits pixel
 // (halves away from zero), in units of the kSubpixelBits grid. NaN goes to
-// the limit rather than to an undefined integer.
+// the limit rather than to an undefined integer. No call into libm (the
+// core is built for the baseline, where fmin and trunc are calls): this
+// runs for every vertex.
 int64_t snap(double window, int bits) {
     const double limit = kGuardBandPixels * 2.0;  // never reached after clipping
-    // Scaling by a power of two is exact; so is v - trunc(v) below 2^52.
-    const double v = std::fmax(-limit, std::fmin(window, limit)) * double(int64_t(1) << bits);
+    double c = window < limit ? window : limit;   // NaN: the limit
+    c = c > -limit ? c : -limit;
+    // Scaling by a power of two is exact; |v| < 2^30, so converting it to
+    // an integer truncates it exactly, and so is v - t.
+    const double v = c * double(int64_t(1) << bits);
+    const int64_t t = int64_t(v);
+    const double f = v - double(t);
     // Without a branch: which way a coordinate rounds is a coin toss.
-    const double r = std::trunc(v) + std::copysign(double(std::abs(v - std::trunc(v)) >= 0.5), v);
-    return int64_t(r) * (int64_t(1) << (kSubpixelBits - bits));
+    const int64_t r = t + int64_t(f >= 0.5) - int64_t(f <= -0.5);
+    return r * (int64_t(1) << (kSubpixelBits - bits));
 }
 
 // The floor of a setup's scaled 1/w (see setup_triangle).
