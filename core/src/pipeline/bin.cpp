@@ -1,7 +1,7 @@
 #include "pipeline/bin.hpp"
 
 #include <algorithm>
-#include <climits>
+#include <cstdint>
 
 namespace facet {
 

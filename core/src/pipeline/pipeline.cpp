@@ -1,8 +1,9 @@
 // The Pipeline (facet/pipeline.hpp): queued draws go through the vertex
 // stage (vertex.cpp) and primitive assembly, clipping and setup
-// (assembly.cpp) in parallel chunks as they are queued; at flush() every
-// queued triangle is binned into tiles (bin.cpp) and the tiles rasterized
-// and shaded in parallel by the pipeline's kernels (kernels.hpp:
+// (assembly.cpp) in parallel chunks as they are queued, each chunk binning
+// its setups into tiles as it ends (bin.cpp); at flush() each tile gathers
+// the chunks that touch it, and the tiles are rasterized and shaded in
+// parallel by the pipeline's kernels (kernels.hpp:
 // rasterize.cpp, fragment.cpp). Triangles go through in batches of at most
 // kTriangleBatch, which bounds memory however large the mesh. A flush may
 // keep what it drew (flush(stats, true)) for redraw(): the same triangles
@@ -39,10 +40,10 @@ constexpr size_t kTriangleBatch = 32 * kSetupChunk;   // triangles binned at onc
 constexpr int kMaxQueuedDraws = 256;                   // draws binned at once, at most
 // Every queued draw's last chunk may be partly full.
 constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;
-// Bins hold chunk << 16 | index: both must fit in 16 bits (a clipped
-// triangle becomes at most kMaxClipVertices - 2 setups).
-static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
-static_assert(kMaxChunks < (1 << 16));
+// A chunk's setups are numbered in 16 bits (SetupChunk::binned): a clipped
+// triangle becomes at most kMaxClipVertices - 2 setups, and a line's or
+// point's quadrilateral (two triangles) twice that.
+static_assert(kSetupChunk * 2 * (kMaxClipVertices - 2) < (1u << 16));
 
 // Forgets the queued triangles, drawn or not, and any kept.
 void drop_queued(DrawQueue& g) {
@@ -150,7 +151,7 @@ void rasterize_binned(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
     for (const DrawQueue::WorkerStats& w : g.worker_stats) stats += w.stats;
 }
 
-// Bins every queued triangle and rasterizes them (rasterize_binned). The
+// Gathers the queued chunks into tiles and rasterizes them (rasterize_binned). The
 // queued draws stay (a draw may have more triangles to come); with `keep`,
 // the triangles and their bins too, for Pipeline::redraw.
 void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,

@@ -87,11 +87,14 @@ glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
 bool project_vertex(const glm::dvec4& clip, const Viewport& viewport, WindowVertex& out) {
     if (!(clip.w > 0.0)) return false;
     const int bits = std::clamp(viewport.subpixel_bits, 1, kSubpixelBits);
-    const glm::dvec2 p = to_window(clip, viewport);
+    const double inv_w = 1.0 / clip.w;  // as to_window
+    const glm::dvec2 p((clip.x * inv_w + 1.0) * 0.5 * viewport.width,
+                       (1.0 - clip.y * inv_w) * 0.5 * viewport.height);
     out.x = int32_t(snap(p.x, bits));
     out.y = int32_t(snap(p.y, bits) - int64_t(viewport.first_row) * kSubpixelOne);
     out.z = float(clip.z / clip.w);
     out.w = clip.w;
+    out.inv_w = inv_w;
     return true;
 }
 
@@ -134,7 +137,7 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
         const int a = order[k], b = order[(k + 1) % 3];
         out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
         out.z[k] = v[a]->z;
-        out.inv_w[k] = std::max(float(1.0 / v[a]->w * scale), kMinInverseW);
+        out.inv_w[k] = std::max(float(v[a]->inv_w * scale), kMinInverseW);
         out.varyings[k] = varyings[a];
     }
     out.area2 = area2 < 0 ? -area2 : area2;

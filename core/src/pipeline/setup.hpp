@@ -131,6 +131,7 @@ struct WindowVertex {
     float z;        // window depth z / w
     uint32_t user;  // free for the caller (vertex.cpp keeps clip outcodes here)
     double w;       // clip w, > 0
+    double inv_w;   // 1 / w: divided once a vertex, not once a triangle that shares it
 };
 
 // Projects a clip-space vertex inside the guard band; false when w <= 0.
