@@ -30,7 +30,12 @@
 //    at most 1;
 // and for the single draw of all: every sample's count and every statistic
 // is the sum of the separate draws'; drawn with the stencil on, the same
-// colours, and every sample's stencil value its count.
+// colours, and every sample's stencil value its count. Last, their wire
+// (PipelineState::wireframe), counted the same way: one line in for each
+// of the triangles' edges, each ending in one outcome; and where every
+// vertex lies within the depth range and near the view (nothing cut), no
+// sample covered farther than `tol` outside every edge's 1-pixel
+// rectangle, nor more often than the rectangles that hold it.
 #include "support.hpp"
 
 #include <facet/framebuffer.hpp>
@@ -285,9 +290,9 @@ Mesh mesh_of(const std::vector<Triangle>& triangles) {
 }
 
 // With `stencil`, into a target with a stencil buffer, each covered sample
-// also adds 1 to its stencil value.
+// also adds 1 to its stencil value; with `wire`, the mesh's wire is drawn.
 FrameStats draw(Pipeline& pipeline, const Mesh& mesh, const Config& c, Framebuffer& fb,
-                bool stencil = false) {
+                bool stencil = false, bool wire = false) {
     static const std::shared_ptr<ShaderPlugin> shader =
         ShaderPlugin::from_descriptor(sdk::describe<ClipShader>(), "fuzz");
     fb.clear(glm::vec4(0.0f), 0.0f, 0);
@@ -302,6 +307,8 @@ FrameStats draw(Pipeline& pipeline, const Mesh& mesh, const Config& c, Framebuff
     call.state.subpixel_bits = c.subpixel_bits;
     call.state.stencil.enabled = stencil;
     call.state.stencil.front.pass = call.state.stencil.back.pass = StencilOp::increment;
+    call.state.wireframe = wire;
+    call.state.wire_color = glm::vec3(1.0f);  // red 1: counts as the shader's does
     FrameStats stats;
     pipeline.draw(call, fb, stats);
     return stats;
@@ -400,6 +407,49 @@ void check_sums(const FrameStats& all, const FrameStats& sum) {
     check(same, "drawn together, the triangles' statistics differ from the sum of their own");
 }
 
+// How far p lies inside the 1-pixel rectangle around segment a-b (no caps).
+double inside_line(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+    const glm::dvec2 d = b - a;
+    const double length = glm::length(d);
+    if (!(length > 0.0)) return -1.0;  // covers nothing
+    const glm::dvec2 along = d / length, across(-along.y, along.x);
+    const double s = glm::dot(p - a, along), t = glm::dot(p - a, across);
+    return std::min({s, length - s, 0.5 - std::abs(t)});
+}
+
+void check_wire(Pipeline& pipeline, const std::vector<Triangle>& triangles, const Config& c) {
+    Framebuffer fb(c.width, c.height, ColorFormat::rgba32f, c.samples);
+    const FrameStats st = draw(pipeline, mesh_of(triangles), c, fb, false, true);
+    check(st.triangles_in == 3 * triangles.size(), "the wire has a line in for other than each edge");
+    check(outcomes(st) == st.triangles_in, "a wire line did not end in exactly one outcome");
+    // The window position of every corner, where none is cut.
+    std::vector<glm::dvec2> at;
+    for (const Triangle& t : triangles)
+        for (const glm::vec4& v : t) {
+            const glm::dvec4 p(v);
+            if (!(p.w > 0.0 && p.z >= 0.0 && p.z <= p.w)) return;
+            const glm::dvec2 w((p.x / p.w + 1.0) * 0.5 * c.width, (1.0 - p.y / p.w) * 0.5 * c.height);
+            if (!(std::abs(w.x) < 4096.0 && std::abs(w.y) < 4096.0)) return;
+            at.push_back(w);
+        }
+    const double tol = 1.5 * std::ldexp(1.0, -c.subpixel_bits);  // as for triangles
+    const std::vector<glm::vec4> counts = read_samples(fb);
+    size_t i = 0;
+    for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x)
+            for (int s = 0; s < c.samples; ++s, ++i) {
+                const glm::dvec2 p = glm::dvec2(x + 0.5, y + 0.5) +
+                                     glm::dvec2(sample_offset(c.samples, s)) / 16.0;
+                int maybe = 0;
+                for (size_t k = 0; k < at.size(); ++k) {
+                    const size_t next = k % 3 == 2 ? k - 2 : k + 1;
+                    maybe += inside_line(p, at[k], at[next]) > -tol;
+                }
+                check(counts[i].r <= float(maybe),
+                      "the wire covers a sample outside its edges' rectangles, or too often");
+            }
+}
+
 }  // namespace
 
 void raster(const uint8_t* data, size_t size) {
@@ -448,6 +498,7 @@ void raster(const uint8_t* data, size_t size) {
             for (int s = 0; s < c.samples; ++s, ++i)
                 check(float(counted.sample_stencil_at(x, y, s)) == counts[i],
                       "the stencil counts a sample's coverage wrongly");
+    check_wire(pipeline, triangles, c);
 }
 
 }  // namespace facet::fuzz

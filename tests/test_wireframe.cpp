@@ -62,8 +62,11 @@ std::vector<std::pair<glm::dvec2, glm::dvec2>> kept_edges(const std::vector<glm:
         const glm::dvec2 a(pos[idx[t]]), b(pos[idx[t + 1]]), c(pos[idx[t + 2]]);
         const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
         const bool front = area > 0.0;  // counter-clockwise with y up
-        const bool kept = area != 0.0 && !(front && cull == CullMode::front) &&
-                          !(!front && cull == CullMode::back);
+        bool finite = true;  // else the triangle is invalid, and has no wire
+        for (size_t k = 0; k < 3; ++k)
+            for (int c = 0; c < 3; ++c) finite &= std::isfinite(pos[idx[t + k]][c]);
+        const bool kept = finite && area != 0.0 &&
+                          !(front && cull == CullMode::front) && !(!front && cull == CullMode::back);
         for (size_t k = 0; k < 3; ++k) {
             const uint32_t u = idx[t + k], v = idx[t + (k + 1) % 3];
             shown[{std::min(u, v), std::max(u, v)}] |= kept;
@@ -205,12 +208,18 @@ TEST_CASE("the wire covers the exact rectangles of the edges its culling keeps, 
     CHECK(covered > 20000);
 }
 
-TEST_CASE("an edge of three triangles, or of one with no area, is drawn once", "[wireframe]") {
+TEST_CASE("an edge of three triangles, or of one with no area, is drawn once, and an edge of "
+          "an invalid triangle alone not at all",
+          "[wireframe]") {
     // A fin: three triangles on the edge 0-1, one turned away; a triangle
-    // with a repeated corner on it; and one more on the edge 1-2.
+    // with a repeated corner on it; one more on the edge 1-2; and one with
+    // a NaN corner (which the vertex shader's matrix spreads to all four
+    // coordinates), whose edge 3-4, both ends finite, no other shares.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
     const std::vector<glm::vec3> pos = {{-0.6f, -0.1f, 0.5f}, {0.7f, 0.2f, 0.5f}, {0.1f, 0.8f, 0.5f},
-                                        {0.0f, -0.8f, 0.5f}, {-0.3f, 0.6f, 0.5f}, {0.8f, 0.9f, 0.5f}};
-    const std::vector<uint32_t> idx = {0, 1, 2, 0, 3, 1, 1, 0, 4, 0, 1, 0, 2, 1, 5};
+                                        {0.0f, -0.8f, 0.5f}, {-0.3f, 0.6f, 0.5f}, {0.8f, 0.9f, 0.5f},
+                                        {0.2f, 0.1f, nan}};
+    const std::vector<uint32_t> idx = {0, 1, 2, 0, 3, 1, 1, 0, 4, 0, 1, 0, 2, 1, 5, 3, 4, 6};
     int covered = 0;
     for (CullMode cull : {CullMode::none, CullMode::back, CullMode::front})
         for (int n : {1, 4}) check_wire(pos, idx, cull, n, covered);

@@ -98,11 +98,12 @@ void Assembler::run_lines(const uint32_t* idx, size_t count, SetupChunk& chunk) 
 bool Assembler::kept_by_culling(const uint32_t* triangle) const {
     glm::dvec3 r[3];
     for (int k = 0; k < 3; ++k) {
-        const glm::vec4& c = draw_.clip[triangle[k] - first_vertex_];
+        const glm::dvec4 c(draw_.clip[triangle[k] - first_vertex_]);
+        if (!finite(c)) return false;  // an invalid triangle draws nothing
         r[k] = glm::dvec3(c.x, c.y, c.w);
     }
     const double det = glm::dot(r[0], glm::cross(r[1], r[2]));
-    if (!(det != 0.0)) return false;  // edge-on (or NaN): the triangle draws nothing
+    if (!(det > 0.0 || det < 0.0)) return false;  // edge-on (or overflowed): nothing drawn
     const bool front = (det > 0.0) == cull_.front_ccw;
     return !((front && dc_.state.cull == CullMode::front) ||
              (!front && dc_.state.cull == CullMode::back));
