@@ -1,7 +1,7 @@
 // Fuzz target: primitive assembly, clipping, setup, binning, rasterization
 // and the fragment stage (core/src/pipeline/: vertex.cpp, assembly.cpp, clip.cpp, setup.cpp, bin.cpp,
-// rasterize.cpp, fragment.cpp), through Pipeline::draw, with random
-// clip-space vertices.
+// rasterize.cpp, fragment.cpp), and the wire (lines.cpp, edges.cpp),
+// through Pipeline::draw, with random clip-space vertices.
 //
 // Input: three header bytes (viewport 1..72 pixels a side, so a 64-pixel
 // tile edge can fall inside; MSAA 1, 2, 4 or 8; cull mode and front face;
@@ -422,9 +422,11 @@ void check_wire(Pipeline& pipeline, const std::vector<Triangle>& triangles, cons
     const FrameStats st = draw(pipeline, mesh_of(triangles), c, fb, false, true);
     check(st.triangles_in == 3 * triangles.size(), "the wire has a line in for other than each edge");
     check(outcomes(st) == st.triangles_in, "a wire line did not end in exactly one outcome");
-    // The window position of every corner, where none is cut.
+    // The window position of every corner of the finite triangles (an
+    // invalid one has no wire), where none is cut.
     std::vector<glm::dvec2> at;
-    for (const Triangle& t : triangles)
+    for (const Triangle& t : triangles) {
+        if (!finite(t)) continue;
         for (const glm::vec4& v : t) {
             const glm::dvec4 p(v);
             if (!(p.w > 0.0 && p.z >= 0.0 && p.z <= p.w)) return;
@@ -432,6 +434,7 @@ void check_wire(Pipeline& pipeline, const std::vector<Triangle>& triangles, cons
             if (!(std::abs(w.x) < 4096.0 && std::abs(w.y) < 4096.0)) return;
             at.push_back(w);
         }
+    }
     const double tol = 1.5 * std::ldexp(1.0, -c.subpixel_bits);  // as for triangles
     const std::vector<glm::vec4> counts = read_samples(fb);
     size_t i = 0;

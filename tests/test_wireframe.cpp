@@ -64,7 +64,7 @@ std::vector<std::pair<glm::dvec2, glm::dvec2>> kept_edges(const std::vector<glm:
         const bool front = area > 0.0;  // counter-clockwise with y up
         bool finite = true;  // else the triangle is invalid, and has no wire
         for (size_t k = 0; k < 3; ++k)
-            for (int c = 0; c < 3; ++c) finite &= std::isfinite(pos[idx[t + k]][c]);
+            for (int i = 0; i < 3; ++i) finite &= std::isfinite(pos[idx[t + k]][i]);
         const bool kept = finite && area != 0.0 &&
                           !(front && cull == CullMode::front) && !(!front && cull == CullMode::back);
         for (size_t k = 0; k < 3; ++k) {

@@ -85,9 +85,10 @@ public:
 
     // Uploads every object's mesh once; later frames draw from these
     // buffers. Throws std::runtime_error for what this renderer cannot
-    // draw (an unsupported shader, a normal map; settings with msaa other
-    // than 1 or 4, subpixel_bits other than 8, or wireframe) and for
-    // a GL error, which it names (GL_OUT_OF_MEMORY, ...).
+    // draw (an unsupported shader, a normal map, alpha to coverage, a base
+    // texture with a transform or on a second UV set; settings with msaa
+    // other than 1 or 4, subpixel_bits other than 8, or wireframe) and
+    // for a GL error, which it names (GL_OUT_OF_MEMORY, ...).
     void upload(const Scene& scene);
     // Draws one frame of `scene` (uploaded before) and waits for it
     // (glFinish). Returns its wall time in milliseconds, clear included.

@@ -108,8 +108,10 @@ struct PipelineState {
     // Draws the wire of a triangle mesh instead of its surface: the edges of
     // its triangles that `cull` keeps (each edge once), as lines
     // `line_width` pixels wide in wire_color, with no fragment shader (the
-    // vertex shader still places them). Renderer draws it over a frame's
-    // triangle parts when RenderSettings::wireframe is on.
+    // vertex shader still places them) and no alpha to coverage. Renderer
+    // draws it over a frame's triangle parts that write colour when
+    // RenderSettings::wireframe is on: 1 pixel wide and opaque, whatever
+    // the part's blending, line width or alpha to coverage.
     bool wireframe = false;
     int subpixel_bits = 8;    // vertex snapping precision, 1..8 (D3D10+: 8)
     // Vulkan's depth bias, for triangles (not lines, points or the wire):

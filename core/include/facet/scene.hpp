@@ -106,7 +106,7 @@ struct RenderSettings {
     // Shading and blending are in linear light either way.
     ColorFormat color_format = ColorFormat::srgb8;
     int subpixel_bits = 8;         // vertex snapping precision, 1..8 bits below the pixel
-    bool wireframe = false;        // draw each triangle's edges over its shading
+    bool wireframe = false;        // each triangle part's wire over it (PipelineState::wireframe)
     bool shadows = true;           // false: no shadow passes; shaders see no shadow maps
     bool ao = true;                // false: no AO passes; shaders see full visibility
     // AO computed at half the target's size per side and upsampled by depth

@@ -1,7 +1,8 @@
 // The edges of a part's triangles, for its lines (Topology::lines) and its
-// wire (PipelineState::wireframe): each edge once, with the triangles it
-// bounds, so that the wire can draw an edge where one of them faces the
-// eye. They are found once for each index list and kept (EdgeCache).
+// wire (PipelineState::wireframe): each edge with the triangles it bounds
+// (two to a listing), so that the wire can draw an edge where one of them
+// faces the eye. They are found once for each index list and kept
+// (EdgeCache).
 #pragma once
 
 #include <cstddef>
@@ -16,8 +17,8 @@ struct MeshEdge {
     uint32_t a, b;         // its end points (vertex indices), a < b
     // Two of the triangles that share it, as the position of each one's
     // first index in the list; kNoTriangle for a second that is not there.
-    // An edge of more than two triangles (not a manifold) is listed once
-    // for each pair of them, the lists after the first next to it.
+    // An edge of more than two triangles (not a manifold) is listed again
+    // for each two more, the listings side by side: ceil(n / 2) for n.
     uint32_t triangle[2];
 };
 

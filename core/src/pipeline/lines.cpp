@@ -103,7 +103,7 @@ bool Assembler::kept_by_culling(const uint32_t* triangle) const {
         r[k] = glm::dvec3(c.x, c.y, c.w);
     }
     const double det = glm::dot(r[0], glm::cross(r[1], r[2]));
-    if (!(det > 0.0 || det < 0.0)) return false;  // edge-on (or overflowed): nothing drawn
+    if (!(det > 0.0 || det < 0.0)) return false;  // edge-on: nothing drawn
     const bool front = (det > 0.0) == cull_.front_ccw;
     return !((front && dc_.state.cull == CullMode::front) ||
              (!front && dc_.state.cull == CullMode::back));

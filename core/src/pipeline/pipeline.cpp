@@ -41,9 +41,9 @@ constexpr int kMaxQueuedDraws = 256;                   // draws binned at once, 
 // Every queued draw's last chunk may be partly full.
 constexpr int kMaxChunks = int(kTriangleBatch / kSetupChunk) + kMaxQueuedDraws;
 // A chunk's setups are numbered in 16 bits (SetupChunk::binned): a clipped
-// triangle becomes at most kMaxClipVertices - 2 setups, and a line's or
-// point's quadrilateral (two triangles) twice that.
-static_assert(kSetupChunk * 2 * (kMaxClipVertices - 2) < (1u << 16));
+// triangle, or a line's or point's quadrilateral, becomes at most
+// kMaxClipVertices - 2 setups.
+static_assert(kSetupChunk * (kMaxClipVertices - 2) < (1u << 16));
 
 // Forgets the queued triangles, drawn or not, and any kept.
 void drop_queued(DrawQueue& g) {

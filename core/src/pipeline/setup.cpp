@@ -78,18 +78,25 @@ double Viewport::guard_ndc() const {
     return (kGuardBandPixels - 2.0 * half) / half;
 }
 
-glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
-    const double inv_w = 1.0 / clip.w;
+namespace {
+
+// The window position of clip-space point `clip`, whose 1/w is `inv_w`.
+glm::dvec2 window_at(const glm::dvec4& clip, double inv_w, const Viewport& viewport) {
     return {(clip.x * inv_w + 1.0) * 0.5 * viewport.width,
             (1.0 - clip.y * inv_w) * 0.5 * viewport.height};
+}
+
+}  // namespace
+
+glm::dvec2 to_window(const glm::dvec4& clip, const Viewport& viewport) {
+    return window_at(clip, 1.0 / clip.w, viewport);
 }
 
 bool project_vertex(const glm::dvec4& clip, const Viewport& viewport, WindowVertex& out) {
     if (!(clip.w > 0.0)) return false;
     const int bits = std::clamp(viewport.subpixel_bits, 1, kSubpixelBits);
-    const double inv_w = 1.0 / clip.w;  // as to_window
-    const glm::dvec2 p((clip.x * inv_w + 1.0) * 0.5 * viewport.width,
-                       (1.0 - clip.y * inv_w) * 0.5 * viewport.height);
+    const double inv_w = 1.0 / clip.w;
+    const glm::dvec2 p = window_at(clip, inv_w, viewport);
     out.x = int32_t(snap(p.x, bits));
     out.y = int32_t(snap(p.y, bits) - int64_t(viewport.first_row) * kSubpixelOne);
     out.z = float(clip.z / clip.w);
