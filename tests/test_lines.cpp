@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -50,6 +51,18 @@ double inside_square(glm::dvec2 p, glm::dvec2 c, double size) {
     return size / 2 - std::max(std::abs(p.x - c.x), std::abs(p.y - c.y));
 }
 
+// The triangle of corners c drawn as `draw` at `msaa` samples covers the
+// samples of the three shapes whose distances inside `inside` gives
+// (check_coverage), and some.
+void check_drawn(SceneDir& sd, const std::vector<glm::dvec2>& c, const std::string& draw,
+                 int msaa, const std::function<std::vector<double>(glm::dvec2)>& inside) {
+    const Scene s = primitive_scene(sd, pixel_obj(c), draw, msaa);
+    Framebuffer fb;
+    Renderer(1).render(s, fb);
+    int covered = 0;
+    check_coverage(fb, inside, covered);
+    CHECK(covered > 0);
+}
 
 }  // namespace
 
@@ -65,16 +78,12 @@ TEST_CASE("a line covers the samples of its rectangle, at any width and directio
                                                {x(random), y(random)}};
             const double w = k % 4 == 0 ? 1.0 : width(random);
             INFO(msaa << " samples, width " << w);
-            const Scene s = primitive_scene(sd, pixel_obj(c), "draw: lines, line_width: " +
-                                                                 std::to_string(w), msaa);
-            Framebuffer fb;
-            Renderer(1).render(s, fb);
-            int covered = 0;
-            check_coverage(fb, [&](glm::dvec2 p) {
-                return std::vector<double>{inside_line(p, c[0], c[1], w), inside_line(p, c[1], c[2], w),
-                                           inside_line(p, c[2], c[0], w)};
-            }, covered);
-            CHECK(covered > 0);
+            check_drawn(sd, c, "draw: lines, line_width: " + std::to_string(w), msaa,
+                        [&](glm::dvec2 p) {
+                            return std::vector<double>{inside_line(p, c[0], c[1], w),
+                                                       inside_line(p, c[1], c[2], w),
+                                                       inside_line(p, c[2], c[0], w)};
+                        });
         }
 }
 
@@ -88,16 +97,12 @@ TEST_CASE("a point covers the samples of its square, at any size", "[lines][msaa
                                                {x(random), y(random)}};
             const double side = size(random);
             INFO(msaa << " samples, size " << side);
-            const Scene s = primitive_scene(sd, pixel_obj(c), "draw: points, point_size: " +
-                                                                 std::to_string(side), msaa);
-            Framebuffer fb;
-            Renderer(1).render(s, fb);
-            int covered = 0;
-            check_coverage(fb, [&](glm::dvec2 p) {
-                return std::vector<double>{inside_square(p, c[0], side), inside_square(p, c[1], side),
-                                           inside_square(p, c[2], side)};
-            }, covered);
-            CHECK(covered > 0);
+            check_drawn(sd, c, "draw: points, point_size: " + std::to_string(side), msaa,
+                        [&](glm::dvec2 p) {
+                            return std::vector<double>{inside_square(p, c[0], side),
+                                                       inside_square(p, c[1], side),
+                                                       inside_square(p, c[2], side)};
+                        });
         }
 }
 
