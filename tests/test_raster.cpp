@@ -9,13 +9,19 @@
 // Every triangle is rasterized by the kernels of every instruction-set path
 // this CPU has, each with 32-bit lanes where the triangle allows them and
 // with 64-bit lanes always, and all of them must agree (cover() below).
+#include "pipeline/clip.hpp"
 #include "pipeline/kernels.hpp"
 #include "pipeline/setup.hpp"
+#include "pipeline/vertex.hpp"
 
 #include <facet/framebuffer.hpp>
 #include <facet/isa.hpp>
 
 #include <catch2/catch.hpp>
+
+#include <bit>
+#include <cmath>
+#include <limits>
 
 #include <random>
 #include <set>
@@ -406,4 +412,75 @@ TEST_CASE("MSAA: every sample's coverage matches the oracle at the standard posi
         for (int s = 0; s < n; ++s)
             CHECK(sample_offset(n, s) == glm::ivec2(pattern(n)[size_t(s)].first,
                                                     pattern(n)[size_t(s)].second));
+}
+
+namespace {
+
+// The vertex stage's outcodes and window position of one vertex, from the
+// scalar functions the clipper and setup use.
+WindowVertex scalar_projection(const glm::vec4& clip, const Viewport& viewport) {
+    WindowVertex w{};
+    if (!(std::isfinite(clip.x) && std::isfinite(clip.y) && std::isfinite(clip.z) &&
+          std::isfinite(clip.w))) {
+        w.user = kInvalid;
+        return w;
+    }
+    const glm::dvec4 c(clip);
+    w.user = outcode(c, 1.0) | outcode(c, viewport.guard_ndc()) << 8;
+    if (band_code(w.user) == 0 && !project_vertex(c, viewport, w)) w.user |= kNoWindow;
+    return w;
+}
+
+}  // namespace
+
+TEST_CASE("vertex projection gives the scalar outcodes and window positions on every path",
+          "[raster][vertex]") {
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    std::uniform_int_distribution<int> exponent(-30, 30), pick(0, 15);
+    const float inf = std::numeric_limits<float>::infinity();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::vector<glm::vec4> clip;
+    // Random positions over many magnitudes, inside and outside the view
+    // and the guard band, on both sides of w = 0; and the special ones.
+    for (int i = 0; i < 20000; ++i) {
+        glm::vec4 c;
+        for (int k = 0; k < 4; ++k) c[k] = std::ldexp(unit(rng), exponent(rng) / (k == 3 ? 3 : 1));
+        if (i % 3 == 0) c.w = std::abs(c.w);
+        switch (pick(rng)) {
+            case 0: c.x = nan; break;
+            case 1: c.w = -inf; break;
+            case 2: c = {0.0f, 0.0f, 0.0f, 0.0f}; break;  // the origin: w = 0, no window
+            case 3: c.w = 0.0f; break;
+            default: break;
+        }
+        clip.push_back(c);
+    }
+    // Window positions (512 + k / 512, 256 - k / 512) on the finest grid's
+    // rounding ties, and the coarser grids' at every k of theirs.
+    for (int k = -600; k <= 600; ++k)
+        clip.push_back({std::ldexp(float(k), -18), std::ldexp(float(k), -17), 0.5f, 1.0f});
+    for (const int bits : {8, 4, 1})
+        for (const int first_row : {0, 37}) {
+            Viewport viewport{1024, 512, 1, bits, first_row, 100};
+            CAPTURE(bits, first_row);
+            for (Isa isa : supported_isas()) {
+                CAPTURE(isa_name(isa));
+                // Odd counts: the kernel's last vertices come one by one.
+                std::vector<WindowVertex> out(clip.size() - 3);
+                kernels(isa).project_vertices(clip.data(), out.size(), viewport, out.data());
+                for (size_t i = 0; i < out.size(); ++i) {
+                    const WindowVertex want = scalar_projection(clip[i], viewport);
+                    CAPTURE(i, clip[i].x, clip[i].y, clip[i].z, clip[i].w);
+                    REQUIRE(out[i].user == want.user);
+                    if (want.user & (kInvalid | kNoWindow) || band_code(want.user)) continue;
+                    REQUIRE(out[i].x == want.x);
+                    REQUIRE(out[i].y == want.y);
+                    REQUIRE(std::bit_cast<uint32_t>(out[i].z) == std::bit_cast<uint32_t>(want.z));
+                    REQUIRE(std::bit_cast<uint64_t>(out[i].w) == std::bit_cast<uint64_t>(want.w));
+                    REQUIRE(std::bit_cast<uint64_t>(out[i].inv_w) ==
+                            std::bit_cast<uint64_t>(want.inv_w));
+                }
+            }
+        }
 }

@@ -74,9 +74,10 @@ void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) co
             if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
         } else if (any & kNoWindow) {
             r = SetupResult::degenerate;  // a vertex at the origin, w = 0
-        } else {
+        } else if (const int64_t area2 = window_area2(w);
+                   (r = facing_result(area2, cull_)) == SetupResult::ok) {
             TriangleSetup& s = chunk.setups.emplace_back();
-            r = setup_triangle(w, varyings, viewport_, cull_, s);
+            r = setup_kept_triangle(w, varyings, area2, viewport_, cull_, s);
             if (r != SetupResult::ok) chunk.setups.pop_back();
             else if (biased_) bias(s);
         }

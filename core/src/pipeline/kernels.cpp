@@ -18,6 +18,8 @@ void ao_blur_rows(const AoFrame& f, int first, int count);
 void shadow_distance_rows(const ShadowDistanceRows& rows, int first, int count);  // shadow_kernels.cpp
 void shadow_plane_rows(const ShadowPlaneRows& rows, int first, int count);
 void sky_rows(const SkyRows& sky, int first, int count);  // sky_kernels.cpp
+void project_vertices(const glm::vec4* clip, size_t count, const Viewport& viewport,
+                      WindowVertex* out);  // project_kernels.cpp
 
 namespace {
 
@@ -77,6 +79,7 @@ void cover(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples, 
 
 extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     facet::Isa::FACET_KERNEL_ISA,
+    &facet::FACET_KERNEL_NS::project_vertices,
     &facet::FACET_KERNEL_NS::draw_tile,
     &facet::FACET_KERNEL_NS::cover,
     &facet::FACET_KERNEL_NS::clear_rect,

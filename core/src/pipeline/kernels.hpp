@@ -1,13 +1,13 @@
 // The hot loops, once per instruction-set path (facet/isa.hpp).
 //
 // rasterize.cpp, fragment.cpp, pixels.cpp, ao_kernels.cpp, shadow_kernels.cpp,
-// sky_kernels.cpp and kernels.cpp are compiled once for each path, with that path's compiler flags and in a
-// namespace of its own (FACET_KERNEL_NS: isa_portable, isa_avx2,
+// sky_kernels.cpp, project_kernels.cpp and kernels.cpp are compiled once for
+// each path, with that path's compiler flags and in a namespace of its own (FACET_KERNEL_NS: isa_portable, isa_avx2,
 // isa_avx512), and each compilation exports one table of function
 // pointers, facet_kernels_<path>.
 // The rest of the core is built for the baseline and calls the kernels of
 // its Pipeline's path through that table: one indirect call per tile, per
-// band of rows, never per pixel.
+// band of rows or batch of vertices, never per pixel.
 //
 // The build links each path's objects into one relocatable object and
 // makes every symbol but its table local (facet_isa_objects() in
@@ -34,6 +34,8 @@ namespace facet {
 struct FrameStats;
 struct DrawQueue;
 struct TriangleSetup;
+struct Viewport;
+struct WindowVertex;
 
 struct AoFrame;
 struct SkyRows;
@@ -42,6 +44,12 @@ struct ShadowPlaneRows;
 
 struct Kernels {
     Isa isa;
+    // Each of `count` clip positions' outcodes and window position
+    // (WindowVertex, vertex.hpp: outcodes in `user`, kInvalid when not
+    // finite, kNoWindow when w <= 0), as outcode() and project_vertex()
+    // give them, bit for bit (project_kernels.cpp).
+    void (*project_vertices)(const glm::vec4* clip, size_t count, const Viewport& viewport,
+                             WindowVertex* out);
     // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
     // submission order (pipeline.cpp), adding to `stats`.
     void (*draw_tile)(const DrawQueue& g, int tile, FrameStats& stats);

@@ -309,7 +309,8 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
         throw Error(ErrorCode::config_invalid,
                     "draw call of part '" + part.name + "', which lies outside its mesh",
                     mesh.source);
-    shade_vertices(mesh, part.first_vertex, part.vertex_count, shader, viewport, *pool_, d);
+    shade_vertices(mesh, part.first_vertex, part.vertex_count, shader, viewport, *kernels_, *pool_,
+                   d);
     stats.vertices_shaded += part.vertex_count;
 
     const CullState cull = cull_state(call.state);

@@ -118,16 +118,16 @@ SetupResult setup_triangle(const SetupVertex v[3], const Viewport& viewport,
 SetupResult setup_triangle(const WindowVertex* const v[3], const float* const varyings[3],
                            const Viewport& viewport, const CullState& cull, TriangleSetup& out,
                            int orientation) {
-    const int64_t X[3] = {v[0]->x, v[1]->x, v[2]->x}, Y[3] = {v[0]->y, v[1]->y, v[2]->y};
-    const int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
-    if (area2 == 0 || (orientation != 0 && (area2 > 0) != (orientation > 0)))
-        return SetupResult::degenerate;
+    const int64_t area2 = window_area2(v);
+    const SetupResult r = facing_result(area2, cull, orientation);
+    return r == SetupResult::ok ? setup_kept_triangle(v, varyings, area2, viewport, cull, out) : r;
+}
 
-    // y runs down the window, so a triangle counter-clockwise as seen has
-    // negative area here.
-    const bool front = cull.front_ccw ? area2 < 0 : area2 > 0;
-    if ((front && cull.cull_front) || (!front && cull.cull_back))
-        return SetupResult::culled_backface;
+SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* const varyings[3],
+                                int64_t area2, const Viewport& viewport, const CullState& cull,
+                                TriangleSetup& out) {
+    const int64_t X[3] = {v[0]->x, v[1]->x, v[2]->x}, Y[3] = {v[0]->y, v[1]->y, v[2]->y};
+    const bool front = front_facing(area2, cull);
 
     // Orient so the interior is on the positive side of every edge.
     // 1/w times a power of two that brings the largest to (0.5, 1], and at

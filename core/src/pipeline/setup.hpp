@@ -142,6 +142,32 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
                            const Viewport& viewport, const CullState& cull, TriangleSetup& out,
                            int orientation = 0);
 
+// The first step of setup_triangle, which culls most of the triangles it
+// drops; inline, so that primitive assembly drops them without a call.
+// Twice the signed area of the projected triangle (sub-pixels squared).
+inline int64_t window_area2(const WindowVertex* const v[3]) {
+    return (int64_t(v[1]->x) - v[0]->x) * (int64_t(v[2]->y) - v[0]->y) -
+           (int64_t(v[2]->x) - v[0]->x) * (int64_t(v[1]->y) - v[0]->y);
+}
+// Whether a triangle of signed area `area2` faces the viewer: y runs down
+// the window, so a triangle counter-clockwise as seen has negative area.
+inline bool front_facing(int64_t area2, const CullState& cull) {
+    return cull.front_ccw ? area2 < 0 : area2 > 0;
+}
+// ok, or why a triangle of signed area `area2` draws nothing
+// (setup_triangle's `orientation`).
+inline SetupResult facing_result(int64_t area2, const CullState& cull, int orientation = 0) {
+    if (area2 == 0 || (orientation != 0 && (area2 > 0) != (orientation > 0)))
+        return SetupResult::degenerate;
+    const bool front = front_facing(area2, cull);
+    return (front && cull.cull_front) || (!front && cull.cull_back) ? SetupResult::culled_backface
+                                                                    : SetupResult::ok;
+}
+// The rest of setup_triangle, for a triangle facing_result() kept.
+SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* const varyings[3],
+                                int64_t area2, const Viewport& viewport, const CullState& cull,
+                                TriangleSetup& out);
+
 // Moves a set-up triangle's window depth by Vulkan's depth bias
 // (PipelineState::depth_bias_constant and depth_bias_slope), its corners
 // held inside 0..1: no nearer than 1 - 2^-24 and no farther than the

@@ -1,7 +1,7 @@
 // The vertex stage (vertex.hpp).
 #include "pipeline/vertex.hpp"
 
-#include "pipeline/clip.hpp"
+#include "pipeline/kernels.hpp"
 #include "plugin/plugin_calls.hpp"
 
 #include "facet/mesh.hpp"
@@ -25,32 +25,11 @@ const float* input(const ShaderPlugin& shader, facet_need need, const std::vecto
     return glm::value_ptr(data[first]);
 }
 
-bool finite(const glm::vec4& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
-}
-
-// Outcodes of every vertex of [first, first + count), and the window
-// position of those inside the guard band: once per vertex, however many
-// triangles share it.
-void project_vertices(QueuedDraw& d, size_t first, size_t count, const Viewport& viewport) {
-    const double guard = viewport.guard_ndc();
-    for (size_t i = first; i < first + count; ++i) {
-        WindowVertex& w = d.window[i];
-        if (!finite(d.clip[i])) {
-            w.user = kInvalid;
-            continue;
-        }
-        const glm::dvec4 c(d.clip[i]);
-        w.user = outcode(c, 1.0) | outcode(c, guard) << 8;
-        if (band_code(w.user) == 0 && !project_vertex(c, viewport, w)) w.user |= kNoWindow;
-    }
-}
-
 }  // namespace
 
 void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_count,
-                    const ShaderPlugin& shader, const Viewport& viewport, ThreadPool& pool,
-                    QueuedDraw& d) {
+                    const ShaderPlugin& shader, const Viewport& viewport, const Kernels& kernels,
+                    ThreadPool& pool, QueuedDraw& d) {
     const size_t vcount = vertex_count;
     const uint32_t floats = shader.varying_floats();
     d.clip.resize(vcount);
@@ -72,7 +51,9 @@ void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_cou
             floats,
             input(shader, FACET_NEED_UV1, mesh.uvs1, in)};
         call_plugin(&shader, PluginEntry::vertex, shader.shader_desc().vertex, &d.abi, &batch);
-        project_vertices(d, first, batch.count, viewport);
+        // Outcodes and window positions: once per vertex, however many
+        // triangles share it.
+        kernels.project_vertices(&d.clip[first], batch.count, viewport, &d.window[first]);
     });
 }
 

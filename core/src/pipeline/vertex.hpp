@@ -15,6 +15,8 @@
 
 namespace facet {
 
+struct Kernels;
+
 // What the vertex stage records of each vertex in WindowVertex::user: its
 // outcodes against the viewport (for rejection, view_code) and the guard
 // band (for clipping, band_code), and whether it is unusable.
@@ -26,7 +28,7 @@ inline uint32_t band_code(uint32_t user) { return user >> 8 & 0xFFu; }
 // Shades vertices [first_vertex, first_vertex + vertex_count) of `mesh`
 // (a part's) into d.clip, d.varyings and d.window, from their index 0.
 void shade_vertices(const Mesh& mesh, uint32_t first_vertex, uint32_t vertex_count,
-                    const ShaderPlugin& shader, const Viewport& viewport, ThreadPool& pool,
-                    QueuedDraw& d);
+                    const ShaderPlugin& shader, const Viewport& viewport, const Kernels& kernels,
+                    ThreadPool& pool, QueuedDraw& d);
 
 }  // namespace facet
