@@ -291,43 +291,29 @@ void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, 
 void PackedBatch::add(const DrawContext& dc, bool front_facing, const TriangleVaryings& tv,
                       const Block& b, uint32_t mask, const float* depth, const float* ao,
                       FrameStats& stats) {
-    alignas(64) float weights[4][N];  // l1, l2, p1, p2
-    for (int p = 0; p < kParts; ++p) {
-        const LaneWeights w = simd::part_mask(mask, p) ? lane_weights(tv, b, p) : LaneWeights{};
-        simd::store(weights[0] + p * kWidth, w.l1);
-        simd::store(weights[1] + p * kWidth, w.l2);
-        simd::store(weights[2] + p * kWidth, w.p1);
-        simd::store(weights[3] + p * kWidth, w.p2);
-    }
+    LaneWeights weights[kParts];
+    for (int p = 0; p < kParts; ++p)
+        weights[p] = simd::part_mask(mask, p) ? lane_weights(tv, b, p) : LaneWeights{};
     add_fragments(dc, front_facing, mask, stats, [&](uint32_t m) {
-        append_interpolated(tv, b, m, weights[0], depth, ao);
+        append_interpolated(tv, b, m, weights, depth, ao);
     });
 }
 
 void PackedBatch::append_interpolated(const TriangleVaryings& tv, const Block& b, uint32_t mask,
-                                      const float* weights, const float* depth, const float* ao) {
+                                      const LaneWeights* weights, const float* depth,
+                                      const float* ao) {
     const DrawContext& dc = *dc_;
     const simd::Compressor compress(mask);
-    const int n = compress.count();
-    alignas(64) float packed[4][kRow];  // the weights, at the fragments of `mask`
-    const bool linear_too = !dc.perspective_only;  // l1 and l2 only where a varying needs them
-    for (int r = linear_too ? 0 : 2; r < 4; ++r) {
-        compress(weights + r * N, packed[r]);
-        simd::store(packed[r] + n, Float{});  // the last vector's lanes past n: zeros
-    }
-    for (int at = 0; at < n; at += kWidth) {  // rows of kRow: room past N
-        const Float p1 = simd::load<Float>(packed[2] + at), p2 = simd::load<Float>(packed[3] + at);
-        if (!linear_too) {
-            for (uint32_t k = 0; k < dc.varying_floats; ++k)
-                simd::store(varyings_[k] + count_ + at, interpolate(tv, k, p1, p2));
-            continue;
+    alignas(64) float row[N];
+    for (uint32_t k = 0; k < dc.varying_floats; ++k) {
+        const bool linear = screen_linear(dc, k);
+        for (int p = 0; p < kParts; ++p) {  // a part with no lane of `mask`: zeros, unread
+            const LaneWeights& w = weights[p];
+            simd::store(row + p * kWidth, simd::part_mask(mask, p) ? interpolate(tv, k, linear ? w.l1 : w.p1,
+                                                                                linear ? w.l2 : w.p2)
+                                                                   : Float{});
         }
-        const Float l1 = simd::load<Float>(packed[0] + at), l2 = simd::load<Float>(packed[1] + at);
-        for (uint32_t k = 0; k < dc.varying_floats; ++k) {
-            const bool linear = screen_linear(dc, k);
-            simd::store(varyings_[k] + count_ + at,
-                        interpolate(tv, k, linear ? l1 : p1, linear ? l2 : p2));
-        }
+        compress(row, varyings_[k] + count_);
     }
     append_pixels(compress, b, depth, ao);
 }

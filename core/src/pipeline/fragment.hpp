@@ -135,10 +135,12 @@ private:
                        Append&& append);
     void append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
                 const float* texels, const float* ao);
-    // The weights of `weights` ([4][N]: l1, l2, p1, p2 at each lane) at the
-    // lanes of `mask`, then the varyings from them.
+    // The varyings at every lane of the block from its weights (one
+    // LaneWeights a part), then those of the lanes of `mask` packed. Each
+    // row is interpolated whole and compressed once, where compressing the
+    // weights first would read back the partial stores of a compress.
     void append_interpolated(const TriangleVaryings& tv, const Block& b, uint32_t mask,
-                             const float* weights, const float* depth, const float* ao);
+                             const LaneWeights* weights, const float* depth, const float* ao);
     // What both appends end with: the fragments' AO, depth and pixel, and
     // their count.
     void append_pixels(const simd::Compressor& compress, const Block& b, const float* depth,
