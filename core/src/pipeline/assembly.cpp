@@ -49,42 +49,59 @@ CullState cull_state(const PipelineState& s) {
 }
 
 void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
+    // Counted in registers and added once: a counter in memory would be
+    // read and written back at every triangle.
+    uint64_t invalid = 0, outside = 0, back = 0, degenerate = 0, set_up = 0;
     for (size_t t = 0; t < triangles; ++t, idx += 3) {
-        ++chunk.stats.triangles_in;
         const uint32_t i[3] = {idx[0] - first_vertex_, idx[1] - first_vertex_, idx[2] - first_vertex_};
         const WindowVertex* w[3] = {&draw_.window[i[0]], &draw_.window[i[1]], &draw_.window[i[2]]};
         const uint32_t any = w[0]->user | w[1]->user | w[2]->user;
         if (any & kInvalid) {
-            ++chunk.stats.triangles_invalid;
+            ++invalid;
             continue;
         }
         if (view_code(w[0]->user) & view_code(w[1]->user) & view_code(w[2]->user)) {
-            ++chunk.stats.triangles_culled_frustum;
+            ++outside;
             continue;
         }
         const float* varyings[3];
         for (int k = 0; k < 3; ++k)
             varyings[k] = draw_.varyings.data() + size_t(i[k]) * dc_.vertex_floats;
-        SetupResult r;
         if (const uint32_t planes = band_code(any)) {
             const SetupVertex v[3] = {{glm::dvec4(draw_.clip[i[0]]), varyings[0]},
                                       {glm::dvec4(draw_.clip[i[1]]), varyings[1]},
                                       {glm::dvec4(draw_.clip[i[2]]), varyings[2]}};
-            r = clipped(v, planes, chunk);
+            const SetupResult r = clipped(v, planes, chunk);
             if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
-        } else if (any & kNoWindow) {
-            r = SetupResult::degenerate;  // a vertex at the origin, w = 0
-        } else if (const int64_t area2 = window_area2(w);
-                   (r = facing_result(area2, cull_)) == SetupResult::ok) {
-            TriangleSetup& s = chunk.setups.emplace_back();
-            r = setup_kept_triangle(w, varyings, area2, viewport_, cull_, s);
-            if (r != SetupResult::ok) chunk.setups.pop_back();
-            else if (biased_) bias(s);
+            count_result(r, chunk.stats);
+            continue;
         }
-        count_result(r, chunk.stats);
+        if (any & kNoWindow) {  // a vertex at the origin, w = 0
+            ++degenerate;
+            continue;
+        }
+        const int64_t area2 = window_area2(w);
+        if (const SetupResult r = facing_result(area2, cull_); r != SetupResult::ok) {
+            ++(r == SetupResult::culled_backface ? back : degenerate);
+            continue;
+        }
+        TriangleSetup& s = chunk.setups.emplace_back();
+        if (setup_kept_triangle(w, varyings, area2, viewport_, cull_, s) != SetupResult::ok) {
+            chunk.setups.pop_back();  // no pixel centre
+            ++degenerate;
+            continue;
+        }
+        if (biased_) bias(s);
+        ++set_up;
     }
+    FrameStats& stats = chunk.stats;
+    stats.triangles_in += triangles;
+    stats.triangles_invalid += invalid;
+    stats.triangles_culled_frustum += outside;
+    stats.triangles_culled_backface += back;
+    stats.triangles_culled_degenerate += degenerate;
+    stats.triangles_rasterized += set_up;
 }
-
 
 void Assembler::bias(TriangleSetup& t) const {
     add_depth_bias(t, dc_.state.depth_bias_constant, dc_.state.depth_bias_slope);

@@ -45,7 +45,8 @@ bool needs_clamped_weights(const TriangleSetup& t, double step) {
     return !(double(hi) * (1.0 + 4.0 * step) <= 32.0 * double(lo));
 }
 
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+// floor(a / 2^kSubpixelBits): an arithmetic shift, which rounds down.
+int64_t floor_subpixels(int64_t a) { return a >> kSubpixelBits; }
 
 // Top-left rule in a y-down window with the interior on the positive side:
 // a left edge has the interior to its right (edge normal x > 0), a top edge
@@ -66,8 +67,8 @@ double power_of_two_below(double w) {
 // Pixels px whose centre px * 256 + 128 lies within [lo, hi] sub-pixels.
 void pixel_range(int64_t lo, int64_t hi, int& first, int& last) {
     const int64_t half = kSubpixelOne / 2;
-    first = int(floor_div(lo - half + kSubpixelOne - 1, kSubpixelOne));
-    last = int(floor_div(hi - half, kSubpixelOne));
+    first = int(floor_subpixels(lo - half + kSubpixelOne - 1));
+    last = int(floor_subpixels(hi - half));
 }
 
 }  // namespace
@@ -126,10 +127,11 @@ SetupResult setup_triangle(const WindowVertex* const v[3], const float* const va
 SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* const varyings[3],
                                 int64_t area2, const Viewport& viewport, const CullState& cull,
                                 TriangleSetup& out) {
-    const int64_t X[3] = {v[0]->x, v[1]->x, v[2]->x}, Y[3] = {v[0]->y, v[1]->y, v[2]->y};
-    const bool front = front_facing(area2, cull);
-
-    // Orient so the interior is on the positive side of every edge.
+    // Orient so the interior is on the positive side of every edge: the
+    // corners in the order 0, 1, 2, or 0, 2, 1 when the area is negative.
+    // (Chosen once, so that every corner below is a constant index.)
+    const int second = area2 < 0 ? 2 : 1, third = 3 - second;
+    const WindowVertex* const c[3] = {v[0], v[second], v[third]};
     // 1/w times a power of two that brings the largest to (0.5, 1], and at
     // least 2^-64: perspective weights need only the ratios, and 1/w alone
     // overflows float for w < 2^-128 (and underflows past 2^128). With the
@@ -138,33 +140,34 @@ SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* con
     // vertex whose 1/w is below 2^-64 of the largest weighs nothing a float
     // shows.
     const double scale = power_of_two_below(std::min({v[0]->w, v[1]->w, v[2]->w}));
-    int order[3] = {0, 1, 2};
-    if (area2 < 0) std::swap(order[1], order[2]);
     for (int k = 0; k < 3; ++k) {
-        const int a = order[k], b = order[(k + 1) % 3];
-        out.edge[k] = make_edge(X[a], Y[a], X[b], Y[b]);
-        out.z[k] = v[a]->z;
-        out.inv_w[k] = std::max(float(v[a]->inv_w * scale), kMinInverseW);
-        out.varyings[k] = varyings[a];
+        const WindowVertex& a = *c[k];
+        const WindowVertex& b = *c[(k + 1) % 3];
+        out.edge[k] = make_edge(a.x, a.y, b.x, b.y);
+        out.z[k] = a.z;
+        out.inv_w[k] = std::max(float(a.inv_w * scale), kMinInverseW);
     }
+    out.varyings[0] = varyings[0];
+    out.varyings[1] = varyings[second];
+    out.varyings[2] = varyings[third];
     out.area2 = area2 < 0 ? -area2 : area2;
-    out.front_facing = front;
+    out.front_facing = front_facing(area2, cull);
     out.inv_area2 = 1.0 / double(out.area2);
-    out.narrow = true;
     int64_t span = 0;  // the largest |dx| + |dy| of an edge
     for (int k = 0; k < 3; ++k) {
         const EdgeFunction& e = out.edge[k];
         span = std::max(span, std::abs(int64_t(e.dx)) + std::abs(int64_t(e.dy)));
-        out.narrow &= std::abs(int64_t(e.dx)) + std::abs(int64_t(e.dy)) < kNarrowEdgeSpan;
         // Edge k gives the weight of vertex k + 2; it grows by -dy per
         // sub-pixel in x and by dx in y.
         out.bary_dx[(k + 2) % 3] = float(double(-e.dy * kSubpixelOne) * out.inv_area2);
         out.bary_dy[(k + 2) % 3] = float(double(e.dx * kSubpixelOne) * out.inv_area2);
     }
+    out.narrow = span < kNarrowEdgeSpan;
     out.clamp_weights = needs_clamped_weights(out, double(span * kSubpixelOne) * out.inv_area2);
 
     // Samples lie less than half a pixel from the centre.
     const int64_t reach = viewport.samples > 1 ? kSubpixelOne / 2 : 0;
+    const int64_t X[3] = {v[0]->x, v[1]->x, v[2]->x}, Y[3] = {v[0]->y, v[1]->y, v[2]->y};
     pixel_range(std::min({X[0], X[1], X[2]}) - reach, std::max({X[0], X[1], X[2]}) + reach,
                 out.x0, out.x1);
     pixel_range(std::min({Y[0], Y[1], Y[2]}) - reach, std::max({Y[0], Y[1], Y[2]}) + reach,
