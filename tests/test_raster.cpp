@@ -9,6 +9,8 @@
 // Every triangle is rasterized by the kernels of every instruction-set path
 // this CPU has, each with 32-bit lanes where the triangle allows them and
 // with 64-bit lanes always, and all of them must agree (cover() below).
+#include "pipeline/assembly.hpp"
+#include "pipeline/bin.hpp"
 #include "pipeline/clip.hpp"
 #include "pipeline/kernels.hpp"
 #include "pipeline/setup.hpp"
@@ -431,7 +433,155 @@ WindowVertex scalar_projection(const glm::vec4& clip, const Viewport& viewport) 
     return w;
 }
 
+// Field by field (a setup's padding is never written).
+void require_same_setup(const TriangleSetup& a, const TriangleSetup& b) {
+    for (int k = 0; k < 3; ++k) {
+        CAPTURE(k);
+        REQUIRE(a.edge[k].x0 == b.edge[k].x0);
+        REQUIRE(a.edge[k].y0 == b.edge[k].y0);
+        REQUIRE(a.edge[k].dx == b.edge[k].dx);
+        REQUIRE(a.edge[k].dy == b.edge[k].dy);
+        REQUIRE(a.edge[k].bias == b.edge[k].bias);
+        REQUIRE(std::bit_cast<uint32_t>(a.bary_dx[k]) == std::bit_cast<uint32_t>(b.bary_dx[k]));
+        REQUIRE(std::bit_cast<uint32_t>(a.bary_dy[k]) == std::bit_cast<uint32_t>(b.bary_dy[k]));
+        REQUIRE(std::bit_cast<uint32_t>(a.z[k]) == std::bit_cast<uint32_t>(b.z[k]));
+        REQUIRE(std::bit_cast<uint32_t>(a.inv_w[k]) == std::bit_cast<uint32_t>(b.inv_w[k]));
+        REQUIRE(a.varyings[k] == b.varyings[k]);
+    }
+    REQUIRE(a.area2 == b.area2);
+    REQUIRE(std::bit_cast<uint64_t>(a.inv_area2) == std::bit_cast<uint64_t>(b.inv_area2));
+    REQUIRE(a.x0 == b.x0);
+    REQUIRE(a.y0 == b.y0);
+    REQUIRE(a.x1 == b.x1);
+    REQUIRE(a.y1 == b.y1);
+    REQUIRE(a.narrow == b.narrow);
+    REQUIRE(a.clamp_weights == b.clamp_weights);
+    REQUIRE(a.front_facing == b.front_facing);
+}
+
+// What Assembler::run gives triangles [0, count) of `idx`, from the scalar
+// setup_triangle: their setups in order, a marker (area2 = -1 - triangle)
+// in place of each one to be clipped, and the counts of the rest.
+void scalar_assembly(const WideAssembly& a, const uint32_t* idx, size_t count, SetupChunk& out) {
+    for (size_t t = 0; t < count; ++t) {
+        const WindowVertex* w[3];
+        const float* varyings[3];
+        for (int k = 0; k < 3; ++k) {
+            w[k] = &a.window[idx[3 * t + k] - a.first_vertex];
+            varyings[k] = a.varyings + size_t(idx[3 * t + k] - a.first_vertex) * a.vertex_floats;
+        }
+        const uint32_t any = w[0]->user | w[1]->user | w[2]->user;
+        ++out.stats.triangles_in;
+        if (any & kInvalid) {
+            ++out.stats.triangles_invalid;
+        } else if (view_code(w[0]->user) & view_code(w[1]->user) & view_code(w[2]->user)) {
+            ++out.stats.triangles_culled_frustum;
+        } else if (band_code(any)) {
+            out.setups.emplace_back().area2 = -1 - int64_t(t);
+        } else if (any & kNoWindow) {
+            ++out.stats.triangles_culled_degenerate;
+        } else {
+            TriangleSetup s;
+            const SetupResult r = setup_triangle(w, varyings, a.viewport, a.cull, s);
+            if (r == SetupResult::ok) out.setups.push_back(s);
+            if (r == SetupResult::ok) ++out.stats.triangles_rasterized;
+            if (r == SetupResult::culled_backface) ++out.stats.triangles_culled_backface;
+            if (r == SetupResult::degenerate || r == SetupResult::no_pixels)
+                ++out.stats.triangles_culled_degenerate;
+        }
+    }
+}
+
 }  // namespace
+
+TEST_CASE("wide assembly sets up every triangle as the scalar setup does", "[raster][setup]") {
+    std::mt19937 rng(2024);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    std::uniform_int_distribution<int> pick(0, 99);
+    constexpr uint32_t kFirst = 5, kVertices = 3000, kFloats = 3;
+    // Vertices mostly in view, some near each other (small triangles, level
+    // and upright edges), some outside the view or the guard band, invalid,
+    // or at the origin.
+    std::vector<glm::vec4> clip;
+    for (uint32_t i = 0; i < kVertices; ++i) {
+        const int p = pick(rng);
+        glm::vec4 c{unit(rng), unit(rng), 0.5f + 0.4f * unit(rng), 1.0f + 0.5f * unit(rng)};
+        if (p < 40 && i > 0) c = clip[i - 1] + glm::vec4(0.01f * unit(rng), 0.01f * unit(rng), 0, 0);
+        else if (p < 50) c.x *= 4.0f;
+        else if (p < 52) c.x *= 1e7f;
+        else if (p < 53) c.y = std::numeric_limits<float>::quiet_NaN();
+        else if (p < 54) c = {0.0f, 0.0f, 0.0f, 0.0f};
+        else if (p < 64 && i > 0) c = clip[i - 1] + glm::vec4(0.02f, 0, 0, 0);  // a level edge
+        else if (p < 74 && i > 0) c = clip[i - 1] + glm::vec4(0, 0.02f, 0, 0);  // an upright one
+        clip.push_back(c);
+    }
+    std::vector<float> varyings(kVertices * kFloats + 1);
+    std::vector<uint32_t> idx;
+    std::uniform_int_distribution<uint32_t> vertex(0, kVertices - 1), near(0, 4);
+    for (int t = 0; t < 8003; ++t) {
+        const uint32_t v0 = vertex(rng);
+        for (uint32_t v : {v0, std::min(v0 + near(rng), kVertices - 1),
+                           pick(rng) < 5 ? v0 : std::min(v0 + near(rng), kVertices - 1)})
+            idx.push_back(v + kFirst);
+    }
+    const CullState culls[] = {{true, false, true}, {false, true, false}, {false, false, true}};
+    for (const int samples : {1, 4})
+        for (const CullState& cull : culls)
+            for (const int first_row : {0, 40}) {
+                const Viewport viewport{640, 480, samples, kSubpixelBits, first_row, 200};
+                CAPTURE(samples, cull.cull_back, cull.cull_front, first_row);
+                std::vector<WindowVertex> window;
+                for (const glm::vec4& c : clip) window.push_back(scalar_projection(c, viewport));
+                // The kernel's triangles to be clipped leave a marker, as
+                // the scalar assembly above does.
+                const auto marker = [](const void* context, const uint32_t* triangle,
+                                       SetupChunk& chunk) {
+                    const auto* first = static_cast<const uint32_t*>(context);
+                    chunk.setups.emplace_back().area2 = -1 - (triangle - first) / 3;
+                };
+                const WideAssembly a{window.data(), varyings.data(), kFloats, kFirst, viewport,
+                                     cull, marker, idx.data()};
+                SetupChunk want;
+                scalar_assembly(a, idx.data(), idx.size() / 3, want);
+                for (Isa isa : supported_isas()) {
+                    CAPTURE(isa_name(isa));
+                    SetupChunk got;
+                    const size_t done =
+                        kernels(isa).assemble_triangles(a, idx.data(), idx.size() / 3, got);
+                    if (isa == Isa::portable) {
+                        REQUIRE(done == 0);  // the core's scalar loop takes them
+                        continue;
+                    }
+                    REQUIRE(done == idx.size() / 3 / 8 * 8);
+                    SetupChunk expected;
+                    scalar_assembly(a, idx.data(), done, expected);
+                    REQUIRE(got.setups.size() == expected.setups.size());
+                    for (size_t i = 0; i < got.setups.size(); ++i) {
+                        CAPTURE(i);
+                        if (expected.setups[i].area2 < 0) {
+                            REQUIRE(got.setups[i].area2 == expected.setups[i].area2);
+                            continue;
+                        }
+                        require_same_setup(got.setups[i], expected.setups[i]);
+                    }
+                    const FrameStats& g = got.stats;
+                    const FrameStats& e = expected.stats;
+                    CHECK(g.triangles_in == e.triangles_in);
+                    CHECK(g.triangles_invalid == e.triangles_invalid);
+                    CHECK(g.triangles_culled_frustum == e.triangles_culled_frustum);
+                    CHECK(g.triangles_culled_backface == e.triangles_culled_backface);
+                    CHECK(g.triangles_culled_degenerate == e.triangles_culled_degenerate);
+                    CHECK(g.triangles_rasterized == e.triangles_rasterized);
+                    // Every fate occurs.
+                    CHECK(e.triangles_invalid > 0);
+                    CHECK(e.triangles_culled_frustum > 0);
+                    CHECK(e.triangles_culled_degenerate > 0);
+                    CHECK(e.triangles_rasterized > 100);
+                    CHECK(expected.setups.size() > e.triangles_rasterized);  // some to be clipped
+                    if (cull.cull_back || cull.cull_front) CHECK(e.triangles_culled_backface > 0);
+                }
+            }
+}
 
 TEST_CASE("vertex projection gives the scalar outcodes and window positions on every path",
           "[raster][vertex]") {

@@ -48,59 +48,83 @@ CullState cull_state(const PipelineState& s) {
     return {culls && s.cull == CullMode::back, culls && s.cull == CullMode::front, s.front_ccw};
 }
 
+namespace {
+
+// The vertices a wide kernel's 32-bit gathers can address, 8 words each.
+constexpr size_t kMaxWideVertices = size_t(1) << 28;
+
+bool has_bias(const PipelineState& s) {
+    return (s.depth_bias_constant != 0.0f || s.depth_bias_slope != 0.0f) &&
+           s.topology == Topology::triangles && !s.wireframe;
+}
+
+}  // namespace
+
+Assembler::Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull,
+                     uint32_t first_vertex, AssembleTriangles wide)
+    : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()),
+      first_vertex_(first_vertex), biased_(has_bias(d.dc.state)),
+      wide_(biased_ || d.window.size() > kMaxWideVertices ? nullptr : wide),
+      wide_input_{d.window.data(), d.varyings.data(), d.dc.vertex_floats, first_vertex, viewport,
+                  cull, &Assembler::clip_triangle, this} {}
+
+void Assembler::clip_triangle(const uint32_t* idx, SetupChunk& chunk) const {
+    const uint32_t i[3] = {idx[0] - first_vertex_, idx[1] - first_vertex_, idx[2] - first_vertex_};
+    SetupVertex v[3];
+    for (int k = 0; k < 3; ++k)
+        v[k] = {glm::dvec4(draw_.clip[i[k]]), draw_.varyings.data() + size_t(i[k]) * dc_.vertex_floats};
+    const uint32_t any = draw_.window[i[0]].user | draw_.window[i[1]].user | draw_.window[i[2]].user;
+    const SetupResult r = clipped(v, band_code(any), chunk);
+    if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
+    count_result(r, chunk.stats);
+}
+
 void Assembler::run(const uint32_t* idx, size_t triangles, SetupChunk& chunk) const {
-    // Counted in registers and added once: a counter in memory would be
-    // read and written back at every triangle.
-    uint64_t invalid = 0, outside = 0, back = 0, degenerate = 0, set_up = 0;
+    if (wide_) {
+        const size_t done = wide_(wide_input_, idx, triangles, chunk);
+        idx += 3 * done;
+        triangles -= done;
+    }
+    AssemblyCounts n;
+    n.in = triangles;
     for (size_t t = 0; t < triangles; ++t, idx += 3) {
         const uint32_t i[3] = {idx[0] - first_vertex_, idx[1] - first_vertex_, idx[2] - first_vertex_};
         const WindowVertex* w[3] = {&draw_.window[i[0]], &draw_.window[i[1]], &draw_.window[i[2]]};
         const uint32_t any = w[0]->user | w[1]->user | w[2]->user;
         if (any & kInvalid) {
-            ++invalid;
+            ++n.invalid;
             continue;
         }
         if (view_code(w[0]->user) & view_code(w[1]->user) & view_code(w[2]->user)) {
-            ++outside;
+            ++n.outside;
+            continue;
+        }
+        if (band_code(any)) {
+            clip_triangle(idx, chunk);
+            continue;
+        }
+        if (any & kNoWindow) {  // a vertex at the origin, w = 0
+            ++n.degenerate;
+            continue;
+        }
+        const int64_t area2 = window_area2(w);
+        if (const SetupResult r = facing_result(area2, cull_); r != SetupResult::ok) {
+            ++(r == SetupResult::culled_backface ? n.back : n.degenerate);
             continue;
         }
         const float* varyings[3];
         for (int k = 0; k < 3; ++k)
             varyings[k] = draw_.varyings.data() + size_t(i[k]) * dc_.vertex_floats;
-        if (const uint32_t planes = band_code(any)) {
-            const SetupVertex v[3] = {{glm::dvec4(draw_.clip[i[0]]), varyings[0]},
-                                      {glm::dvec4(draw_.clip[i[1]]), varyings[1]},
-                                      {glm::dvec4(draw_.clip[i[2]]), varyings[2]}};
-            const SetupResult r = clipped(v, planes, chunk);
-            if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
-            count_result(r, chunk.stats);
-            continue;
-        }
-        if (any & kNoWindow) {  // a vertex at the origin, w = 0
-            ++degenerate;
-            continue;
-        }
-        const int64_t area2 = window_area2(w);
-        if (const SetupResult r = facing_result(area2, cull_); r != SetupResult::ok) {
-            ++(r == SetupResult::culled_backface ? back : degenerate);
-            continue;
-        }
         TriangleSetup& s = chunk.setups.emplace_back();
         if (setup_kept_triangle(w, varyings, area2, viewport_, cull_, s) != SetupResult::ok) {
             chunk.setups.pop_back();  // no pixel centre
-            ++degenerate;
+            ++n.degenerate;
             continue;
         }
         if (biased_) bias(s);
-        ++set_up;
+        ++n.set_up;
     }
-    FrameStats& stats = chunk.stats;
-    stats.triangles_in += triangles;
-    stats.triangles_invalid += invalid;
-    stats.triangles_culled_frustum += outside;
-    stats.triangles_culled_backface += back;
-    stats.triangles_culled_degenerate += degenerate;
-    stats.triangles_rasterized += set_up;
+    n.add_to(chunk.stats);
 }
 
 void Assembler::bias(TriangleSetup& t) const {

@@ -26,15 +26,49 @@ CullState cull_state(const PipelineState& s);
 // Counts a primitive's fate in `stats`.
 void count_result(SetupResult r, FrameStats& stats);
 
+// The fates of a run of triangles, counted in registers and added to a
+// chunk's statistics once: a counter in memory would be read and written
+// back at every triangle. (Clipped triangles count themselves.)
+struct AssemblyCounts {
+    uint64_t in = 0, invalid = 0, outside = 0, back = 0, degenerate = 0, set_up = 0;
+    void add_to(FrameStats& stats) const {
+        stats.triangles_in += in;
+        stats.triangles_invalid += invalid;
+        stats.triangles_culled_frustum += outside;
+        stats.triangles_culled_backface += back;
+        stats.triangles_culled_degenerate += degenerate;
+        stats.triangles_rasterized += set_up;
+    }
+};
+
+// What the wide assembly kernel (Kernels::assemble_triangles) reads of a
+// draw, and the way back into the core for the triangles it leaves there.
+struct WideAssembly {
+    const WindowVertex* window;  // the draw's vertices, projected
+    const float* varyings;       // theirs, vertex_floats each
+    uint32_t vertex_floats;
+    uint32_t first_vertex;       // what each index has on the draw's vertex
+    Viewport viewport;
+    CullState cull;
+    // A triangle with a corner outside the guard band: clipped, set up
+    // and counted by the core, in its place in the order.
+    void (*clip)(const void* assembler, const uint32_t* triangle, SetupChunk& chunk);
+    const void* assembler;
+};
+
+// The kernel: sets up the first triangles of `idx` (a multiple of eight of
+// them, none on a path without the lanes for it) into `chunk` as
+// Assembler::run would, counts them, and returns how many it took.
+using AssembleTriangles = size_t (*)(const WideAssembly& a, const uint32_t* idx, size_t count,
+                                     SetupChunk& chunk);
+
 class Assembler {
 public:
-    // The draw's vertex i is the mesh's first_vertex + i.
+    // The draw's vertex i is the mesh's first_vertex + i. `wide`, if not
+    // null, takes the triangles it can (a state with a depth bias, or a
+    // draw of more vertices than its gathers can address, has none).
     Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull,
-              uint32_t first_vertex)
-        : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()),
-          first_vertex_(first_vertex),
-          biased_((d.dc.state.depth_bias_constant != 0.0f || d.dc.state.depth_bias_slope != 0.0f) &&
-                  d.dc.state.topology == Topology::triangles && !d.dc.state.wireframe) {}
+              uint32_t first_vertex, AssembleTriangles wide = nullptr);
 
     // Assembles, clips and sets up `triangles` triangles from `idx` (the
     // mesh's indices) into `chunk`, counting them in chunk.stats.
@@ -53,6 +87,11 @@ public:
                   const uint32_t* indices, SetupChunk& chunk) const;
 
 private:
+    // The triangle of three indices that must be clipped, set up and counted.
+    void clip_triangle(const uint32_t* idx, SetupChunk& chunk) const;
+    static void clip_triangle(const void* self, const uint32_t* idx, SetupChunk& chunk) {
+        static_cast<const Assembler*>(self)->clip_triangle(idx, chunk);
+    }
     // The line from mesh vertex a to b, cut to the depth range, as its
     // rectangle (lines.cpp), its fate counted.
     void line(uint32_t a, uint32_t b, SetupChunk& chunk) const;
@@ -75,6 +114,8 @@ private:
     const double guard_;  // guard-band half-width, NDC
     const uint32_t first_vertex_;
     const bool biased_;  // the state has a depth bias (add_depth_bias) for its triangles
+    const AssembleTriangles wide_;
+    const WideAssembly wide_input_;
 };
 
 }  // namespace facet

@@ -20,6 +20,8 @@ void shadow_plane_rows(const ShadowPlaneRows& rows, int first, int count);
 void sky_rows(const SkyRows& sky, int first, int count);  // sky_kernels.cpp
 void project_vertices(const glm::vec4* clip, size_t count, const Viewport& viewport,
                       WindowVertex* out);  // project_kernels.cpp
+size_t assemble_triangles(const WideAssembly& a, const uint32_t* idx, size_t count,
+                          SetupChunk& chunk);  // assembly_kernels.cpp
 
 namespace {
 
@@ -80,6 +82,7 @@ void cover(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples, 
 extern "C" const facet::Kernels FACET_KERNEL_TABLE = {
     facet::Isa::FACET_KERNEL_ISA,
     &facet::FACET_KERNEL_NS::project_vertices,
+    &facet::FACET_KERNEL_NS::assemble_triangles,
     &facet::FACET_KERNEL_NS::draw_tile,
     &facet::FACET_KERNEL_NS::cover,
     &facet::FACET_KERNEL_NS::clear_rect,

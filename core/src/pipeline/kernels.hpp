@@ -1,8 +1,9 @@
 // The hot loops, once per instruction-set path (facet/isa.hpp).
 //
 // rasterize.cpp, fragment.cpp, pixels.cpp, ao_kernels.cpp, shadow_kernels.cpp,
-// sky_kernels.cpp, project_kernels.cpp and kernels.cpp are compiled once for
-// each path, with that path's compiler flags and in a namespace of its own (FACET_KERNEL_NS: isa_portable, isa_avx2,
+// sky_kernels.cpp, project_kernels.cpp, assembly_kernels.cpp and kernels.cpp
+// are compiled once for each path, with that path's compiler flags and in a
+// namespace of its own (FACET_KERNEL_NS: isa_portable, isa_avx2,
 // isa_avx512), and each compilation exports one table of function
 // pointers, facet_kernels_<path>.
 // The rest of the core is built for the baseline and calls the kernels of
@@ -36,6 +37,8 @@ struct DrawQueue;
 struct TriangleSetup;
 struct Viewport;
 struct WindowVertex;
+struct WideAssembly;
+struct SetupChunk;
 
 struct AoFrame;
 struct SkyRows;
@@ -50,6 +53,11 @@ struct Kernels {
     // give them, bit for bit (project_kernels.cpp).
     void (*project_vertices)(const glm::vec4* clip, size_t count, const Viewport& viewport,
                              WindowVertex* out);
+    // Primitive assembly and setup of a draw's triangles, eight at a time,
+    // as Assembler::run does them, bit for bit (assembly_kernels.cpp; on
+    // the portable path it takes none). Returns how many it took.
+    size_t (*assemble_triangles)(const WideAssembly& a, const uint32_t* idx, size_t count,
+                                 SetupChunk& chunk);
     // Rasterizes and shades the triangles queued for tile `tile` of `g`, in
     // submission order (pipeline.cpp), adding to `stats`.
     void (*draw_tile)(const DrawQueue& g, int tile, FrameStats& stats);

@@ -314,7 +314,7 @@ void Pipeline::queue(const DrawCall& call, Framebuffer& target, FrameStats& stat
     stats.vertices_shaded += part.vertex_count;
 
     const CullState cull = cull_state(call.state);
-    const Assembler assembler(d, viewport, cull, part.first_vertex);
+    const Assembler assembler(d, viewport, cull, part.first_vertex, kernels_->assemble_triangles);
     const Primitives kind = primitives_of(call.state);
     if (kind != Primitives::triangles) list_primitives(mesh, part, kind, g.edges, d.primitives);
     const size_t per = indices_per(kind);

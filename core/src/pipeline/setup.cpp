@@ -132,24 +132,8 @@ SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* con
     // (Chosen once, so that every corner below is a constant index.)
     const int second = area2 < 0 ? 2 : 1, third = 3 - second;
     const WindowVertex* const c[3] = {v[0], v[second], v[third]};
-    // 1/w times a power of two that brings the largest to (0.5, 1], and at
-    // least 2^-64: perspective weights need only the ratios, and 1/w alone
-    // overflows float for w < 2^-128 (and underflows past 2^128). With the
-    // floor, lane_weights' sum of weight times 1/w is at least about 2^-66
-    // (some weight is at least about 1/3), so its reciprocal is finite; a
-    // vertex whose 1/w is below 2^-64 of the largest weighs nothing a float
-    // shows.
-    const double scale = power_of_two_below(std::min({v[0]->w, v[1]->w, v[2]->w}));
-    for (int k = 0; k < 3; ++k) {
-        const WindowVertex& a = *c[k];
-        const WindowVertex& b = *c[(k + 1) % 3];
-        out.edge[k] = make_edge(a.x, a.y, b.x, b.y);
-        out.z[k] = a.z;
-        out.inv_w[k] = std::max(float(a.inv_w * scale), kMinInverseW);
-    }
-    out.varyings[0] = varyings[0];
-    out.varyings[1] = varyings[second];
-    out.varyings[2] = varyings[third];
+    for (int k = 0; k < 3; ++k)
+        out.edge[k] = make_edge(c[k]->x, c[k]->y, c[(k + 1) % 3]->x, c[(k + 1) % 3]->y);
     out.area2 = area2 < 0 ? -area2 : area2;
     out.front_facing = front_facing(area2, cull);
     out.inv_area2 = 1.0 / double(out.area2);
@@ -163,7 +147,8 @@ SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* con
         out.bary_dy[(k + 2) % 3] = float(double(e.dx * kSubpixelOne) * out.inv_area2);
     }
     out.narrow = span < kNarrowEdgeSpan;
-    out.clamp_weights = needs_clamped_weights(out, double(span * kSubpixelOne) * out.inv_area2);
+    const float* const corner_varyings[3] = {varyings[0], varyings[second], varyings[third]};
+    set_corners(c, corner_varyings, span, out);
 
     // Samples lie less than half a pixel from the centre.
     const int64_t reach = viewport.samples > 1 ? kSubpixelOne / 2 : 0;
@@ -178,6 +163,24 @@ SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* con
     out.y1 = std::min(out.y1, viewport.target_rows() - 1);
     if (out.x0 > out.x1 || out.y0 > out.y1) return SetupResult::no_pixels;
     return SetupResult::ok;
+}
+
+void set_corners(const WindowVertex* const c[3], const float* const varyings[3], int64_t span,
+                 TriangleSetup& out) {
+    // 1/w times a power of two that brings the largest to (0.5, 1], and at
+    // least 2^-64: perspective weights need only the ratios, and 1/w alone
+    // overflows float for w < 2^-128 (and underflows past 2^128). With the
+    // floor, lane_weights' sum of weight times 1/w is at least about 2^-66
+    // (some weight is at least about 1/3), so its reciprocal is finite; a
+    // vertex whose 1/w is below 2^-64 of the largest weighs nothing a float
+    // shows.
+    const double scale = power_of_two_below(std::min({c[0]->w, c[1]->w, c[2]->w}));
+    for (int k = 0; k < 3; ++k) {
+        out.z[k] = c[k]->z;
+        out.inv_w[k] = std::max(float(c[k]->inv_w * scale), kMinInverseW);
+        out.varyings[k] = varyings[k];
+    }
+    out.clamp_weights = needs_clamped_weights(out, double(span * kSubpixelOne) * out.inv_area2);
 }
 
 void add_depth_bias(TriangleSetup& t, double constant, double slope) {

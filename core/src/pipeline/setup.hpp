@@ -167,6 +167,13 @@ inline SetupResult facing_result(int64_t area2, const CullState& cull, int orien
 SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* const varyings[3],
                                 int64_t area2, const Viewport& viewport, const CullState& cull,
                                 TriangleSetup& out);
+// The last step of setup_kept_triangle, once the edges, area, inv_area2
+// and the weights' planes are set (by it, or by the wide assembly kernel
+// in lanes): the depth, 1/w and varyings of the corners `c`, in the
+// setup's order, and clamp_weights; `span` is the largest |dx| + |dy| of an
+// edge.
+void set_corners(const WindowVertex* const c[3], const float* const varyings[3], int64_t span,
+                 TriangleSetup& out);
 
 // Moves a set-up triangle's window depth by Vulkan's depth bias
 // (PipelineState::depth_bias_constant and depth_bias_slope), its corners
