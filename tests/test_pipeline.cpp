@@ -413,6 +413,48 @@ TEST_CASE("NaN and Inf in matrices drop the draw's triangles and count them",
     }
 }
 
+TEST_CASE("flat varyings hold the first vertex's value over the whole triangle",
+          "[pipeline][interpolation]") {
+    // A receding quad of two triangles whose first vertices differ (0 and
+    // 2): each shows its first vertex's colour, exactly, on every path.
+    const std::vector<glm::vec4> colors = {{0.25f, 0.5f, 0.75f, 1.0f}, {1, 0, 0, 1},
+                                           {0.125f, 0.0625f, 1.0f, 1.0f}, {0, 1, 0, 1}};
+    const Mesh mesh = make_mesh({{-1, -1, -1.5f}, {1, -1, -1.5f}, {1, 1, -6.0f}, {-1, 1, -6.0f}},
+                                {0, 1, 2, 2, 3, 0}, colors);
+    const glm::mat4 proj = perspective(glm::radians(60.0f), float(W) / H, 0.5f, 20.0f, true);
+    const auto shader = plugin<ColorShader<FACET_INTERP_FLAT>>();
+    for (Isa isa : supported_isas()) {
+        CAPTURE(isa_name(isa));
+        Framebuffer fb(W, H);
+        fb.clear(glm::vec4(-1.0f), 0.0f);
+        DrawCall call = clip_space_call(mesh, *shader);
+        call.projection = proj;
+        FrameStats stats;
+        Pipeline(1, isa).draw(call, fb, stats);
+        // The diagonal from vertex 0 to 2 parts the triangles on screen.
+        glm::dvec2 win[3];
+        for (int k : {0, 2, 1}) {
+            const glm::dvec4 c = glm::dmat4(proj) * glm::dvec4(glm::dvec3(mesh.positions[size_t(k)]), 1.0);
+            win[k] = {(c.x / c.w + 1) * 0.5 * W, (1 - c.y / c.w) * 0.5 * H};
+        }
+        const glm::dvec2 along = win[2] - win[0];
+        const double side1 = along.x * (win[1].y - win[0].y) - along.y * (win[1].x - win[0].x);
+        const std::vector<glm::vec4> px = fb.linear();
+        int first = 0, second = 0;
+        for (int i = 0; i < W * H; ++i) {
+            if (px[size_t(i)].a < 0) continue;  // not covered
+            const glm::dvec2 p = pixel_centre(i);
+            const double side = along.x * (p.y - win[0].y) - along.y * (p.x - win[0].x);
+            if (std::abs(side) < 2.0 * glm::length(along)) continue;  // within 2 pixels of it
+            const bool in_first = (side > 0) == (side1 > 0);
+            CHECK(px[size_t(i)] == colors[in_first ? 0 : 2]);
+            ++(in_first ? first : second);
+        }
+        CHECK(first > 500);
+        CHECK(second > 500);
+    }
+}
+
 TEST_CASE("screen-linear varyings stay screen-linear through near-plane clipping",
           "[pipeline][clip][interpolation]") {
     // All three vertices are in front of the eye (w > 0), one nearer than the

@@ -410,7 +410,20 @@ void PackedBatch::flush(FrameStats& stats) {
 
 void prepare_varyings(const DrawContext& dc, const TriangleSetup& t, TriangleVaryings& out) {
     for (int v = 0; v < 3; ++v) out.inv_w[v] = t.inv_w[v];
-    for (uint32_t k = 0; k < dc.varying_floats; ++k) {
+    uint32_t k = 0;
+    for (; k + 4 <= dc.varying_floats; k += 4) {  // four at a time, then one by one
+        using Bytes = uint8_t __attribute__((vector_size(4)));
+        using Ints = int32_t __attribute__((vector_size(16)));
+        const simd::Row v0 = simd::load<simd::Row>(t.varyings[0] + k);
+        const simd::Row v1 = simd::load<simd::Row>(t.varyings[1] + k);
+        const simd::Row v2 = simd::load<simd::Row>(t.varyings[2] + k);
+        const auto flat = __builtin_convertvector(simd::load<Bytes>(dc.interpolation + k), Ints) ==
+                          int32_t(FACET_INTERP_FLAT);  // vertex 0 is the first
+        simd::store(out.v0 + k, v0);
+        simd::store(out.d1 + k, flat ? simd::Row{} : v1 - v0);
+        simd::store(out.d2 + k, flat ? simd::Row{} : v2 - v0);
+    }
+    for (; k < dc.varying_floats; ++k) {
         const float v0 = t.varyings[0][k];
         const bool flat = dc.interpolation[k] == FACET_INTERP_FLAT;  // vertex 0 is the first
         out.v0[k] = v0;
