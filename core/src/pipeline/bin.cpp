@@ -43,17 +43,25 @@ void Bins::bin_chunk(SetupChunk& chunk) const {
     touches.clear();
     int lo = INT32_MAX, hi = -1;
     const std::vector<TriangleSetup>& setups = chunk.setups;
+    touches.reserve(setups.size());
     for (size_t i = 0; i < setups.size(); ++i) {
         const TriangleSetup& t = setups[i];
-        const int tx0 = t.x0 / kTileSize, tx1 = t.x1 / kTileSize;
-        const int ty0 = t.y0 / kTileSize, ty1 = t.y1 / kTileSize;
-        const bool one_tile = tx0 == tx1 && ty0 == ty1;
+        // A box is never left of or above the target: its corners are not
+        // negative, so a shift divides them.
+        const int tx0 = t.x0 >> kTileShift, tx1 = t.x1 >> kTileShift;
+        const int ty0 = t.y0 >> kTileShift, ty1 = t.y1 >> kTileShift;
+        if (tx0 == tx1 && ty0 == ty1) {  // most triangles
+            const int tile = ty0 * columns_ + tx0;
+            touches.push_back(uint64_t(tile) << 32 | i);
+            lo = std::min(lo, tile);
+            hi = std::max(hi, tile);
+            continue;
+        }
         for (int ty = ty0; ty <= ty1; ++ty)
             for (int tx = tx0; tx <= tx1; ++tx) {
                 // Large triangles skip the tiles of their box they miss.
-                if (!one_tile && !overlaps(t, tx * kTileSize, ty * kTileSize,
-                                           tx * kTileSize + kTileSize - 1,
-                                           ty * kTileSize + kTileSize - 1))
+                if (!overlaps(t, tx * kTileSize, ty * kTileSize, tx * kTileSize + kTileSize - 1,
+                              ty * kTileSize + kTileSize - 1))
                     continue;
                 const int tile = ty * columns_ + tx;
                 touches.push_back(uint64_t(tile) << 32 | i);

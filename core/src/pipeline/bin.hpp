@@ -22,7 +22,8 @@
 
 namespace facet {
 
-constexpr int kTileSize = 64;
+constexpr int kTileShift = 6;
+constexpr int kTileSize = 1 << kTileShift;
 
 // Tiles across `pixels` (the last one may be cut short).
 constexpr int tiles_across(int pixels) { return (pixels + kTileSize - 1) / kTileSize; }
