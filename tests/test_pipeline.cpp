@@ -434,7 +434,8 @@ TEST_CASE("flat varyings hold the first vertex's value over the whole triangle",
         // The diagonal from vertex 0 to 2 parts the triangles on screen.
         glm::dvec2 win[3];
         for (int k : {0, 2, 1}) {
-            const glm::dvec4 c = glm::dmat4(proj) * glm::dvec4(glm::dvec3(mesh.positions[size_t(k)]), 1.0);
+            const glm::dvec3 at(mesh.positions[size_t(k)]);
+            const glm::dvec4 c = glm::dmat4(proj) * glm::dvec4(at, 1.0);
             win[k] = {(c.x / c.w + 1) * 0.5 * W, (1 - c.y / c.w) * 0.5 * H};
         }
         const glm::dvec2 along = win[2] - win[0];

@@ -506,7 +506,7 @@ TEST_CASE("wide assembly sets up every triangle as the scalar setup does", "[ras
     for (uint32_t i = 0; i < kVertices; ++i) {
         const int p = pick(rng);
         glm::vec4 c{unit(rng), unit(rng), 0.5f + 0.4f * unit(rng), 1.0f + 0.5f * unit(rng)};
-        if (p < 40 && i > 0) c = clip[i - 1] + glm::vec4(0.01f * unit(rng), 0.01f * unit(rng), 0, 0);
+        if (p < 40 && i > 0) c = clip[i - 1] + 0.01f * glm::vec4(unit(rng), unit(rng), 0, 0);
         else if (p < 50) c.x *= 4.0f;
         else if (p < 52) c.x *= 1e7f;
         else if (p < 53) c.y = std::numeric_limits<float>::quiet_NaN();
@@ -610,13 +610,19 @@ TEST_CASE("vertex projection gives the scalar outcodes and window positions on e
     // rounding ties, and the coarser grids' at every k of theirs.
     for (int k = -600; k <= 600; ++k)
         clip.push_back({std::ldexp(float(k), -18), std::ldexp(float(k), -17), 0.5f, 1.0f});
+    // And left of and above the window, where the ties are negative: x + 1
+    // and 1 - y are exact here too.
+    for (int k = 1; k <= 600; ++k)
+        clip.push_back(
+            {-1.0f - std::ldexp(float(k), -18), 1.0f + std::ldexp(float(k), -17), 0.5f, 1.0f});
     for (const int bits : {8, 4, 1})
         for (const int first_row : {0, 37}) {
             Viewport viewport{1024, 512, 1, bits, first_row, 100};
             CAPTURE(bits, first_row);
             for (Isa isa : supported_isas()) {
                 CAPTURE(isa_name(isa));
-                // Odd counts: the kernel's last vertices come one by one.
+                // A count that is no multiple of four: the kernel pads its
+                // last group.
                 std::vector<WindowVertex> out(clip.size() - 3);
                 kernels(isa).project_vertices(clip.data(), out.size(), viewport, out.data());
                 for (size_t i = 0; i < out.size(); ++i) {

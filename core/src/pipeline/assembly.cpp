@@ -50,9 +50,6 @@ CullState cull_state(const PipelineState& s) {
 
 namespace {
 
-// The vertices a wide kernel's 32-bit gathers can address, 8 words each.
-constexpr size_t kMaxWideVertices = size_t(1) << 28;
-
 bool has_bias(const PipelineState& s) {
     return (s.depth_bias_constant != 0.0f || s.depth_bias_slope != 0.0f) &&
            s.topology == Topology::triangles && !s.wireframe;
@@ -64,16 +61,18 @@ Assembler::Assembler(const QueuedDraw& d, const Viewport& viewport, const CullSt
                      uint32_t first_vertex, AssembleTriangles wide)
     : dc_(d.dc), draw_(d), viewport_(viewport), cull_(cull), guard_(viewport.guard_ndc()),
       first_vertex_(first_vertex), biased_(has_bias(d.dc.state)),
-      wide_(biased_ || d.window.size() > kMaxWideVertices ? nullptr : wide),
+      wide_(biased_ ? nullptr : wide),
       wide_input_{d.window.data(), d.varyings.data(), d.dc.vertex_floats, first_vertex, viewport,
                   cull, &Assembler::clip_triangle, this} {}
 
 void Assembler::clip_triangle(const uint32_t* idx, SetupChunk& chunk) const {
-    const uint32_t i[3] = {idx[0] - first_vertex_, idx[1] - first_vertex_, idx[2] - first_vertex_};
     SetupVertex v[3];
-    for (int k = 0; k < 3; ++k)
-        v[k] = {glm::dvec4(draw_.clip[i[k]]), draw_.varyings.data() + size_t(i[k]) * dc_.vertex_floats};
-    const uint32_t any = draw_.window[i[0]].user | draw_.window[i[1]].user | draw_.window[i[2]].user;
+    uint32_t any = 0;
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t i = idx[k] - first_vertex_;
+        v[k] = {glm::dvec4(draw_.clip[i]), draw_.varyings.data() + size_t(i) * dc_.vertex_floats};
+        any |= draw_.window[i].user;
+    }
     const SetupResult r = clipped(v, band_code(any), chunk);
     if (r == SetupResult::ok) ++chunk.stats.triangles_clipped;
     count_result(r, chunk.stats);

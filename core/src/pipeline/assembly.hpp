@@ -28,7 +28,8 @@ void count_result(SetupResult r, FrameStats& stats);
 
 // The fates of a run of triangles, counted in registers and added to a
 // chunk's statistics once: a counter in memory would be read and written
-// back at every triangle. (Clipped triangles count themselves.)
+// back at every triangle. (A triangle to be clipped is counted in `in`
+// here, and its fate by Assembler::clip_triangle.)
 struct AssemblyCounts {
     uint64_t in = 0, invalid = 0, outside = 0, back = 0, degenerate = 0, set_up = 0;
     void add_to(FrameStats& stats) const {
@@ -65,8 +66,7 @@ using AssembleTriangles = size_t (*)(const WideAssembly& a, const uint32_t* idx,
 class Assembler {
 public:
     // The draw's vertex i is the mesh's first_vertex + i. `wide`, if not
-    // null, takes the triangles it can (a state with a depth bias, or a
-    // draw of more vertices than its gathers can address, has none).
+    // null, takes the triangles it can (none of a state with a depth bias).
     Assembler(const QueuedDraw& d, const Viewport& viewport, const CullState& cull,
               uint32_t first_vertex, AssembleTriangles wide = nullptr);
 

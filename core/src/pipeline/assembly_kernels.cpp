@@ -2,7 +2,8 @@
 // common case of Assembler::run, eight triangles at a time.
 //
 // For each eight triangles, in lanes: their corners' window positions and
-// outcodes (gathered from the draw's WindowVertex array), the outcome of
+// outcodes (loaded from the draw's WindowVertex array, two triangles a
+// register, and turned into columns), the outcome of
 // each (invalid, outside the view, to be clipped, degenerate, back-facing
 // or kept), and for the kept ones the edges, area, weights' planes and
 // bounding box of setup_kept_triangle (setup.cpp). Then, lane by lane in
@@ -15,8 +16,9 @@
 // double and to float round as the scalar ones do (test_raster.cpp holds
 // every field of every setup to setup_triangle's, bit for bit).
 //
-// The lanes need AVX2's gathers and 32-by-32-bit multiplies: the portable
-// path does nothing here, and the core's scalar loop takes its triangles.
+// The lanes need AVX2's 256-bit integers and 32-by-32-bit multiplies: the
+// portable path does nothing here, and the core's scalar loop takes its
+// triangles.
 #include "pipeline/assembly.hpp"
 #include "pipeline/vertex.hpp"
 #include "base/simd.hpp"
@@ -62,7 +64,7 @@ void load_corners(const WideAssembly& a, const uint32_t* idx, int k, I32& x, I32
 // Lane i's bit set where lane i of a comparison is.
 uint32_t bits(const I32& m) { return uint32_t(_mm256_movemask_ps(std::bit_cast<__m256>(m))); }
 uint32_t bits(const I64& m) {
-#if defined(__AVX512F__)
+#if defined(__AVX512DQ__)
     return _mm512_movepi64_mask(std::bit_cast<__m512i>(m));
 #else
     struct Halves { __m256d lo, hi; };

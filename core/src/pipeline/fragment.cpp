@@ -309,9 +309,10 @@ void PackedBatch::append_interpolated(const TriangleVaryings& tv, const Block& b
         const bool linear = screen_linear(dc, k);
         for (int p = 0; p < kParts; ++p) {  // a part with no lane of `mask`: zeros, unread
             const LaneWeights& w = weights[p];
-            simd::store(row + p * kWidth, simd::part_mask(mask, p) ? interpolate(tv, k, linear ? w.l1 : w.p1,
-                                                                                linear ? w.l2 : w.p2)
-                                                                   : Float{});
+            const Float value = simd::part_mask(mask, p)
+                                    ? interpolate(tv, k, linear ? w.l1 : w.p1, linear ? w.l2 : w.p2)
+                                    : Float{};
+            simd::store(row + p * kWidth, value);
         }
         compress(row, varyings_[k] + count_);
     }

@@ -8,7 +8,7 @@
 // pointers, facet_kernels_<path>.
 // The rest of the core is built for the baseline and calls the kernels of
 // its Pipeline's path through that table: one indirect call per tile, per
-// band of rows or batch of vertices, never per pixel.
+// band of rows, batch of vertices or chunk of triangles, never per pixel.
 //
 // The build links each path's objects into one relocatable object and
 // makes every symbol but its table local (facet_isa_objects() in

@@ -5,7 +5,7 @@
 // The lanes take the scalar operations of outcode() (clip.cpp) and
 // project_vertex() and snap() (setup.cpp) in the same order, each exactly
 // rounded as IEEE requires and none fused (-ffp-contract=off), so every
-// path writes the same bits as the scalar code (test_setup.cpp holds them
+// path writes the same bits as the scalar code (test_raster.cpp holds them
 // to it).
 #include "pipeline/clip.hpp"
 #include "pipeline/setup.hpp"
@@ -102,7 +102,8 @@ void project_lanes(const glm::vec4* clip, const Projection& p, WindowVertex* out
     const Mask finite = (x - x == 0.0) & (y - y == 0.0) & (z - z == 0.0) & (w - w == 0.0);
     const Mask view = outcodes(x, y, z, w, Double{} + 1.0), band = outcodes(x, y, z, w, p.guard);
     const Mask no_window = (band == 0) & ~(w > 0.0);
-    const Mask user = finite ? view | band << 8 | bit_where(no_window, kNoWindow) : Mask{} + kInvalid;
+    const Mask user =
+        finite ? view | band << 8 | bit_where(no_window, kNoWindow) : Mask{} + kInvalid;
     const Double inv_w = 1.0 / w;
     const Double wx = (x * inv_w + 1.0) * 0.5 * p.width;
     const Double wy = (1.0 - y * inv_w) * 0.5 * p.height;
