@@ -304,15 +304,14 @@ void PackedBatch::append_interpolated(const TriangleVaryings& tv, const Block& b
                                       const float* ao) {
     const DrawContext& dc = *dc_;
     const simd::Compressor compress(mask);
-    alignas(64) float row[N];
     for (uint32_t k = 0; k < dc.varying_floats; ++k) {
         const bool linear = screen_linear(dc, k);
+        Float row[kParts];
         for (int p = 0; p < kParts; ++p) {  // a part with no lane of `mask`: zeros, unread
             const LaneWeights& w = weights[p];
-            const Float value = simd::part_mask(mask, p)
-                                    ? interpolate(tv, k, linear ? w.l1 : w.p1, linear ? w.l2 : w.p2)
-                                    : Float{};
-            simd::store(row + p * kWidth, value);
+            row[p] = simd::part_mask(mask, p)
+                         ? interpolate(tv, k, linear ? w.l1 : w.p1, linear ? w.l2 : w.p2)
+                         : Float{};
         }
         compress(row, varyings_[k] + count_);
     }

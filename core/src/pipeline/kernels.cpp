@@ -25,11 +25,13 @@ size_t assemble_triangles(const WideAssembly& a, const uint32_t* idx, size_t cou
 
 namespace {
 
-// One of a tile's triangles: rasterized and shaded, or its depth drawn.
-void draw_triangle(const DrawContext& dc, const TriangleSetup& t, int samples, int x0, int y0,
-                   int x1, int y1, PackedBatch& packed, TileAo& ao, FrameStats& stats) {
+// One of a tile's triangles: rasterized and shaded, or (a narrow one of a
+// depth_only draw) its depth drawn.
+void draw_triangle(const DrawContext& dc, bool depth_only_draw, const TriangleSetup& t,
+                   int samples, int x0, int y0, int x1, int y1, PackedBatch& packed, TileAo& ao,
+                   FrameStats& stats) {
     const BlockCoverage cover(t, samples);
-    if (cover.narrow() && depth_only(dc)) {
+    if (cover.narrow() && depth_only_draw) {
         if (!packed.empty()) packed.flush(stats);  // what came first is written first
         draw_depth_only(dc, cover, t, x0, y0, x1, y1, stats);
         return;
@@ -61,10 +63,11 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     for (const uint32_t c : g.bins.chunks(tile)) {
         const SetupChunk& chunk = g.chunks[c];
         const DrawContext& dc = g.draws[size_t(chunk.draw)]->dc;
+        const bool depth_only_draw = depth_only(dc);
         const uint32_t* range = chunk.first.data() + (tile - chunk.tile0);
         for (uint32_t i = range[0]; i < range[1]; ++i)
-            draw_triangle(dc, chunk.setups[chunk.binned[i]], samples, x0, y0, x1, y1, packed, ao,
-                          stats);
+            draw_triangle(dc, depth_only_draw, chunk.setups[chunk.binned[i]], samples, x0, y0, x1,
+                          y1, packed, ao, stats);
     }
     packed.flush(stats);
 }
