@@ -1,11 +1,12 @@
 // Fuzz target: primitive assembly, clipping, setup, binning, rasterization
-// and the fragment stage (core/src/pipeline/: vertex.cpp, assembly.cpp, clip.cpp, setup.cpp, bin.cpp,
+// and the fragment stage (core/src/pipeline/: vertex.cpp, project_kernels.cpp,
+// assembly.cpp, assembly_kernels.cpp, clip.cpp, setup.cpp, bin.cpp,
 // rasterize.cpp, fragment.cpp), and the wire (lines.cpp, edges.cpp),
 // through Pipeline::draw, with random clip-space vertices.
 //
 // Input: three header bytes (viewport 1..72 pixels a side, so a 64-pixel
 // tile edge can fall inside; MSAA 1, 2, 4 or 8; cull mode and front face;
-// sub-pixel bits), then up to 8 triangles of three vertices of four
+// sub-pixel bits), then up to 12 triangles of three vertices of four
 // components. A component is one byte: a special value (zeros, NaN, +-Inf,
 // +-FLT_MAX, denormals, ...), a value on a 1/32 grid in [-2.75, 2.72], or
 // else a float from the next four bytes.
@@ -14,6 +15,9 @@
 // reach clipping exactly as decoded, and outputs red 1 under additive
 // blending, so red counts coverage. Each triangle is drawn alone, then all
 // of them in one draw, and once more with the stencil counting coverage.
+// Alone, a triangle takes the scalar assembly; together, the first eight
+// take the wide one (assemble_triangles) on the AVX2 and AVX-512 paths,
+// and the rest the scalar one after them.
 // Checks, for each triangle:
 //  - statistics: one triangle in, ending in exactly one outcome (NaN or Inf:
 //    invalid); fragments shaded = pixels covered; nothing covered unless it
@@ -59,7 +63,7 @@ namespace {
 
 using Triangle = std::array<glm::vec4, 3>;
 
-constexpr size_t kMaxTriangles = 8;
+constexpr size_t kMaxTriangles = 12;
 constexpr int kMaxSide = 72;
 
 // Clip position = the vertex colour. The UV is one-hot per vertex ((0, 0),

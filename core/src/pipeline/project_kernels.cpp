@@ -78,14 +78,14 @@ IntRow snapped(const Double& window, const Projection& p, const Double& shift) {
 
 // Rows a, b, c, d turned into columns: out[j] holds element j of each.
 void transpose(const IntRow& a, const IntRow& b, const IntRow& c, const IntRow& d, IntRow out[4]) {
-    const IntRow ab_lo = __builtin_shuffle(a, b, IntRow{0, 4, 1, 5});
-    const IntRow cd_lo = __builtin_shuffle(c, d, IntRow{0, 4, 1, 5});
-    const IntRow ab_hi = __builtin_shuffle(a, b, IntRow{2, 6, 3, 7});
-    const IntRow cd_hi = __builtin_shuffle(c, d, IntRow{2, 6, 3, 7});
-    out[0] = __builtin_shuffle(ab_lo, cd_lo, IntRow{0, 1, 4, 5});
-    out[1] = __builtin_shuffle(ab_lo, cd_lo, IntRow{2, 3, 6, 7});
-    out[2] = __builtin_shuffle(ab_hi, cd_hi, IntRow{0, 1, 4, 5});
-    out[3] = __builtin_shuffle(ab_hi, cd_hi, IntRow{2, 3, 6, 7});
+    const IntRow ab_lo = __builtin_shufflevector(a, b, 0, 4, 1, 5);
+    const IntRow cd_lo = __builtin_shufflevector(c, d, 0, 4, 1, 5);
+    const IntRow ab_hi = __builtin_shufflevector(a, b, 2, 6, 3, 7);
+    const IntRow cd_hi = __builtin_shufflevector(c, d, 2, 6, 3, 7);
+    out[0] = __builtin_shufflevector(ab_lo, cd_lo, 0, 1, 4, 5);
+    out[1] = __builtin_shufflevector(ab_lo, cd_lo, 2, 3, 6, 7);
+    out[2] = __builtin_shufflevector(ab_hi, cd_hi, 0, 1, 4, 5);
+    out[3] = __builtin_shufflevector(ab_hi, cd_hi, 2, 3, 6, 7);
 }
 
 // Vertices [0, 4) of `clip` into `out`.
