@@ -362,8 +362,8 @@ inline constexpr CompressTable kCompress{};
 
 // Moves the lanes of a 16-bit mask to the front of any number of rows of
 // 16 32-bit values (floats or ints), in lane order; worked out once per
-// mask. A row written to dst needs room for 16 + kWidth values: what lies
-// past the packed values may be overwritten.
+// mask. A row written to dst needs room for 16 values: what lies past the
+// packed values may be overwritten.
 class Compressor {
 public:
     explicit Compressor(uint32_t mask) : count_(popcount(mask)) {
