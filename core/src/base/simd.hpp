@@ -401,18 +401,6 @@ public:
 #endif
     }
 
-    // The same for a block's row held in registers, a part each.
-    void operator()(const Float (&parts)[kParts], void* dst) const {
-#if FACET_SIMD_WIDTH == 16
-        const __m512 v = _mm512_maskz_compress_ps(mask_, std::bit_cast<__m512>(parts[0]));
-        _mm512_storeu_ps(dst, v);
-#else
-        alignas(64) float row[kParts * kWidth];
-        for (int p = 0; p < kParts; ++p) store(row + p * kWidth, parts[p]);
-        (*this)(row, dst);
-#endif
-    }
-
 private:
     int count_;
 #if FACET_SIMD_WIDTH == 16

@@ -43,7 +43,11 @@ void Bins::bin_chunk(SetupChunk& chunk) const {
     touches.clear();
     int lo = INT32_MAX, hi = -1;
     const std::vector<TriangleSetup>& setups = chunk.setups;
-    touches.reserve(setups.size());
+    const auto touch = [&](int tile, size_t i) {
+        touches.push_back(uint64_t(tile) << 32 | i);
+        lo = std::min(lo, tile);
+        hi = std::max(hi, tile);
+    };
     for (size_t i = 0; i < setups.size(); ++i) {
         const TriangleSetup& t = setups[i];
         // A box is never left of or above the target: its corners are not
@@ -51,23 +55,15 @@ void Bins::bin_chunk(SetupChunk& chunk) const {
         const int tx0 = t.x0 >> kTileShift, tx1 = t.x1 >> kTileShift;
         const int ty0 = t.y0 >> kTileShift, ty1 = t.y1 >> kTileShift;
         if (tx0 == tx1 && ty0 == ty1) {  // most triangles
-            const int tile = ty0 * columns_ + tx0;
-            touches.push_back(uint64_t(tile) << 32 | i);
-            lo = std::min(lo, tile);
-            hi = std::max(hi, tile);
+            touch(ty0 * columns_ + tx0, i);
             continue;
         }
         for (int ty = ty0; ty <= ty1; ++ty)
-            for (int tx = tx0; tx <= tx1; ++tx) {
+            for (int tx = tx0; tx <= tx1; ++tx)
                 // Large triangles skip the tiles of their box they miss.
-                if (!overlaps(t, tx * kTileSize, ty * kTileSize, tx * kTileSize + kTileSize - 1,
-                              ty * kTileSize + kTileSize - 1))
-                    continue;
-                const int tile = ty * columns_ + tx;
-                touches.push_back(uint64_t(tile) << 32 | i);
-                lo = std::min(lo, tile);
-                hi = std::max(hi, tile);
-            }
+                if (overlaps(t, tx * kTileSize, ty * kTileSize, tx * kTileSize + kTileSize - 1,
+                             ty * kTileSize + kTileSize - 1))
+                    touch(ty * columns_ + tx, i);
     }
     chunk.tile0 = lo;
     chunk.tile1 = hi;

@@ -262,9 +262,9 @@ void lane_positions(const Block& b, int32_t* position) {
 
 }  // namespace
 
-template <class Append>
-void PackedBatch::add_fragments(const DrawContext& dc, bool front_facing, uint32_t mask,
-                                FrameStats& stats, Append&& append) {
+void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
+                      const float* varyings, const float* depth, const float* texels,
+                      const float* ao, FrameStats& stats) {
     if (count_ && (dc_ != &dc || front_facing_ != front_facing)) flush(stats);
     dc_ = &dc;
     front_facing_ = front_facing;
@@ -272,60 +272,12 @@ void PackedBatch::add_fragments(const DrawContext& dc, bool front_facing, uint32
     if (simd::popcount(mask) > room) {  // the first `room` fragments fill this batch
         uint32_t first = 0;
         for (uint32_t m = mask; simd::popcount(first) < room; m &= m - 1) first |= m & (0u - m);
-        append(first);
+        append(b, first, varyings, depth, texels, ao);
         flush(stats);
         mask &= ~first;
     }
-    append(mask);
+    append(b, mask, varyings, depth, texels, ao);
     if (count_ == N) flush(stats);
-}
-
-void PackedBatch::add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
-                      const float* varyings, const float* depth, const float* texels,
-                      const float* ao, FrameStats& stats) {
-    add_fragments(dc, front_facing, mask, stats, [&](uint32_t m) {
-        append(b, m, varyings, depth, texels, ao);
-    });
-}
-
-void PackedBatch::add(const DrawContext& dc, bool front_facing, const TriangleVaryings& tv,
-                      const Block& b, uint32_t mask, const float* depth, const float* ao,
-                      FrameStats& stats) {
-    LaneWeights weights[kParts];
-    for (int p = 0; p < kParts; ++p)
-        weights[p] = simd::part_mask(mask, p) ? lane_weights(tv, b, p) : LaneWeights{};
-    add_fragments(dc, front_facing, mask, stats, [&](uint32_t m) {
-        append_interpolated(tv, b, m, weights, depth, ao);
-    });
-}
-
-void PackedBatch::append_interpolated(const TriangleVaryings& tv, const Block& b, uint32_t mask,
-                                      const LaneWeights* weights, const float* depth,
-                                      const float* ao) {
-    const DrawContext& dc = *dc_;
-    const simd::Compressor compress(mask);
-    for (uint32_t k = 0; k < dc.varying_floats; ++k) {
-        const bool linear = screen_linear(dc, k);
-        Float row[kParts];
-        for (int p = 0; p < kParts; ++p) {  // a part with no lane of `mask`: zeros, unread
-            const LaneWeights& w = weights[p];
-            row[p] = simd::part_mask(mask, p)
-                         ? interpolate(tv, k, linear ? w.l1 : w.p1, linear ? w.l2 : w.p2)
-                         : Float{};
-        }
-        compress(row, varyings_[k] + count_);
-    }
-    append_pixels(compress, b, depth, ao);
-}
-
-void PackedBatch::append_pixels(const simd::Compressor& compress, const Block& b,
-                                const float* depth, const float* ao) {
-    if (dc_->needs_ao) compress(ao, ao_ + count_);
-    compress(depth, depth_ + count_);
-    alignas(64) int32_t position[N];
-    lane_positions(b, position);
-    compress(position, position_ + count_);
-    count_ += compress.count();
 }
 
 void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
@@ -336,7 +288,12 @@ void PackedBatch::append(const Block& b, uint32_t mask, const float* varyings, c
     if (dc.sample_textures)
         for (int row = 0; row < 4 * dc.shader->texture_count(); ++row)
             compress(texels + row * N, texels_[row] + count_);
-    append_pixels(compress, b, depth, ao);
+    if (dc.needs_ao) compress(ao, ao_ + count_);
+    compress(depth, depth_ + count_);
+    alignas(64) int32_t position[N];
+    lane_positions(b, position);
+    compress(position, position_ + count_);
+    count_ += compress.count();
 }
 
 void PackedBatch::flush(FrameStats& stats) {
@@ -593,11 +550,6 @@ void shade_block(const DrawContext& dc, const TriangleSetup& t, const TriangleVa
     if (dc.ao_grid) ao = tile_ao.block(*dc.ao_grid, b);  // half size: upsampled by tiles
     else if (dc.ao) gather_ao(dc, b, gathered);
     else if (dc.needs_ao) std::fill(gathered, gathered + N, 1.0f);  // AO off: full visibility
-    if (pack && !dc.sample_textures) {  // varyings only at the fragments packed
-        write_pixels(dc, b, z, nullptr, mask);  // depth now, for the fragments that follow
-        packed.add(dc, t.front_facing, tv, b, mask, depth, ao, stats);
-        return;
-    }
     alignas(64) float varyings[FACET_MAX_VARYING_FLOATS * N];
     interpolate_varyings(dc, tv, b, interpolated_lanes(dc, mask), varyings);
     alignas(64) float texels[FACET_MAX_TEXTURES * 4 * N];

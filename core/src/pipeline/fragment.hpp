@@ -109,17 +109,13 @@ private:
 // and blending included. One per thread (a tile at a time).
 class PackedBatch {
 public:
-    // Appends the fragments of `mask` (depth-tested and written) of block b;
-    // their inputs are laid out as for a block's batch.
+    // Appends the fragments of `mask` (depth-tested and written) of block b,
+    // their inputs laid out as for a block's batch: after what waits of the
+    // same draw and facing (shading what waits of another), shading each
+    // batch they fill.
     void add(const DrawContext& dc, bool front_facing, const Block& b, uint32_t mask,
              const float* varyings, const float* depth, const float* texels, const float* ao,
              FrameStats& stats);
-    // The same for a draw that samples no texture, with the varyings
-    // interpolated here, at the fragments of `mask` only, from triangle t's
-    // `tv` and the weights at b's lanes: no copy of them is made in the
-    // block's layout to be moved into the batch's.
-    void add(const DrawContext& dc, bool front_facing, const TriangleVaryings& tv, const Block& b,
-             uint32_t mask, const float* depth, const float* ao, FrameStats& stats);
     // Shades and writes what waits.
     void flush(FrameStats& stats);
     bool empty() const { return count_ == 0; }
@@ -127,24 +123,9 @@ public:
 private:
     static constexpr int N = FACET_BLOCK_LANES;
     static constexpr int kRow = 2 * N;  // room to compress a block past a full batch
-    // Starts adding fragments of dc's draw and of that facing (shading
-    // what waits of another), then appends mask's through append(m) for
-    // each part m that fits a batch, shading each batch it fills.
-    template <class Append>
-    void add_fragments(const DrawContext& dc, bool front_facing, uint32_t mask, FrameStats& stats,
-                       Append&& append);
+    // The fragments of `mask` into the batch, which has room for them.
     void append(const Block& b, uint32_t mask, const float* varyings, const float* depth,
                 const float* texels, const float* ao);
-    // The varyings at every lane of the block from its weights (one
-    // LaneWeights a part), then those of the lanes of `mask` packed. Each
-    // row is interpolated whole and compressed once, where compressing the
-    // weights first would read back the partial stores of a compress.
-    void append_interpolated(const TriangleVaryings& tv, const Block& b, uint32_t mask,
-                             const LaneWeights* weights, const float* depth, const float* ao);
-    // What both appends end with: the fragments' AO, depth and pixel, and
-    // their count.
-    void append_pixels(const simd::Compressor& compress, const Block& b, const float* depth,
-                       const float* ao);
 
     const DrawContext* dc_ = nullptr;
     bool front_facing_ = true;
