@@ -321,6 +321,40 @@ TEST_CASE("random sub-pixel triangles match the oracle", "[raster]") {
     }
 }
 
+// Pixels whose centre lies within [lo, hi] sub-pixels, on one axis.
+int centres_within(int64_t lo, int64_t hi) {
+    int n = 0;
+    for (int64_t c = 128; c <= hi; c += 256) n += c >= lo;
+    return n;
+}
+
+TEST_CASE("a triangle within a 2x2 box is set up exactly when it covers a centre",
+          "[raster][setup]") {
+    std::mt19937 rng(314);
+    std::uniform_int_distribution<int64_t> corner(0, (kSize - 4) * 256), offset(0, 2 * 256);
+    int dropped = 0, kept = 0;
+    for (int n = 0; n < 20000; ++n) {
+        const int64_t ox = corner(rng), oy = corner(rng);
+        P v[3];
+        for (P& p : v) {
+            p = {ox + offset(rng), oy + offset(rng)};
+            if (n % 2) p = {p.x / 128 * 128, p.y / 128 * 128};  // ties: on centres and pixel edges
+        }
+        bool drawn = false;
+        const PixelSet got = raster(v, &drawn);
+        REQUIRE(got == oracle(v));
+        const int64_t lo_x = std::min({v[0].x, v[1].x, v[2].x}), hi_x = std::max({v[0].x, v[1].x, v[2].x});
+        const int64_t lo_y = std::min({v[0].y, v[1].y, v[2].y}), hi_y = std::max({v[0].y, v[1].y, v[2].y});
+        const int columns = centres_within(lo_x, hi_x), rows = centres_within(lo_y, hi_y);
+        if (cross(v[0], v[1], v[2]) == 0 || columns > 2 || rows > 2) continue;
+        CAPTURE(v[0].x, v[0].y, v[1].x, v[1].y, v[2].x, v[2].y);
+        REQUIRE(drawn == !got.empty());
+        (drawn ? kept : dropped) += columns > 0 && rows > 0;
+    }
+    CHECK(dropped > 1000);  // boxes with centres, none covered
+    CHECK(kept > 1000);
+}
+
 TEST_CASE("fewer sub-pixel bits: vertices round to the coarser grid, then the fill rule holds",
           "[raster][subpixel]") {
     // Rounding to the nearest multiple of 2^(8 - bits) sub-pixels, halves
@@ -500,7 +534,7 @@ TEST_CASE("wide assembly sets up every triangle as the scalar setup does", "[ras
     std::uniform_int_distribution<int> pick(0, 99);
     constexpr uint32_t kFirst = 5, kVertices = 3000, kFloats = 3;
     // Vertices mostly in view, some near each other (small triangles, level
-    // and upright edges), some outside the view or the guard band, invalid,
+    // and upright edges, triangles about a pixel across), some outside the view or the guard band, invalid,
     // or at the origin.
     std::vector<glm::vec4> clip;
     for (uint32_t i = 0; i < kVertices; ++i) {
@@ -513,6 +547,7 @@ TEST_CASE("wide assembly sets up every triangle as the scalar setup does", "[ras
         else if (p < 54) c = {0.0f, 0.0f, 0.0f, 0.0f};
         else if (p < 64 && i > 0) c = clip[i - 1] + glm::vec4(0.02f, 0, 0, 0);  // a level edge
         else if (p < 74 && i > 0) c = clip[i - 1] + glm::vec4(0, 0.02f, 0, 0);  // an upright one
+        else if (p < 84 && i > 0) c = clip[i - 1] + 0.003f * glm::vec4(unit(rng), unit(rng), 0, 0);
         clip.push_back(c);
     }
     std::vector<float> varyings(kVertices * kFloats + 1);

@@ -6,7 +6,8 @@
 // register, and turned into columns), the outcome of
 // each (invalid, outside the view, to be clipped, degenerate, back-facing
 // or kept), and for the kept ones the edges, area, weights' planes and
-// bounding box of setup_kept_triangle (setup.cpp). Then, lane by lane in
+// bounding box of setup_kept_triangle (setup.cpp), and whether a small box
+// holds a centre it covers. Then, lane by lane in
 // order, each kept triangle's setup is written and finished by the core's
 // set_corners (depth, 1/w, varyings), and each one to be clipped goes back
 // to the core, so the setups come in the order of the scalar loop.
@@ -185,6 +186,34 @@ void boxes(const I32 x[3], const I32 y[3], const Viewport& viewport, Lanes& out)
     out.no_pixels = bits((x0 > x1) | (y0 > y1));
 }
 
+// The lanes whose box is at most 2x2 pixels and holds no centre the
+// triangle covers (misses_small_box): its first centre's edge values,
+// exact in 64 bits, and the steps of a pixel across and down.
+uint32_t misses_small_boxes(const Lanes& l) {
+    const I32 x0 = simd::load<I32>(l.box[0]), y0 = simd::load<I32>(l.box[1]);
+    const I32 across = simd::load<I32>(l.box[2]) - x0, down = simd::load<I32>(l.box[3]) - y0;
+    const uint32_t small = bits((across <= 1) & (down <= 1));
+    if (!small) return 0;
+    const int32_t half = int32_t(kSubpixelOne / 2);
+    const I64 px = widen(x0 * int32_t(kSubpixelOne) + half);
+    const I64 py = widen(y0 * int32_t(kSubpixelOne) + half);
+    I64 hit[4] = {I64{} - 1, I64{} - 1, I64{} - 1, I64{} - 1};  // (0, 0), (1, 0), (0, 1), (1, 1)
+    for (int k = 0; k < 3; ++k) {
+        const I64 dx = widen(simd::load<I32>(l.dx[k])), dy = widen(simd::load<I32>(l.dy[k]));
+        const I64 e = multiply(dx, py - widen(simd::load<I32>(l.y[k]))) -
+                      multiply(dy, px - widen(simd::load<I32>(l.x[k]))) +
+                      widen(simd::load<I32>(l.bias[k]));
+        const I64 step_x = -dy * kSubpixelOne, step_y = dx * kSubpixelOne;
+        hit[0] &= e >= 0;
+        hit[1] &= e + step_x >= 0;
+        hit[2] &= e + step_y >= 0;
+        hit[3] &= e + step_x + step_y >= 0;
+    }
+    const I64 right = widen(across >= 1), below = widen(down >= 1);
+    const I64 any = hit[0] | (hit[1] & right) | (hit[2] & below) | (hit[3] & right & below);
+    return small & ~bits(any) & 0xFFu;
+}
+
 // The fate of eight triangles from their corners' outcodes and area, and
 // what setup needs of the kept ones.
 void classify(const WideAssembly& a, const uint32_t* idx, Lanes& out) {
@@ -212,6 +241,7 @@ void classify(const WideAssembly& a, const uint32_t* idx, Lanes& out) {
     if (!out.kept) return;
     edges(x, y, area2, out);
     boxes(x, y, a.viewport, out);
+    if (a.viewport.samples == 1) out.no_pixels |= misses_small_boxes(out);
 }
 
 // The setup of lane j, triangle idx[3 j..] (setup_kept_triangle).

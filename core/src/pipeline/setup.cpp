@@ -162,7 +162,21 @@ SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* con
     out.x1 = std::min(out.x1, viewport.width - 1);
     out.y1 = std::min(out.y1, viewport.target_rows() - 1);
     if (out.x0 > out.x1 || out.y0 > out.y1) return SetupResult::no_pixels;
+    if (viewport.samples == 1 && misses_small_box(out)) return SetupResult::no_pixels;
     return SetupResult::ok;
+}
+
+bool misses_small_box(const TriangleSetup& t) {
+    if (t.x1 - t.x0 > 1 || t.y1 - t.y0 > 1) return false;
+    const int64_t half = kSubpixelOne / 2;
+    for (int y = t.y0; y <= t.y1; ++y)
+        for (int x = t.x0; x <= t.x1; ++x) {
+            bool inside = true;
+            for (const EdgeFunction& e : t.edge)
+                inside &= e.at(x * kSubpixelOne + half, y * kSubpixelOne + half) + e.bias >= 0;
+            if (inside) return false;
+        }
+    return true;
 }
 
 void set_corners(const WindowVertex* const c[3], const float* const varyings[3], int64_t span,

@@ -167,6 +167,13 @@ inline SetupResult facing_result(int64_t area2, const CullState& cull, int orien
 SetupResult setup_kept_triangle(const WindowVertex* const v[3], const float* const varyings[3],
                                 int64_t area2, const Viewport& viewport, const CullState& cull,
                                 TriangleSetup& out);
+// Whether a set-up triangle whose box is at most 2x2 pixels covers none of
+// their centres (false for a larger box, which is not tested). With one
+// sample per pixel such a triangle draws nothing, and setup drops it
+// (SetupResult::no_pixels): a detailed mesh far away has many triangles
+// that fall between the pixel centres, and each would cost binning and a
+// block's coverage set-up in every tile it touches.
+bool misses_small_box(const TriangleSetup& t);
 // The last step of setup_kept_triangle, once the edges, area, inv_area2
 // and the weights' planes are set (by it, or by the wide assembly kernel
 // in lanes): the depth, 1/w and varyings of the corners `c`, in the
