@@ -27,6 +27,7 @@
 
 #include <random>
 #include <set>
+#include <cstring>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -91,6 +92,9 @@ std::vector<Block> cover(const TriangleSetup& t, int samples) {
                 REQUIRE(blocks[i].x == first[i].x);
                 REQUIRE(blocks[i].y == first[i].y);
                 REQUIRE(blocks[i].mask == first[i].mask);
+                // Every lane's weights, bit for bit: the narrow one-sample
+                // route (narrow_coverage.hpp) against BlockCoverage's.
+                REQUIRE(std::memcmp(blocks[i].bary, first[i].bary, sizeof first[i].bary) == 0);
                 for (int lane = 0; lane < FACET_BLOCK_LANES; ++lane)
                     if (samples > 1 && (blocks[i].mask >> lane & 1))
                         REQUIRE(blocks[i].samples[lane] == first[i].samples[lane]);

@@ -1,6 +1,7 @@
 #include "pipeline/fragment.hpp"
 
 #include "pipeline/blend.hpp"
+#include "pipeline/narrow_coverage.hpp"
 #include "pipeline/pixels.hpp"
 #include "pipeline/rasterize.hpp"
 #include "pipeline/sampler.hpp"
@@ -409,7 +410,7 @@ namespace {
 // their new depth and the rest keeping theirs (a tile is one thread's, and
 // a target's rows are padded to whole blocks).
 template <DepthCompare Compare>
-void depth_blocks(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
+void depth_blocks(const DrawContext& dc, const NarrowCoverage& cover, const TriangleSetup& t,
                   int x0, int y0, int x1, int y1, FrameStats& stats) {
     Framebuffer& fb = *dc.target;
     const size_t stride = size_t(fb.stride());
@@ -424,8 +425,8 @@ void depth_blocks(const DrawContext& dc, const BlockCoverage& cover, const Trian
     int fetched = -1;  // the block row whose next was asked for
     Int lane_bit;
     for (int i = 0; i < kWidth; ++i) lane_bit[i] = 1 << i;
-    cover.for_each_block_narrow(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask,
-                                                    const Float* b1, const Float* b2) {
+    cover.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
+        const float at1 = cover.at_lane0(e[2]), at2 = cover.at_lane0(e[0]);
         if (by != fetched) {
             fetched = by;
             for (int y = by + 4; y < by + 8 && y <= last_row; ++y)
@@ -438,7 +439,7 @@ void depth_blocks(const DrawContext& dc, const BlockCoverage& cover, const Trian
             const uint32_t lanes = simd::part_mask(mask, p);
             if (!lanes) continue;
             // interpolate_depth's arithmetic, from the same weights.
-            Float z = z0 + b1[p] * d1 + b2[p] * d2;
+            Float z = z0 + cover.weights(2, at1, p) * d1 + cover.weights(0, at2, p) * d2;
             z = z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
             const Float stored = simd::load_part(depth, stride, p);
             const Int in = ((Int{} + int32_t(lanes)) & lane_bit) != 0;  // the covered lanes
@@ -455,7 +456,7 @@ void depth_blocks(const DrawContext& dc, const BlockCoverage& cover, const Trian
 
 }  // namespace
 
-void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
+void draw_depth_only(const DrawContext& dc, const NarrowCoverage& cover, const TriangleSetup& t,
                      int x0, int y0, int x1, int y1, FrameStats& stats) {
     // The test chosen once a triangle, not for every part of every block.
     with_compare(dc.state.depth_compare, [&](auto c) {

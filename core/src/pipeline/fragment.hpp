@@ -185,13 +185,13 @@ struct SampleDepth {
 // maps, pre-passes).
 bool depth_only(const DrawContext& dc);
 
-class BlockCoverage;
+class NarrowCoverage;
 
-// A depth-only draw of narrow triangle t (cover.narrow()) within the tile
+// A depth-only draw of narrow triangle t (narrow_coverage.hpp) within the tile
 // [x0, x1] x [y0, y1]: each covered block depth-tested and written, with
 // the depths shade_block would give, in one pass with nothing stored
 // between the stages.
-void draw_depth_only(const DrawContext& dc, const BlockCoverage& cover, const TriangleSetup& t,
+void draw_depth_only(const DrawContext& dc, const NarrowCoverage& cover, const TriangleSetup& t,
                      int x0, int y0, int x1, int y1, FrameStats& stats);
 
 // Shades one covered block of the tile `tile_ao` is for: through `packed`

@@ -4,6 +4,7 @@
 
 #include "pipeline/draw_queue.hpp"
 #include "pipeline/fragment.hpp"
+#include "pipeline/narrow_coverage.hpp"
 #include "pipeline/pixels.hpp"
 #include "pipeline/rasterize.hpp"
 #include "pipeline/sampler.hpp"
@@ -30,19 +31,28 @@ namespace {
 void draw_triangle(const DrawContext& dc, bool depth_only_draw, const TriangleSetup& t,
                    int samples, int x0, int y0, int x1, int y1, PackedBatch& packed, TileAo& ao,
                    FrameStats& stats) {
-    const BlockCoverage cover(t, samples);
-    if (cover.narrow() && depth_only_draw) {
-        if (!packed.empty()) packed.flush(stats);  // what came first is written first
-        draw_depth_only(dc, cover, t, x0, y0, x1, y1, stats);
-        return;
-    }
     TriangleVaryings tv;
     bool prepared = false;  // many triangles cover nothing in a tile
-    rasterize(cover, t, x0, y0, x1, y1, [&](const Block& b) {
+    const auto shade = [&](const Block& b) {
         if (!prepared) prepare_varyings(dc, t, tv);
         prepared = true;
         shade_block(dc, t, tv, b, packed, ao, stats);
-    });
+    };
+    if (samples == 1 && t.narrow) {  // nearly every triangle
+        const NarrowCoverage cover(t);
+        if (depth_only_draw) {
+            if (!packed.empty()) packed.flush(stats);  // what came first is written first
+            draw_depth_only(dc, cover, t, x0, y0, x1, y1, stats);
+            return;
+        }
+        Block block;
+        cover.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
+            cover.fill(bx, by, mask, e, block);
+            shade(block);
+        });
+        return;
+    }
+    rasterize(BlockCoverage(t, samples), t, x0, y0, x1, y1, shade);
 }
 
 // Rasterizes and shades one tile's triangles, in submission order: chunk
@@ -74,8 +84,17 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
 
 void cover(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples, EdgeWidth width,
            std::vector<Block>& out) {
-    const BlockCoverage coverage(t, samples, width);
-    rasterize(coverage, t, x0, y0, x1, y1, [&](const Block& b) { out.push_back(b); });
+    if (samples == 1 && t.narrow && width == EdgeWidth::automatic) {  // as draw_triangle
+        const NarrowCoverage coverage(t);
+        Block block;
+        coverage.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
+            coverage.fill(bx, by, mask, e, block);
+            out.push_back(block);
+        });
+        return;
+    }
+    rasterize(BlockCoverage(t, samples, width), t, x0, y0, x1, y1,
+              [&](const Block& b) { out.push_back(b); });
 }
 
 }  // namespace

@@ -52,16 +52,6 @@ public:
     // fills `block` and returns its mask.
     uint32_t operator()(int bx, int by, uint32_t inside, Block& block) const;
 
-    // The same blocks for a depth-only draw of a narrow triangle at one
-    // sample per pixel, with nothing stored: calls visit(bx, by, mask, b1,
-    // b2) for every block of the triangle's bounding box within [x0, x1] x
-    // [y0, y1] that it covers, b1 and b2 (simd::Float[kParts]) being the
-    // weights of vertices 1 and 2 at each part's lanes, as operator() gives
-    // them. The edge values step from block to block by addition.
-    template <class Visit>
-    void for_each_block_narrow(int x0, int y0, int x1, int y1, Visit&& visit) const;
-    bool narrow() const { return narrow_; }
-
 private:
     uint32_t covered(int k, int64_t at_lane0) const;  // lanes where edge k holds
     uint32_t cover_samples(const int64_t* e0, uint32_t partial, uint8_t* lane_samples) const;
@@ -127,47 +117,6 @@ inline uint32_t BlockCoverage::covered(int k, int64_t at_lane0) const {
         mask |= simd::bits(inside) << (h * simd::kWidth / 2);
     }
     return mask;
-}
-
-template <class Visit>
-void BlockCoverage::for_each_block_narrow(int x0, int y0, int x1, int y1, Visit&& visit) const {
-    const TriangleSetup& t = t_;
-    const int bx0 = std::max(t.x0, x0) & ~3, by0 = std::max(t.y0, y0) & ~3;
-    const int bx1 = std::min(t.x1, x1), by1 = std::min(t.y1, y1);
-    int64_t row[3], across[3], down[3];
-    for (int k = 0; k < 3; ++k) {
-        row[k] = centre_[k] + bx0 * step_x_[k] + by0 * step_y_[k];
-        across[k] = FACET_BLOCK_SIZE * step_x_[k];
-        down[k] = FACET_BLOCK_SIZE * step_y_[k];
-    }
-    for (int by = by0; by <= by1; by += FACET_BLOCK_SIZE) {
-        int64_t e[3] = {row[0], row[1], row[2]};
-        for (int bx = bx0; bx <= bx1; bx += FACET_BLOCK_SIZE) {
-            // Outside an edge at the block's best corner: no lane; inside it
-            // at the worst: every lane.
-            const bool outside = e[0] + best_[0] < threshold_[0] ||
-                                 e[1] + best_[1] < threshold_[1] ||
-                                 e[2] + best_[2] < threshold_[2];
-            uint32_t mask = 0;
-            if (!outside) {
-                mask = bx + 3 <= t.x1 && by + 3 <= t.y1 ? 0xFFFFu : lanes_within(bx, by, t.x1, t.y1);
-                for (int k = 0; k < 3; ++k)
-                    if (e[k] + worst_[k] < threshold_[k]) mask &= covered(k, e[k]);
-            }
-            if (mask) {
-                simd::Float b1[simd::kParts], b2[simd::kParts];
-                const float at1 = float(double(e[2]) * t.inv_area2);  // edge 2: vertex 1
-                const float at2 = float(double(e[0]) * t.inv_area2);  // edge 0: vertex 2
-                for (int p = 0; p < simd::kParts; ++p) {
-                    b1[p] = at1 + weight_lanes_[2][p];
-                    b2[p] = at2 + weight_lanes_[0][p];
-                }
-                visit(bx, by, mask, b1, b2);
-            }
-            for (int k = 0; k < 3; ++k) e[k] += across[k];
-        }
-        for (int k = 0; k < 3; ++k) row[k] += down[k];
-    }
 }
 
 }  // namespace facet::FACET_KERNEL_NS
