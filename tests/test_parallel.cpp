@@ -3,6 +3,7 @@
 #include "support.hpp"
 
 #include "base/thread_pool.hpp"
+#include "pipeline/framebuffer_access.hpp"
 
 #include <facet/math.hpp>
 #include <facet/renderer.hpp>
@@ -480,6 +481,116 @@ TEST_CASE("a pipeline's clear, waiting for the draws, leaves every byte Framebuf
     p.flush(stats);
     got = shrunk;
     CHECK(bytes_differing(got, want) == 0);
+}
+
+TEST_CASE("a clear writes again only the tiles that no longer hold its values",
+          "[parallel][queue][clear]") {
+    std::mt19937 rng(9);
+    const Mesh soup = triangle_soup(rng, 30, 0.5f, -3.0f, 0.5f, 1.0f);
+    auto shader = test::plugin<test::ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const glm::vec4 clear(0.25f, 0.5f, 0.75f, 1.0f), other(0.5f, 0.25f, 0.0f, 1.0f);
+    DrawCall call = test::clip_space_call(soup, *shader);
+    call.projection = perspective(glm::radians(60.0f), 150.0f / 70.0f, 0.2f, 50.0f, true);
+    call.state.depth_compare = DepthCompare::greater;
+    call.state.cull = CullMode::none;
+    for (Isa isa : supported_isas())
+        for (ColorFormat format : {ColorFormat::srgb8, ColorFormat::rgba32f})
+            for (int samples : {1, 4}) {
+                INFO(isa_name(isa) << ", " << color_format_name(format) << ", " << samples
+                                   << " samples");
+                Framebuffer got(150, 70, format, samples), want(150, 70, format, samples),
+                    want_other(150, 70, format, samples);
+                want.clear(clear, 0.0f);
+                want_other.clear(other, 0.0f);
+                Pipeline p(2, isa);
+                FrameStats stats;
+                const auto clear_to = [&](const glm::vec4& color) {
+                    p.clear(got, color, 0.0f);
+                    p.flush(stats);
+                };
+                clear_to(clear);
+                // Draws after the clear completed mark the tiles they touch.
+                p.queue(call, got, stats);
+                p.flush(stats);
+                REQUIRE(bytes_differing(got, want) > 0);
+                clear_to(clear);
+                CHECK(bytes_differing(got, want) == 0);
+                // A tile that holds the values is not written again: a byte
+                // changed behind the pipeline's back (as only this test can)
+                // stays.
+                FramebufferAccess::depth(got)[0] = 0.5f;
+                clear_to(clear);
+                CHECK(got.depth_at(0, 0) == 0.5f);
+                // Other values: every tile.
+                clear_to(other);
+                CHECK(bytes_differing(got, want_other) == 0);
+                // The framebuffer's own writes, and an MSAA resolve, forget
+                // what was known.
+                for (int way = 0; way < 4; ++way) {
+                    INFO("way " << way);
+                    if (way == 0) got.set_pixel(0, 0, glm::vec4(1.0f));
+                    if (way == 1) got.clear(clear, 0.0f);
+                    if (way == 2) got.resize(150, 70, format, samples);
+                    if (way == 3) p.resolve(got);
+                    FramebufferAccess::depth(got)[0] = 0.5f;
+                    clear_to(other);
+                    if (way == 3 && samples == 1) {  // nothing to resolve, nothing written
+                        CHECK(got.depth_at(0, 0) == 0.5f);
+                        FramebufferAccess::depth(got)[0] = 0.0f;
+                    }
+                    CHECK(bytes_differing(got, want_other) == 0);
+                }
+                // A caller's pointer to writable storage, asked for before,
+                // may be written at any time: from then on, every tile.
+                float* const depth = got.depth();
+                clear_to(other);
+                depth[0] = 0.5f;
+                clear_to(other);
+                CHECK(bytes_differing(got, want_other) == 0);
+            }
+}
+
+namespace {
+
+// A demo scene looking up, away from its objects: every tile is left to the
+// clear, the sky and the post chain.
+Scene looking_up(PluginRegistry& registry, const std::string& name) {
+    Scene scene = test::small_demo_scene(registry, name);
+    scene.camera.target = scene.camera.position + glm::vec3(0.0f, 1.0f, 0.3f);
+    return scene;
+}
+
+}  // namespace
+
+TEST_CASE("the sky and the post chain leave no tile a later clear skips",
+          "[parallel][clear]") {
+    PluginRegistry registry;
+    // The same frame (`second`) from a renderer that drew `first` into the
+    // target a frame before, and from a new one.
+    const auto after = [&](const Scene& first, const Scene& second) {
+        Renderer renderer(2);
+        Framebuffer fb;
+        renderer.render(second, fb);  // what a clear to the same values may keep
+        renderer.render(first, fb);
+        renderer.render(second, fb);
+        Renderer fresh(2);
+        Framebuffer want;
+        fresh.render(second, want);
+        return bytes_differing(fb, want);
+    };
+    Scene sky = looking_up(registry, "scenes/environment.yaml");
+    REQUIRE(sky.environment);
+    sky.settings.post = false;  // the sky into the target itself
+    Scene no_sky = looking_up(registry, "scenes/environment.yaml");
+    no_sky.settings.post = false;
+    no_sky.environment.settings.use = EnvironmentUse::lighting;
+    CHECK(after(sky, no_sky) == 0);
+    const Scene post = looking_up(registry, "scenes/post.yaml");
+    REQUIRE(!post.post.empty());
+    Scene no_post = looking_up(registry, "scenes/post.yaml");
+    no_post.settings.post = false;
+    CHECK(after(post, no_post) == 0);  // the chain's result in the target
+    CHECK(after(post, post) == 0);     // the passes' writes to the frame they read
 }
 
 #if FACET_COUNT_ALLOCATIONS

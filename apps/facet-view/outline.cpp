@@ -1,6 +1,7 @@
 #include "outline.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace facet::view {
 
@@ -44,7 +45,7 @@ void Outline::draw(const Object& object, const Camera& camera, const RenderSetti
     inside_.assign(size_t(w) * h, 0);
     int x0 = w, y0 = h, x1 = -1, y1 = -1;
     for (int y = 0; y < h; ++y) {
-        const uint8_t* row = mask_.color_data() + size_t(y) * mask_.stride() * 4;
+        const uint8_t* row = std::as_const(mask_).color_data() + size_t(y) * mask_.stride() * 4;
         for (int x = 0; x < w; ++x)
             if (row[size_t(x) * 4] > 127) {
                 inside_[size_t(y) * w + x] = 1;

@@ -134,16 +134,26 @@ public:
     // bytes_per_pixel(format()); with MSAA, its sample s at
     // sample_color_data() + ((y * stride() + x) * samples() + s) * bytes.
     // Depth likewise, in floats, and stencil in bytes (empty without one).
-    uint8_t* color_data() { return color_.data(); }
+    //
+    // The non-const accessors are for callers that write pixels themselves,
+    // and may do so through the pointer at any time. A Pipeline::clear()
+    // skips the tiles the pipeline knows still hold the values it is asked
+    // to write (those no draw, write or resolve has touched since its last
+    // clear to them); once writable storage has been asked for, nothing is
+    // known of this framebuffer's contents any more, and every clear writes
+    // every tile. To read, use a const Framebuffer&, which costs nothing.
+    uint8_t* color_data() { caller_writes_ = true; return color_.data(); }
     const uint8_t* color_data() const { return color_.data(); }
-    uint8_t* sample_color_data() { return sample_color_.data(); }
+    uint8_t* sample_color_data() { caller_writes_ = true; return sample_color_.data(); }
     const uint8_t* sample_color_data() const { return sample_color_.data(); }
-    float* depth() { return depth_.data(); }
+    float* depth() { caller_writes_ = true; return depth_.data(); }
     const float* depth() const { return depth_.data(); }
-    float* sample_depth() { return sample_depth_.data(); }
+    float* sample_depth() { caller_writes_ = true; return sample_depth_.data(); }
     const float* sample_depth() const { return sample_depth_.data(); }
-    uint8_t* stencil() { return stencil_.data(); }
-    uint8_t* sample_stencil() { return sample_stencil_.data(); }
+    uint8_t* stencil() { caller_writes_ = true; return stencil_.data(); }
+    const uint8_t* stencil() const { return stencil_.data(); }
+    uint8_t* sample_stencil() { caller_writes_ = true; return sample_stencil_.data(); }
+    const uint8_t* sample_stencil() const { return sample_stencil_.data(); }
 
     // 8-bit sRGB RGBA, row-major, width * 4 bytes a row. Alpha is stored
     // linearly. From an srgb8 target this is a copy.
@@ -167,6 +177,22 @@ private:
     bool stencil_on_ = false;
     std::vector<uint8_t, CacheLineAllocator<uint8_t>> stencil_;         // empty without stencil
     std::vector<uint8_t, CacheLineAllocator<uint8_t>> sample_stencil_;  // ... or one sample
+
+    // What the pipeline knows of the contents: the tiles that still hold
+    // every value of its last clear (colour, depth and stencil, every
+    // sample, the padding too), which a clear to the same values need not
+    // write again (Pipeline::clear). The pipeline's draws mark the tiles
+    // they touch; every non-const member forgets it all.
+    struct ClearedTiles {
+        std::vector<uint8_t> held;  // per tile, row-major; empty: none known
+        int tile_size = 0, columns = 0, rows = 0;
+        glm::vec4 color{0.0f};
+        float depth = 0.0f;
+        uint8_t stencil = 0;
+    };
+    ClearedTiles cleared_;
+    bool caller_writes_ = false;  // writable storage was asked for: nothing is known
+    friend struct FramebufferAccess;  // the core's own (core/src/pipeline/framebuffer_access.hpp)
 };
 
 // Position of sample s of an n-sample pattern, in 1/16 pixel from the pixel

@@ -240,8 +240,11 @@ public:
     // tile of `target` is cleared as the first triangles drawn into it are,
     // in the cache, and the tiles none touched when flush() (or redraw(),
     // cancel(), resolve(), resolve_srgb8()) completes the clear, so no pass
-    // reads the whole target only to overwrite it. Until then `target` must
-    // live, keep its size, and be read through none of its own methods.
+    // reads the whole target only to overwrite it; of those, a tile known
+    // to hold these values still (nothing has touched it since a clear to
+    // them: see Framebuffer::color_data()) is not written again. Until then
+    // `target` must live, keep its size, and be read through none of its
+    // own methods.
     void clear(Framebuffer& target, const glm::vec4& color, float depth, uint8_t stencil = 0);
     // Drops the queued draws (and what flush(stats, true) kept) undrawn,
     // and completes any clear that waits: for a frame abandoned part way,

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 namespace facet {
 
@@ -149,7 +150,7 @@ void AoPass::run(const std::vector<DrawItem>& items, const glm::mat4& view,
     make_directions(settings.ao_samples);
     f.directions = directions_.data();
     const glm::mat4 inverse = glm::inverse(proj);
-    f.target_depth = depth->depth();
+    f.target_depth = std::as_const(*depth).depth();
     f.target_stride = depth->stride();
     f.background = settings.far_depth();
     f.set_pixel_rays(proj);

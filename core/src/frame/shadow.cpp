@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 namespace facet {
 
@@ -194,7 +195,7 @@ void make_distances(const facet_shadow_map& sm, const Framebuffer& depth, bool w
         }
     }
     ShadowDistanceRows rows;
-    rows.depth = depth.depth();
+    rows.depth = std::as_const(depth).depth();
     rows.depth_stride = depth.stride();
     rows.distances =
         with_border ? texels.data() : texels.data() + size_t(kBorder) * size_t(stride) + kBorder;

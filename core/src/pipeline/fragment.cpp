@@ -1,6 +1,7 @@
 #include "pipeline/fragment.hpp"
 
 #include "pipeline/blend.hpp"
+#include "pipeline/framebuffer_access.hpp"
 #include "pipeline/narrow_coverage.hpp"
 #include "pipeline/pixels.hpp"
 #include "pipeline/rasterize.hpp"
@@ -179,13 +180,13 @@ void write_pixels(const DrawContext& dc, const Block& b, const Float* z, const f
     const size_t at = pixel_index(fb, b.x, b.y);
     const ColorFormat format = fb.format();
     const size_t bytes = size_t(bytes_per_pixel(format)), row_bytes = size_t(fb.stride()) * bytes;
-    uint8_t* block = fb.color_data() + at * bytes;
+    uint8_t* block = FramebufferAccess::color(fb) + at * bytes;
     const bool write_color = color && dc.state.color_write && fb.has_color();
     for (int p = 0; p < kParts; ++p) {
         const uint32_t lanes = simd::part_mask(mask, p);
         if (!lanes) continue;
         if (dc.state.depth_write)
-            simd::store_part<4>(reinterpret_cast<uint8_t*>(fb.depth() + at),
+            simd::store_part<4>(reinterpret_cast<uint8_t*>(FramebufferAccess::depth(fb) + at),
                                 size_t(fb.stride()) * 4, p, &z[p], lanes);
         if (!write_color) continue;
         Rgba src = shaded(color, p);
@@ -241,9 +242,9 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
             const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
             for (uint32_t bits = sd.passed[i]; bits; bits &= bits - 1) {
                 const int s = std::countr_zero(bits);
-                if (dc.state.depth_write) fb.sample_depth()[at + size_t(s)] = sd.z[s][i];
+                if (dc.state.depth_write) FramebufferAccess::sample_depth(fb)[at + size_t(s)] = sd.z[s][i];
                 if (!write_color) continue;
-                uint8_t* dst = fb.sample_color_data() + (at + size_t(s)) * bytes;
+                uint8_t* dst = FramebufferAccess::sample_color(fb) + (at + size_t(s)) * bytes;
                 if (opaque) {
                     std::memcpy(dst, packed.bytes + size_t(j) * bytes, bytes);
                     continue;
@@ -352,7 +353,7 @@ void PackedBatch::flush(FrameStats& stats) {
             pack(format, shaded(color, p), packed.bytes);
             for (uint32_t m = simd::part_mask(mask, p); m; m &= m - 1) {
                 const int j = std::countr_zero(m);
-                std::memcpy(fb.color_data() + size_t(pixel[p * kWidth + j]) * size,
+                std::memcpy(FramebufferAccess::color(fb) + size_t(pixel[p * kWidth + j]) * size,
                             packed.bytes + size_t(j) * size, size);
             }
         }
@@ -431,9 +432,9 @@ void depth_blocks(const DrawContext& dc, const NarrowCoverage& cover, const Tria
             fetched = by;
             for (int y = by + 4; y < by + 8 && y <= last_row; ++y)
                 for (int x = px0; x <= px1; x += 16)
-                    __builtin_prefetch(fb.depth() + pixel_index(fb, x, y), 1);
+                    __builtin_prefetch(FramebufferAccess::depth(fb) + pixel_index(fb, x, y), 1);
         }
-        float* depth = fb.depth() + pixel_index(fb, bx, by);
+        float* depth = FramebufferAccess::depth(fb) + pixel_index(fb, bx, by);
         uint32_t pass = 0;
         for (int p = 0; p < kParts; ++p) {
             const uint32_t lanes = simd::part_mask(mask, p);

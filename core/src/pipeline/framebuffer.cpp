@@ -1,5 +1,6 @@
 #include "facet/framebuffer.hpp"
 
+#include "pipeline/framebuffer_access.hpp"
 #include "pipeline/kernels.hpp"
 
 #include "facet/error.hpp"
@@ -57,6 +58,7 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples,
     require_within_budget(storage_bytes(width, height, format, samples, stencil),
                           "a " + std::to_string(width) + "x" + std::to_string(height) + " target" +
                               (samples > 1 ? " with " + std::to_string(samples) + " samples" : ""));
+    FramebufferAccess::forget_cleared(*this);
     width_ = width;
     height_ = height;
     stride_ = (width + 15) & ~15;  // 64 bytes of depth: rows start on cache lines
@@ -76,10 +78,12 @@ void Framebuffer::resize(int width, int height, ColorFormat format, int samples,
 }
 
 void Framebuffer::clear(const glm::vec4& color, float depth, uint8_t stencil) {
+    FramebufferAccess::forget_cleared(*this);
     kernels(default_isa()).clear_rect(*this, 0, 0, stride_, rows_, color, depth, stencil, true);
 }
 
 void Framebuffer::resolve() {
+    if (samples_ > 1) FramebufferAccess::forget_cleared(*this);
     if (samples_ > 1) kernels(default_isa()).resolve_rows(*this, 0, height_);
 }
 
@@ -95,6 +99,7 @@ glm::vec4 Framebuffer::sample(int x, int y, int s) const {
 }
 
 void Framebuffer::set_pixel(int x, int y, const glm::vec4& linear) {
+    FramebufferAccess::forget_cleared(*this);
     const size_t at = size_t(y) * size_t(stride_) + size_t(x);
     encode_pixel(format_, linear, color_.data() + at * size_t(bytes_per_pixel(format_)));
 }

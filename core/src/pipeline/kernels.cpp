@@ -3,6 +3,7 @@
 #include "pipeline/kernels.hpp"
 
 #include "pipeline/draw_queue.hpp"
+#include "pipeline/framebuffer_access.hpp"
 #include "pipeline/fragment.hpp"
 #include "pipeline/narrow_coverage.hpp"
 #include "pipeline/pixels.hpp"
@@ -61,6 +62,10 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
     int x0, y0, x1, y1;
     g.bins.rect(tile, x0, y0, x1, y1);
     const int samples = g.target->samples();
+    // The tile no longer holds what the target's last clear wrote (each
+    // tile is one thread's: no two threads write the same byte).
+    std::vector<uint8_t>& held = FramebufferAccess::cleared(*g.target).held;
+    if (size_t(tile) < held.size()) held[size_t(tile)] = 0;
     if (PendingClear* c = g.clear_now; c && !c->cleared[size_t(tile)]) {
         int cx0, cy0, cx1, cy1;
         c->storage_rect(tile, cx0, cy0, cx1, cy1);

@@ -12,6 +12,7 @@
 
 #include "pipeline/assembly.hpp"
 #include "pipeline/draw_queue.hpp"
+#include "pipeline/framebuffer_access.hpp"
 #include "pipeline/kernels.hpp"
 #include "pipeline/sky.hpp"
 #include "base/thread_pool.hpp"
@@ -170,24 +171,53 @@ void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
     drop_queued(g);
 }
 
+// Whether `known` says which of the target's tiles still hold every value
+// `c` writes (compared bit for bit, so -0 and 0 differ, and any NaN is new).
+bool holds_values_of(const FramebufferAccess::ClearedTiles& known, const PendingClear& c) {
+    return known.tile_size == kTileSize && known.columns == c.columns && known.rows == c.rows &&
+           known.held.size() == c.cleared.size() &&
+           std::memcmp(&known.color, &c.color, sizeof c.color) == 0 &&
+           std::memcmp(&known.depth, &c.depth, sizeof c.depth) == 0 && known.stencil == c.stencil;
+}
+
+// Records that the tiles no draw touched hold c's values, and the rest not.
+void remember_clear(FramebufferAccess::ClearedTiles& known, const PendingClear& c) {
+    known.tile_size = kTileSize;
+    known.columns = c.columns;
+    known.rows = c.rows;
+    known.color = c.color;
+    known.depth = c.depth;
+    known.stencil = c.stencil;
+    known.held.resize(c.cleared.size());
+    for (size_t t = 0; t < c.cleared.size(); ++t) known.held[t] = !c.cleared[t];
+}
+
 // Completes the clears that wait (PendingClear): each row of tiles in
-// parallel, the tiles no draw cleared in runs, a row with none cleared as
-// one run of storage.
+// parallel, the tiles no draw cleared in runs (a row with none cleared as
+// one run of storage), less those the target still holds from a clear to
+// the same values that nothing has touched since (Framebuffer's
+// ClearedTiles): a frame that leaves most of the target empty, as a small
+// mesh in view does, then writes only what its draws touched.
 void complete_clears(DrawQueue& g, ThreadPool& pool, const Kernels& kernels) {
     for (PendingClear& c : g.clears) {
         if (!c.waiting) continue;
         c.waiting = false;
         if (!c.fits()) continue;  // resized since: its contents are undefined until cleared again
         Framebuffer& fb = *c.target;
+        FramebufferAccess::ClearedTiles& known = FramebufferAccess::cleared(fb);
+        const bool trusted = FramebufferAccess::known(fb) && holds_values_of(known, c);
         pool.parallel_for(c.rows, [&](int row, int) {
-            const uint8_t* cleared = c.cleared.data() + size_t(row) * size_t(c.columns);
+            const size_t at = size_t(row) * size_t(c.columns);
+            const auto written = [&](int column) {  // drawn, or still holding the values
+                return c.cleared[at + size_t(column)] || (trusted && known.held[at + size_t(column)]);
+            };
             for (int first = 0; first < c.columns;) {
-                if (cleared[first]) {
+                if (written(first)) {
                     ++first;
                     continue;
                 }
                 int last = first;
-                while (last + 1 < c.columns && !cleared[last + 1]) ++last;
+                while (last + 1 < c.columns && !written(last + 1)) ++last;
                 int x0, y0, x1, y1, last_x0, last_y0, last_x1, last_y1;
                 c.storage_rect(row * c.columns + first, x0, y0, x1, y1);
                 c.storage_rect(row * c.columns + last, last_x0, last_y0, last_x1, last_y1);
@@ -195,6 +225,7 @@ void complete_clears(DrawQueue& g, ThreadPool& pool, const Kernels& kernels) {
                 first = last + 1;
             }
         });
+        remember_clear(known, c);
     }
 }
 
@@ -459,6 +490,7 @@ void Pipeline::resolve(Framebuffer& target) {
     require_flushed(target, "Pipeline::resolve");
     complete_clears(*queue_, *pool_, *kernels_);
     if (target.samples() == 1) return;
+    FramebufferAccess::forget_cleared(target);
     const Kernels& k = *kernels_;
     for_row_bands(*pool_, target.height(),
                   [&](int first, int rows) { k.resolve_rows(target, first, rows); });
@@ -467,6 +499,7 @@ void Pipeline::resolve(Framebuffer& target) {
 void Pipeline::sky(const SkyRows& sky) {
     require_flushed(*sky.target, "Pipeline::sky");
     complete_clears(*queue_, *pool_, *kernels_);
+    FramebufferAccess::forget_cleared(*sky.target);
     const Kernels& k = *kernels_;
     for_row_bands(*pool_, sky.target->height(),
                   [&](int first, int rows) { k.sky_rows(sky, first, rows); });

@@ -1,6 +1,7 @@
 // Framebuffer row kernels (clear, MSAA resolve, 8-bit output) and the bulk
 // codecs, kWidth pixels at a time; one of the per-ISA kernel sources.
 #include "pipeline/pixels.hpp"
+#include "pipeline/framebuffer_access.hpp"
 
 
 #include <algorithm>
@@ -96,15 +97,15 @@ void clear_rect(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4
     const size_t run = size_t(x1 - x0) * (whole ? size_t(y1 - y0) : 1);
     for (int y = y0; y < (whole ? y0 + 1 : y1); ++y) {
         const size_t at = size_t(y) * stride + size_t(x0);
-        fill(reinterpret_cast<uint8_t*>(fb.depth() + at), run * 4, z, stream);
-        if (n > 1) fill(reinterpret_cast<uint8_t*>(fb.sample_depth() + at * n), run * n * 4, z, stream);
+        fill(reinterpret_cast<uint8_t*>(FramebufferAccess::depth(fb) + at), run * 4, z, stream);
+        if (n > 1) fill(reinterpret_cast<uint8_t*>(FramebufferAccess::sample_depth(fb) + at * n), run * n * 4, z, stream);
         if (fb.has_stencil()) {
-            std::memset(fb.stencil() + at, stencil, run);
-            if (n > 1) std::memset(fb.sample_stencil() + at * n, stencil, run * n);
+            std::memset(FramebufferAccess::stencil(fb) + at, stencil, run);
+            if (n > 1) std::memset(FramebufferAccess::sample_stencil(fb) + at * n, stencil, run * n);
         }
         if (!fb.has_color()) continue;
-        fill(fb.color_data() + at * bytes, run * bytes, c, stream);
-        if (n > 1) fill(fb.sample_color_data() + at * n * bytes, run * n * bytes, c, stream);
+        fill(FramebufferAccess::color(fb) + at * bytes, run * bytes, c, stream);
+        if (n > 1) fill(FramebufferAccess::sample_color(fb) + at * n * bytes, run * n * bytes, c, stream);
     }
 }
 
@@ -119,16 +120,16 @@ void resolve_rows(Framebuffer& fb, int first, int count) {
         for (int x = 0; x < fb.width(); x += kWidth) {
             const int k = std::min(kWidth, fb.width() - x);
             const size_t at = row + size_t(x);
-            for (int i = 0; i < k; ++i) fb.depth()[at + i] = fb.sample_depth()[(at + i) * n];
+            for (int i = 0; i < k; ++i) FramebufferAccess::depth(fb)[at + i] = FramebufferAccess::sample_depth(fb)[(at + i) * n];
             if (!fb.has_color()) continue;
             Rgba sum = {Float{}, Float{}, Float{}, Float{}};
             for (int s = 0; s < n; ++s) {
-                const Rgba c = gather_pixels(format, fb.sample_color_data() + (at * n + s) * bytes,
+                const Rgba c = gather_pixels(format, FramebufferAccess::sample_color(fb) + (at * n + s) * bytes,
                                              n * bytes, bytes, k);
                 sum = {sum.r + c.r, sum.g + c.g, sum.b + c.b, sum.a + c.a};
             }
             put_pixels(format, {sum.r * weight, sum.g * weight, sum.b * weight, sum.a * weight},
-                       fb.color_data() + at * bytes, k);
+                       FramebufferAccess::color(fb) + at * bytes, k);
         }
     }
 }

@@ -2,6 +2,7 @@
 // a row at a time, each looked up in the environment by the SDK's own
 // lookup (<facet/environment.hpp>), so the background and a mirror show the
 // same texels.
+#include "pipeline/framebuffer_access.hpp"
 #include "pipeline/kernels.hpp"
 #include "pipeline/pixels.hpp"
 #include "pipeline/sky.hpp"
@@ -33,8 +34,8 @@ void sky_rows(const SkyRows& sky, int first, int count) {
     Framebuffer& fb = *sky.target;
     const int samples = fb.samples();
     const size_t bpp = bytes_per_pixel(fb.format());
-    const float* depth = samples > 1 ? fb.sample_depth() : fb.depth();
-    uint8_t* color = samples > 1 ? fb.sample_color_data() : fb.color_data();
+    const float* depth = samples > 1 ? FramebufferAccess::sample_depth(fb) : FramebufferAccess::depth(fb);
+    uint8_t* color = samples > 1 ? FramebufferAccess::sample_color(fb) : FramebufferAccess::color(fb);
     Float lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = float(i) + 0.5f;
     for (int y = first; y < first + count; ++y) {
