@@ -547,6 +547,16 @@ TEST_CASE("a clear writes again only the tiles that no longer hold its values",
                 depth[0] = 0.5f;
                 clear_to(other);
                 CHECK(bytes_differing(got, want_other) == 0);
+                // So does an assignment to it, which may keep its storage.
+                Framebuffer known(150, 70, format, samples), assigned(150, 70, format, samples);
+                p.clear(known, other, 0.0f);
+                p.flush(stats);
+                float* const into = assigned.depth();
+                assigned = known;
+                into[0] = 0.5f;
+                p.clear(assigned, other, 0.0f);
+                p.flush(stats);
+                CHECK(bytes_differing(assigned, want_other) == 0);
             }
 }
 

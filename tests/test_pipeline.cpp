@@ -301,6 +301,48 @@ TEST_CASE("a depth-only draw writes the depths a shaded draw writes, and rejects
         }
 }
 
+TEST_CASE("a depth-only draw writes the depths a shaded draw writes where weights are clamped",
+          "[pipeline][depth][isa]") {
+    // Triangles with corners on pixel centres, so that many covered centres
+    // lie exactly on an edge, where a weight's rounding may fall below 0,
+    // and corners far apart in depth, so that such weights are held at 0
+    // (TriangleSetup::clamp_weights): the depth-only route must hold them
+    // too, or a main pass testing for equal depth after a pre-pass would
+    // leave those pixels unshaded. Each triangle alone, so that none hides
+    // another's pixels.
+    auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();
+    const glm::mat4 proj = perspective(glm::radians(60.0f), float(W) / H, 0.1f, 1000.0f, true);
+    std::mt19937 rng(17);
+    std::uniform_int_distribution<int> px(0, W - 1), py(0, H - 1);
+    std::uniform_real_distribution<float> depth(0.2f, 300.0f);
+    const auto corner = [&] {  // a view-space point whose window position is a pixel centre
+        const double d = double(depth(rng));
+        const double nx = 2.0 * (px(rng) + 0.5) / W - 1.0, ny = 1.0 - 2.0 * (py(rng) + 0.5) / H;
+        return glm::vec3(float(nx * d / proj[0][0]), float(ny * d / proj[1][1]), float(-d));
+    };
+    Framebuffer shaded(W, H), depth_only(W, H, ColorFormat::none);
+    int differing = 0;
+    for (int n = 0; n < 300; ++n) {
+        const Mesh mesh = make_mesh({corner(), corner(), corner()}, {0, 1, 2});
+        for (Isa isa : supported_isas()) {
+            for (Framebuffer* fb : {&shaded, &depth_only}) {
+                fb->clear(glm::vec4(0.0f), 0.0f);
+                DrawCall call = clip_space_call(mesh, *shader);
+                call.projection = proj;
+                call.state.cull = CullMode::none;
+                call.state.depth_compare = DepthCompare::greater;
+                call.state.color_write = fb == &shaded;
+                FrameStats stats;
+                Pipeline(1, isa).draw(call, *fb, stats);
+            }
+            for (int y = 0; y < H; ++y)
+                for (int x = 0; x < W; ++x)
+                    differing += depth_only.depth_at(x, y) != shaded.depth_at(x, y);
+        }
+    }
+    CHECK(differing == 0);
+}
+
 TEST_CASE("interpenetrating triangles resolve per pixel", "[pipeline][depth]") {
     // Two triangles crossing at x = 0: blue is nearer for x < 0, red for x > 0.
     auto shader = plugin<ColorShader<FACET_INTERP_PERSPECTIVE>>();

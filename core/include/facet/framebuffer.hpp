@@ -142,17 +142,17 @@ public:
     // clear to them); once writable storage has been asked for, nothing is
     // known of this framebuffer's contents any more, and every clear writes
     // every tile. To read, use a const Framebuffer&, which costs nothing.
-    uint8_t* color_data() { caller_writes_ = true; return color_.data(); }
+    uint8_t* color_data() { caller_writes_.set = true; return color_.data(); }
     const uint8_t* color_data() const { return color_.data(); }
-    uint8_t* sample_color_data() { caller_writes_ = true; return sample_color_.data(); }
+    uint8_t* sample_color_data() { caller_writes_.set = true; return sample_color_.data(); }
     const uint8_t* sample_color_data() const { return sample_color_.data(); }
-    float* depth() { caller_writes_ = true; return depth_.data(); }
+    float* depth() { caller_writes_.set = true; return depth_.data(); }
     const float* depth() const { return depth_.data(); }
-    float* sample_depth() { caller_writes_ = true; return sample_depth_.data(); }
+    float* sample_depth() { caller_writes_.set = true; return sample_depth_.data(); }
     const float* sample_depth() const { return sample_depth_.data(); }
-    uint8_t* stencil() { caller_writes_ = true; return stencil_.data(); }
+    uint8_t* stencil() { caller_writes_.set = true; return stencil_.data(); }
     const uint8_t* stencil() const { return stencil_.data(); }
-    uint8_t* sample_stencil() { caller_writes_ = true; return sample_stencil_.data(); }
+    uint8_t* sample_stencil() { caller_writes_.set = true; return sample_stencil_.data(); }
     const uint8_t* sample_stencil() const { return sample_stencil_.data(); }
 
     // 8-bit sRGB RGBA, row-major, width * 4 bytes a row. Alpha is stored
@@ -182,7 +182,8 @@ private:
     // every value of its last clear (colour, depth and stencil, every
     // sample, the padding too), which a clear to the same values need not
     // write again (Pipeline::clear). The pipeline's draws mark the tiles
-    // they touch; every non-const member forgets it all.
+    // they touch; clear(), set_pixel(), resize() and an MSAA resolve()
+    // forget it all, as do the pipeline's sky, resolve and post chain.
     struct ClearedTiles {
         std::vector<uint8_t> held;  // per tile, row-major; empty: none known
         int tile_size = 0, columns = 0, rows = 0;
@@ -191,7 +192,18 @@ private:
         uint8_t stencil = 0;
     };
     ClearedTiles cleared_;
-    bool caller_writes_ = false;  // writable storage was asked for: nothing is known
+    // Writable storage was asked for: nothing is known. An assignment keeps
+    // it set, since it may reuse the storage a caller's pointer points into.
+    struct Sticky {
+        bool set = false;
+        Sticky() = default;
+        Sticky(const Sticky&) = default;
+        Sticky& operator=(const Sticky& o) {
+            set = set || o.set;
+            return *this;
+        }
+    };
+    Sticky caller_writes_;
     friend struct FramebufferAccess;  // the core's own (core/src/pipeline/framebuffer_access.hpp)
 };
 

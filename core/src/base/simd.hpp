@@ -79,6 +79,14 @@ inline Int row(int part) {
     return r;
 }
 
+// Lane j of a part holds bit j: a part's lanes of a 16-bit mask, as a
+// vector ((lane_bits() & part_mask(mask, p)) != 0: the lanes set).
+inline Int lane_bits() {
+    Int b;
+    for (int j = 0; j < kWidth; ++j) b[j] = 1 << j;
+    return b;
+}
+
 // The bits set in v: one instruction where the path has it; the baseline
 // x86-64 path has none, and there the compiler's builtin is a call into
 // libgcc, once per block or batch, so it adds them up in place.

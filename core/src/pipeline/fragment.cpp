@@ -242,7 +242,8 @@ void write_samples(const DrawContext& dc, const Block& b, const SampleDepth& sd,
             const size_t at = pixel_index(fb, b.x + i % 4, b.y + i / 4) * size_t(n);
             for (uint32_t bits = sd.passed[i]; bits; bits &= bits - 1) {
                 const int s = std::countr_zero(bits);
-                if (dc.state.depth_write) FramebufferAccess::sample_depth(fb)[at + size_t(s)] = sd.z[s][i];
+                if (dc.state.depth_write)
+                    FramebufferAccess::sample_depth(fb)[at + size_t(s)] = sd.z[s][i];
                 if (!write_color) continue;
                 uint8_t* dst = FramebufferAccess::sample_color(fb) + (at + size_t(s)) * bytes;
                 if (opaque) {
@@ -424,8 +425,7 @@ void depth_blocks(const DrawContext& dc, const NarrowCoverage& cover, const Tria
     const int px0 = std::max(t.x0, x0) & ~15, px1 = std::min(t.x1, x1);  // whole cache lines
     const int last_row = std::min(t.y1, y1);
     int fetched = -1;  // the block row whose next was asked for
-    Int lane_bit;
-    for (int i = 0; i < kWidth; ++i) lane_bit[i] = 1 << i;
+    const Int lane_bit = simd::lane_bits();
     cover.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
         const float at1 = cover.at_lane0(e[2]), at2 = cover.at_lane0(e[0]);
         if (by != fetched) {
@@ -440,7 +440,8 @@ void depth_blocks(const DrawContext& dc, const NarrowCoverage& cover, const Tria
             const uint32_t lanes = simd::part_mask(mask, p);
             if (!lanes) continue;
             // interpolate_depth's arithmetic, from the same weights.
-            Float z = z0 + cover.weights(2, at1, p) * d1 + cover.weights(0, at2, p) * d2;
+            Float z = z0 + cover.weights(2, at1, p, mask) * d1 +
+                      cover.weights(0, at2, p, mask) * d2;
             z = z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
             const Float stored = simd::load_part(depth, stride, p);
             const Int in = ((Int{} + int32_t(lanes)) & lane_bit) != 0;  // the covered lanes

@@ -83,8 +83,9 @@ void Framebuffer::clear(const glm::vec4& color, float depth, uint8_t stencil) {
 }
 
 void Framebuffer::resolve() {
-    if (samples_ > 1) FramebufferAccess::forget_cleared(*this);
-    if (samples_ > 1) kernels(default_isa()).resolve_rows(*this, 0, height_);
+    if (samples_ == 1) return;
+    FramebufferAccess::forget_cleared(*this);
+    kernels(default_isa()).resolve_rows(*this, 0, height_);
 }
 
 glm::vec4 Framebuffer::pixel(int x, int y) const {

@@ -29,7 +29,7 @@ struct FramebufferAccess {
     // The tiles known to hold a clear; nothing is known once a caller has
     // asked for writable storage.
     static ClearedTiles& cleared(Framebuffer& fb) { return fb.cleared_; }
-    static bool known(const Framebuffer& fb) { return !fb.caller_writes_; }
+    static bool known(const Framebuffer& fb) { return !fb.caller_writes_.set; }
     static void forget_cleared(Framebuffer& fb) { fb.cleared_.held.clear(); }
 };
 

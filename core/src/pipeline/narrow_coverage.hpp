@@ -69,32 +69,29 @@ public:
     }
 
     // The weight of vertex k + 2 (edge k's) at part p's lanes of a block
-    // where edge k is e at lane 0, as BlockCoverage gives it before any
-    // clamp: the exact value over the exact area, plus the plane's step.
+    // whose covered lanes are `mask` and where edge k is e at lane 0, as
+    // BlockCoverage gives it: the exact value over the exact area, plus
+    // the plane's step; at the covered lanes held at 0 or above when the
+    // setup asks (TriangleSetup::clamp_weights), for the shaded and the
+    // depth-only routes alike (a pre-pass's depth must be the main pass's).
     float at_lane0(int64_t e) const { return float(double(e) * t_.inv_area2); }
-    simd::Float weights(int k, float at_lane0, int p) const {
-        return at_lane0 + weight_lanes_[k][p];
+    simd::Float weights(int k, float at_lane0, int p, uint32_t mask) const {
+        const simd::Float w = at_lane0 + weight_lanes_[k][p];
+        if (!t_.clamp_weights) return w;
+        const simd::Int in = (simd::lane_bits() & int(simd::part_mask(mask, p))) != 0;
+        return in ? simd::max(w, simd::Float{}) : w;
     }
 
     // The block BlockCoverage::operator() fills for one visit: its corner,
-    // mask and weights, those of the covered lanes held at 0 or above when
-    // the setup asks (TriangleSetup::clamp_weights).
+    // mask and weights.
     void fill(int bx, int by, uint32_t mask, const int64_t e[3], Block& block) const {
         block.x = bx;
         block.y = by;
         block.mask = mask;
-        const simd::Int lane_bit = lane_bits();
         for (int k = 0; k < 3; ++k) {
             const float at = at_lane0(e[k]);
-            float* out = block.bary[(k + 2) % 3];
-            for (int p = 0; p < simd::kParts; ++p) {
-                simd::Float w = weights(k, at, p);
-                if (t_.clamp_weights) {
-                    const simd::Int in = (lane_bit & int(simd::part_mask(mask, p))) != 0;
-                    w = in ? simd::max(w, simd::Float{}) : w;
-                }
-                simd::store(out + p * simd::kWidth, w);
-            }
+            for (int p = 0; p < simd::kParts; ++p)
+                simd::store(block.bary[(k + 2) % 3] + p * simd::kWidth, weights(k, at, p, mask));
         }
     }
 
@@ -107,7 +104,8 @@ private:
         for (int k = 0; k < 3; ++k)
             if (e[k] + best_[k] < threshold_[k]) return 0;
         const TriangleSetup& t = t_;
-        uint32_t mask = bx + 3 <= t.x1 && by + 3 <= t.y1 ? 0xFFFFu : lanes_within(bx, by, t.x1, t.y1);
+        uint32_t mask =
+            bx + 3 <= t.x1 && by + 3 <= t.y1 ? 0xFFFFu : lanes_within(bx, by, t.x1, t.y1);
         for (int k = 0; k < 3; ++k) {
             if (e[k] + worst_[k] >= threshold_[k]) continue;
             const int32_t at = int32_t(e[k]), threshold = int32_t(threshold_[k]);
@@ -117,13 +115,6 @@ private:
             mask &= in;
         }
         return mask;
-    }
-
-    // Lane j of a part holds bit j.
-    static simd::Int lane_bits() {
-        simd::Int b;
-        for (int j = 0; j < simd::kWidth; ++j) b[j] = 1 << j;
-        return b;
     }
 
     const TriangleSetup& t_;

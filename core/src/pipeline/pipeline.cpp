@@ -172,7 +172,7 @@ void rasterize_queued(DrawQueue& g, ThreadPool& pool, const Kernels& kernels,
 }
 
 // Whether `known` says which of the target's tiles still hold every value
-// `c` writes (compared bit for bit, so -0 and 0 differ, and any NaN is new).
+// `c` writes (compared bit for bit: -0 and 0 differ).
 bool holds_values_of(const FramebufferAccess::ClearedTiles& known, const PendingClear& c) {
     return known.tile_size == kTileSize && known.columns == c.columns && known.rows == c.rows &&
            known.held.size() == c.cleared.size() &&

@@ -1,8 +1,8 @@
 // Framebuffer row kernels (clear, MSAA resolve, 8-bit output) and the bulk
 // codecs, kWidth pixels at a time; one of the per-ISA kernel sources.
 #include "pipeline/pixels.hpp"
-#include "pipeline/framebuffer_access.hpp"
 
+#include "pipeline/framebuffer_access.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -95,17 +95,22 @@ void clear_rect(Framebuffer& fb, int x0, int y0, int x1, int y1, const glm::vec4
     // Whole rows are one run of storage; otherwise a run a row.
     const bool whole = x0 == 0 && size_t(x1) == stride;
     const size_t run = size_t(x1 - x0) * (whole ? size_t(y1 - y0) : 1);
+    auto* const depths = reinterpret_cast<uint8_t*>(FramebufferAccess::depth(fb));
+    auto* const sample_depths = reinterpret_cast<uint8_t*>(FramebufferAccess::sample_depth(fb));
+    uint8_t* const colors = FramebufferAccess::color(fb);
+    uint8_t* const sample_colors = FramebufferAccess::sample_color(fb);
     for (int y = y0; y < (whole ? y0 + 1 : y1); ++y) {
         const size_t at = size_t(y) * stride + size_t(x0);
-        fill(reinterpret_cast<uint8_t*>(FramebufferAccess::depth(fb) + at), run * 4, z, stream);
-        if (n > 1) fill(reinterpret_cast<uint8_t*>(FramebufferAccess::sample_depth(fb) + at * n), run * n * 4, z, stream);
+        fill(depths + at * 4, run * 4, z, stream);
+        if (n > 1) fill(sample_depths + at * n * 4, run * n * 4, z, stream);
         if (fb.has_stencil()) {
             std::memset(FramebufferAccess::stencil(fb) + at, stencil, run);
-            if (n > 1) std::memset(FramebufferAccess::sample_stencil(fb) + at * n, stencil, run * n);
+            if (n > 1)
+                std::memset(FramebufferAccess::sample_stencil(fb) + at * n, stencil, run * n);
         }
         if (!fb.has_color()) continue;
-        fill(FramebufferAccess::color(fb) + at * bytes, run * bytes, c, stream);
-        if (n > 1) fill(FramebufferAccess::sample_color(fb) + at * n * bytes, run * n * bytes, c, stream);
+        fill(colors + at * bytes, run * bytes, c, stream);
+        if (n > 1) fill(sample_colors + at * n * bytes, run * n * bytes, c, stream);
     }
 }
 
@@ -115,21 +120,25 @@ void resolve_rows(Framebuffer& fb, int first, int count) {
     const ColorFormat format = fb.format();
     const size_t bytes = size_t(bytes_per_pixel(format));
     const float weight = 1.0f / float(n);
+    float* const depth = FramebufferAccess::depth(fb);
+    const float* const sample_depth = FramebufferAccess::sample_depth(fb);
+    uint8_t* const color = FramebufferAccess::color(fb);
+    const uint8_t* const sample_color = FramebufferAccess::sample_color(fb);
     for (int y = first; y < first + count; ++y) {
         const size_t row = size_t(y) * size_t(fb.stride());
         for (int x = 0; x < fb.width(); x += kWidth) {
             const int k = std::min(kWidth, fb.width() - x);
             const size_t at = row + size_t(x);
-            for (int i = 0; i < k; ++i) FramebufferAccess::depth(fb)[at + i] = FramebufferAccess::sample_depth(fb)[(at + i) * n];
+            for (int i = 0; i < k; ++i) depth[at + i] = sample_depth[(at + i) * n];
             if (!fb.has_color()) continue;
             Rgba sum = {Float{}, Float{}, Float{}, Float{}};
             for (int s = 0; s < n; ++s) {
-                const Rgba c = gather_pixels(format, FramebufferAccess::sample_color(fb) + (at * n + s) * bytes,
+                const Rgba c = gather_pixels(format, sample_color + (at * n + s) * bytes,
                                              n * bytes, bytes, k);
                 sum = {sum.r + c.r, sum.g + c.g, sum.b + c.b, sum.a + c.a};
             }
             put_pixels(format, {sum.r * weight, sum.g * weight, sum.b * weight, sum.a * weight},
-                       FramebufferAccess::color(fb) + at * bytes, k);
+                       color + at * bytes, k);
         }
     }
 }

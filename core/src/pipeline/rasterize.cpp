@@ -14,17 +14,6 @@ using simd::Long;
 using simd::kParts;
 using simd::kWidth;
 
-namespace {
-
-// Lane j of a part holds bit j: a part's lanes of a 16-bit mask, as a vector.
-Int lane_bits() {
-    Int b;
-    for (int j = 0; j < kWidth; ++j) b[j] = 1 << j;
-    return b;
-}
-
-}  // namespace
-
 BlockCoverage::BlockCoverage(const TriangleSetup& t, int samples, EdgeWidth width)
     : t_(t), samples_(samples), narrow_(t.narrow && width == EdgeWidth::automatic),
       clamp_weights_(t.clamp_weights && samples == 1) {
@@ -83,7 +72,7 @@ uint32_t BlockCoverage::cover_samples(const int64_t* e0, uint32_t partial,
 }
 
 void BlockCoverage::clamp_covered_weights(uint32_t inside, Block& block) {
-    const Int lane_bit = lane_bits();
+    const Int lane_bit = simd::lane_bits();
     for (int p = 0; p < kParts; ++p) {
         const Int covered = (lane_bit & int(simd::part_mask(inside, p))) != 0;
         for (int v = 0; v < 3; ++v) {

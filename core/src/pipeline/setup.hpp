@@ -97,7 +97,8 @@ struct TriangleSetup {
     bool narrow;              // every edge spans less than kNarrowEdgeSpan
     // The weights' rounding, scaled by the ratio of the 1/w, may leave the
     // perspective weights more than 2^-17 below 0 on an edge: covered
-    // lanes hold theirs at 0 or above (BlockCoverage; with one sample).
+    // lanes hold theirs at 0 or above (BlockCoverage and NarrowCoverage,
+    // in the depth-only route too; with one sample).
     bool clamp_weights;
     // The weights as planes: vertex k's weight changes by bary_dx[k] from
     // one pixel to the next in x (bary_dy[k] in y), and is edge[k + 1]'s

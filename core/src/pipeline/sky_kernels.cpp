@@ -34,8 +34,10 @@ void sky_rows(const SkyRows& sky, int first, int count) {
     Framebuffer& fb = *sky.target;
     const int samples = fb.samples();
     const size_t bpp = bytes_per_pixel(fb.format());
-    const float* depth = samples > 1 ? FramebufferAccess::sample_depth(fb) : FramebufferAccess::depth(fb);
-    uint8_t* color = samples > 1 ? FramebufferAccess::sample_color(fb) : FramebufferAccess::color(fb);
+    const float* depth =
+        samples > 1 ? FramebufferAccess::sample_depth(fb) : FramebufferAccess::depth(fb);
+    uint8_t* color =
+        samples > 1 ? FramebufferAccess::sample_color(fb) : FramebufferAccess::color(fb);
     Float lane;
     for (int i = 0; i < kWidth; ++i) lane[i] = float(i) + 0.5f;
     for (int y = first; y < first + count; ++y) {

@@ -13,7 +13,8 @@ uint32_t stencil_depth_test(const DrawContext& dc, const TriangleSetup& t, const
     Framebuffer& fb = *dc.target;
     const int n = fb.samples();
     const StencilFace& f = t.front_facing ? dc.state.stencil.front : dc.state.stencil.back;
-    uint8_t* stencil = n > 1 ? FramebufferAccess::sample_stencil(fb) : FramebufferAccess::stencil(fb);
+    uint8_t* stencil =
+        n > 1 ? FramebufferAccess::sample_stencil(fb) : FramebufferAccess::stencil(fb);
     const float* depth = n > 1 ? FramebufferAccess::sample_depth(fb) : FramebufferAccess::depth(fb);
     const glm::vec2 dz = n > 1 ? depth_gradient(t) : glm::vec2(0.0f);
     uint32_t out = 0;
