@@ -78,8 +78,8 @@ struct Options {
 
 void report(const facet::FrameStats& s, const facet::Scene& scene) {
     spdlog::info("rendered {}x{} in {:.2f} ms: {} objects ({} culled), {} triangles in, "
-                 "{} rasterized, {} clipped, {} back-facing, {} outside, {} degenerate, "
-                 "{} invalid; {} fragments shaded in {} shader calls",
+                 "{} rasterized, {} clipped, {} back-facing, {} outside, {} degenerate or "
+                 "between pixel centres, {} invalid; {} fragments shaded in {} shader calls",
                  scene.settings.width, scene.settings.height, s.milliseconds, s.objects,
                  s.objects_culled, s.triangles_in, s.triangles_rasterized, s.triangles_clipped,
                  s.triangles_culled_backface, s.triangles_culled_frustum,
