@@ -79,14 +79,6 @@ inline Int row(int part) {
     return r;
 }
 
-// Lane j of a part holds bit j: a part's lanes of a 16-bit mask, as a
-// vector ((lane_bits() & part_mask(mask, p)) != 0: the lanes set).
-inline Int lane_bits() {
-    Int b;
-    for (int j = 0; j < kWidth; ++j) b[j] = 1 << j;
-    return b;
-}
-
 // The bits set in v: one instruction where the path has it; the baseline
 // x86-64 path has none, and there the compiler's builtin is a call into
 // libgcc, once per block or batch, so it adds them up in place.
@@ -103,6 +95,13 @@ inline int popcount(uint32_t v) {
 
 // The lanes of part p in a 16-bit block mask, and back.
 inline uint32_t part_mask(uint32_t mask, int part) { return mask >> (part * kWidth) & kPartMask; }
+
+// The lanes of part p in a 16-bit block mask as a vector: all ones where set.
+inline Int part_lanes(uint32_t mask, int part) {
+    Int bit;
+    for (int j = 0; j < kWidth; ++j) bit[j] = 1 << j;
+    return (bit & int(part_mask(mask, part))) != 0;
+}
 
 // Bit i set where lane i of a comparison result (all ones or zero) is set.
 inline uint32_t bits(const Int& m) {

@@ -425,7 +425,6 @@ void depth_blocks(const DrawContext& dc, const NarrowCoverage& cover, const Tria
     const int px0 = std::max(t.x0, x0) & ~15, px1 = std::min(t.x1, x1);  // whole cache lines
     const int last_row = std::min(t.y1, y1);
     int fetched = -1;  // the block row whose next was asked for
-    const Int lane_bit = simd::lane_bits();
     cover.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
         const float at1 = cover.at_lane0(e[2]), at2 = cover.at_lane0(e[0]);
         if (by != fetched) {
@@ -444,7 +443,7 @@ void depth_blocks(const DrawContext& dc, const NarrowCoverage& cover, const Tria
                       cover.weights(0, at2, p, mask) * d2;
             z = z < 0.0f ? 0.0f : z > 1.0f ? 1.0f : z;
             const Float stored = simd::load_part(depth, stride, p);
-            const Int in = ((Int{} + int32_t(lanes)) & lane_bit) != 0;  // the covered lanes
+            const Int in = simd::part_lanes(mask, p);  // the covered lanes
             const Int passed = in & passes<Compare>(z, stored);
             if (write) simd::store_part(depth, stride, p, passed ? z : stored);
             pass |= simd::bits(passed) << (p * kWidth);

@@ -27,33 +27,42 @@ size_t assemble_triangles(const WideAssembly& a, const uint32_t* idx, size_t cou
 
 namespace {
 
+// Calls visit(const Block&) for every block of t's coverage within the
+// tile [x0, x1] x [y0, y1]: by NarrowCoverage for a narrow triangle at one
+// sample a pixel (nearly every one), else by BlockCoverage (`width` as it
+// takes it), the same blocks either way.
+template <class Visit>
+void for_each_covered_block(const TriangleSetup& t, int samples, EdgeWidth width, int x0, int y0,
+                            int x1, int y1, Visit&& visit) {
+    if (samples == 1 && t.narrow && width == EdgeWidth::automatic) {
+        const NarrowCoverage cover(t);
+        Block block;
+        cover.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
+            cover.fill(bx, by, mask, e, block);
+            visit(block);
+        });
+        return;
+    }
+    rasterize(BlockCoverage(t, samples, width), t, x0, y0, x1, y1, visit);
+}
+
 // One of a tile's triangles: rasterized and shaded, or (a narrow one of a
 // depth_only draw) its depth drawn.
 void draw_triangle(const DrawContext& dc, bool depth_only_draw, const TriangleSetup& t,
                    int samples, int x0, int y0, int x1, int y1, PackedBatch& packed, TileAo& ao,
                    FrameStats& stats) {
+    if (depth_only_draw && t.narrow) {  // one sample a pixel (depth_only)
+        if (!packed.empty()) packed.flush(stats);  // what came first is written first
+        draw_depth_only(dc, NarrowCoverage(t), t, x0, y0, x1, y1, stats);
+        return;
+    }
     TriangleVaryings tv;
     bool prepared = false;  // many triangles cover nothing in a tile
-    const auto shade = [&](const Block& b) {
+    for_each_covered_block(t, samples, EdgeWidth::automatic, x0, y0, x1, y1, [&](const Block& b) {
         if (!prepared) prepare_varyings(dc, t, tv);
         prepared = true;
         shade_block(dc, t, tv, b, packed, ao, stats);
-    };
-    if (samples == 1 && t.narrow) {  // nearly every triangle
-        const NarrowCoverage cover(t);
-        if (depth_only_draw) {
-            if (!packed.empty()) packed.flush(stats);  // what came first is written first
-            draw_depth_only(dc, cover, t, x0, y0, x1, y1, stats);
-            return;
-        }
-        Block block;
-        cover.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
-            cover.fill(bx, by, mask, e, block);
-            shade(block);
-        });
-        return;
-    }
-    rasterize(BlockCoverage(t, samples), t, x0, y0, x1, y1, shade);
+    });
 }
 
 // Rasterizes and shades one tile's triangles, in submission order: chunk
@@ -89,17 +98,8 @@ void draw_tile(const DrawQueue& g, int tile, FrameStats& stats) {
 
 void cover(const TriangleSetup& t, int x0, int y0, int x1, int y1, int samples, EdgeWidth width,
            std::vector<Block>& out) {
-    if (samples == 1 && t.narrow && width == EdgeWidth::automatic) {  // as draw_triangle
-        const NarrowCoverage coverage(t);
-        Block block;
-        coverage.for_each_block(x0, y0, x1, y1, [&](int bx, int by, uint32_t mask, const int64_t* e) {
-            coverage.fill(bx, by, mask, e, block);
-            out.push_back(block);
-        });
-        return;
-    }
-    rasterize(BlockCoverage(t, samples, width), t, x0, y0, x1, y1,
-              [&](const Block& b) { out.push_back(b); });
+    for_each_covered_block(t, samples, width, x0, y0, x1, y1,
+                           [&](const Block& b) { out.push_back(b); });
 }
 
 }  // namespace

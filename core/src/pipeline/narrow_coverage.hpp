@@ -78,8 +78,7 @@ public:
     simd::Float weights(int k, float at_lane0, int p, uint32_t mask) const {
         const simd::Float w = at_lane0 + weight_lanes_[k][p];
         if (!t_.clamp_weights) return w;
-        const simd::Int in = (simd::lane_bits() & int(simd::part_mask(mask, p))) != 0;
-        return in ? simd::max(w, simd::Float{}) : w;
+        return simd::part_lanes(mask, p) ? simd::max(w, simd::Float{}) : w;
     }
 
     // The block BlockCoverage::operator() fills for one visit: its corner,

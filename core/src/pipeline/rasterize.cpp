@@ -72,9 +72,8 @@ uint32_t BlockCoverage::cover_samples(const int64_t* e0, uint32_t partial,
 }
 
 void BlockCoverage::clamp_covered_weights(uint32_t inside, Block& block) {
-    const Int lane_bit = simd::lane_bits();
     for (int p = 0; p < kParts; ++p) {
-        const Int covered = (lane_bit & int(simd::part_mask(inside, p))) != 0;
+        const Int covered = simd::part_lanes(inside, p);
         for (int v = 0; v < 3; ++v) {
             const Float w = simd::load<Float>(block.bary[v] + p * kWidth);
             simd::store(block.bary[v] + p * kWidth, covered ? simd::max(w, Float{}) : w);
